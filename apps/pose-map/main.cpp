@@ -1,0 +1,18 @@
+#include "core/tool.hpp"
+#include "posemap/pose_map_tool.hpp"
+
+int main(int argc, char** argv) {
+  spx::Tool tool("pose-map", "Move and resize the rest spheres into every example pose (S_1..S_e) and give "
+                             "each sphere its blend site.");
+  std::string rest, spheres, output;
+  std::vector<std::string> poses;
+  spx::PoseMapOptions opt;
+  tool.app.add_option("--rest", rest, "Rest mesh M_0")->required();
+  tool.app.add_option("--pose", poses, "Example pose M_i (same topology as the rest mesh); repeat")->required();
+  tool.app.add_option("--spheres", spheres, "Rest spheres from sphere-pack")->required();
+  tool.app.add_option("-o,--output", output, "Output .proxy.json")->required();
+  tool.app.add_option("--tet-size", opt.tets.size, "Tet edge length (default: bounding-box diagonal / 30)");
+  tool.app.add_option("--tets", opt.tet_file, "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
+  tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
+  return tool.run(argc, argv, [&] { spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report); });
+}

@@ -1,0 +1,18 @@
+#include "core/tool.hpp"
+#include "export/proxy_export.hpp"
+
+int main(int argc, char** argv) {
+  spx::Tool tool("proxy-export", "Write a proxy for the runtime (.spx), as plain JSON (.json), or as sphere "
+                                 "meshes to look at (.glb with every pose, .ply with one).");
+  std::string input, output;
+  spx::ExportOptions opt;
+  bool stacked = false;
+  tool.app.add_option("input", input, "ProxyModel from pose-map (.proxy.json)")->required();
+  tool.app.add_option("-o,--output", output, "Output: .spx, .json, .glb or .ply")->required();
+  tool.app.add_option("--pose", opt.pose, "Pose to write to .ply (0 = rest)")->capture_default_str();
+  tool.app.add_flag("--stacked", stacked, "In .glb, keep poses in place instead of side by side");
+  return tool.run(argc, argv, [&] {
+    opt.spread = !stacked;
+    spx::proxy_export(input, output, opt, tool.log, tool.report);
+  });
+}

@@ -1,0 +1,15 @@
+#include "core/tool.hpp"
+#include "pack/sphere_pack.hpp"
+
+int main(int argc, char** argv) {
+  spx::Tool tool("sphere-pack", "Greedy sphere packing inside a signed distance field (S_0 of the proxy).");
+  std::string input, output, mesh;
+  spx::PackOptions opt;
+  tool.app.add_option("input", input, "Signed distance field (.vdb from sdf-build)")->required();
+  tool.app.add_option("-o,--output", output, "Output .spheres.json")->required();
+  tool.app.add_option("--mesh", mesh, "The mesh the field was built from: radii become exact distances to it");
+  tool.app.add_option("--min-radius", opt.min_radius, "Stop when the next sphere would be smaller (default 1.5 voxels)");
+  tool.app.add_option("--max-radius", opt.max_radius, "Largest radius a sphere may have (default unlimited)");
+  tool.app.add_option("--max-spheres", opt.max_spheres, "Stop after this many spheres (default unlimited)");
+  return tool.run(argc, argv, [&] { spx::sphere_pack(input, mesh, output, opt, tool.log, tool.report); });
+}

@@ -1,0 +1,94 @@
+#include "core/atomic_file.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "core/error.hpp"
+
+namespace spx {
+namespace {
+
+std::string temp_path_for(const std::string& path) {
+  namespace fs = std::filesystem;
+  fs::path target(path);
+  fs::path dir = target.parent_path();
+  std::string name = "." + target.filename().string() + ".tmp." + std::to_string(::getpid());
+  return (dir / name).string();
+}
+
+std::string errno_text() { return std::strerror(errno); }
+
+void rename_into_place(const std::string& tmp, const std::string& path) {
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::string why = errno_text();
+    std::remove(tmp.c_str());
+    fail_write(path, "cannot rename temporary file into place: " + why);
+  }
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, std::string_view bytes) {
+  const std::string tmp = temp_path_for(path);
+  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail_write(path, "cannot create output: " + errno_text());
+  const char* p = bytes.data();
+  size_t left = bytes.size();
+  while (left > 0) {
+    ssize_t n = ::write(fd, p, left);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      std::string why = errno_text();
+      ::close(fd);
+      std::remove(tmp.c_str());
+      fail_write(path, "write failed: " + why);
+    }
+    p += n;
+    left -= static_cast<size_t>(n);
+  }
+  if (::fsync(fd) != 0 && errno != EINVAL) {
+    std::string why = errno_text();
+    ::close(fd);
+    std::remove(tmp.c_str());
+    fail_write(path, "fsync failed: " + why);
+  }
+  if (::close(fd) != 0) {
+    std::string why = errno_text();
+    std::remove(tmp.c_str());
+    fail_write(path, "close failed: " + why);
+  }
+  rename_into_place(tmp, path);
+}
+
+void write_via_temp(const std::string& path, const std::function<void(const std::string&)>& write) {
+  const std::string tmp = temp_path_for(path);
+  try {
+    write(tmp);
+  } catch (const Error&) {
+    std::remove(tmp.c_str());
+    throw;
+  } catch (const std::exception& e) {
+    std::remove(tmp.c_str());
+    fail_write(path, e.what());
+  }
+  rename_into_place(tmp, path);
+}
+
+std::string read_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail_input(path, std::string("cannot open: ") + errno_text());
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) fail_input(path, "read failed");
+  return ss.str();
+}
+
+}  // namespace spx

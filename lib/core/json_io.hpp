@@ -1,0 +1,20 @@
+#pragma once
+// JSON files between the tools: parsing with file-naming errors, typed field access, atomic writes.
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace spx {
+
+using json = nlohmann::json;
+
+json read_json_file(const std::string& path);
+// Deterministic text (keys sorted by nlohmann's std::map, shortest round-trip doubles).
+std::string dump_json(const json& j);
+void write_json_atomic(const std::string& path, const json& j);
+
+// Field access that names the file and the field on failure (exit code 2).
+const json& require(const json& j, const char* key, const std::string& file);
+double require_number(const json& j, const char* key, const std::string& file);
+double as_finite_number(const json& v, const std::string& what, const std::string& file);
+
+}  // namespace spx

@@ -1,0 +1,51 @@
+#pragma once
+// Progress and warnings for long steps, on stderr, shared by the library and the tools.
+#include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace spx {
+
+class Log {
+ public:
+  explicit Log(std::string tool = {}, int verbosity = 0) : tool_(std::move(tool)), verbosity_(verbosity) {}
+  static Log& silent();
+
+  int verbosity() const { return verbosity_; }
+  void set_verbosity(int v) { verbosity_ = v; }
+
+  void info(const std::string& msg) const;    // shown unless -q
+  void detail(const std::string& msg) const;  // shown with -v
+  void warn(const std::string& msg);          // shown unless -q, kept for the report
+  // Percent progress for long loops, only when stderr is a terminal.
+  void progress(const char* stage, size_t done, size_t total) const;
+
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  // Stage timings in seconds, in the order the stages ran.
+  const std::vector<std::pair<std::string, double>>& timings() const { return timings_; }
+  void record_time(const std::string& stage, double seconds);
+
+ private:
+  std::string tool_;
+  int verbosity_;
+  std::vector<std::string> warnings_;
+  std::vector<std::pair<std::string, double>> timings_;
+};
+
+// Times one stage; records it in the log when it ends.
+class StageTimer {
+ public:
+  StageTimer(Log& log, std::string stage);
+  ~StageTimer();
+  double elapsed() const;
+  void stop();
+
+ private:
+  Log& log_;
+  std::string stage_;
+  std::chrono::steady_clock::time_point start_;
+  bool stopped_ = false;
+};
+
+}  // namespace spx

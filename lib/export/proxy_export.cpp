@@ -1,0 +1,38 @@
+#include "export/proxy_export.hpp"
+
+#include <filesystem>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/subject.hpp"
+#include "export/spx_writer.hpp"
+#include "export/sphere_mesh.hpp"
+#include "posemap/proxy.hpp"
+
+namespace spx {
+
+void proxy_export(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
+                  json& report) {
+  std::string ext = std::filesystem::path(output).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".spx" && ext != ".json" && ext != ".glb" && ext != ".ply")
+    fail_usage(output, "unknown output format '" + ext + "' (use .spx, .json, .glb or .ply)");
+  const ProxyModel proxy = read_proxy_file(input);
+  std::string bytes;
+  about_file(input, [&] {
+    if (ext == ".spx") bytes = encode_spx(proxy);
+    else if (ext == ".json") bytes = dump_json(proxy_to_plain_json(proxy));
+    else bytes = encode_preview(proxy, ext, options.pose, options.spread);
+  });
+  write_file_atomic(output, bytes);
+  log.info(output + ": " + std::to_string(bytes.size()) + " bytes, " + std::to_string(proxy.sphere_count()) +
+           " spheres x " + std::to_string(proxy.poses.size()) + " poses");
+  report["input"] = input;
+  report["output"] = output;
+  report["format"] = ext.substr(1);
+  report["bytes"] = bytes.size();
+  report["sphere_count"] = proxy.sphere_count();
+  report["pose_count"] = proxy.poses.size();
+}
+
+}  // namespace spx

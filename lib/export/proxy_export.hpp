@@ -1,0 +1,16 @@
+#pragma once
+#include "core/json_io.hpp"
+#include "core/log.hpp"
+
+namespace spx {
+
+struct ExportOptions {
+  int pose = 0;        // for .ply
+  bool spread = true;  // .glb: lay poses side by side
+};
+
+// proxy-export IN.proxy.json -o OUT.spx | OUT.json | OUT.glb | OUT.ply
+void proxy_export(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
+                  json& report);
+
+}  // namespace spx

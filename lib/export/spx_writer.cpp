@@ -1,0 +1,75 @@
+#include "export/spx_writer.hpp"
+
+#include <cstring>
+
+#include "core/error.hpp"
+#include "runtime/spx_runtime.h"
+
+namespace spx {
+namespace {
+
+void put16(std::string& b, size_t at, uint16_t v) {
+  b[at] = char(v & 0xFF);
+  b[at + 1] = char(v >> 8);
+}
+void put32(std::string& b, size_t at, uint32_t v) {
+  for (int k = 0; k < 4; ++k) b[at + k] = char((v >> (8 * k)) & 0xFF);
+}
+void put64(std::string& b, size_t at, uint64_t v) {
+  put32(b, at, uint32_t(v));
+  put32(b, at + 4, uint32_t(v >> 32));
+}
+void append32(std::string& b, uint32_t v) {
+  b.resize(b.size() + 4);
+  put32(b, b.size() - 4, v);
+}
+void append_f32(std::string& b, double v) {
+  const float f = float(v);
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  append32(b, u);
+}
+
+}  // namespace
+
+std::string encode_spx(const ProxyModel& proxy) {
+  const size_t n = proxy.sphere_count(), p = proxy.poses.size(), s = proxy.sites.size();
+  if (n == 0 || p == 0 || s == 0) fail_input("", "proxy has no spheres, poses or sites");
+  if (p > SPX_MAX_POSES) fail_unsupported("", "more than " + std::to_string(SPX_MAX_POSES) + " poses");
+  std::string b(SPX_HEADER_SIZE, '\0');
+  std::memcpy(&b[0], SPX_MAGIC, 8);
+  put16(b, 8, SPX_FORMAT_VERSION_MAJOR);
+  put16(b, 10, SPX_FORMAT_VERSION_MINOR);
+  put32(b, 12, SPX_HEADER_SIZE);
+  put32(b, 24, uint32_t(n));
+  put32(b, 28, uint32_t(p));
+  put32(b, 32, uint32_t(s));
+  b[36] = 4;
+  b[37] = 4;
+
+  put32(b, 40, uint32_t(b.size()));
+  for (const auto& pose : proxy.poses)
+    for (const auto& sphere : pose.spheres) {
+      for (int k = 0; k < 3; ++k) append_f32(b, sphere.center[k]);
+      append_f32(b, sphere.radius);
+    }
+  put32(b, 44, uint32_t(b.size()));
+  for (int site : proxy.sphere_sites) append32(b, uint32_t(site));
+  put32(b, 48, uint32_t(b.size()));
+  for (const auto& site : proxy.sites)
+    for (int k = 0; k < 3; ++k) append_f32(b, site[k]);
+  const size_t names_at = b.size();
+  put32(b, 52, uint32_t(names_at));
+  for (const auto& pose : proxy.poses) {
+    append32(b, uint32_t(pose.name.size()));
+    b += pose.name;
+    b.resize((b.size() + 3) & ~size_t(3), '\0');
+  }
+  put32(b, 56, uint32_t(b.size() - names_at));
+  if (b.size() + 4 > 0xFFFFFFFFull) fail_unsupported("", "proxy is too large for the .spx format");
+  put64(b, 16, b.size() + 4);
+  append32(b, detail::crc32(reinterpret_cast<const unsigned char*>(b.data()), b.size()));
+  return b;
+}
+
+}  // namespace spx

@@ -1,0 +1,11 @@
+#pragma once
+// proxy-export: the runtime .spx binary (layout documented in lib/runtime/spx_runtime.h).
+#include <string>
+
+#include "posemap/proxy.hpp"
+
+namespace spx {
+
+std::string encode_spx(const ProxyModel& proxy);
+
+}  // namespace spx

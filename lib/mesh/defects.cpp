@@ -1,0 +1,74 @@
+#include "mesh/defects.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace spx {
+
+bool is_degenerate(const TriMesh& mesh, int t, double diagonal) {
+  const Eigen::Vector3i& f = mesh.triangles[t];
+  if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) return true;
+  const Eigen::Vector3d& a = mesh.vertices[f[0]];
+  const double area2 = (mesh.vertices[f[1]] - a).cross(mesh.vertices[f[2]] - a).norm();
+  return area2 <= 1e-14 * diagonal * diagonal;
+}
+
+MeshDefects find_defects(const TriMesh& mesh) {
+  MeshDefects d;
+  d.vertices = mesh.vertices.size();
+  d.triangles = mesh.triangles.size();
+  const double diag = mesh.diagonal();
+
+  // Directed half-edges sorted by their undirected key: counts and orientation per edge.
+  struct HalfEdge { int lo, hi; bool forward; int tri; };
+  std::vector<HalfEdge> half;
+  half.reserve(mesh.triangles.size() * 3);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& f = mesh.triangles[t];
+    if (is_degenerate(mesh, static_cast<int>(t), diag)) ++d.degenerate_triangles;
+    for (int k = 0; k < 3; ++k) {
+      int a = f[k], b = f[(k + 1) % 3];
+      if (a == b) continue;
+      half.push_back({std::min(a, b), std::max(a, b), a < b, static_cast<int>(t)});
+    }
+    const Eigen::Vector3d& p0 = mesh.vertices[f[0]];
+    d.signed_volume += p0.dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6.0;
+  }
+  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.tri < y.tri;
+  });
+
+  std::vector<int> parent(mesh.triangles.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (size_t i = 0; i < half.size();) {
+    size_t j = i;
+    while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
+    const size_t n = j - i;
+    if (n == 1) ++d.boundary_edges;
+    else if (n > 2) ++d.non_manifold_edges;
+    else if (half[i].forward == half[i + 1].forward) ++d.inconsistent_edges;
+    for (size_t k = i + 1; k < j; ++k) parent[find(half[k].tri)] = find(half[i].tri);
+    i = j;
+  }
+  for (size_t t = 0; t < parent.size(); ++t)
+    if (find(static_cast<int>(t)) == static_cast<int>(t)) ++d.components;
+  return d;
+}
+
+nlohmann::json MeshDefects::to_json() const {
+  return {{"vertices", vertices},
+          {"triangles", triangles},
+          {"boundary_edges", boundary_edges},
+          {"non_manifold_edges", non_manifold_edges},
+          {"inconsistent_edges", inconsistent_edges},
+          {"degenerate_triangles", degenerate_triangles},
+          {"components", components},
+          {"signed_volume", signed_volume},
+          {"watertight", watertight()}};
+}
+
+}  // namespace spx

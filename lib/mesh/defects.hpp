@@ -1,0 +1,27 @@
+#pragma once
+// What is wrong with a mesh, as the sdf-build report names it.
+#include <nlohmann/json.hpp>
+
+#include "mesh/mesh.hpp"
+
+namespace spx {
+
+struct MeshDefects {
+  size_t vertices = 0, triangles = 0;
+  size_t boundary_edges = 0;      // edges with one triangle (holes, open meshes)
+  size_t non_manifold_edges = 0;  // edges with three or more triangles
+  size_t inconsistent_edges = 0;  // two triangles traverse the edge the same way (flipped faces)
+  size_t degenerate_triangles = 0;
+  size_t components = 0;          // edge-connected pieces
+  double signed_volume = 0;       // divergence theorem; negative when the mesh is inside out
+
+  bool watertight() const { return boundary_edges == 0 && non_manifold_edges == 0 && inconsistent_edges == 0; }
+  nlohmann::json to_json() const;
+};
+
+MeshDefects find_defects(const TriMesh& mesh);
+
+// Triangles with (near) zero area: repeated indices or collinear corners.
+bool is_degenerate(const TriMesh& mesh, int triangle, double diagonal);
+
+}  // namespace spx

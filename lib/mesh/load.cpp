@@ -1,0 +1,165 @@
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <unordered_map>
+
+#include "core/error.hpp"
+#include "mesh/mesh.hpp"
+
+namespace spx {
+namespace {
+
+struct RawMesh {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector3i> triangles;
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+RawMesh read_raw(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail_input(path, "cannot open: no such file");
+  if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not a mesh file");
+  if (std::filesystem::file_size(path, ec) == 0) fail_input(path, "file is empty");
+
+  Assimp::Importer importer;
+  const std::string ext = lower_extension(path);
+  if (ext.empty() || !importer.IsExtensionSupported(ext))
+    fail_unsupported(path, "unknown mesh format '" + ext + "' (use OBJ, PLY, STL, OFF, glTF/GLB or FBX)");
+  // Keep only triangles; never drop degenerate ones silently (the report lists them).
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
+  if (!scene) fail_input(path, std::string("cannot read mesh: ") + importer.GetErrorString());
+
+  RawMesh raw;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+    const int offset = static_cast<int>(raw.positions.size());
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const aiVector3D& p = mesh->mVertices[v];
+      Eigen::Vector3d q(p.x, p.y, p.z);
+      if (!q.allFinite())
+        fail_input(path, "vertex " + std::to_string(raw.positions.size()) + " has a non-finite coordinate");
+      raw.positions.push_back(q);
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      raw.triangles.emplace_back(offset + static_cast<int>(face.mIndices[0]),
+                                 offset + static_cast<int>(face.mIndices[1]),
+                                 offset + static_cast<int>(face.mIndices[2]));
+    }
+  }
+  if (raw.triangles.empty()) fail_input(path, "contains no triangles");
+  return raw;
+}
+
+struct PositionKey {
+  double x, y, z;
+  bool operator==(const PositionKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct PositionHash {
+  size_t operator()(const PositionKey& k) const {
+    uint64_t h = 1469598103934665603ull;
+    for (double d : {k.x, k.y, k.z}) {
+      uint64_t b;
+      d = d == 0.0 ? 0.0 : d;  // -0 and +0 weld together
+      std::memcpy(&b, &d, sizeof b);
+      h = (h ^ b) * 1099511628211ull;
+    }
+    return static_cast<size_t>(h);
+  }
+};
+
+}  // namespace
+
+Eigen::AlignedBox3d TriMesh::bounds() const {
+  Eigen::AlignedBox3d box;
+  for (const auto& v : vertices) box.extend(v);
+  return box;
+}
+
+LoadedMesh load_mesh(const std::string& path) {
+  RawMesh raw = read_raw(path);
+  LoadedMesh out;
+  out.path = path;
+  out.weld.resize(raw.positions.size());
+  std::unordered_map<PositionKey, int, PositionHash> seen;
+  seen.reserve(raw.positions.size());
+  for (size_t i = 0; i < raw.positions.size(); ++i) {
+    const auto& p = raw.positions[i];
+    auto [it, fresh] = seen.emplace(PositionKey{p.x() + 0.0, p.y() + 0.0, p.z() + 0.0},
+                                    static_cast<int>(out.mesh.vertices.size()));
+    if (fresh) out.mesh.vertices.push_back(p);
+    out.weld[i] = it->second;
+  }
+  out.file_triangles = std::move(raw.triangles);
+  out.mesh.triangles.reserve(out.file_triangles.size());
+  for (const auto& t : out.file_triangles)
+    out.mesh.triangles.emplace_back(out.weld[t[0]], out.weld[t[1]], out.weld[t[2]]);
+  return out;
+}
+
+TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
+  RawMesh raw = read_raw(path);
+  const std::string differs = " (poses must share the rest mesh's topology: " + rest.path + ")";
+  if (raw.triangles.size() != rest.file_triangles.size())
+    fail_input(path, "has " + std::to_string(raw.triangles.size()) + " triangles, the rest mesh has " +
+                         std::to_string(rest.file_triangles.size()) + differs);
+  if (raw.positions.size() != rest.file_vertex_count())
+    fail_input(path, "has " + std::to_string(raw.positions.size()) + " vertices, the rest mesh has " +
+                         std::to_string(rest.file_vertex_count()) + differs);
+  for (size_t t = 0; t < raw.triangles.size(); ++t)
+    if (raw.triangles[t] != rest.file_triangles[t])
+      fail_input(path, "triangle " + std::to_string(t) + " uses other vertices than in the rest mesh" + differs);
+
+  TriMesh pose;
+  pose.triangles = rest.mesh.triangles;
+  pose.vertices.assign(rest.mesh.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
+  std::vector<char> set(rest.mesh.vertices.size(), 0);
+  double scale = 0;
+  for (const auto& p : raw.positions) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  const double tol = 1e-6 * std::max(scale, 1e-30);
+  for (size_t i = 0; i < raw.positions.size(); ++i) {
+    const int v = rest.weld[i];
+    if (!set[v]) {
+      pose.vertices[v] = raw.positions[i];
+      set[v] = 1;
+    } else if ((pose.vertices[v] - raw.positions[i]).norm() > tol) {
+      fail_input(path, "vertices that are one point in the rest mesh move apart in this pose (file vertex " +
+                           std::to_string(i) + ")" + differs);
+    }
+  }
+  return pose;
+}
+
+std::string to_obj(const TriMesh& mesh, const std::string& comment) {
+  std::string out;
+  out.reserve(mesh.vertices.size() * 40 + mesh.triangles.size() * 24);
+  if (!comment.empty()) out += "# " + comment + "\n";
+  char line[128];
+  for (const auto& v : mesh.vertices) {
+    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
+    out += line;
+  }
+  for (const auto& t : mesh.triangles) {
+    std::snprintf(line, sizeof line, "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    out += line;
+  }
+  return out;
+}
+
+std::string stem_of(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+
+}  // namespace spx

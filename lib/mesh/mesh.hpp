@@ -1,0 +1,44 @@
+#pragma once
+// Triangle meshes as the tools see them: welded vertices, triangles, and how a pose file
+// lines up with the rest mesh it claims to deform.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace spx {
+
+struct TriMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+
+  Eigen::AlignedBox3d bounds() const;
+  double diagonal() const { return bounds().diagonal().norm(); }
+};
+
+// A mesh as loaded from a file, with what the weld did, so that poses can be checked
+// against exactly the same vertex layout.
+struct LoadedMesh {
+  std::string path;
+  TriMesh mesh;
+  std::vector<int> weld;                       // file vertex -> mesh vertex
+  std::vector<Eigen::Vector3i> file_triangles; // triangles in file vertex indices
+  size_t file_vertex_count() const { return weld.size(); }
+  size_t welded_vertices() const { return weld.size() - mesh.vertices.size(); }
+};
+
+// Any format assimp reads (OBJ, PLY, STL, OFF, glTF/GLB, FBX, ...). Coincident vertices are
+// welded (seams in glTF, corners unrolled by the OBJ reader). Throws spx::Error naming `path`.
+LoadedMesh load_mesh(const std::string& path);
+
+// A pose of `rest`: same file layout, positions from `path`. Throws spx::Error (exit 2) when
+// the triangle list or vertex count differs from the rest mesh.
+TriMesh load_pose(const std::string& path, const LoadedMesh& rest);
+
+// Deterministic Wavefront OBJ text.
+std::string to_obj(const TriMesh& mesh, const std::string& comment = {});
+
+// Base name without folder and extension ("poses/front.obj" -> "front").
+std::string stem_of(const std::string& path);
+
+}  // namespace spx

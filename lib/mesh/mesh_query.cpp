@@ -1,0 +1,104 @@
+#include "mesh/mesh_query.hpp"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include "core/error.hpp"
+#include "mesh/defects.hpp"
+
+namespace spx {
+
+namespace {
+using K = CGAL::Simple_cartesian<double>;
+using Triangle = K::Triangle_3;
+using Iterator = std::vector<Triangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<K, Iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+
+K::Point_3 to_cgal(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+}  // namespace
+
+struct MeshQuery::Tree {
+  std::vector<Triangle> triangles;  // non-degenerate ones only
+  std::vector<int> ids;             // index into the mesh's triangles
+  ::spx::Tree tree;
+};
+
+MeshQuery::MeshQuery(const TriMesh& mesh) : mesh_(mesh), wn_(mesh_), tree_(std::make_unique<Tree>()) {
+  const double diag = mesh_.diagonal();
+  for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
+    if (is_degenerate(mesh_, static_cast<int>(t), diag)) continue;
+    const auto& f = mesh_.triangles[t];
+    tree_->triangles.emplace_back(to_cgal(mesh_.vertices[f[0]]), to_cgal(mesh_.vertices[f[1]]),
+                                  to_cgal(mesh_.vertices[f[2]]));
+    tree_->ids.push_back(static_cast<int>(t));
+  }
+  if (tree_->triangles.empty()) throw Error(ExitCode::bad_input, "", "mesh has no triangle with a non-zero area");
+  tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
+  tree_->tree.accelerate_distance_queries();
+}
+
+MeshQuery::~MeshQuery() = default;
+
+double MeshQuery::distance(const Eigen::Vector3d& p) const {
+  return std::sqrt(tree_->tree.squared_distance(to_cgal(p)));
+}
+
+ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
+  const auto [point, primitive] = tree_->tree.closest_point_and_primitive(to_cgal(p));
+  ClosestPoint out;
+  out.triangle = tree_->ids[static_cast<size_t>(primitive - tree_->triangles.cbegin())];
+  const auto& f = mesh_.triangles[out.triangle];
+  // Recompute in our own terms to get barycentric coordinates that match the point.
+  out.point = closest_point_on_triangle(p, mesh_.vertices[f[0]], mesh_.vertices[f[1]], mesh_.vertices[f[2]],
+                                        &out.barycentric);
+  out.distance = (out.point - p).norm();
+  (void)point;
+  return out;
+}
+
+double MeshQuery::signed_distance(const Eigen::Vector3d& p) const {
+  const double d = distance(p);
+  return inside(p) ? -d : d;
+}
+
+// Ericson, Real-Time Collision Detection, 5.1.5.
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                                          Eigen::Vector3d* bary) {
+  auto out = [&](double u, double v, double w) {
+    if (bary) *bary = Eigen::Vector3d(u, v, w);
+    return Eigen::Vector3d(u * a + v * b + w * c);
+  };
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return out(1, 0, 0);
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return out(0, 1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return out(1 - v, v, 0);
+  }
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return out(0, 0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return out(1 - w, 0, w);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return out(0, 1 - w, w);
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  const double v = vb * denom, w = vc * denom;
+  return out(1 - v - w, v, w);
+}
+
+}  // namespace spx

@@ -1,0 +1,137 @@
+#include "mesh/winding_number.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace spx {
+namespace {
+
+constexpr double kFourPi = 4.0 * M_PI;
+
+// Van Oosterom & Strackee: signed solid angle of triangle (a,b,c) seen from the origin.
+double solid_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double num = a.dot(b.cross(c));
+  const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+  if (num == 0 && den <= 0) return 0;  // on the triangle's plane, outside or on it
+  return 2.0 * std::atan2(num, den);
+}
+
+}  // namespace
+
+double winding_number_exact(const TriMesh& mesh, const Eigen::Vector3d& q) {
+  double sum = 0;
+  for (const auto& t : mesh.triangles)
+    sum += solid_angle(mesh.vertices[t[0]] - q, mesh.vertices[t[1]] - q, mesh.vertices[t[2]] - q);
+  return sum / kFourPi;
+}
+
+WindingNumber::WindingNumber(const TriMesh& mesh, double accuracy) : beta_(accuracy) {
+  const size_t n = mesh.triangles.size();
+  a_.resize(n);
+  b_.resize(n);
+  c_.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    a_[i] = mesh.vertices[mesh.triangles[i][0]];
+    b_[i] = mesh.vertices[mesh.triangles[i][1]];
+    c_[i] = mesh.vertices[mesh.triangles[i][2]];
+  }
+  nodes_.reserve(2 * n / 4 + 2);
+  if (n > 0) build(0, static_cast<int>(n));
+}
+
+int WindingNumber::build(int first, int count) {
+  constexpr int kLeafSize = 8;
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+
+  // Moments of the cluster.
+  Eigen::Vector3d dipole = Eigen::Vector3d::Zero(), weighted = Eigen::Vector3d::Zero();
+  double area = 0;
+  Eigen::AlignedBox3d centroids;
+  for (int i = first; i < first + count; ++i) {
+    const Eigen::Vector3d n = 0.5 * (b_[i] - a_[i]).cross(c_[i] - a_[i]);
+    const Eigen::Vector3d g = (a_[i] + b_[i] + c_[i]) / 3.0;
+    const double ai = n.norm();
+    dipole += n;
+    weighted += ai * g;
+    area += ai;
+    centroids.extend(g);
+  }
+  Eigen::Vector3d center = area > 0 ? Eigen::Vector3d(weighted / area) : centroids.center();
+  Eigen::Matrix3d quad = Eigen::Matrix3d::Zero();
+  double radius = 0;
+  for (int i = first; i < first + count; ++i) {
+    const Eigen::Vector3d n = 0.5 * (b_[i] - a_[i]).cross(c_[i] - a_[i]);
+    const Eigen::Vector3d g = (a_[i] + b_[i] + c_[i]) / 3.0;
+    quad += (g - center) * n.transpose();
+    radius = std::max({radius, (a_[i] - center).norm(), (b_[i] - center).norm(), (c_[i] - center).norm()});
+  }
+  {
+    Node& node = nodes_[index];
+    node.center = center;
+    node.dipole = dipole;
+    node.quadrupole = quad;
+    node.radius = radius;
+    node.first = first;
+    node.count = count;
+  }
+  if (count <= kLeafSize) return index;
+
+  // Median split of the centroids along the longest axis.
+  int axis;
+  centroids.diagonal().maxCoeff(&axis);
+  std::vector<int> order(count);
+  std::iota(order.begin(), order.end(), first);
+  const int half = count / 2;
+  auto key = [&](int i) { return a_[i][axis] + b_[i][axis] + c_[i][axis]; };
+  std::nth_element(order.begin(), order.begin() + half, order.end(), [&](int x, int y) {
+    const double kx = key(x), ky = key(y);
+    return kx != ky ? kx < ky : x < y;
+  });
+  std::vector<Eigen::Vector3d> ta(count), tb(count), tc(count);
+  for (int k = 0; k < count; ++k) {
+    ta[k] = a_[order[k]];
+    tb[k] = b_[order[k]];
+    tc[k] = c_[order[k]];
+  }
+  std::copy(ta.begin(), ta.end(), a_.begin() + first);
+  std::copy(tb.begin(), tb.end(), b_.begin() + first);
+  std::copy(tc.begin(), tc.end(), c_.begin() + first);
+
+  const int left = build(first, half);
+  const int right = build(first + half, count - half);
+  nodes_[index].left = left;
+  nodes_[index].right = right;
+  return index;
+}
+
+double WindingNumber::operator()(const Eigen::Vector3d& q) const {
+  if (nodes_.empty()) return 0;
+  double sum = 0;  // in units of solid angle * 4pi / 4pi, i.e. the winding number
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    const Eigen::Vector3d r = node.center - q;
+    const double d = r.norm();
+    if (d > beta_ * node.radius) {
+      // Far field: dipole and quadrupole terms of the double-layer potential.
+      const double d2 = d * d, d3 = d2 * d, d5 = d3 * d2;
+      double w = node.dipole.dot(r) / d3;
+      w += node.quadrupole.trace() / d3 - 3.0 * r.dot(node.quadrupole * r) / d5;
+      sum += w / kFourPi;
+    } else if (node.left < 0) {
+      for (int i = node.first; i < node.first + node.count; ++i)
+        sum += solid_angle(a_[i] - q, b_[i] - q, c_[i] - q) / kFourPi;
+    } else {
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+    }
+  }
+  return sum;
+}
+
+}  // namespace spx

@@ -1,0 +1,41 @@
+#pragma once
+// sphere-pack: the greedy packing of the paper (after Budsberg et al. 2014). Each sphere is
+// centered at the deepest voxel left, with radius min(max radius, distance to the surface);
+// the field inside it is cleared to 0; repeat until the min radius or the max count.
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/log.hpp"
+#include "core/sphere.hpp"
+#include "mesh/mesh_query.hpp"
+#include "sdf/dense_field.hpp"
+
+namespace spx {
+
+struct PackOptions {
+  double min_radius = 0;  // 0: 1.5 voxels
+  double max_radius = std::numeric_limits<double>::infinity();
+  size_t max_spheres = 0;  // 0: no limit
+};
+
+struct PackStats {
+  std::string radius_source;  // "mesh" (exact distance) or "field"
+  std::string stop_reason;
+  double min_radius = 0, max_radius = 0;  // the limits in force
+  double smallest = 0, largest = 0;       // radii produced
+  size_t interior_voxels = 0, centers_rejected = 0;
+  nlohmann::json to_json() const;
+};
+
+struct PackResult {
+  SphereSet spheres;
+  PackStats stats;
+};
+
+// `mesh` (optional) gives exact radii and a robust inside test; without it the field's own
+// values are the radii.
+PackResult pack_spheres(const DenseField& field, const PackOptions& options, const MeshQuery* mesh,
+                        Log& log = Log::silent());
+
+}  // namespace spx

@@ -1,0 +1,12 @@
+#pragma once
+#include "core/json_io.hpp"
+#include "core/log.hpp"
+#include "pack/pack.hpp"
+
+namespace spx {
+
+// sphere-pack IN.vdb -o OUT.spheres.json [--mesh REST]
+void sphere_pack(const std::string& input, const std::string& mesh_path, const std::string& output,
+                 const PackOptions& options, Log& log, json& report);
+
+}  // namespace spx

@@ -1,0 +1,72 @@
+#include "pack/spheres_file.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/tool.hpp"
+
+namespace spx {
+
+json sphere_array_to_json(const SphereSet& spheres) {
+  json a = json::array();
+  for (const auto& s : spheres) a.push_back({s.center.x(), s.center.y(), s.center.z(), s.radius});
+  return a;
+}
+
+SphereSet sphere_array_from_json(const json& array, const std::string& what, const std::string& file,
+                                 bool allow_zero_radius) {
+  if (!array.is_array()) fail_input(file, what + " is not an array");
+  SphereSet out;
+  out.reserve(array.size());
+  for (size_t i = 0; i < array.size(); ++i) {
+    const json& s = array[i];
+    const std::string name = what + "[" + std::to_string(i) + "]";
+    if (!s.is_array() || s.size() != 4) fail_input(file, name + " is not [x, y, z, r]");
+    Sphere sphere;
+    for (int k = 0; k < 3; ++k) sphere.center[k] = as_finite_number(s[k], name, file);
+    sphere.radius = as_finite_number(s[3], name, file);
+    if (sphere.radius < 0 || (!allow_zero_radius && sphere.radius == 0))
+      fail_input(file, name + " has a radius that is not positive");
+    out.push_back(sphere);
+  }
+  return out;
+}
+
+json spheres_to_json(const SpheresFile& f) {
+  json j;
+  j["format"] = "spx-spheres";
+  j["version"] = 1;
+  j["generator"] = std::string("spx ") + version_string();
+  j["source"] = {{"sdf", f.sdf}, {"mesh", f.mesh.empty() ? json(nullptr) : json(f.mesh)}};
+  j["voxel_size"] = f.voxel_size;
+  j["min_radius"] = f.min_radius;
+  j["max_radius"] = std::isfinite(f.max_radius) ? json(f.max_radius) : json(nullptr);
+  j["radius_source"] = f.radius_source;
+  j["spheres"] = sphere_array_to_json(f.spheres);
+  return j;
+}
+
+SpheresFile read_spheres_file(const std::string& path) {
+  const json j = read_json_file(path);
+  if (!j.is_object() || j.value("format", "") != "spx-spheres")
+    fail_input(path, "is not a spheres file (expected \"format\": \"spx-spheres\")");
+  const double version = require_number(j, "version", path);
+  if (version >= 2) fail_unsupported(path, "spheres format version " + std::to_string(int(version)) + " is newer than this tool (1)");
+  SpheresFile f;
+  f.voxel_size = require_number(j, "voxel_size", path);
+  f.min_radius = require_number(j, "min_radius", path);
+  const json& max_r = require(j, "max_radius", path);
+  if (!max_r.is_null()) f.max_radius = as_finite_number(max_r, "field 'max_radius'", path);
+  if (!(f.max_radius > 0)) fail_input(path, "field 'max_radius' is not positive");
+  f.radius_source = j.value("radius_source", "");
+  if (j.contains("source") && j["source"].is_object()) {
+    const json& s = j["source"];
+    if (s.contains("sdf") && s["sdf"].is_string()) f.sdf = s["sdf"];
+    if (s.contains("mesh") && s["mesh"].is_string()) f.mesh = s["mesh"];
+  }
+  f.spheres = sphere_array_from_json(require(j, "spheres", path), "spheres", path, false);
+  if (f.spheres.empty()) fail_input(path, "holds no sphere");
+  return f;
+}
+
+}  // namespace spx

@@ -1,0 +1,28 @@
+#pragma once
+// OUT.spheres.json: the rest-pose sphere set S_0 (schemas/spheres.schema.json).
+#include <limits>
+#include <string>
+
+#include "core/json_io.hpp"
+#include "core/sphere.hpp"
+
+namespace spx {
+
+struct SpheresFile {
+  SphereSet spheres;
+  double voxel_size = 0;
+  double min_radius = 0;
+  double max_radius = std::numeric_limits<double>::infinity();
+  std::string radius_source;  // "mesh" or "field"
+  std::string sdf, mesh;      // inputs, as named on the command line
+};
+
+json spheres_to_json(const SpheresFile& file);
+SpheresFile read_spheres_file(const std::string& path);
+
+// [[x,y,z,r], ...] <-> spheres; the reader checks every number.
+json sphere_array_to_json(const SphereSet& spheres);
+SphereSet sphere_array_from_json(const json& array, const std::string& what, const std::string& file,
+                                 bool allow_zero_radius);
+
+}  // namespace spx

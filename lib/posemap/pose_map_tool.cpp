@@ -1,0 +1,51 @@
+#include "posemap/pose_map_tool.hpp"
+
+#include <cstdio>
+#include <set>
+
+#include "core/error.hpp"
+#include "core/subject.hpp"
+
+namespace spx {
+
+void pose_map_files(const std::string& rest_path, const std::vector<std::string>& pose_paths,
+                    const std::string& spheres_path, const std::string& output, const PoseMapOptions& options,
+                    Log& log, json& report) {
+  if (pose_paths.empty()) fail_usage("--pose", "give at least one example pose");
+  LoadedMesh rest;
+  std::vector<PoseInput> poses;
+  SpheresFile spheres;
+  {
+    StageTimer t(log, "load");
+    rest = load_mesh(rest_path);
+    std::set<std::string> names;
+    for (const auto& path : pose_paths) {
+      PoseInput pose{stem_of(path), path, load_pose(path, rest)};
+      if (!names.insert(pose.name).second) fail_usage(path, "two poses are named '" + pose.name + "'");
+      // A pose at another scale is most likely another unit (cm vs m).
+      const double ratio = pose.mesh.diagonal() / rest.mesh.diagonal();
+      if (ratio > 3 || ratio < 1.0 / 3)
+        log.warn(path + ": its size is " + std::to_string(ratio) + "x the rest mesh's; is it in another unit?");
+      poses.push_back(std::move(pose));
+    }
+    spheres = read_spheres_file(spheres_path);
+  }
+  PoseMapResult result =
+      about_file(rest_path, [&] { return pose_map(rest.mesh, rest_path, poses, spheres, options, log); });
+  write_json_atomic(output, proxy_to_json(result.proxy));
+
+  char line[256];
+  std::snprintf(line, sizeof line, "%s: %zu spheres x %zu poses, %zu blend sites", output.c_str(),
+                result.proxy.sphere_count(), result.proxy.poses.size(), result.proxy.sites.size());
+  log.info(line);
+  for (const auto& pose : result.report["poses"]) {
+    std::snprintf(line, sizeof line, "  %-12s error median %.4g max %.4g, %zu centers outside",
+                  pose["name"].get<std::string>().c_str(), pose["error"]["median"].get<double>(),
+                  pose["error"]["max"].get<double>(), pose["outside"].size());
+    log.info(line);
+  }
+  report.update(result.report);
+  report["output"] = output;
+}
+
+}  // namespace spx

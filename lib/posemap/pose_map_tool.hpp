@@ -1,0 +1,14 @@
+#pragma once
+#include <vector>
+
+#include "core/json_io.hpp"
+#include "core/log.hpp"
+#include "posemap/posemap.hpp"
+
+namespace spx {
+
+// pose-map --rest REST --pose P... --spheres S -o OUT.proxy.json
+void pose_map_files(const std::string& rest, const std::vector<std::string>& poses, const std::string& spheres,
+                    const std::string& output, const PoseMapOptions& options, Log& log, json& report);
+
+}  // namespace spx

@@ -1,0 +1,36 @@
+#pragma once
+// pose-map: S_1..S_e from S_0. Each center moves by the harmonic map f; its radius in pose i
+// is min(max radius, distance to M_i); a center that lands outside M_i is reported and its
+// sphere gets radius 0 in that pose. Each sphere's blend site is its nearest rest tet vertex.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/log.hpp"
+#include "mesh/mesh.hpp"
+#include "pack/spheres_file.hpp"
+#include "posemap/proxy.hpp"
+#include "posemap/tet_mesh.hpp"
+
+namespace spx {
+
+struct PoseInput {
+  std::string name, source;
+  TriMesh mesh;
+};
+
+struct PoseMapOptions {
+  TetOptions tets;
+  double max_radius = 0;    // 0: the spheres file's
+  std::string tet_file;     // use this MEDIT tet mesh instead of meshing
+};
+
+struct PoseMapResult {
+  ProxyModel proxy;
+  nlohmann::json report;  // tets, map, per-pose errors and outside centers
+};
+
+PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
+                       const SpheresFile& spheres, const PoseMapOptions& options, Log& log = Log::silent());
+
+}  // namespace spx

@@ -1,0 +1,84 @@
+#include "posemap/proxy.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/tool.hpp"
+#include "pack/spheres_file.hpp"
+
+namespace spx {
+
+json proxy_to_plain_json(const ProxyModel& p) {
+  json poses = json::array();
+  for (const auto& pose : p.poses) poses.push_back({{"name", pose.name}, {"spheres", sphere_array_to_json(pose.spheres)}});
+  json sites = json::array();
+  for (const auto& s : p.sites) sites.push_back({s.x(), s.y(), s.z()});
+  return {{"poses", poses}, {"sphere_sites", p.sphere_sites}, {"sites", sites}};
+}
+
+json proxy_to_json(const ProxyModel& p) {
+  json j = proxy_to_plain_json(p);
+  j["format"] = "spx-proxy";
+  j["version"] = 1;
+  j["generator"] = std::string("spx ") + version_string();
+  j["max_radius"] = std::isfinite(p.max_radius) ? json(p.max_radius) : json(nullptr);
+  for (size_t i = 0; i < p.poses.size(); ++i) {
+    j["poses"][i]["source"] = p.poses[i].source;
+    j["poses"][i]["outside"] = p.poses[i].outside;
+  }
+  return j;
+}
+
+ProxyModel proxy_from_json(const json& j, const std::string& path) {
+  if (!j.is_object() || j.value("format", "") != "spx-proxy")
+    fail_input(path, "is not a proxy file (expected \"format\": \"spx-proxy\")");
+  const double version = require_number(j, "version", path);
+  if (version >= 2) fail_unsupported(path, "proxy format version " + std::to_string(int(version)) + " is newer than this tool (1)");
+  ProxyModel p;
+  const json& max_r = require(j, "max_radius", path);
+  if (!max_r.is_null()) p.max_radius = as_finite_number(max_r, "field 'max_radius'", path);
+  const json& poses = require(j, "poses", path);
+  if (!poses.is_array() || poses.empty()) fail_input(path, "field 'poses' must be a non-empty array");
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const std::string what = "poses[" + std::to_string(i) + "]";
+    ProxyPose pose;
+    const json& name = require(poses[i], "name", path);
+    if (!name.is_string()) fail_input(path, what + ".name is not a string");
+    pose.name = name;
+    pose.source = poses[i].value("source", "");
+    pose.spheres = sphere_array_from_json(require(poses[i], "spheres", path), what + ".spheres", path, true);
+    if (poses[i].contains("outside")) pose.outside = poses[i]["outside"].get<std::vector<int>>();
+    if (i > 0 && pose.spheres.size() != p.poses.front().spheres.size())
+      fail_input(path, what + " has " + std::to_string(pose.spheres.size()) + " spheres, the rest pose has " +
+                           std::to_string(p.poses.front().spheres.size()));
+    p.poses.push_back(std::move(pose));
+  }
+  const json& sites = require(j, "sites", path);
+  if (!sites.is_array()) fail_input(path, "field 'sites' is not an array");
+  for (size_t i = 0; i < sites.size(); ++i) {
+    const std::string what = "sites[" + std::to_string(i) + "]";
+    if (!sites[i].is_array() || sites[i].size() != 3) fail_input(path, what + " is not [x, y, z]");
+    Eigen::Vector3d s;
+    for (int k = 0; k < 3; ++k) s[k] = as_finite_number(sites[i][k], what, path);
+    p.sites.push_back(s);
+  }
+  const json& ss = require(j, "sphere_sites", path);
+  if (!ss.is_array() || ss.size() != p.sphere_count())
+    fail_input(path, "field 'sphere_sites' must have one entry per sphere");
+  for (const auto& v : ss) {
+    if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() >= (long long)p.sites.size())
+      fail_input(path, "field 'sphere_sites' holds an index that is not a site");
+    p.sphere_sites.push_back(v.get<int>());
+  }
+  return p;
+}
+
+ProxyModel read_proxy_file(const std::string& path) {
+  try {
+    return proxy_from_json(read_json_file(path), path);
+  } catch (const json::exception& e) {
+    fail_input(path, std::string("malformed proxy: ") + e.what());
+  }
+}
+
+}  // namespace spx

@@ -1,0 +1,156 @@
+#include "posemap/tet_mesh.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/make_mesh_3.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "mesh/winding_number.hpp"
+
+namespace spx {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Domain = CGAL::Labeled_mesh_domain_3<K>;
+using Tr = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
+using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr>;
+using Criteria = CGAL::Mesh_criteria_3<Tr>;
+
+void orient(TetMesh& m) {
+  for (auto& t : m.tets) {
+    const Eigen::Vector3d& a = m.vertices[t[0]];
+    const double det = (m.vertices[t[1]] - a).cross(m.vertices[t[2]] - a).dot(m.vertices[t[3]] - a);
+    if (det < 0) std::swap(t[2], t[3]);
+  }
+}
+
+}  // namespace
+
+void find_tet_boundary(TetMesh& m) {
+  struct Face { std::array<int, 3> key; int tet; int opposite; };
+  std::vector<Face> faces;
+  faces.reserve(m.tets.size() * 4);
+  for (size_t t = 0; t < m.tets.size(); ++t)
+    for (int o = 0; o < 4; ++o) {
+      std::array<int, 3> k;
+      for (int s = 0, n = 0; s < 4; ++s)
+        if (s != o) k[n++] = m.tets[t][s];
+      std::sort(k.begin(), k.end());
+      faces.push_back({k, int(t), o});
+    }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) {
+    return a.key != b.key ? a.key < b.key : a.tet < b.tet;
+  });
+  m.boundary_faces.clear();
+  m.boundary_face_tet.clear();
+  m.on_boundary.assign(m.vertices.size(), 0);
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i == 1) {
+      // Outward orientation: the face seen from outside, opposite vertex behind it.
+      const Eigen::Vector4i& t = m.tets[faces[i].tet];
+      static const int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+      const int* f = kFace[faces[i].opposite];
+      m.boundary_faces.emplace_back(t[f[0]], t[f[1]], t[f[2]]);
+      m.boundary_face_tet.push_back(faces[i].tet);
+      for (int v : faces[i].key) m.on_boundary[v] = 1;
+    }
+    i = j;
+  }
+}
+
+TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) {
+  const Eigen::AlignedBox3d box = surface.bounds();
+  const double diag = box.diagonal().norm();
+  const double size = opt.size > 0 ? opt.size : diag / 30.0;
+  if (!(size > 0) || !std::isfinite(size)) fail_usage("--tet-size", "must be a positive number");
+  if (diag / size > 400) fail_usage("--tet-size", "is too small for this mesh (over 400 tets across)");
+
+  const WindingNumber wn(surface);
+  std::function<double(const K::Point_3&)> level = [&wn](const K::Point_3& p) {
+    return 0.5 - wn(Eigen::Vector3d(p.x(), p.y(), p.z()));
+  };
+  const Eigen::Vector3d c = box.center();
+  const double radius = 0.5 * diag + 2 * size;
+  namespace params = CGAL::parameters;
+  Domain domain = Domain::create_implicit_mesh_domain(
+      params::function = level, params::bounding_object = K::Sphere_3(K::Point_3(c.x(), c.y(), c.z()), radius * radius),
+      params::relative_error_bound = 1e-6);
+  Criteria criteria(params::facet_angle = 25, params::facet_size = size, params::facet_distance = size / 10,
+                    params::cell_radius_edge_ratio = 3, params::cell_size = size);
+  CGAL::get_default_random() = CGAL::Random(0);  // perturbation and exudation draw from it
+  log.detail("meshing the interior with tets of size " + std::to_string(size));
+  C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::exude());
+
+  TetMesh out;
+  std::map<Tr::Vertex_handle, int> ids;
+  for (auto cell = c3t3.cells_in_complex_begin(); cell != c3t3.cells_in_complex_end(); ++cell) {
+    Eigen::Vector4i t;
+    for (int k = 0; k < 4; ++k) {
+      auto v = cell->vertex(k);
+      auto [it, fresh] = ids.emplace(v, int(out.vertices.size()));
+      if (fresh) {
+        const auto& p = v->point().point();
+        out.vertices.emplace_back(p.x(), p.y(), p.z());
+      }
+      t[k] = it->second;
+    }
+    out.tets.push_back(t);
+  }
+  if (out.tets.empty())
+    fail_input("", "the rest shape produced no tetrahedra (is it closed, or thinner than --tet-size?)");
+  orient(out);
+  find_tet_boundary(out);
+  return out;
+}
+
+TetMesh read_medit_tets(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail_input(path, "cannot open");
+  TetMesh m;
+  std::string word;
+  auto read_count = [&](const char* section) {
+    long n = -1;
+    if (!(in >> n) || n < 0) fail_input(path, std::string("bad count in section ") + section);
+    return n;
+  };
+  while (in >> word) {
+    if (word == "Vertices") {
+      const long n = read_count("Vertices");
+      m.vertices.resize(size_t(n));
+      for (auto& v : m.vertices) {
+        int ref;
+        if (!(in >> v.x() >> v.y() >> v.z() >> ref) || !v.allFinite()) fail_input(path, "bad vertex");
+      }
+    } else if (word == "Tetrahedra") {
+      const long n = read_count("Tetrahedra");
+      m.tets.resize(size_t(n));
+      for (auto& t : m.tets) {
+        int ref;
+        if (!(in >> t[0] >> t[1] >> t[2] >> t[3] >> ref)) fail_input(path, "bad tetrahedron");
+        t.array() -= 1;
+        if ((t.array() < 0).any() || (t.array() >= int(m.vertices.size())).any())
+          fail_input(path, "tetrahedron refers to a missing vertex");
+      }
+    } else if (word == "End") {
+      break;
+    }
+  }
+  if (m.tets.empty()) fail_input(path, "holds no tetrahedra");
+  orient(m);
+  find_tet_boundary(m);
+  return m;
+}
+
+}  // namespace spx

@@ -1,0 +1,34 @@
+#pragma once
+// The tetrahedral mesh of the rest shape that carries the surface motion into the interior.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/log.hpp"
+#include "mesh/mesh.hpp"
+
+namespace spx {
+
+struct TetMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector4i> tets;            // positively oriented
+  std::vector<Eigen::Vector3i> boundary_faces;  // faces with one tet
+  std::vector<int> boundary_face_tet;           // that tet
+  std::vector<char> on_boundary;                // per vertex
+};
+
+struct TetOptions {
+  double size = 0;  // target edge length; 0: bounding-box diagonal / 30
+};
+
+// CGAL Mesh_3 on the implicit domain {winding number of `surface` > 1/2}, so open meshes
+// and soups mesh too. Sequential and seeded: the same input gives the same tets.
+TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& log = Log::silent());
+
+// Faces used by exactly one tet, with that tet; fills boundary_* and on_boundary.
+void find_tet_boundary(TetMesh& mesh);
+
+// A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections).
+TetMesh read_medit_tets(const std::string& path);
+
+}  // namespace spx

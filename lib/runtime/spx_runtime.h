@@ -1,0 +1,386 @@
+// spx_runtime.h - load and blend sphere-union collision proxies (.spx files).
+//
+// One self-contained header: C++14, standard library only, no exceptions, no allocation after
+// loading. Every failure returns a status code; any bytes are safe to hand to the loader.
+//
+//   spx::Proxy proxy;
+//   if (spx::load_file("car.spx", &proxy) != spx::SPX_OK) ...
+//   spx::blend_global(proxy, weights, proxy.pose_count(), centers, radii);   // each frame
+//
+// Configuration (define before including):
+//   SPX_MAX_POSES   largest pose count accepted (default 256; blends keep weights on the stack)
+//   SPX_MALLOC / SPX_FREE   the allocator used once per load (default std::malloc / std::free)
+//
+// Weights policy (global and local blends alike): a weight vector must have exactly
+// pose_count() finite entries; negative entries are clamped to 0, and the rest are divided by
+// their sum, which must be positive. Anything else is rejected with SPX_ERR_BAD_WEIGHTS or
+// SPX_ERR_WEIGHT_COUNT and the output buffers are left untouched. Radii are never negative.
+//
+// File layout (little-endian), format 1.0:
+//   0  u8[8]  magic 89 'S' 'P' 'X' 0D 0A 1A 0A
+//   8  u16    format major, u16 minor
+//   12 u32    header size (64)
+//   16 u64    file size in bytes, including the trailing checksum
+//   24 u32    sphere count n, u32 pose count p, u32 site count s
+//   36 u8     sizeof(float) = 4, u8 sizeof(index) = 4, u16 flags (0)
+//   40 u32    offsets of: spheres (p*n*4 f32: x y z r, pose-major), sphere sites (n u32),
+//             sites (s*3 f32), names (per pose: u32 length + bytes, padded to 4); u32 names size
+//   60 u32    reserved (0)
+//   ...       sections, each 4-byte aligned
+//   end-4 u32 CRC-32 (IEEE 802.3) of every byte before it
+#ifndef SPX_RUNTIME_H
+#define SPX_RUNTIME_H
+
+#define SPX_RUNTIME_VERSION_MAJOR 1
+#define SPX_RUNTIME_VERSION_MINOR 0
+#define SPX_FORMAT_VERSION_MAJOR 1
+#define SPX_FORMAT_VERSION_MINOR 0
+
+#ifndef SPX_MAX_POSES
+#define SPX_MAX_POSES 256
+#endif
+#if !defined(SPX_MALLOC) || !defined(SPX_FREE)
+#include <cstdlib>
+#define SPX_MALLOC(size) std::malloc(size)
+#define SPX_FREE(ptr) std::free(ptr)
+#endif
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+
+namespace spx {
+
+enum Status {
+  SPX_OK = 0,
+  SPX_ERR_INVALID_ARGUMENT,  // a null pointer where data was required
+  SPX_ERR_IO,                // the file could not be opened or read
+  SPX_ERR_OUT_OF_MEMORY,
+  SPX_ERR_TRUNCATED,         // fewer bytes than the header says
+  SPX_ERR_BAD_MAGIC,         // not a .spx file
+  SPX_ERR_NEWER_VERSION,     // written by a newer major format version
+  SPX_ERR_BAD_VERSION,       // a version this reader never knew (legacy or corrupt)
+  SPX_ERR_BAD_SIZES,         // header sizes, counts or offsets are inconsistent
+  SPX_ERR_CHECKSUM,          // CRC-32 mismatch: corrupt bytes
+  SPX_ERR_BAD_DATA,          // non-finite value, negative radius or site index out of range
+  SPX_ERR_WEIGHT_COUNT,      // weight vector length is not pose_count()
+  SPX_ERR_BAD_WEIGHTS,       // non-finite weights, or no positive weight
+  SPX_ERR_EMPTY              // the proxy holds nothing (not loaded)
+};
+
+inline const char* status_string(Status s) {
+  switch (s) {
+    case SPX_OK: return "ok";
+    case SPX_ERR_INVALID_ARGUMENT: return "invalid argument";
+    case SPX_ERR_IO: return "cannot read file";
+    case SPX_ERR_OUT_OF_MEMORY: return "out of memory";
+    case SPX_ERR_TRUNCATED: return "file is truncated";
+    case SPX_ERR_BAD_MAGIC: return "not an .spx file";
+    case SPX_ERR_NEWER_VERSION: return "file was written by a newer format version";
+    case SPX_ERR_BAD_VERSION: return "unknown format version";
+    case SPX_ERR_BAD_SIZES: return "inconsistent sizes in header";
+    case SPX_ERR_CHECKSUM: return "checksum mismatch (corrupt file)";
+    case SPX_ERR_BAD_DATA: return "invalid values in file";
+    case SPX_ERR_WEIGHT_COUNT: return "weight count does not match pose count";
+    case SPX_ERR_BAD_WEIGHTS: return "weights are not finite or have no positive entry";
+    case SPX_ERR_EMPTY: return "proxy is empty";
+  }
+  return "unknown status";
+}
+
+class Proxy;
+Status load_memory(const void* data, size_t size, Proxy* out);
+
+// A loaded proxy: S_0..S_e (pose 0 is the rest pose), the blend site of every sphere, and the
+// sites' rest positions. Owns one block of memory; move-only.
+class Proxy {
+ public:
+  Proxy() {}
+  ~Proxy() { reset(); }
+  Proxy(Proxy&& o) noexcept { take(o); }
+  Proxy& operator=(Proxy&& o) noexcept {
+    if (this != &o) {
+      reset();
+      take(o);
+    }
+    return *this;
+  }
+  Proxy(const Proxy&) = delete;
+  Proxy& operator=(const Proxy&) = delete;
+
+  uint32_t sphere_count() const { return spheres_n_; }
+  uint32_t pose_count() const { return poses_n_; }
+  uint32_t site_count() const { return sites_n_; }
+  // x, y, z, r for each sphere of `pose` (nullptr when out of range).
+  const float* pose_spheres(uint32_t pose) const {
+    return pose < poses_n_ ? spheres_ + size_t(pose) * spheres_n_ * 4 : nullptr;
+  }
+  const uint32_t* sphere_sites() const { return sphere_sites_; }
+  const float* site_positions() const { return sites_; }  // x, y, z per site
+  const char* pose_name(uint32_t pose) const { return pose < poses_n_ ? names_[pose] : nullptr; }
+  bool empty() const { return block_ == nullptr; }
+
+  void reset() {
+    if (block_) SPX_FREE(block_);
+    block_ = nullptr;
+    spheres_ = sites_ = nullptr;
+    sphere_sites_ = nullptr;
+    names_ = nullptr;
+    spheres_n_ = poses_n_ = sites_n_ = 0;
+  }
+
+ private:
+  friend Status load_memory(const void* data, size_t size, Proxy* out);
+  void take(Proxy& o) {
+    block_ = o.block_;
+    spheres_ = o.spheres_;
+    sites_ = o.sites_;
+    sphere_sites_ = o.sphere_sites_;
+    names_ = o.names_;
+    spheres_n_ = o.spheres_n_;
+    poses_n_ = o.poses_n_;
+    sites_n_ = o.sites_n_;
+    o.block_ = nullptr;
+    o.reset();
+  }
+  void* block_ = nullptr;
+  float* spheres_ = nullptr;
+  float* sites_ = nullptr;
+  uint32_t* sphere_sites_ = nullptr;
+  char** names_ = nullptr;
+  uint32_t spheres_n_ = 0, poses_n_ = 0, sites_n_ = 0;
+};
+
+namespace detail {
+
+inline uint32_t crc32(const unsigned char* p, size_t n) {
+  uint32_t table[256];
+  for (uint32_t i = 0; i < 256; ++i) {
+    uint32_t c = i;
+    for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+    table[i] = c;
+  }
+  uint32_t c = 0xFFFFFFFFu;
+  for (size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+inline uint16_t rd16(const unsigned char* p) { return uint16_t(p[0] | (p[1] << 8)); }
+inline uint32_t rd32(const unsigned char* p) {
+  return uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16) | (uint32_t(p[3]) << 24);
+}
+inline uint64_t rd64(const unsigned char* p) { return uint64_t(rd32(p)) | (uint64_t(rd32(p + 4)) << 32); }
+inline float rdf32(const unsigned char* p) {
+  const uint32_t u = rd32(p);
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+inline bool finite(float f) { return std::isfinite(f); }
+
+// Clamps negatives to 0 and divides by the sum; false when not finite or no positive weight.
+inline bool normalize(const float* w, uint32_t n, float* out) {
+  float sum = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!finite(w[i])) return false;
+    out[i] = w[i] > 0 ? w[i] : 0.0f;
+    sum += out[i];
+  }
+  if (!(sum > 0) || !finite(sum)) return false;
+  for (uint32_t i = 0; i < n; ++i) out[i] /= sum;
+  return true;
+}
+
+}  // namespace detail
+
+static const unsigned char SPX_MAGIC[8] = {0x89, 'S', 'P', 'X', 0x0D, 0x0A, 0x1A, 0x0A};
+enum { SPX_HEADER_SIZE = 64 };
+
+inline Status load_memory(const void* data, size_t size, Proxy* out) {
+  using namespace detail;
+  if (!out || (!data && size > 0)) return SPX_ERR_INVALID_ARGUMENT;
+  const unsigned char* b = static_cast<const unsigned char*>(data);
+  if (size < 8) return size == 0 || std::memcmp(b, SPX_MAGIC, size) == 0 ? SPX_ERR_TRUNCATED : SPX_ERR_BAD_MAGIC;
+  if (std::memcmp(b, SPX_MAGIC, 8) != 0) return SPX_ERR_BAD_MAGIC;
+  if (size < 12) return SPX_ERR_TRUNCATED;
+  const uint16_t major = rd16(b + 8);
+  if (major > SPX_FORMAT_VERSION_MAJOR) return SPX_ERR_NEWER_VERSION;
+  if (major < 1) return SPX_ERR_BAD_VERSION;
+  if (size < SPX_HEADER_SIZE + 4) return SPX_ERR_TRUNCATED;
+  const uint64_t file_size = rd64(b + 16);
+  if (file_size > size) return SPX_ERR_TRUNCATED;
+  if (file_size < size) return SPX_ERR_BAD_SIZES;
+  if (rd32(b + size - 4) != crc32(b, size - 4)) return SPX_ERR_CHECKSUM;
+
+  const uint32_t header = rd32(b + 12);
+  const uint32_t n = rd32(b + 24), p = rd32(b + 28), s = rd32(b + 32);
+  const uint32_t off_spheres = rd32(b + 40), off_ss = rd32(b + 44), off_sites = rd32(b + 48);
+  const uint32_t off_names = rd32(b + 52), names_size = rd32(b + 56);
+  if (header < SPX_HEADER_SIZE || b[36] != 4 || b[37] != 4) return SPX_ERR_BAD_SIZES;
+  if (n == 0 || p == 0 || s == 0 || p > SPX_MAX_POSES || s > n) return SPX_ERR_BAD_SIZES;
+  const uint64_t body = size - 4;
+  const uint64_t sphere_bytes = uint64_t(p) * n * 16, ss_bytes = uint64_t(n) * 4, site_bytes = uint64_t(s) * 12;
+  struct Range { uint64_t at, len; } ranges[4] = {
+      {off_spheres, sphere_bytes}, {off_ss, ss_bytes}, {off_sites, site_bytes}, {off_names, names_size}};
+  for (int i = 0; i < 4; ++i) {
+    if (ranges[i].at < header || ranges[i].at % 4 != 0 || ranges[i].at + ranges[i].len > body) return SPX_ERR_BAD_SIZES;
+    for (int j = 0; j < i; ++j)
+      if (ranges[i].at < ranges[j].at + ranges[j].len && ranges[j].at < ranges[i].at + ranges[i].len)
+        return SPX_ERR_BAD_SIZES;
+  }
+
+  // Names: p length-prefixed strings inside the names section.
+  uint64_t name_chars = 0;
+  {
+    uint64_t at = off_names;
+    for (uint32_t i = 0; i < p; ++i) {
+      if (at + 4 > uint64_t(off_names) + names_size) return SPX_ERR_BAD_SIZES;
+      const uint32_t len = rd32(b + at);
+      if (at + 4 + len > uint64_t(off_names) + names_size) return SPX_ERR_BAD_SIZES;
+      name_chars += len + 1;
+      at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
+    }
+  }
+
+  // One block: spheres, sites, sphere sites, name pointers, name characters.
+  const uint64_t total = sphere_bytes + site_bytes + ss_bytes + uint64_t(p) * sizeof(char*) + name_chars;
+  if (total > SIZE_MAX) return SPX_ERR_OUT_OF_MEMORY;
+  unsigned char* block = static_cast<unsigned char*>(SPX_MALLOC(size_t(total)));
+  if (!block) return SPX_ERR_OUT_OF_MEMORY;
+  float* spheres = reinterpret_cast<float*>(block);
+  float* sites = reinterpret_cast<float*>(block + sphere_bytes);
+  uint32_t* ss = reinterpret_cast<uint32_t*>(block + sphere_bytes + site_bytes);
+  char** names = reinterpret_cast<char**>(block + sphere_bytes + site_bytes + ss_bytes);
+  char* chars = reinterpret_cast<char*>(names + p);
+
+  Status status = SPX_OK;
+  for (uint64_t i = 0; i < uint64_t(p) * n; ++i) {
+    for (int k = 0; k < 4; ++k) spheres[i * 4 + k] = rdf32(b + off_spheres + i * 16 + k * 4);
+    if (!finite(spheres[i * 4]) || !finite(spheres[i * 4 + 1]) || !finite(spheres[i * 4 + 2]) ||
+        !finite(spheres[i * 4 + 3]) || spheres[i * 4 + 3] < 0)
+      status = SPX_ERR_BAD_DATA;
+  }
+  for (uint64_t i = 0; i < uint64_t(s) * 3; ++i) {
+    sites[i] = rdf32(b + off_sites + i * 4);
+    if (!finite(sites[i])) status = SPX_ERR_BAD_DATA;
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    ss[i] = rd32(b + off_ss + uint64_t(i) * 4);
+    if (ss[i] >= s) status = SPX_ERR_BAD_DATA;
+  }
+  uint64_t at = off_names;
+  for (uint32_t i = 0; i < p; ++i) {
+    const uint32_t len = rd32(b + at);
+    names[i] = chars;
+    std::memcpy(chars, b + at + 4, len);
+    chars[len] = '\0';
+    chars += len + 1;
+    at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
+  }
+  if (status != SPX_OK) {
+    SPX_FREE(block);
+    return status;
+  }
+  out->reset();
+  out->block_ = block;
+  out->spheres_ = spheres;
+  out->sites_ = sites;
+  out->sphere_sites_ = ss;
+  out->names_ = names;
+  out->spheres_n_ = n;
+  out->poses_n_ = p;
+  out->sites_n_ = s;
+  return SPX_OK;
+}
+
+inline Status load_file(const char* path, Proxy* out) {
+  if (!path || !out) return SPX_ERR_INVALID_ARGUMENT;
+  std::FILE* f = std::fopen(path, "rb");
+  if (!f) return SPX_ERR_IO;
+  Status status = SPX_ERR_IO;
+  long size = -1;
+  if (std::fseek(f, 0, SEEK_END) == 0) size = std::ftell(f);
+  if (size >= 0 && std::fseek(f, 0, SEEK_SET) == 0) {
+    void* bytes = SPX_MALLOC(size_t(size) + 1);
+    if (!bytes) {
+      status = SPX_ERR_OUT_OF_MEMORY;
+    } else {
+      if (std::fread(bytes, 1, size_t(size), f) == size_t(size)) status = load_memory(bytes, size_t(size), out);
+      SPX_FREE(bytes);
+    }
+  }
+  std::fclose(f);
+  return status;
+}
+
+// One weight per example (pose_count() of them). Writes 3 floats per sphere to `centers`
+// and one to `radii`.
+inline Status blend_global(const Proxy& proxy, const float* weights, uint32_t weight_count, float* centers,
+                           float* radii) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!weights || !centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
+  const uint32_t p = proxy.pose_count(), n = proxy.sphere_count();
+  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
+  float w[SPX_MAX_POSES];
+  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
+  for (uint32_t j = 0; j < n; ++j) {
+    const float* s = proxy.pose_spheres(0) + size_t(j) * 4;
+    centers[3 * j] = w[0] * s[0];
+    centers[3 * j + 1] = w[0] * s[1];
+    centers[3 * j + 2] = w[0] * s[2];
+    radii[j] = w[0] * s[3];
+  }
+  for (uint32_t i = 1; i < p; ++i) {
+    const float wi = w[i];
+    if (wi == 0) continue;
+    const float* s = proxy.pose_spheres(i);
+    for (uint32_t j = 0; j < n; ++j) {
+      centers[3 * j] += wi * s[4 * j];
+      centers[3 * j + 1] += wi * s[4 * j + 1];
+      centers[3 * j + 2] += wi * s[4 * j + 2];
+      radii[j] += wi * s[4 * j + 3];
+    }
+  }
+  for (uint32_t j = 0; j < n; ++j) radii[j] = radii[j] > 0 ? radii[j] : 0.0f;
+  return SPX_OK;
+}
+
+// The paper's local blend: `site_weights` holds pose_count() weights for each blend site
+// (site-major, weight_count = site_count() * pose_count()); each sphere uses its site's.
+inline Status blend_local(const Proxy& proxy, const float* site_weights, size_t weight_count, float* centers,
+                          float* radii) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!site_weights || !centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
+  const uint32_t p = proxy.pose_count(), n = proxy.sphere_count(), s = proxy.site_count();
+  if (weight_count != size_t(s) * p) return SPX_ERR_WEIGHT_COUNT;
+  float w[SPX_MAX_POSES];
+  for (uint32_t site = 0; site < s; ++site)
+    if (!detail::normalize(site_weights + size_t(site) * p, p, w)) return SPX_ERR_BAD_WEIGHTS;
+  const uint32_t* sites = proxy.sphere_sites();
+  uint32_t current = UINT32_MAX;
+  for (uint32_t j = 0; j < n; ++j) {
+    if (sites[j] != current) {
+      current = sites[j];
+      detail::normalize(site_weights + size_t(current) * p, p, w);
+    }
+    float x = 0, y = 0, z = 0, r = 0;
+    for (uint32_t i = 0; i < p; ++i) {
+      if (w[i] == 0 && i > 0) continue;
+      const float* sp = proxy.pose_spheres(i) + size_t(j) * 4;
+      x += w[i] * sp[0];
+      y += w[i] * sp[1];
+      z += w[i] * sp[2];
+      r += w[i] * sp[3];
+    }
+    centers[3 * j] = x;
+    centers[3 * j + 1] = y;
+    centers[3 * j + 2] = z;
+    radii[j] = r > 0 ? r : 0.0f;
+  }
+  return SPX_OK;
+}
+
+}  // namespace spx
+
+#endif  // SPX_RUNTIME_H

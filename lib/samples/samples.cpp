@@ -1,0 +1,180 @@
+#include "samples/samples.hpp"
+
+#include <cmath>
+#include <map>
+
+#include "core/error.hpp"
+
+namespace spx {
+namespace {
+
+double smoothstep(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+// Integral of smoothstep from 0 to t.
+double smoothstep_integral(double t) {
+  if (t <= 0) return 0;
+  if (t >= 1) return 0.5 + (t - 1);
+  return t * t * t - 0.5 * t * t * t * t;
+}
+double gauss(double a) { return std::exp(-a * a); }
+
+// Closed quad lattice on the surface of a box, split into outward triangles; vertices
+// carry their position in [-1,1]^3.
+TriMesh box_lattice(int nx, int ny, int nz) {
+  TriMesh m;
+  std::map<std::array<int, 3>, int> index;
+  auto vertex = [&](int i, int j, int k) {
+    auto [it, fresh] = index.emplace(std::array<int, 3>{i, j, k}, int(m.vertices.size()));
+    if (fresh) m.vertices.emplace_back(2.0 * i / nx - 1, 2.0 * j / ny - 1, 2.0 * k / nz - 1);
+    return it->second;
+  };
+  const int n[3] = {nx, ny, nz};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    for (int side = 0; side < 2; ++side)
+      for (int u = 0; u < n[a]; ++u)
+        for (int v = 0; v < n[b]; ++v) {
+          int q[4];
+          const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+          for (int c = 0; c < 4; ++c) {
+            std::array<int, 3> ijk;
+            ijk[axis] = side * n[axis];
+            ijk[a] = u + du[c];
+            ijk[b] = v + dv[c];
+            q[c] = vertex(ijk[0], ijk[1], ijk[2]);
+          }
+          // (a, b, axis) is right-handed, so (q0,q1,q2) faces +axis; flip on the low side.
+          if (side == 1) {
+            m.triangles.emplace_back(q[0], q[1], q[2]);
+            m.triangles.emplace_back(q[0], q[2], q[3]);
+          } else {
+            m.triangles.emplace_back(q[0], q[2], q[1]);
+            m.triangles.emplace_back(q[0], q[3], q[2]);
+          }
+        }
+  }
+  return m;
+}
+
+}  // namespace
+
+TriMesh SampleAsset::pose(size_t index) const {
+  TriMesh m = rest;
+  for (auto& v : m.vertices) v = deform(index, v);
+  return m;
+}
+
+SampleAsset make_car() {
+  SampleAsset car;
+  car.name = "car";
+  constexpr double half_length = 2.625, half_width = 0.9;
+  car.rest = box_lattice(22, 9, 6);
+  for (auto& p : car.rest.vertices) {
+    // Rounded box (superellipsoid, exponent 4), then a car's profile: hood, cabin, trunk.
+    const double s = std::pow(std::pow(std::abs(p.x()), 4) + std::pow(std::abs(p.y()), 4) + std::pow(std::abs(p.z()), 4), -0.25);
+    const Eigen::Vector3d q = s * p;
+    const double xn = q.x();
+    const double cabin = smoothstep((xn + 0.6) / 0.3) * smoothstep((0.35 - xn) / 0.3);
+    const double up = std::max(q.z(), 0.0);
+    const double x = half_length * q.x();
+    const double y = half_width * q.y() * (1 - 0.18 * cabin * up * up);
+    const double z = q.z() < 0 ? 0.65 + 0.3 * q.z() : 0.65 + q.z() * (0.3 + 0.55 * cabin);
+    p = Eigen::Vector3d(x, y, z);
+  }
+  car.pose_names = {"front", "rear", "side", "roof"};
+  car.deform = [](size_t pose, const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    Eigen::Vector3d q = p;
+    switch (pose) {
+      case 0: {  // front crumple: the nose compresses (more at the center), the hood buckles up
+        const double x0 = 1.2, span = half_length - x0;
+        const double t = (p.x() - x0) / span;
+        const double k = 0.3 + 0.15 * gauss(p.y() / 0.5);
+        q.x() = p.x() - k * span * smoothstep_integral(t);
+        q.z() = p.z() + 0.12 * (t > 0 && t < 1 ? std::sin(M_PI * t) : 0.0) * smoothstep((p.z() - 0.6) / 0.3);
+        break;
+      }
+      case 1: {  // rear crumple
+        const double x0 = -1.4, span = half_length + x0;
+        const double t = (x0 - p.x()) / span;
+        q.x() = p.x() + 0.3 * span * smoothstep_integral(t);
+        q.z() = p.z() - 0.08 * (t > 0 && t < 1 ? std::sin(M_PI * t) : 0.0) * smoothstep((p.z() - 0.6) / 0.3);
+        break;
+      }
+      case 2:  // side impact on the right (+y) door
+        q.y() = p.y() - 0.35 * gauss((p.x() - 0.3) / 0.7) * gauss((p.z() - 0.75) / 0.35) * smoothstep((p.y() + 0.2) / 1.1);
+        break;
+      case 3:  // roof crushed from above
+        q.z() = p.z() - 0.3 * gauss((p.x() + 0.2) / 0.9) * gauss(p.y() / 0.6) * smoothstep((p.z() - 0.4) / 1.1);
+        break;
+    }
+    return q;
+  };
+  return car;
+}
+
+SampleAsset make_barrel() {
+  SampleAsset barrel;
+  barrel.name = "barrel";
+  constexpr double height = 0.72, radius = 0.29;
+  constexpr int sectors = 32;
+  // Profile from the bottom pole to the top pole: lid rings, rounded rims, bulged side.
+  std::vector<std::pair<double, double>> profile;  // (r, z)
+  for (double f : {0.33, 0.66, 0.9}) profile.emplace_back(f * radius, 0.0);
+  profile.emplace_back(0.98 * radius, 0.005);
+  const int side = 12;
+  for (int i = 0; i <= side; ++i) {
+    const double t = double(i) / side;
+    const double z = 0.02 + t * (height - 0.04);
+    profile.emplace_back(radius * (1 + 0.07 * (1 - (2 * t - 1) * (2 * t - 1))), z);
+  }
+  profile.emplace_back(0.98 * radius, height - 0.005);
+  for (double f : {0.9, 0.66, 0.33}) profile.emplace_back(f * radius, height);
+
+  TriMesh& m = barrel.rest;
+  m.vertices.emplace_back(0, 0, 0);  // bottom pole
+  for (const auto& [r, z] : profile)
+    for (int s = 0; s < sectors; ++s) {
+      const double a = 2 * M_PI * s / sectors;
+      m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), z);
+    }
+  m.vertices.emplace_back(0, 0, height);  // top pole
+  const int rings = int(profile.size()), top = int(m.vertices.size()) - 1;
+  auto at = [&](int ring, int s) { return 1 + ring * sectors + (s % sectors); };
+  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(0, at(0, s + 1), at(0, s));
+  for (int ring = 0; ring + 1 < rings; ++ring)
+    for (int s = 0; s < sectors; ++s) {
+      m.triangles.emplace_back(at(ring, s), at(ring, s + 1), at(ring + 1, s + 1));
+      m.triangles.emplace_back(at(ring, s), at(ring + 1, s + 1), at(ring + 1, s));
+    }
+  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(top, at(rings - 1, s), at(rings - 1, s + 1));
+
+  barrel.pose_names = {"dent", "squash", "top"};
+  barrel.deform = [](size_t pose, const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    Eigen::Vector3d q = p;
+    switch (pose) {
+      case 0:  // a dent in the side facing +x
+        q.x() = p.x() - 0.09 * gauss((p.z() - 0.45) / 0.12) * gauss(p.y() / 0.12) * smoothstep((p.x() + 0.1) / 0.4);
+        break;
+      case 1: {  // squashed from above: 15% shorter, bulging out
+        const double bulge = 1 + 0.1 * std::sin(M_PI * std::clamp(p.z() / height, 0.0, 1.0));
+        q = Eigen::Vector3d(p.x() * bulge, p.y() * bulge, 0.85 * p.z());
+        break;
+      }
+      case 2:  // the lid pushed in at its center
+        q.z() = p.z() - 0.08 * gauss(std::hypot(p.x(), p.y()) / 0.14) * smoothstep((p.z() - 0.3) / 0.42);
+        break;
+    }
+    return q;
+  };
+  return barrel;
+}
+
+SampleAsset make_sample(const std::string& name) {
+  if (name == "car") return make_car();
+  if (name == "barrel") return make_barrel();
+  fail_usage(name, "unknown sample (use car or barrel)");
+}
+
+}  // namespace spx

@@ -1,0 +1,30 @@
+#pragma once
+// Sample assets the project generates itself: closed meshes with smooth analytic example
+// deformations, so the true map f from rest to each pose is known everywhere (tests use it).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace spx {
+
+struct SampleAsset {
+  std::string name;
+  TriMesh rest;
+  std::vector<std::string> pose_names;
+  // The true map f: rest-space point -> its position in pose `pose` (0-based over pose_names).
+  std::function<Eigen::Vector3d(size_t pose, const Eigen::Vector3d&)> deform;
+
+  TriMesh pose(size_t index) const;
+};
+
+// A car-like body, 5.25 m long (x forward, z up, ground at z = 0), about 1500 triangles;
+// poses: front, rear, side, roof crumples.
+SampleAsset make_car();
+// A barrel 0.72 m tall; poses: dent, squash, top (a dented lid).
+SampleAsset make_barrel();
+
+SampleAsset make_sample(const std::string& name);  // "car" or "barrel"
+
+}  // namespace spx

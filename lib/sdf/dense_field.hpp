@@ -1,0 +1,38 @@
+#pragma once
+// A dense block of voxels in OpenVDB's index space: voxel (i,j,k) of the block sits at index
+// coordinate origin + (i,j,k), whose center is at world position voxel_size * (origin + (i,j,k)).
+// Memory layout is OpenVDB's LayoutZYX (z fastest), so the block can be handed to tools::Dense.
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+namespace spx {
+
+struct GridShape {
+  Eigen::Vector3i origin = Eigen::Vector3i::Zero();
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  double voxel_size = 1;
+
+  size_t count() const { return size_t(dims.x()) * size_t(dims.y()) * size_t(dims.z()); }
+  size_t index(int i, int j, int k) const { return size_t(k) + size_t(dims.z()) * (size_t(j) + size_t(dims.y()) * size_t(i)); }
+  Eigen::Vector3i coords(size_t idx) const {
+    const int k = int(idx % size_t(dims.z()));
+    idx /= size_t(dims.z());
+    return {int(idx / size_t(dims.y())), int(idx % size_t(dims.y())), k};
+  }
+  Eigen::Vector3d world(int i, int j, int k) const {
+    return voxel_size * Eigen::Vector3d(origin.x() + i, origin.y() + j, origin.z() + k);
+  }
+  Eigen::Vector3d world(size_t idx) const {
+    const Eigen::Vector3i c = coords(idx);
+    return world(c.x(), c.y(), c.z());
+  }
+};
+
+struct DenseField {
+  GridShape shape;
+  float background = 0;       // value of voxels far outside (positive)
+  std::vector<float> values;  // signed distance, negative inside
+};
+
+}  // namespace spx

@@ -1,0 +1,112 @@
+#include "sdf/edt.hpp"
+
+#include <limits>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace spx {
+namespace {
+
+constexpr int64_t kNone = std::numeric_limits<int64_t>::max() / 4;
+
+// 1D squared-distance transform of f (kNone = no sample) with argmin, on a line of n samples.
+struct LineScratch {
+  std::vector<int64_t> f, d;
+  std::vector<int32_t> arg, feat, v;
+  std::vector<double> z;
+  explicit LineScratch(int n) : f(n), d(n), arg(n), feat(n), v(n), z(n + 1) {}
+};
+
+void transform_line(int n, LineScratch& s) {
+  int k = -1;
+  for (int q = 0; q < n; ++q) {
+    if (s.f[q] >= kNone) continue;
+    if (k < 0) {
+      k = 0;
+      s.v[0] = q;
+      s.z[0] = -std::numeric_limits<double>::infinity();
+      s.z[1] = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    double sq;
+    for (;;) {
+      const int p = s.v[k];
+      sq = (double(s.f[q] + int64_t(q) * q) - double(s.f[p] + int64_t(p) * p)) / (2.0 * (q - p));
+      if (sq > s.z[k]) break;
+      --k;
+    }
+    ++k;
+    s.v[k] = q;
+    s.z[k] = sq;
+    s.z[k + 1] = std::numeric_limits<double>::infinity();
+  }
+  if (k < 0) {
+    for (int q = 0; q < n; ++q) {
+      s.d[q] = kNone;
+      s.arg[q] = -1;
+    }
+    return;
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q) {
+    while (s.z[k + 1] < q) ++k;
+    const int p = s.v[k];
+    s.d[q] = int64_t(q - p) * (q - p) + s.f[p];
+    s.arg[q] = p;
+  }
+}
+
+}  // namespace
+
+std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed) {
+  const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+  const size_t total = shape.count();
+  std::vector<int64_t> dist(total);
+  std::vector<int32_t> feature(total);
+
+  // Pass along z (contiguous): nearest seed on the line by two scans.
+  tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny), [&](const tbb::blocked_range<int>& r) {
+    for (int line = r.begin(); line != r.end(); ++line) {
+      const size_t base = size_t(line) * nz;
+      int last = -1;
+      for (int k = 0; k < nz; ++k) {
+        if (seed[base + k]) last = k;
+        feature[base + k] = last;
+      }
+      last = -1;
+      for (int k = nz - 1; k >= 0; --k) {
+        if (seed[base + k]) last = k;
+        const int before = feature[base + k];
+        int best = before;
+        if (last >= 0 && (before < 0 || last - k < k - before)) best = last;
+        feature[base + k] = best < 0 ? -1 : int32_t(base + best);
+        dist[base + k] = best < 0 ? kNone : int64_t(k - best) * (k - best);
+      }
+    }
+  });
+
+  // Passes along y, then x: lower envelope of parabolas, carrying the seed index.
+  auto pass = [&](int n, int lines, auto&& offset_of) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, lines), [&](const tbb::blocked_range<int>& r) {
+      LineScratch s(n);
+      for (int line = r.begin(); line != r.end(); ++line) {
+        for (int q = 0; q < n; ++q) {
+          const size_t idx = offset_of(line, q);
+          s.f[q] = dist[idx];
+          s.feat[q] = feature[idx];
+        }
+        transform_line(n, s);
+        for (int q = 0; q < n; ++q) {
+          const size_t idx = offset_of(line, q);
+          dist[idx] = s.d[q];
+          feature[idx] = s.arg[q] < 0 ? -1 : s.feat[s.arg[q]];
+        }
+      }
+    });
+  };
+  pass(ny, nx * nz, [&](int line, int j) { return shape.index(line / nz, j, line % nz); });
+  pass(nx, ny * nz, [&](int line, int i) { return shape.index(i, line / nz, line % nz); });
+  return feature;
+}
+
+}  // namespace spx

@@ -1,0 +1,16 @@
+#pragma once
+// Exact Euclidean feature transform on a voxel grid: for every voxel, the nearest seed voxel.
+// Separable lower-envelope algorithm of Felzenszwalb & Huttenlocher (2012), carrying the argmin;
+// linear in the number of voxels and parallel over grid lines.
+#include <cstdint>
+#include <vector>
+
+#include "sdf/dense_field.hpp"
+
+namespace spx {
+
+// `seed[idx]` nonzero marks a seed. Returns, per voxel, the flat index of a nearest seed
+// (Euclidean distance between voxel centers) or -1 when there is no seed at all.
+std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed);
+
+}  // namespace spx

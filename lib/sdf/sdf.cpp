@@ -1,0 +1,218 @@
+#include "sdf/sdf.hpp"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <cmath>
+#include <deque>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.hpp"
+#include "mesh/mesh_query.hpp"
+#include "mesh/winding_number.hpp"
+#include "sdf/edt.hpp"
+
+namespace spx {
+namespace {
+
+// Working set per voxel: distances, closest triangle, flags, seed index, EDT distances, labels.
+constexpr double kBytesPerVoxel = 4 + 4 + 1 + 4 + 8 + 4 + 4;
+
+char fmt_buf[64];
+const char* gib(double v) {
+  std::snprintf(fmt_buf, sizeof fmt_buf, "%.1f GiB", v);
+  return fmt_buf;
+}
+
+}  // namespace
+
+GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimated_gib) {
+  if (opt.voxel_size < 0 || !std::isfinite(opt.voxel_size))
+    fail_usage("--voxel-size", "must be a positive number");
+  if (opt.voxel_size == 0 && opt.resolution < 1) fail_usage("--resolution", "must be at least 1");
+  if (opt.band < 1 || opt.band > 64) fail_usage("--band", "must be between 1 and 64 voxels");
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const double longest = box.sizes().maxCoeff();
+  if (!(longest > 0) || !std::isfinite(longest)) fail_input("", "mesh has zero extent");
+
+  GridShape shape;
+  shape.voxel_size = opt.voxel_size > 0 ? opt.voxel_size : longest / opt.resolution;
+  const int pad = opt.band + 1;
+  Eigen::Vector3d lo = (box.min() / shape.voxel_size).array().floor() - pad;
+  Eigen::Vector3d hi = (box.max() / shape.voxel_size).array().ceil() + pad;
+  const Eigen::Vector3d dims = hi - lo + Eigen::Vector3d::Ones();
+  const double voxels = dims.prod();
+  const double need = voxels * kBytesPerVoxel / double(1ull << 30);
+  if (estimated_gib) *estimated_gib = need;
+  const double index_limit = 2.0e9;
+  if (!(lo.cwiseAbs().maxCoeff() < index_limit && hi.cwiseAbs().maxCoeff() < index_limit))
+    fail_usage("--voxel-size", "is too small for the mesh's coordinates (index space overflows)");
+  if (need > opt.memory_limit_gib || voxels >= 2.0e9) {
+    char msg[400];
+    std::snprintf(msg, sizeof msg,
+                  "a %.0f x %.0f x %.0f grid needs about %s of memory, over the %.0f GiB limit; use a coarser "
+                  "--resolution (or raise --memory-limit on a larger machine)",
+                  dims.x(), dims.y(), dims.z(), gib(need), opt.memory_limit_gib);
+    fail_unsupported("", msg);
+  }
+  shape.origin = lo.cast<int>();
+  shape.dims = dims.cast<int>();
+  return shape;
+}
+
+SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
+  SdfResult result;
+  SdfStats& stats = result.stats;
+  stats.defects = find_defects(mesh);
+  const GridShape shape = plan_grid(mesh, opt, &stats.estimated_memory_gib);
+  const double h = shape.voxel_size;
+  const size_t total = shape.count();
+  log.detail("grid " + std::to_string(shape.dims.x()) + "x" + std::to_string(shape.dims.y()) + "x" +
+             std::to_string(shape.dims.z()) + ", voxel size " + std::to_string(h));
+
+  // 1. Unsigned narrow band with the closest triangle per voxel, from OpenVDB.
+  std::vector<float> dist(total, std::numeric_limits<float>::infinity());
+  std::vector<int32_t> closest(total, -1);
+  {
+    StageTimer t(log, "band");
+    openvdb::initialize();
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(mesh.vertices.size());
+    for (const auto& v : mesh.vertices)
+      points.emplace_back(float(v.x() / h), float(v.y() / h), float(v.z() / h));
+    std::vector<openvdb::Vec3I> tris;
+    tris.reserve(mesh.triangles.size());
+    for (const auto& f : mesh.triangles) tris.emplace_back(f[0], f[1], f[2]);
+    openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, tris);
+    auto xform = openvdb::math::Transform::createLinearTransform(h);
+    openvdb::Int32Grid index_grid(-1);
+    auto band = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+        adapter, *xform, float(opt.band), float(opt.band), openvdb::tools::UNSIGNED_DISTANCE_FIELD, &index_grid);
+    auto index_acc = index_grid.getConstAccessor();
+    for (auto it = band->cbeginValueOn(); it; ++it) {
+      const openvdb::Coord c = it.getCoord();
+      const Eigen::Vector3i local = Eigen::Vector3i(c.x(), c.y(), c.z()) - shape.origin;
+      if ((local.array() < 0).any() || (local.array() >= shape.dims.array()).any()) continue;
+      const int32_t tri = index_acc.getValue(c);
+      if (tri < 0) continue;
+      const size_t idx = shape.index(local.x(), local.y(), local.z());
+      dist[idx] = *it;
+      closest[idx] = tri;
+    }
+  }
+
+  // 2. Sign: generalized winding number at band voxels; elsewhere per connected region
+  //    when the mesh is watertight (w is then constant off the surface), else per voxel.
+  const WindingNumber wn(mesh);
+  std::vector<uint8_t> inside(total, 0), in_band(total, 0);
+  std::vector<size_t> band_list;
+  for (size_t i = 0; i < total; ++i)
+    if (closest[i] >= 0) {
+      in_band[i] = 1;
+      band_list.push_back(i);
+    }
+  stats.band_voxels = band_list.size();
+  {
+    StageTimer t(log, "sign");
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, band_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n != r.end(); ++n) inside[band_list[n]] = wn.inside(shape.world(band_list[n]));
+    });
+    stats.winding_evaluations = band_list.size();
+    const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+    if (stats.defects.watertight()) {
+      stats.sign_method = "winding number at band voxels, one per region elsewhere (watertight mesh)";
+      std::vector<uint8_t> seen(in_band);
+      std::vector<size_t> queue;
+      for (size_t start = 0; start < total; ++start) {
+        if (seen[start]) continue;
+        const uint8_t sign = wn.inside(shape.world(start));
+        ++stats.winding_evaluations;
+        queue.assign(1, start);
+        seen[start] = 1;
+        while (!queue.empty()) {
+          const size_t idx = queue.back();
+          queue.pop_back();
+          inside[idx] = sign;
+          const Eigen::Vector3i c = shape.coords(idx);
+          const int n[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+          for (const auto& d : n) {
+            const int i = c.x() + d[0], j = c.y() + d[1], k = c.z() + d[2];
+            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
+            const size_t m = shape.index(i, j, k);
+            if (!seen[m]) {
+              seen[m] = 1;
+              queue.push_back(m);
+            }
+          }
+        }
+      }
+    } else {
+      stats.sign_method = "winding number at every voxel (mesh is not watertight)";
+      // Outside the bounding box |w| <= 1/2 (a plane separates the query from the mesh).
+      const Eigen::AlignedBox3d box = mesh.bounds();
+      std::atomic<size_t> evaluations{0};
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        size_t local = 0;
+        for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+          if (in_band[idx]) continue;
+          const Eigen::Vector3d p = shape.world(idx);
+          if (!box.contains(p)) continue;
+          inside[idx] = wn.inside(p);
+          ++local;
+        }
+        evaluations += local;
+      });
+      stats.winding_evaluations += evaluations;
+    }
+  }
+
+  // 3. Interior distances: nearest band voxel by an exact feature transform, then the exact
+  //    distance to that voxel's closest triangle.
+  DenseField& field = result.field;
+  field.shape = shape;
+  field.background = float(opt.band * h);
+  field.values.assign(total, field.background);
+  {
+    StageTimer t(log, "interior");
+    const std::vector<int32_t> nearest = nearest_seed_transform(shape, in_band);
+    std::atomic<size_t> interior{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      size_t local = 0;
+      for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+        double d;
+        if (in_band[idx]) {
+          d = dist[idx];
+        } else if (inside[idx] && nearest[idx] >= 0) {
+          const auto& f = mesh.triangles[closest[size_t(nearest[idx])]];
+          const Eigen::Vector3d p = shape.world(idx);
+          d = (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).norm();
+        } else {
+          continue;  // far outside: background
+        }
+        if (inside[idx]) {
+          field.values[idx] = float(-d);
+          ++local;
+        } else {
+          field.values[idx] = std::min(float(d), field.background);
+        }
+      }
+      interior += local;
+    });
+    stats.interior_voxels = interior;
+  }
+  if (stats.interior_voxels == 0)
+    log.warn("no voxel lies inside the mesh; it may be flat, open or too thin for this resolution");
+  return result;
+}
+
+nlohmann::json SdfStats::to_json() const {
+  return {{"defects", defects.to_json()},
+          {"sign_method", sign_method},
+          {"band_voxels", band_voxels},
+          {"interior_voxels", interior_voxels},
+          {"winding_evaluations", winding_evaluations},
+          {"estimated_memory_gib", estimated_memory_gib}};
+}
+
+}  // namespace spx

@@ -1,0 +1,39 @@
+#pragma once
+// sdf-build: a signed distance field with distances through the whole interior.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/log.hpp"
+#include "mesh/defects.hpp"
+#include "mesh/mesh.hpp"
+#include "sdf/dense_field.hpp"
+
+namespace spx {
+
+struct SdfOptions {
+  int resolution = 128;        // voxels along the longest side of the bounding box
+  double voxel_size = 0;       // overrides resolution when > 0
+  int band = 3;                // exterior narrow band, in voxels
+  double memory_limit_gib = 16;  // refuse grids whose working set would exceed this
+};
+
+struct SdfStats {
+  MeshDefects defects;
+  std::string sign_method;
+  size_t band_voxels = 0, interior_voxels = 0, winding_evaluations = 0;
+  double estimated_memory_gib = 0;
+  nlohmann::json to_json() const;
+};
+
+struct SdfResult {
+  DenseField field;
+  SdfStats stats;
+};
+
+// Grid placement for a mesh: voxel size and padded extent. Throws Error(usage) on bad options
+// and Error(unsupported) when the grid would not fit in memory (the message gives the estimate).
+GridShape plan_grid(const TriMesh& mesh, const SdfOptions& options, double* estimated_gib = nullptr);
+
+SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& options, Log& log = Log::silent());
+
+}  // namespace spx

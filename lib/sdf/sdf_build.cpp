@@ -1,0 +1,48 @@
+#include "sdf/sdf_build.hpp"
+
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "core/subject.hpp"
+#include "sdf/vdb_io.hpp"
+
+namespace spx {
+
+void sdf_build(const std::string& input, const std::string& output, const SdfOptions& options, Log& log, json& report) {
+  LoadedMesh loaded;
+  {
+    StageTimer t(log, "load");
+    loaded = load_mesh(input);
+  }
+  const SdfResult sdf = about_file(input, [&] { return build_sdf(loaded.mesh, options, log); });
+  const MeshDefects& d = sdf.stats.defects;
+  if (!d.watertight())
+    log.warn(input + ": not watertight (" + std::to_string(d.boundary_edges) + " boundary, " +
+             std::to_string(d.non_manifold_edges) + " non-manifold, " + std::to_string(d.inconsistent_edges) +
+             " inconsistently oriented edges); inside is where the winding number exceeds 1/2");
+  if (d.degenerate_triangles > 0) log.warn(input + ": " + std::to_string(d.degenerate_triangles) + " degenerate triangles");
+  if (d.watertight() && d.signed_volume < 0) log.warn(input + ": triangles face inward (negative volume); the winding-number sign is used as is");
+  {
+    StageTimer t(log, "write");
+    write_sdf_vdb(output, sdf.field,
+                  {{"spx_source_mesh", input},
+                   {"spx_sign_method", sdf.stats.sign_method},
+                   {"spx_generator", std::string("sdf-build (spx) ") + SPX_VERSION}});
+  }
+  const GridShape& s = sdf.field.shape;
+  char line[256];
+  std::snprintf(line, sizeof line, "%s: %zu triangles -> %dx%dx%d voxels of %.4g, %zu inside", output.c_str(),
+                loaded.mesh.triangles.size(), s.dims.x(), s.dims.y(), s.dims.z(), s.voxel_size, sdf.stats.interior_voxels);
+  log.info(line);
+
+  report["input"] = input;
+  report["output"] = output;
+  report["mesh"] = {{"welded_vertices", loaded.welded_vertices()}};
+  report["grid"] = {{"voxel_size", s.voxel_size},
+                    {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
+                    {"origin_index", {s.origin.x(), s.origin.y(), s.origin.z()}},
+                    {"band_voxels_exterior", options.band}};
+  report["sdf"] = sdf.stats.to_json();
+}
+
+}  // namespace spx

@@ -1,0 +1,11 @@
+#pragma once
+#include "core/json_io.hpp"
+#include "core/log.hpp"
+#include "sdf/sdf.hpp"
+
+namespace spx {
+
+// sdf-build INPUT -o OUT.vdb: load, report defects, build the field, write it.
+void sdf_build(const std::string& input, const std::string& output, const SdfOptions& options, Log& log, json& report);
+
+}  // namespace spx

@@ -1,0 +1,40 @@
+// Minimal host: load a .spx, blend with the global weights given, print the spheres.
+//   runtime-demo FILE.spx [w0 w1 ...]      (no weights: the rest pose)
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "spx_runtime.h"
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: runtime-demo FILE.spx [w0 w1 ...]\n");
+    return 1;
+  }
+  spx::Proxy proxy;
+  spx::Status status = spx::load_file(argv[1], &proxy);
+  if (status != spx::SPX_OK) {
+    std::fprintf(stderr, "Error: %s: %s (status %d)\n", argv[1], spx::status_string(status), int(status));
+    return 2;
+  }
+  std::vector<float> weights(proxy.pose_count(), 0.0f);
+  if (argc == 2) {
+    weights[0] = 1;
+  } else {
+    weights.assign(size_t(argc - 2), 0.0f);
+    for (int i = 2; i < argc; ++i) weights[size_t(i - 2)] = std::strtof(argv[i], nullptr);
+  }
+  std::vector<float> centers(size_t(proxy.sphere_count()) * 3), radii(proxy.sphere_count());
+  status = spx::blend_global(proxy, weights.data(), uint32_t(weights.size()), centers.data(), radii.data());
+  if (status != spx::SPX_OK) {
+    std::fprintf(stderr, "Error: blend: %s (status %d; this file has %u poses)\n", spx::status_string(status),
+                 int(status), proxy.pose_count());
+    return 1;
+  }
+  std::printf("# %u spheres, %u poses:", proxy.sphere_count(), proxy.pose_count());
+  for (uint32_t i = 0; i < proxy.pose_count(); ++i) std::printf(" %s", proxy.pose_name(i));
+  std::printf("\n# x y z r\n");
+  for (uint32_t j = 0; j < proxy.sphere_count(); ++j)
+    std::printf("%.6g %.6g %.6g %.6g\n", centers[3 * j], centers[3 * j + 1], centers[3 * j + 2], radii[j]);
+  return 0;
+}
