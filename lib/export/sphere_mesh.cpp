@@ -105,7 +105,8 @@ std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int 
   scene.mRootNode->mChildren = new aiNode*[shown.size()];
   for (size_t k = 0; k < shown.size(); ++k) {
     const ProxyPose& p = proxy.poses[size_t(shown[k])];
-    TriMesh mesh = sphere_union_mesh(p.spheres);
+    // Every pose in one glTF: a coarser sphere keeps the file small.
+    TriMesh mesh = sphere_union_mesh(p.spheres, gltf ? 1 : 2);
     if (gltf && spread)
       for (auto& v : mesh.vertices) v.x() += width * double(k);
     scene.mMeshes[k] = to_ai_mesh(mesh, p.name);

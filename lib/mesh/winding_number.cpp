@@ -61,11 +61,18 @@ int WindingNumber::build(int first, int count) {
   }
   Eigen::Vector3d center = area > 0 ? Eigen::Vector3d(weighted / area) : centroids.center();
   Eigen::Matrix3d quad = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d oct[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
   double radius = 0;
   for (int i = first; i < first + count; ++i) {
     const Eigen::Vector3d n = 0.5 * (b_[i] - a_[i]).cross(c_[i] - a_[i]);
     const Eigen::Vector3d g = (a_[i] + b_[i] + c_[i]) / 3.0;
-    quad += (g - center) * n.transpose();
+    const Eigen::Vector3d d = g - center;
+    quad += d * n.transpose();
+    // Second moment of the triangle about the cluster center, per unit area:
+    // d d^T + (1/12) sum over corners of (v - g)(v - g)^T.
+    const Eigen::Vector3d ea = a_[i] - g, eb = b_[i] - g, ec = c_[i] - g;
+    const Eigen::Matrix3d second = d * d.transpose() + (ea * ea.transpose() + eb * eb.transpose() + ec * ec.transpose()) / 12.0;
+    for (int k = 0; k < 3; ++k) oct[k] += n[k] * second;
     radius = std::max({radius, (a_[i] - center).norm(), (b_[i] - center).norm(), (c_[i] - center).norm()});
   }
   {
@@ -73,6 +80,7 @@ int WindingNumber::build(int first, int count) {
     node.center = center;
     node.dipole = dipole;
     node.quadrupole = quad;
+    for (int k = 0; k < 3; ++k) node.octupole[k] = oct[k];
     node.radius = radius;
     node.first = first;
     node.count = count;
@@ -119,9 +127,19 @@ double WindingNumber::operator()(const Eigen::Vector3d& q) const {
     const double d = r.norm();
     if (d > beta_ * node.radius) {
       // Far field: dipole and quadrupole terms of the double-layer potential.
-      const double d2 = d * d, d3 = d2 * d, d5 = d3 * d2;
+      // Taylor expansion of G(x - q) = (x - q)/|x - q|^3 about the cluster center, R = center - q:
+      // order 0: N.G(R); order 1: tr(M)/|R|^3 - 3 R.M.R/|R|^5;
+      // order 2: (-3 sum_j C_j(j,.).R - 1.5 sum_i R_i tr C_i)/|R|^5 + 7.5 sum_i R_i R.C_i.R/|R|^7.
+      const double d2 = d * d, d3 = d2 * d, d5 = d3 * d2, d7 = d5 * d2;
       double w = node.dipole.dot(r) / d3;
       w += node.quadrupole.trace() / d3 - 3.0 * r.dot(node.quadrupole * r) / d5;
+      double a1 = 0, a3 = 0, cubic = 0;
+      for (int i = 0; i < 3; ++i) {
+        a1 += node.octupole[i].row(i).dot(r);
+        a3 += r[i] * node.octupole[i].trace();
+        cubic += r[i] * r.dot(node.octupole[i] * r);
+      }
+      w += (-3.0 * a1 - 1.5 * a3) / d5 + 7.5 * cubic / d7;
       sum += w / kFourPi;
     } else if (node.left < 0) {
       for (int i = node.first; i < node.first + node.count; ++i)

@@ -1,6 +1,7 @@
 #pragma once
 // Generalized winding number (Jacobson et al. 2013) with the fast hierarchical evaluation
-// of Barill et al. 2018: exact solid angles near the query, dipole + quadrupole far away.
+// of Barill et al. 2018: exact solid angles near the query, and the
+// Taylor expansion to second order (Barill's order 2) far away.
 // Inside is w > 1/2; this holds for open meshes, soups and self-intersections.
 #include <vector>
 
@@ -22,7 +23,8 @@ class WindingNumber {
   struct Node {
     Eigen::Vector3d center;      // area-weighted centroid
     Eigen::Vector3d dipole;      // sum of area vectors
-    Eigen::Matrix3d quadrupole;  // sum of (centroid - center) * area vector^T
+    Eigen::Matrix3d quadrupole;  // sum over triangles of (centroid - center) * area vector^T
+    Eigen::Matrix3d octupole[3]; // [i](j,k): sum of area vector_i * second moment_jk about center
     double radius = 0;
     int first = 0, count = 0;    // triangle range when a leaf
     int left = -1, right = -1;

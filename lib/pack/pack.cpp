@@ -7,11 +7,14 @@
 
 namespace spx {
 
+constexpr double kFieldMargin = 0.1;  // voxels
+
 PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const MeshQuery* mesh, Log& log) {
   const GridShape& shape = field.shape;
   const double h = shape.voxel_size;
   PackResult result;
   PackStats& stats = result.stats;
+  if (opt.min_radius < 0 || std::isnan(opt.min_radius)) fail_usage("--min-radius", "must be a positive number");
   stats.min_radius = opt.min_radius > 0 ? opt.min_radius : 1.5 * h;
   stats.max_radius = opt.max_radius;
   if (!(stats.min_radius > 0) || !std::isfinite(stats.min_radius)) fail_usage("--min-radius", "must be a positive number");
@@ -36,7 +39,9 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
     const size_t idx = size_t(-neg_index);
     if (work[idx] != -depth) continue;  // cleared by an earlier sphere
     const Eigen::Vector3d center = shape.world(idx);
-    double distance = depth;
+    // Field distances may exceed the exact ones by a small fraction of a voxel (the interior
+    // transform picks the best of nearby candidate triangles): keep spheres safely inside.
+    double distance = depth - kFieldMargin * h;
     if (mesh) {
       if (!mesh->inside(center)) {
         ++stats.centers_rejected;

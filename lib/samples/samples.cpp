@@ -83,6 +83,10 @@ SampleAsset make_car() {
     const double z = q.z() < 0 ? 0.65 + 0.3 * q.z() : 0.65 + q.z() * (0.3 + 0.55 * cabin);
     p = Eigen::Vector3d(x, y, z);
   }
+  // The rounded box stops just short of its ends: scale to exactly 5.25 m, centered.
+  const Eigen::AlignedBox3d box = car.rest.bounds();
+  const double stretch = 2 * half_length / box.sizes().x(), mid = box.center().x();
+  for (auto& p : car.rest.vertices) p.x() = (p.x() - mid) * stretch;
   car.pose_names = {"front", "rear", "side", "roof"};
   car.deform = [](size_t pose, const Eigen::Vector3d& p) -> Eigen::Vector3d {
     Eigen::Vector3d q = p;

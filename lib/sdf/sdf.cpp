@@ -25,6 +25,32 @@ const char* gib(double v) {
   return fmt_buf;
 }
 
+// The exact closest of the candidate triangles of voxel `seed` and its 26 neighbours, seen
+// from point p. Returns the triangle; `distance` receives the exact distance.
+int32_t best_candidate(const TriMesh& mesh, const GridShape& shape, const std::vector<int32_t>& closest, size_t seed,
+                       const Eigen::Vector3d& p, double* distance) {
+  const Eigen::Vector3i c = shape.coords(seed);
+  double best = std::numeric_limits<double>::infinity();
+  int32_t best_tri = -1;
+  for (int di = -1; di <= 1; ++di)
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int dk = -1; dk <= 1; ++dk) {
+        const int i = c.x() + di, j = c.y() + dj, k = c.z() + dk;
+        if (i < 0 || j < 0 || k < 0 || i >= shape.dims.x() || j >= shape.dims.y() || k >= shape.dims.z()) continue;
+        const int32_t tri = closest[shape.index(i, j, k)];
+        if (tri < 0 || tri == best_tri) continue;
+        const auto& f = mesh.triangles[size_t(tri)];
+        const double d =
+            (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).squaredNorm();
+        if (d < best || (d == best && tri < best_tri)) {
+          best = d;
+          best_tri = tri;
+        }
+      }
+  *distance = std::sqrt(best);
+  return best_tri;
+}
+
 }  // namespace
 
 GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimated_gib) {
@@ -102,6 +128,31 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     }
   }
 
+  // OpenVDB's values deeper in the band are propagated, not exact. Keep its closest triangles
+  // only in the surface layer (within a voxel of the surface, where they come from direct
+  // voxelisation), refined against the neighbours' candidates; every other voxel gets its
+  // distance from the surface layer through the feature transform below.
+  std::vector<uint8_t> surface_layer(total, 0);
+  {
+    StageTimer t(log, "surface-layer");
+    std::vector<size_t> band;
+    for (size_t i = 0; i < total; ++i)
+      if (closest[i] >= 0) band.push_back(i);
+    std::vector<int32_t> refined(closest);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, band.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n != r.end(); ++n) {
+        const size_t idx = band[n];
+        if (dist[idx] > 1.5 * h) continue;
+        double best;
+        refined[idx] = best_candidate(mesh, shape, closest, idx, shape.world(idx), &best);
+        dist[idx] = float(best);
+      }
+    });
+    closest.swap(refined);
+    for (size_t idx : band)
+      if (dist[idx] <= h) surface_layer[idx] = 1;
+  }
+
   // 2. Sign: generalized winding number at band voxels; elsewhere per connected region
   //    when the mesh is watertight (w is then constant off the surface), else per voxel.
   const WindingNumber wn(mesh);
@@ -175,26 +226,60 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
   field.values.assign(total, field.background);
   {
     StageTimer t(log, "interior");
-    const std::vector<int32_t> nearest = nearest_seed_transform(shape, in_band);
+    const std::vector<int32_t> nearest = nearest_seed_transform(shape, surface_layer);
+    // Each voxel's triangle: the best candidate around its nearest surface voxel, then two
+    // sweeps in which it also tries its six neighbours' triangles (vector propagation), which
+    // fixes voxels whose nearest surface voxel slid along the surface away from the foot point.
+    std::vector<int32_t> tri(total, -1);
+    std::vector<float> d(total, std::numeric_limits<float>::infinity());
+    auto wanted = [&](size_t idx) { return !surface_layer[idx] && (inside[idx] || in_band[idx]) && nearest[idx] >= 0; };
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+        if (surface_layer[idx]) {
+          tri[idx] = closest[idx];
+          d[idx] = dist[idx];
+        } else if (wanted(idx)) {
+          double e;
+          tri[idx] = best_candidate(mesh, shape, closest, size_t(nearest[idx]), shape.world(idx), &e);
+          d[idx] = float(e);
+        }
+      }
+    });
+    const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+    for (int sweep = 0; sweep < 2; ++sweep) {
+      std::vector<int32_t> next(tri);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+          if (!wanted(idx)) continue;
+          const Eigen::Vector3i c = shape.coords(idx);
+          const Eigen::Vector3d p = shape.world(idx);
+          const int off[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+          for (const auto& o : off) {
+            const int i = c.x() + o[0], j = c.y() + o[1], k = c.z() + o[2];
+            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
+            const int32_t t = tri[shape.index(i, j, k)];
+            if (t < 0 || t == next[idx]) continue;
+            const auto& f = mesh.triangles[size_t(t)];
+            const double e = (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).norm();
+            if (e < d[idx]) {
+              d[idx] = float(e);
+              next[idx] = t;
+            }
+          }
+        }
+      });
+      tri.swap(next);
+    }
     std::atomic<size_t> interior{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
       size_t local = 0;
       for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-        double d;
-        if (in_band[idx]) {
-          d = dist[idx];
-        } else if (inside[idx] && nearest[idx] >= 0) {
-          const auto& f = mesh.triangles[closest[size_t(nearest[idx])]];
-          const Eigen::Vector3d p = shape.world(idx);
-          d = (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).norm();
-        } else {
-          continue;  // far outside: background
-        }
+        if (tri[idx] < 0) continue;  // far outside: background
         if (inside[idx]) {
-          field.values[idx] = float(-d);
+          field.values[idx] = -d[idx];
           ++local;
         } else {
-          field.values[idx] = std::min(float(d), field.background);
+          field.values[idx] = std::min(d[idx], field.background);
         }
       }
       interior += local;

@@ -1,0 +1,29 @@
+#!/usr/bin/env python3
+"""Short report of one chain run from the tools' --report files: spheres, errors, times."""
+import json
+import os
+import sys
+
+folder = sys.argv[1]
+
+
+def load(name):
+    with open(os.path.join(folder, name)) as f:
+        return json.load(f)
+
+
+sdf, pack, pose = load("sdf.report.json"), load("pack.report.json"), load("posemap.report.json")
+exports = sorted(n for n in os.listdir(folder) if n.endswith(".report.json") and n.startswith("export."))
+grid = sdf["grid"]["dims"]
+print(f"\n== {os.path.basename(folder)}: {sdf['sdf']['defects']['triangles']} triangles, "
+      f"{len(pose['poses']) - 1} poses, grid {grid[0]}x{grid[1]}x{grid[2]}")
+print(f"spheres: {pack['sphere_count']} (radii {pack['pack']['smallest_radius']:.4g}..{pack['pack']['largest_radius']:.4g}), "
+      f"blend sites: {pose['site_count']}, tets: {pose['tets']['tetrahedra']}")
+print(f"{'pose':>12}  {'median err':>10}  {'max err':>8}  outside")
+for p in pose["poses"]:
+    e = p["error"]
+    print(f"{p['name']:>12}  {e['median']:10.4f}  {e['max']:8.4f}  {len(p['outside'])}")
+times = [("sdf-build", sdf), ("sphere-pack", pack), ("pose-map", pose)] + [(n[7:-12], load(n)) for n in exports]
+print("time: " + ", ".join(f"{name} {r['timings_s']['total']:.2f} s" for name, r in times)
+      + f"; total {sum(r['timings_s']['total'] for _, r in times):.2f} s")
+print(f"outputs: {folder}")

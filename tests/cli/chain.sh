@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# End-to-end: the four tools on one asset, twice, with byte-identical outputs, schema-valid
+# JSON, a loadable .spx, and figures that make sense.
+# usage: chain.sh BUILD_DIR SCHEMA_DIR OUT_DIR ASSET [REST POSE...]
+#   ASSET "car"/"barrel" generates the sample; otherwise REST and POSEs are mesh files.
+set -euo pipefail
+build=$1 schemas=$2 out=$3 asset=$4
+shift 4
+bin=$build/apps
+rm -rf "$out" && mkdir -p "$out"
+if [ "$asset" = car ] || [ "$asset" = barrel ]; then
+  "$bin/sample-gen" "$asset" -o "$out/in" -q
+  rest=$out/in/rest.obj
+  poses=$(ls "$out"/in/*.obj | grep -v '/rest.obj$')
+else
+  rest=$1
+  shift
+  poses="$*"
+fi
+pose_args=()
+for p in $poses; do pose_args+=(--pose "$p"); done
+
+run_chain() {  # $1: output folder
+  local o=$1
+  mkdir -p "$o"
+  "$bin/sdf-build" "$rest" -o "$o/rest.vdb" --resolution 96 -q --report "$o/sdf.report.json"
+  "$bin/sphere-pack" "$o/rest.vdb" --mesh "$rest" -o "$o/rest.spheres.json" -q --report "$o/pack.report.json"
+  "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$o/rest.spheres.json" -o "$o/asset.proxy.json" -q \
+    --report "$o/posemap.report.json"
+  for ext in spx json glb ply; do
+    "$bin/proxy-export" "$o/asset.proxy.json" -o "$o/proxy.$ext" -q --report "$o/export-$ext.report.json"
+  done
+}
+# Twice into the same folder (outputs name their inputs' paths): the bytes must not change.
+run_chain "$out/a"
+mv "$out/a" "$out/b"
+run_chain "$out/a"
+
+fail=0
+for f in rest.vdb rest.spheres.json asset.proxy.json proxy.spx proxy.json proxy.glb proxy.ply; do
+  if ! cmp -s "$out/a/$f" "$out/b/$f"; then
+    echo "FAIL: $f differs between two identical runs"
+    fail=1
+  fi
+done
+[ -s "$out/a/proxy.spx" ] || { echo "FAIL: no .spx"; fail=1; }
+
+v() { /usr/bin/python3 "$(dirname "$0")/validate_json.py" "$schemas" "$@" >/dev/null || { echo "FAIL: schema $*"; fail=1; }; }
+v spheres.schema.json "$out/a/rest.spheres.json"
+v proxy.schema.json "$out/a/asset.proxy.json"
+v proxy-plain.schema.json "$out/a/proxy.json"
+v sdf-build-report.schema.json "$out/a/sdf.report.json"
+v sphere-pack-report.schema.json "$out/a/pack.report.json"
+v pose-map-report.schema.json "$out/a/posemap.report.json"
+for ext in spx json glb ply; do v proxy-export-report.schema.json "$out/a/export-$ext.report.json"; done
+# The validator really checks: a proxy without sites must be rejected.
+/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); del d['sites']; json.dump(d, open(sys.argv[2],'w'))" \
+  "$out/a/proxy.json" "$out/a/broken.json"
+v proxy-plain.schema.json "$out/a/broken.json" --expect-invalid
+
+# The runtime demo loads the file and prints one line per sphere in the rest pose.
+count=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['sphere_count'])" "$out/a/pack.report.json")
+lines=$("$build/samples/runtime-demo" "$out/a/proxy.spx" | grep -vc '^#')
+[ "$lines" = "$count" ] || { echo "FAIL: runtime-demo printed $lines spheres, expected $count"; fail=1; }
+
+# Figures: every pose has an error figure; the rest pose's max error is below 5% of the diagonal.
+/usr/bin/python3 - "$out/a/posemap.report.json" "$out/a/sdf.report.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1]))
+g = json.load(open(sys.argv[2]))
+dims = g["grid"]["dims"]; h = g["grid"]["voxel_size"]
+diag = h * (sum(d * d for d in dims)) ** 0.5
+rest = r["poses"][0]["error"]
+for p in r["poses"]:
+    print(f"{p['name']:>12}: median {p['error']['median']:.4g} max {p['error']['max']:.4g} outside {len(p['outside'])}")
+if not rest["max"] < 0.05 * diag:
+    print("FAIL: rest max error", rest["max"], "is not below 5% of", diag); sys.exit(1)
+PY
+if [ $fail = 0 ]; then echo "1 passed, 0 failed"; else echo "0 passed, 1 failed"; fi
+exit $fail

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# The error contract: one "Error: <file>: ..." line on stderr, the documented exit code,
+# and no output file left behind (or the previous one intact).
+# usage: errors.sh BUILD_DIR OUT_DIR
+set -uo pipefail
+bin=$1/apps out=$2
+rm -rf "$out" && mkdir -p "$out"
+fail=0 passed=0
+"$bin/sample-gen" barrel -o "$out/in" -q
+"$bin/sdf-build" "$out/in/rest.obj" -o "$out/rest.vdb" --resolution 32 -q
+"$bin/sphere-pack" "$out/rest.vdb" -o "$out/s.json" -q
+
+# expect CODE PATTERN OUTPUT -- command...: exit code, one stderr line matching, no OUTPUT file.
+expect() {
+  local code=$1 pattern=$2 output=$3
+  shift 4
+  local err
+  err=$("$@" 2>&1 >/dev/null)
+  local got=$?
+  local lines
+  lines=$(printf '%s' "$err" | grep -c '^Error:')
+  if [ "$got" != "$code" ] || ! printf '%s' "$err" | grep -q -- "$pattern" || [ "$lines" != 1 ] ||
+     { [ -n "$output" ] && [ -e "$output" ]; }; then
+    echo "FAIL: $* -> exit $got (want $code), stderr: $err"
+    fail=$((fail + 1))
+  else
+    passed=$((passed + 1))
+  fi
+  # No temporary files left in the output folder.
+  if ls -a "$out" | grep -q '\.tmp\.'; then echo "FAIL: temp file left by $*"; fail=$((fail + 1)); fi
+}
+
+expect 2 "Error: $out/missing.obj: cannot open" "$out/x.vdb" -- "$bin/sdf-build" "$out/missing.obj" -o "$out/x.vdb"
+: >"$out/empty.obj"
+expect 2 "empty.obj: file is empty" "$out/x.vdb" -- "$bin/sdf-build" "$out/empty.obj" -o "$out/x.vdb"
+echo "v 0 0 0" >"$out/mesh.abc"
+expect 3 "mesh.abc: unknown mesh format" "$out/x.vdb" -- "$bin/sdf-build" "$out/mesh.abc" -o "$out/x.vdb"
+printf 'garbage\n\001\002\n' >"$out/garbage.obj"
+expect 2 "garbage.obj" "$out/x.vdb" -- "$bin/sdf-build" "$out/garbage.obj" -o "$out/x.vdb"
+expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 0
+expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution abc
+expect 3 "GiB" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 20000
+expect 1 "Error:" "" -- "$bin/sdf-build" "$out/in/rest.obj" --no-such-option
+expect 4 "x.vdb" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/no/such/dir/x.vdb"
+expect 2 "rest.obj: not a readable OpenVDB" "$out/y.json" -- "$bin/sphere-pack" "$out/in/rest.obj" -o "$out/y.json"
+cp "$out/in/rest.obj" "$out/fake.vdb"
+expect 2 "fake.vdb" "$out/y.json" -- "$bin/sphere-pack" "$out/fake.vdb" -o "$out/y.json"
+expect 1 "min radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius 0.1 --max-radius 0.01
+expect 1 "min-radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius -2
+
+# Poses that do not share the rest topology.
+head -n -1 "$out/in/dent.obj" >"$out/short.obj"
+expect 2 "short.obj: has .* triangles, the rest mesh has" "$out/p.json" -- \
+  "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/short.obj" --spheres "$out/s.json" -o "$out/p.json"
+echo '{"format": "spx-spheres", "version": 1}' >"$out/bad-spheres.json"
+expect 2 "bad-spheres.json: missing field" "$out/p.json" -- \
+  "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/bad-spheres.json" -o "$out/p.json"
+echo '{"format": "spx-spheres", "version": 7, "spheres": []}' >"$out/new-spheres.json"
+expect 3 "newer than this tool" "$out/p.json" -- \
+  "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/new-spheres.json" -o "$out/p.json"
+echo '{not json' >"$out/broken.proxy.json"
+expect 2 "broken.proxy.json: not valid JSON" "$out/z.spx" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.spx"
+expect 1 "unknown output format" "$out/z.txt" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.txt"
+
+# A failed run keeps the previous output intact.
+"$bin/sdf-build" "$out/in/rest.obj" -o "$out/keep.vdb" --resolution 16 -q
+before=$(md5sum <"$out/keep.vdb")
+"$bin/sdf-build" "$out/garbage.obj" -o "$out/keep.vdb" 2>/dev/null
+after=$(md5sum <"$out/keep.vdb")
+if [ "$before" = "$after" ]; then passed=$((passed + 1)); else echo "FAIL: failed run changed keep.vdb"; fail=$((fail + 1)); fi
+
+# --help and --version succeed on every tool.
+for t in sdf-build sphere-pack pose-map proxy-export sample-gen; do
+  if "$bin/$t" --help >/dev/null && "$bin/$t" --version | grep -q "(spx) "; then passed=$((passed + 1)); else
+    echo "FAIL: $t --help/--version"; fail=$((fail + 1)); fi
+done
+# A bad .spx gives the demo's status line and a non-zero exit.
+head -c 50 /dev/urandom >"$out/junk.spx"
+if "$1/samples/runtime-demo" "$out/junk.spx" 2>"$out/demo.err"; then echo "FAIL: demo accepted junk"; fail=$((fail + 1));
+elif grep -q "not an .spx file\|truncated" "$out/demo.err"; then passed=$((passed + 1)); else
+  echo "FAIL: demo said $(cat "$out/demo.err")"; fail=$((fail + 1)); fi
+
+echo "$passed passed, $fail failed"
+[ "$fail" = 0 ]

@@ -1,0 +1,196 @@
+#include <CGAL/Simple_cartesian.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "mesh/defects.hpp"
+#include "mesh/mesh_query.hpp"
+#include "mesh/winding_number.hpp"
+#include "samples/samples.hpp"
+#include "test_util.hpp"
+
+namespace spx {
+namespace {
+
+TEST(MeshLoad, WeldsCornersAndKeepsTopology) {
+  const std::string dir = test::temp_dir("load");
+  const TriMesh box = test::box_mesh({0, 0, 0}, {1, 2, 3});
+  write_file_atomic(dir + "/box.obj", to_obj(box));
+  const LoadedMesh loaded = load_mesh(dir + "/box.obj");
+  EXPECT_EQ(loaded.mesh.vertices.size(), 8u);
+  EXPECT_EQ(loaded.mesh.triangles.size(), 12u);
+  const MeshDefects d = find_defects(loaded.mesh);
+  EXPECT_TRUE(d.watertight());
+  EXPECT_EQ(d.components, 1u);
+  EXPECT_NEAR(d.signed_volume, 6.0, 1e-12);
+}
+
+TEST(MeshLoad, PoseMustShareTheRestTopology) {
+  const std::string dir = test::temp_dir("topology");
+  TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  write_file_atomic(dir + "/rest.obj", to_obj(box));
+  const LoadedMesh rest = load_mesh(dir + "/rest.obj");
+
+  TriMesh moved = box;
+  for (auto& v : moved.vertices) v += Eigen::Vector3d(3, 0, 0);
+  write_file_atomic(dir + "/ok.obj", to_obj(moved));
+  const TriMesh pose = load_pose(dir + "/ok.obj", rest);
+  for (size_t v = 0; v < pose.vertices.size(); ++v)
+    EXPECT_EQ(pose.vertices[v], rest.mesh.vertices[v] + Eigen::Vector3d(3, 0, 0));
+
+  TriMesh fewer = box;
+  fewer.triangles.pop_back();
+  write_file_atomic(dir + "/fewer.obj", to_obj(fewer));
+  EXPECT_THROW(load_pose(dir + "/fewer.obj", rest), Error);
+
+  TriMesh reordered = box;  // same vertices and count, another triangle list
+  std::swap(reordered.triangles[0][0], reordered.triangles[3][1]);
+  write_file_atomic(dir + "/reordered.obj", to_obj(reordered));
+  try {
+    load_pose(dir + "/reordered.obj", rest);
+    FAIL() << "a different triangle list was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input);
+    EXPECT_NE(std::string(e.what()).find("reordered.obj"), std::string::npos);
+  }
+}
+
+TEST(MeshLoad, BadFilesGiveClassifiedErrors) {
+  const std::string dir = test::temp_dir("bad");
+  auto code_of = [](const std::string& path) {
+    try {
+      load_mesh(path);
+    } catch (const Error& e) {
+      return e.code();
+    }
+    return ExitCode::ok;
+  };
+  EXPECT_EQ(code_of(dir + "/missing.obj"), ExitCode::bad_input);
+  write_file_atomic(dir + "/empty.obj", "");
+  EXPECT_EQ(code_of(dir + "/empty.obj"), ExitCode::bad_input);
+  write_file_atomic(dir + "/mesh.xyz123", "v 0 0 0\n");
+  EXPECT_EQ(code_of(dir + "/mesh.xyz123"), ExitCode::unsupported);
+  write_file_atomic(dir + "/garbage.obj", "this is not a mesh\n\x01\x02 at all\n");
+  EXPECT_EQ(code_of(dir + "/garbage.obj"), ExitCode::bad_input);
+  write_file_atomic(dir + "/nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+  EXPECT_EQ(code_of(dir + "/nan.obj"), ExitCode::bad_input);
+}
+
+TEST(Defects, OpenFlippedAndNonManifold) {
+  TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  TriMesh open = box;
+  open.triangles.pop_back();
+  MeshDefects d = find_defects(open);
+  EXPECT_EQ(d.boundary_edges, 3u);
+  EXPECT_FALSE(d.watertight());
+
+  TriMesh flipped = box;
+  std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
+  d = find_defects(flipped);
+  EXPECT_EQ(d.inconsistent_edges, 3u);
+
+  TriMesh fin = box;  // a third triangle on edge (0,1)
+  fin.vertices.emplace_back(0.5, -1, 0.5);
+  fin.triangles.emplace_back(0, 1, 8);
+  d = find_defects(fin);
+  EXPECT_EQ(d.non_manifold_edges, 1u);
+  EXPECT_EQ(d.boundary_edges, 2u);
+
+  TriMesh two = box;
+  for (int i = 0; i < 8; ++i) two.vertices.push_back(box.vertices[size_t(i)] + Eigen::Vector3d(5, 0, 0));
+  for (int t = 0; t < 12; ++t) two.triangles.push_back(box.triangles[size_t(t)].array() + 8);
+  two.triangles.emplace_back(0, 0, 1);
+  d = find_defects(two);
+  EXPECT_EQ(d.components, 2u);  // the degenerate triangle shares edge (0,1) with the first box
+  EXPECT_EQ(d.degenerate_triangles, 1u);
+}
+
+// The fast (hierarchical) winding number against the exact sum of solid angles.
+void check_winding_numbers(const TriMesh& mesh, int samples, double tolerance) {
+  const WindingNumber fast(mesh);
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  const MeshQuery query(mesh);
+  int checked = 0;
+  for (int i = 0; i < samples; ++i) {
+    const Eigen::Vector3d p = box.min() + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(box.sizes());
+    const double exact = winding_number_exact(mesh, p);
+    EXPECT_NEAR(fast(p), exact, tolerance) << p.transpose();
+    // Away from the surface, the inside test agrees with the exact value.
+    if (query.distance(p) > 1e-3 * box.diagonal().norm() && std::abs(exact - 0.5) > 0.05) {
+      EXPECT_EQ(fast.inside(p), exact > 0.5);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, samples / 2);
+}
+
+TEST(WindingNumber, ClosedMeshIsOneInsideZeroOutside) {
+  const TriMesh sphere = test::uv_sphere(1.0);
+  EXPECT_NEAR(winding_number_exact(sphere, {0.1, 0.2, -0.3}), 1.0, 1e-9);
+  EXPECT_NEAR(winding_number_exact(sphere, {2, 0, 0}), 0.0, 1e-9);
+  const WindingNumber fast(sphere);
+  EXPECT_NEAR(fast({0.1, 0.2, -0.3}), 1.0, 5e-3);
+  EXPECT_NEAR(fast({3, 1, 0}), 0.0, 5e-3);
+}
+
+TEST(WindingNumber, FastMatchesBruteForceOnTheCar) { check_winding_numbers(make_car().rest, 400, 5e-3); }
+
+TEST(WindingNumber, FastMatchesBruteForceOnOpenAndBrokenMeshes) {
+  SPX_REQUIRE_SHARED_DATA();
+  for (const char* name : {"cylinder/rest.obj", "broken/truck.obj", "broken/hemisphere.obj"})
+    check_winding_numbers(load_mesh(test::shared_data() + "/" + name).mesh, 150, 1e-2);
+}
+
+TEST(MeshQuery, ClosestPointMatchesBruteForce) {
+  const TriMesh mesh = make_barrel().rest;
+  const MeshQuery query(mesh);
+  using K = CGAL::Simple_cartesian<double>;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.5, 0.9);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& t : mesh.triangles) {
+      const K::Triangle_3 tri({mesh.vertices[t[0]].x(), mesh.vertices[t[0]].y(), mesh.vertices[t[0]].z()},
+                             {mesh.vertices[t[1]].x(), mesh.vertices[t[1]].y(), mesh.vertices[t[1]].z()},
+                             {mesh.vertices[t[2]].x(), mesh.vertices[t[2]].y(), mesh.vertices[t[2]].z()});
+      best = std::min(best, std::sqrt(CGAL::squared_distance(K::Point_3(p.x(), p.y(), p.z()), tri)));
+    }
+    const ClosestPoint c = query.closest(p);
+    EXPECT_NEAR(query.distance(p), best, 1e-12);
+    EXPECT_NEAR(c.distance, best, 1e-12);
+    const auto& f = mesh.triangles[size_t(c.triangle)];
+    const Eigen::Vector3d rebuilt = c.barycentric[0] * mesh.vertices[f[0]] + c.barycentric[1] * mesh.vertices[f[1]] +
+                                    c.barycentric[2] * mesh.vertices[f[2]];
+    EXPECT_LT((rebuilt - c.point).norm(), 1e-12);
+  }
+}
+
+TEST(Samples, AreClosedOutwardAndSized) {
+  const SampleAsset car = make_car(), barrel = make_barrel();
+  const MeshDefects dc = find_defects(car.rest), db = find_defects(barrel.rest);
+  EXPECT_TRUE(dc.watertight());
+  EXPECT_TRUE(db.watertight());
+  EXPECT_GT(dc.signed_volume, 0);
+  EXPECT_GT(db.signed_volume, 0);
+  EXPECT_NEAR(car.rest.bounds().sizes().x(), 5.25, 1e-9);
+  EXPECT_NEAR(barrel.rest.bounds().sizes().z(), 0.72, 1e-9);
+  EXPECT_GE(car.rest.triangles.size(), 1400u);
+  EXPECT_LE(car.rest.triangles.size(), 1600u);
+  EXPECT_GE(car.pose_names.size(), 4u);
+  // Every pose is a valid embedding: still closed with positive volume, no degenerate faces.
+  for (const SampleAsset* a : {&car, &barrel})
+    for (size_t i = 0; i < a->pose_names.size(); ++i) {
+      const MeshDefects d = find_defects(a->pose(i));
+      EXPECT_GT(d.signed_volume, 0) << a->name << " " << a->pose_names[i];
+      EXPECT_EQ(d.degenerate_triangles, 0u);
+    }
+}
+
+}  // namespace
+}  // namespace spx

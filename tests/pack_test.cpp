@@ -1,0 +1,114 @@
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "mesh/mesh_query.hpp"
+#include "pack/pack.hpp"
+#include "samples/samples.hpp"
+#include "sdf/sdf.hpp"
+#include "test_util.hpp"
+
+namespace spx {
+namespace {
+
+// Every sphere of S_0 lies inside M_0: center inside, exact distance to the surface >= radius.
+void expect_inside(const TriMesh& mesh, const SphereSet& spheres, const std::string& what) {
+  const MeshQuery query(mesh);
+  const double tol = 1e-9 * mesh.diagonal();
+  ASSERT_FALSE(spheres.empty()) << what;
+  for (size_t i = 0; i < spheres.size(); ++i) {
+    EXPECT_TRUE(query.inside(spheres[i].center)) << what << " sphere " << i;
+    EXPECT_GE(query.distance(spheres[i].center), spheres[i].radius - tol) << what << " sphere " << i;
+  }
+}
+
+PackResult pack_mesh(const TriMesh& mesh, int resolution, const PackOptions& opt = {}, bool exact = true) {
+  SdfOptions sopt;
+  sopt.resolution = resolution;
+  const SdfResult sdf = build_sdf(mesh, sopt);
+  const MeshQuery query(mesh);
+  return pack_spheres(sdf.field, opt, exact ? &query : nullptr);
+}
+
+TEST(Pack, SpheresInsideTheSamples) {
+  for (const SampleAsset& a : {make_car(), make_barrel()}) expect_inside(a.rest, pack_mesh(a.rest, 96).spheres, a.name);
+}
+
+TEST(Pack, SpheresInsideSharedMeshes) {
+  SPX_REQUIRE_SHARED_DATA();
+  for (const char* name : {"cube/rest.obj", "elephant/rest.obj", "static/bunny.off", "cylinder/rest.obj"}) {
+    const TriMesh mesh = load_mesh(test::shared_data() + "/" + name).mesh;
+    expect_inside(mesh, pack_mesh(mesh, 64).spheres, name);
+  }
+}
+
+TEST(Pack, FieldRadiiStayInsideWithinAVoxel) {
+  const TriMesh mesh = make_barrel().rest;
+  SdfOptions sopt;
+  sopt.resolution = 64;
+  const SdfResult sdf = build_sdf(mesh, sopt);
+  const PackResult r = pack_spheres(sdf.field, {}, nullptr);
+  EXPECT_EQ(r.stats.radius_source, "field");
+  const MeshQuery query(mesh);
+  for (const auto& s : r.spheres) EXPECT_GE(query.distance(s.center), s.radius - 0.05 * sdf.field.shape.voxel_size);
+}
+
+TEST(Pack, LimitsAreHonoured) {
+  const TriMesh mesh = make_car().rest;
+  PackOptions opt;
+  opt.min_radius = 0.1;
+  opt.max_radius = 0.3;
+  const PackResult r = pack_mesh(mesh, 80, opt);
+  for (const auto& s : r.spheres) {
+    EXPECT_GE(s.radius, 0.1);
+    EXPECT_LE(s.radius, 0.3);
+  }
+  opt.max_spheres = 17;
+  const PackResult capped = pack_mesh(mesh, 80, opt);
+  EXPECT_EQ(capped.spheres.size(), 17u);
+  EXPECT_EQ(capped.stats.stop_reason, "reached the max sphere count");
+  // The capped run is a prefix of the full one: the order is the paper's deepest-first order.
+  for (size_t i = 0; i < capped.spheres.size(); ++i) EXPECT_EQ(capped.spheres[i].center, r.spheres[i].center);
+  // A smaller min radius only adds spheres.
+  PackOptions finer = opt;
+  finer.max_spheres = 0;
+  finer.min_radius = 0.06;
+  EXPECT_GT(pack_mesh(mesh, 80, finer).spheres.size(), r.spheres.size());
+}
+
+TEST(Pack, CentersAreDeepestFirstAndNotInsideEarlierSpheres) {
+  const TriMesh mesh = make_barrel().rest;
+  const PackResult r = pack_mesh(mesh, 64, {}, false);
+  for (size_t i = 1; i < r.spheres.size(); ++i) {
+    EXPECT_LE(r.spheres[i].radius, r.spheres[i - 1].radius + 1e-6);  // field radii: deepest first
+    for (size_t j = 0; j < i; ++j)
+      EXPECT_GT((r.spheres[i].center - r.spheres[j].center).norm(), r.spheres[j].radius * (1 - 1e-9));
+  }
+}
+
+TEST(Pack, BadOptionsAreUsageErrors) {
+  const TriMesh mesh = make_barrel().rest;
+  SdfOptions sopt;
+  sopt.resolution = 16;
+  const SdfResult sdf = build_sdf(mesh, sopt);
+  auto code = [&](PackOptions opt) {
+    try {
+      pack_spheres(sdf.field, opt, nullptr);
+    } catch (const Error& e) {
+      return e.code();
+    }
+    return ExitCode::ok;
+  };
+  PackOptions a;
+  a.min_radius = -1;
+  EXPECT_EQ(code(a), ExitCode::usage);
+  PackOptions b;
+  b.max_radius = 0.001;
+  b.min_radius = 0.01;
+  EXPECT_EQ(code(b), ExitCode::usage);
+  PackOptions c;
+  c.max_radius = std::nan("");
+  EXPECT_EQ(code(c), ExitCode::usage);
+}
+
+}  // namespace
+}  // namespace spx

@@ -1,0 +1,152 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "core/error.hpp"
+#include "mesh/mesh_query.hpp"
+#include "pack/pack.hpp"
+#include "posemap/harmonic_map.hpp"
+#include "posemap/posemap.hpp"
+#include "samples/samples.hpp"
+#include "sdf/sdf.hpp"
+#include "test_util.hpp"
+
+namespace spx {
+namespace {
+
+SpheresFile pack_file(const TriMesh& mesh, int resolution) {
+  SdfOptions sopt;
+  sopt.resolution = resolution;
+  const SdfResult sdf = build_sdf(mesh, sopt);
+  const MeshQuery query(mesh);
+  SpheresFile f;
+  f.spheres = pack_spheres(sdf.field, {}, &query).spheres;
+  f.voxel_size = sdf.field.shape.voxel_size;
+  return f;
+}
+
+Eigen::Affine3d some_affine() {
+  Eigen::Affine3d a = Eigen::Affine3d::Identity();
+  a.translate(Eigen::Vector3d(1.5, -2.0, 0.25));
+  a.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  a.scale(Eigen::Vector3d(1.3, 0.8, 1.1));
+  a.linear() += 0.1 * (Eigen::Matrix3d() << 0, 1, 0, 0, 0, 0, 0, 0, 0).finished();  // a shear too
+  return a;
+}
+
+// pose-map reproduces affine poses exactly: mapped centers within 1e-6 of the image's diagonal.
+void expect_affine_exact(const TriMesh& rest, int resolution, const std::string& what) {
+  const Eigen::Affine3d a = some_affine();
+  TriMesh pose = rest;
+  for (auto& v : pose.vertices) v = a * v;
+  const SpheresFile spheres = pack_file(rest, resolution);
+  const PoseMapResult r = pose_map(rest, "rest.obj", {{"affine", "affine.obj", pose}}, spheres, {});
+  const double tol = 1e-6 * pose.diagonal();
+  ASSERT_EQ(r.proxy.poses.size(), 2u);
+  double worst = 0;
+  for (size_t s = 0; s < spheres.spheres.size(); ++s)
+    worst = std::max(worst, (r.proxy.poses[1].spheres[s].center - a * spheres.spheres[s].center).norm());
+  EXPECT_LT(worst, tol) << what;
+  // Radii are distances to the pose's surface, so they follow the map too (no center outside).
+  EXPECT_TRUE(r.proxy.poses[1].outside.empty()) << what;
+}
+
+TEST(PoseMap, AffinePosesAreReproducedExactly) {
+  expect_affine_exact(make_car().rest, 64, "car");
+  expect_affine_exact(make_barrel().rest, 48, "barrel");
+}
+
+TEST(PoseMap, AffinePosesOfSharedMeshes) {
+  SPX_REQUIRE_SHARED_DATA();
+  expect_affine_exact(load_mesh(test::shared_data() + "/cube/rest.obj").mesh, 48, "cube");
+  expect_affine_exact(load_mesh(test::shared_data() + "/elephant/rest.obj").mesh, 48, "elephant");
+}
+
+// The samples' true map f is known: the harmonic map must follow it closely. The analytic maps
+// are not harmonic inside, so they differ most at the deepest part of a dent (the gap does not
+// shrink with finer tets: it is the model, not the discretisation).
+TEST(PoseMap, AnalyticSampleMapsClosely) {
+  const SampleAsset car = make_car();
+  const SpheresFile spheres = pack_file(car.rest, 64);
+  std::vector<PoseInput> poses;
+  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  const PoseMapResult r = pose_map(car.rest, "rest", poses, spheres, {});
+  const double diag = car.rest.diagonal();
+  for (size_t i = 0; i < poses.size(); ++i) {
+    double worst = 0, sum = 0;
+    for (size_t s = 0; s < spheres.spheres.size(); ++s) {
+      const double e = (r.proxy.poses[i + 1].spheres[s].center - car.deform(i, spheres.spheres[s].center)).norm();
+      worst = std::max(worst, e);
+      sum += e;
+    }
+    EXPECT_LT(worst, 0.025 * diag) << car.pose_names[i];
+    EXPECT_LT(sum / double(spheres.spheres.size()), 0.002 * diag) << car.pose_names[i];
+  }
+}
+
+TEST(PoseMap, RadiiAreDistancesToEachPoseAndSitesAreNearest) {
+  const SampleAsset barrel = make_barrel();
+  const SpheresFile spheres = pack_file(barrel.rest, 48);
+  std::vector<PoseInput> poses;
+  for (size_t i = 0; i < barrel.pose_names.size(); ++i) poses.push_back({barrel.pose_names[i], "", barrel.pose(i)});
+  PoseMapOptions opt;
+  opt.max_radius = 0.2;
+  const PoseMapResult r = pose_map(barrel.rest, "rest", poses, spheres, opt);
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const MeshQuery q(poses[i].mesh);
+    for (const auto& s : r.proxy.poses[i + 1].spheres) {
+      if (s.radius == 0) continue;
+      EXPECT_NEAR(s.radius, std::min(0.2, q.distance(s.center)), 1e-12);
+      EXPECT_TRUE(q.inside(s.center));
+    }
+  }
+  ASSERT_EQ(r.proxy.sphere_sites.size(), spheres.spheres.size());
+  for (size_t s = 0; s < spheres.spheres.size(); ++s) {
+    const int site = r.proxy.sphere_sites[s];
+    ASSERT_GE(site, 0);
+    ASSERT_LT(site, int(r.proxy.sites.size()));
+    const double d = (r.proxy.sites[size_t(site)] - spheres.spheres[s].center).norm();
+    for (const auto& other : r.proxy.sites) EXPECT_LE(d, (other - spheres.spheres[s].center).norm() + 1e-12);
+  }
+}
+
+TEST(PoseMap, CentersOutsideAPoseAreReportedNotKept) {
+  // A pose that pinches the middle of a bar to nearly nothing pushes mapped centers out.
+  const TriMesh rest = test::uv_sphere(1.0, 16, 32);
+  TriMesh pose = rest;
+  for (auto& v : pose.vertices) v = Eigen::Vector3d(v.x(), v.y(), v.z() * 0.05);
+  const SpheresFile spheres = pack_file(rest, 32);
+  const PoseMapResult r = pose_map(rest, "rest", {{"flat", "", pose}}, spheres, {});
+  const MeshQuery q(pose);
+  size_t outside = 0;
+  for (size_t s = 0; s < spheres.spheres.size(); ++s) {
+    const Sphere& m = r.proxy.poses[1].spheres[s];
+    if (!q.inside(m.center)) {
+      ++outside;
+      EXPECT_EQ(m.radius, 0.0);
+      EXPECT_NE(std::find(r.proxy.poses[1].outside.begin(), r.proxy.poses[1].outside.end(), int(s)),
+                r.proxy.poses[1].outside.end());
+    }
+  }
+  EXPECT_EQ(outside, r.proxy.poses[1].outside.size());
+}
+
+TEST(TetLocator, FindsTheContainingTet) {
+  const TriMesh mesh = make_barrel().rest;
+  const TetMesh tets = tetrahedralize(mesh, {});
+  ASSERT_GT(tets.tets.size(), 100u);
+  const TetLocator locator(tets);
+  for (size_t t = 0; t < tets.tets.size(); t += 13) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) c += tets.vertices[size_t(tets.tets[t][k])] / 4;
+    const auto at = locator.locate(c);
+    EXPECT_EQ(at.outside, 0.0);
+    EXPECT_GE(at.weights.minCoeff(), -1e-9);
+    Eigen::Vector3d back = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) back += at.weights[k] * tets.vertices[size_t(tets.tets[size_t(at.tet)][k])];
+    EXPECT_LT((back - c).norm(), 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace spx

@@ -1,0 +1,183 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "export/spx_writer.hpp"
+#include "posemap/proxy.hpp"
+#include "spx_runtime.h"
+
+namespace spx {
+namespace {
+
+ProxyModel small_proxy(size_t spheres = 7, size_t poses = 4, size_t sites = 3) {
+  ProxyModel p;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (size_t i = 0; i < poses; ++i) {
+    ProxyPose pose;
+    pose.name = i == 0 ? "rest" : "pose-" + std::to_string(i);
+    for (size_t s = 0; s < spheres; ++s) pose.spheres.push_back({Eigen::Vector3d(u(rng), u(rng), u(rng)), 0.5 + 0.4 * u(rng)});
+    p.poses.push_back(pose);
+  }
+  for (size_t s = 0; s < sites; ++s) p.sites.emplace_back(u(rng), u(rng), u(rng));
+  for (size_t s = 0; s < spheres; ++s) p.sphere_sites.push_back(int(s % sites));
+  return p;
+}
+
+Status load(const std::string& bytes, Proxy* out) { return load_memory(bytes.data(), bytes.size(), out); }
+
+TEST(Runtime, LoadsWhatTheWriterWrote) {
+  const ProxyModel model = small_proxy();
+  const std::string bytes = encode_spx(model);
+  Proxy proxy;
+  ASSERT_EQ(load(bytes, &proxy), SPX_OK);
+  EXPECT_EQ(proxy.sphere_count(), 7u);
+  EXPECT_EQ(proxy.pose_count(), 4u);
+  EXPECT_EQ(proxy.site_count(), 3u);
+  EXPECT_STREQ(proxy.pose_name(0), "rest");
+  EXPECT_STREQ(proxy.pose_name(3), "pose-3");
+  for (uint32_t i = 0; i < 4; ++i)
+    for (uint32_t s = 0; s < 7; ++s) {
+      EXPECT_EQ(proxy.pose_spheres(i)[4 * s], float(model.poses[i].spheres[s].center.x()));
+      EXPECT_EQ(proxy.pose_spheres(i)[4 * s + 3], float(model.poses[i].spheres[s].radius));
+    }
+  EXPECT_EQ(encode_spx(model), bytes) << "deterministic bytes";
+}
+
+TEST(Runtime, WeightOneOnExampleIReturnsSi) {
+  const ProxyModel model = small_proxy();
+  Proxy proxy;
+  ASSERT_EQ(load(encode_spx(model), &proxy), SPX_OK);
+  std::vector<float> c(21), r(7);
+  for (uint32_t i = 0; i < 4; ++i) {
+    std::vector<float> w(4, 0.0f);
+    w[i] = 1;
+    ASSERT_EQ(blend_global(proxy, w.data(), 4, c.data(), r.data()), SPX_OK);
+    for (uint32_t s = 0; s < 7; ++s) {
+      EXPECT_EQ(c[3 * s + 1], proxy.pose_spheres(i)[4 * s + 1]);
+      EXPECT_EQ(r[s], proxy.pose_spheres(i)[4 * s + 3]);
+    }
+    // Local blend with that same vector at every site.
+    std::vector<float> sw;
+    for (int site = 0; site < 3; ++site) sw.insert(sw.end(), w.begin(), w.end());
+    std::vector<float> lc(21), lr(7);
+    ASSERT_EQ(blend_local(proxy, sw.data(), sw.size(), lc.data(), lr.data()), SPX_OK);
+    EXPECT_EQ(lc, c);
+    EXPECT_EQ(lr, r);
+  }
+}
+
+TEST(Runtime, LocalBlendWithUniformSiteWeightsEqualsGlobal) {
+  Proxy proxy;
+  ASSERT_EQ(load(encode_spx(small_proxy(50, 6, 11)), &proxy), SPX_OK);
+  const std::vector<float> w = {0.1f, 0.3f, 0.05f, 0.25f, 0.2f, 0.1f};
+  std::vector<float> gc(150), gr(50), lc(150), lr(50);
+  ASSERT_EQ(blend_global(proxy, w.data(), 6, gc.data(), gr.data()), SPX_OK);
+  std::vector<float> sw;
+  for (int site = 0; site < 11; ++site) sw.insert(sw.end(), w.begin(), w.end());
+  ASSERT_EQ(blend_local(proxy, sw.data(), sw.size(), lc.data(), lr.data()), SPX_OK);
+  for (size_t k = 0; k < gc.size(); ++k) EXPECT_NEAR(lc[k], gc[k], 1e-6f);
+  for (size_t k = 0; k < gr.size(); ++k) EXPECT_NEAR(lr[k], gr[k], 1e-6f);
+  // A blend is the convex combination of the examples, computed here in double.
+  for (uint32_t s = 0; s < 50; ++s) {
+    double x = 0;
+    for (uint32_t i = 0; i < 6; ++i) x += double(w[i]) * proxy.pose_spheres(i)[4 * s];
+    EXPECT_NEAR(gc[3 * s], x, 1e-6);
+  }
+}
+
+TEST(Runtime, LocalBlendUsesEachSpheresSite) {
+  Proxy proxy;
+  ASSERT_EQ(load(encode_spx(small_proxy(9, 3, 3)), &proxy), SPX_OK);
+  // Site k fully in pose k: sphere s (site s % 3) must equal pose (s % 3).
+  const std::vector<float> sw = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::vector<float> c(27), r(9);
+  ASSERT_EQ(blend_local(proxy, sw.data(), sw.size(), c.data(), r.data()), SPX_OK);
+  for (uint32_t s = 0; s < 9; ++s) {
+    const uint32_t pose = proxy.sphere_sites()[s];
+    EXPECT_EQ(c[3 * s], proxy.pose_spheres(pose)[4 * s]);
+    EXPECT_EQ(r[s], proxy.pose_spheres(pose)[4 * s + 3]);
+  }
+}
+
+TEST(Runtime, WeightPolicy) {
+  Proxy proxy;
+  ASSERT_EQ(load(encode_spx(small_proxy()), &proxy), SPX_OK);
+  std::vector<float> c(21, -7.0f), r(7, -7.0f);
+  const float nan = std::nanf("");
+  const float inf = std::numeric_limits<float>::infinity();
+  const float bad_nan[4] = {1, nan, 0, 0}, bad_inf[4] = {inf, 0, 0, 0}, zero[4] = {0, 0, 0, 0},
+              negative_only[4] = {-1, -1, 0, 0};
+  EXPECT_EQ(blend_global(proxy, bad_nan, 4, c.data(), r.data()), SPX_ERR_BAD_WEIGHTS);
+  EXPECT_EQ(blend_global(proxy, bad_inf, 4, c.data(), r.data()), SPX_ERR_BAD_WEIGHTS);
+  EXPECT_EQ(blend_global(proxy, zero, 4, c.data(), r.data()), SPX_ERR_BAD_WEIGHTS);
+  EXPECT_EQ(blend_global(proxy, negative_only, 4, c.data(), r.data()), SPX_ERR_BAD_WEIGHTS);
+  EXPECT_EQ(blend_global(proxy, zero, 3, c.data(), r.data()), SPX_ERR_WEIGHT_COUNT);
+  EXPECT_EQ(blend_global(proxy, nullptr, 4, c.data(), r.data()), SPX_ERR_INVALID_ARGUMENT);
+  for (float v : c) EXPECT_EQ(v, -7.0f) << "failed blends leave the output untouched";
+  // Negative weights are clamped, the rest normalised: {-1, 2, 0, 2} acts as {0, .5, 0, .5}.
+  const float mixed[4] = {-1, 2, 0, 2}, clean[4] = {0, 0.5f, 0, 0.5f};
+  std::vector<float> c2(21), r2(7);
+  ASSERT_EQ(blend_global(proxy, mixed, 4, c.data(), r.data()), SPX_OK);
+  ASSERT_EQ(blend_global(proxy, clean, 4, c2.data(), r2.data()), SPX_OK);
+  EXPECT_EQ(c, c2);
+  for (float v : r) EXPECT_GE(v, 0.0f);
+  Proxy empty;
+  EXPECT_EQ(blend_global(empty, clean, 4, c.data(), r.data()), SPX_ERR_EMPTY);
+}
+
+TEST(Runtime, EveryTruncationIsRejected) {
+  const std::string bytes = encode_spx(small_proxy());
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    Proxy proxy;
+    const Status s = load_memory(bytes.data(), n, &proxy);
+    EXPECT_NE(s, SPX_OK) << "cut at " << n;
+    EXPECT_TRUE(proxy.empty());
+  }
+  std::string longer = bytes + "x";
+  Proxy proxy;
+  EXPECT_EQ(load(longer, &proxy), SPX_ERR_BAD_SIZES);
+}
+
+TEST(Runtime, EveryFlippedByteIsRejected) {
+  const std::string bytes = encode_spx(small_proxy());
+  for (size_t i = 0; i < bytes.size(); ++i)
+    for (unsigned char mask : {0x01, 0x80, 0xFF}) {
+      std::string bad = bytes;
+      bad[i] = char(bad[i] ^ mask);
+      Proxy proxy;
+      EXPECT_NE(load(bad, &proxy), SPX_OK) << "byte " << i << " mask " << int(mask);
+    }
+}
+
+TEST(Runtime, VersionsAndChecksumHaveTheirOwnStatus) {
+  const std::string bytes = encode_spx(small_proxy());
+  Proxy proxy;
+  std::string newer = bytes;
+  newer[8] = 2;  // format major 2
+  EXPECT_EQ(load(newer, &proxy), SPX_ERR_NEWER_VERSION);
+  std::string legacy = bytes;
+  legacy[8] = 0;
+  EXPECT_EQ(load(legacy, &proxy), SPX_ERR_BAD_VERSION);
+  std::string corrupt = bytes;
+  corrupt[100] = char(corrupt[100] ^ 0x10);
+  EXPECT_EQ(load(corrupt, &proxy), SPX_ERR_CHECKSUM);
+  std::string magic = bytes;
+  magic[1] = 'Q';
+  EXPECT_EQ(load(magic, &proxy), SPX_ERR_BAD_MAGIC);
+  EXPECT_EQ(load_file("/nonexistent/file.spx", &proxy), SPX_ERR_IO);
+}
+
+TEST(Runtime, RandomBytesNeverLoad) {
+  std::mt19937 rng(99);
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::string junk(size_t(rng() % 300), '\0');
+    for (auto& c : junk) c = char(rng());
+    if (trial % 2 == 0 && junk.size() >= 8) std::memcpy(&junk[0], SPX_MAGIC, 8);
+    Proxy proxy;
+    EXPECT_NE(load(junk, &proxy), SPX_OK);
+  }
+}
+
+}  // namespace
+}  // namespace spx

@@ -1,0 +1,148 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "mesh/mesh_query.hpp"
+#include "mesh/winding_number.hpp"
+#include "sdf/edt.hpp"
+#include "sdf/sdf.hpp"
+#include "sdf/vdb_io.hpp"
+#include "test_util.hpp"
+
+namespace spx {
+namespace {
+
+TEST(Edt, NearestSeedMatchesBruteForce) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 6; ++trial) {
+    GridShape shape;
+    shape.dims = Eigen::Vector3i(3 + int(rng() % 12), 3 + int(rng() % 12), 3 + int(rng() % 12));
+    std::vector<uint8_t> seed(shape.count(), 0);
+    std::vector<size_t> seeds;
+    const int count = 1 + int(rng() % 12);
+    for (int s = 0; s < count; ++s) {
+      const size_t idx = rng() % shape.count();
+      seed[idx] = 1;
+      seeds.push_back(idx);
+    }
+    const std::vector<int32_t> nearest = nearest_seed_transform(shape, seed);
+    for (size_t idx = 0; idx < shape.count(); ++idx) {
+      const Eigen::Vector3i c = shape.coords(idx);
+      int best = std::numeric_limits<int>::max();
+      for (size_t s : seeds) best = std::min(best, (shape.coords(s) - c).squaredNorm());
+      ASSERT_GE(nearest[idx], 0);
+      ASSERT_TRUE(seed[size_t(nearest[idx])]);
+      EXPECT_EQ((shape.coords(size_t(nearest[idx])) - c).squaredNorm(), best) << "voxel " << idx;
+    }
+  }
+}
+
+TEST(Edt, NoSeedsGivesNone) {
+  GridShape shape;
+  shape.dims = Eigen::Vector3i(4, 5, 6);
+  const auto nearest = nearest_seed_transform(shape, std::vector<uint8_t>(shape.count(), 0));
+  for (int32_t n : nearest) EXPECT_EQ(n, -1);
+}
+
+// A sphere's field is known: |p| - R. Interior values must match within the mesh's own
+// faceting error plus a fraction of a voxel.
+TEST(Sdf, SphereInteriorDistancesAreAccurate) {
+  const double radius = 1.0;
+  const TriMesh sphere = test::uv_sphere(radius, 48, 96);
+  SdfOptions opt;
+  opt.resolution = 40;
+  const SdfResult sdf = build_sdf(sphere, opt);
+  const GridShape& s = sdf.field.shape;
+  const MeshQuery query(sphere);
+  double worst = 0;
+  size_t inside = 0;
+  for (size_t idx = 0; idx < s.count(); ++idx) {
+    const Eigen::Vector3d p = s.world(idx);
+    const float v = sdf.field.values[idx];
+    const bool in = query.inside(p);
+    if (std::abs(query.distance(p)) > 0.5 * s.voxel_size) EXPECT_EQ(v < 0, in) << p.transpose();
+    if (v < 0) {
+      ++inside;
+      worst = std::max(worst, std::abs(-double(v) - query.distance(p)));
+    }
+  }
+  EXPECT_EQ(inside, sdf.stats.interior_voxels);
+  EXPECT_GT(inside, 10000u);
+  EXPECT_LT(worst, 0.1 * s.voxel_size) << "interior distance error vs exact mesh distance";
+  EXPECT_EQ(sdf.stats.defects.boundary_edges, 0u);
+  EXPECT_NE(sdf.stats.sign_method.find("watertight"), std::string::npos);
+}
+
+TEST(Sdf, OpenMeshSignFollowsTheWindingNumber) {
+  SPX_REQUIRE_SHARED_DATA();
+  const TriMesh mesh = load_mesh(test::shared_data() + "/cylinder/rest.obj").mesh;
+  SdfOptions opt;
+  opt.resolution = 32;
+  const SdfResult sdf = build_sdf(mesh, opt);
+  EXPECT_NE(sdf.stats.sign_method.find("every voxel"), std::string::npos);
+  EXPECT_GT(sdf.stats.defects.boundary_edges, 0u);
+  size_t checked = 0;
+  for (size_t idx = 0; idx < sdf.field.shape.count(); idx += 7) {
+    const Eigen::Vector3d p = sdf.field.shape.world(idx);
+    const double w = winding_number_exact(mesh, p);
+    if (std::abs(w - 0.5) < 0.02) continue;  // too close to call
+    EXPECT_EQ(sdf.field.values[idx] < 0, w > 0.5) << p.transpose() << " w=" << w;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000u);
+  EXPECT_GT(sdf.stats.interior_voxels, 0u);
+}
+
+TEST(Sdf, RefusesGridsThatDoNotFitAndBadOptions) {
+  const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  SdfOptions huge;
+  huge.resolution = 100000;
+  try {
+    build_sdf(box, huge);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::unsupported);
+    EXPECT_NE(std::string(e.what()).find("GiB"), std::string::npos) << e.what();
+  }
+  SdfOptions zero;
+  zero.resolution = 0;
+  EXPECT_THROW(build_sdf(box, zero), Error);
+  SdfOptions negative;
+  negative.voxel_size = -1;
+  EXPECT_THROW(build_sdf(box, negative), Error);
+}
+
+TEST(VdbIo, RoundTripAndDeterministicBytes) {
+  const std::string dir = test::temp_dir("vdb");
+  SdfOptions opt;
+  opt.resolution = 24;
+  const SdfResult sdf = build_sdf(test::uv_sphere(0.7), opt);
+  write_sdf_vdb(dir + "/a.vdb", sdf.field, {{"spx_source_mesh", "sphere"}});
+  write_sdf_vdb(dir + "/b.vdb", sdf.field, {{"spx_source_mesh", "sphere"}});
+  EXPECT_EQ(read_file(dir + "/a.vdb"), read_file(dir + "/b.vdb"));
+
+  const LoadedSdf back = read_sdf_vdb(dir + "/a.vdb");
+  EXPECT_EQ(back.metadata.at("spx_source_mesh"), "sphere");
+  EXPECT_DOUBLE_EQ(back.field.shape.voxel_size, sdf.field.shape.voxel_size);
+  // Every voxel of the original reads back with the same value (outside the active box: background).
+  const GridShape& a = sdf.field.shape;
+  const GridShape& b = back.field.shape;
+  for (size_t idx = 0; idx < a.count(); ++idx) {
+    const Eigen::Vector3i g = a.coords(idx) + a.origin - b.origin;
+    float v = back.field.background;
+    if ((g.array() >= 0).all() && (g.array() < b.dims.array()).all()) v = back.field.values[b.index(g.x(), g.y(), g.z())];
+    ASSERT_EQ(v, sdf.field.values[idx]);
+  }
+}
+
+TEST(VdbIo, RejectsFilesThatAreNotSdfs) {
+  const std::string dir = test::temp_dir("vdbbad");
+  write_file_atomic(dir + "/text.vdb", "hello, not a vdb\n");
+  EXPECT_THROW(read_sdf_vdb(dir + "/text.vdb"), Error);
+  EXPECT_THROW(read_sdf_vdb(dir + "/missing.vdb"), Error);
+}
+
+}  // namespace
+}  // namespace spx

@@ -1,0 +1,61 @@
+#pragma once
+// Helpers shared by the unit tests: real data beside the checkout, small generated meshes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "mesh/mesh.hpp"
+
+namespace spx::test {
+
+// ../shared/data beside the checkout; tests that need it skip (with a message) only when absent.
+inline std::string shared_data() { return SPX_SHARED_DATA; }
+inline bool have_shared_data() { return std::filesystem::exists(shared_data() + "/README.md"); }
+#define SPX_REQUIRE_SHARED_DATA()                                                   \
+  do {                                                                              \
+    if (!::spx::test::have_shared_data()) GTEST_SKIP() << "no " << SPX_SHARED_DATA; \
+  } while (0)
+
+inline std::string temp_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("spx-test-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+// Axis-aligned box as 12 outward triangles.
+inline TriMesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+// UV sphere, closed and outward.
+inline TriMesh uv_sphere(double radius, int rings = 24, int sectors = 48) {
+  TriMesh m;
+  m.vertices.emplace_back(0, 0, -radius);
+  for (int r = 1; r < rings; ++r) {
+    const double phi = M_PI * r / rings - M_PI / 2;
+    for (int s = 0; s < sectors; ++s) {
+      const double th = 2 * M_PI * s / sectors;
+      m.vertices.emplace_back(radius * std::cos(phi) * std::cos(th), radius * std::cos(phi) * std::sin(th),
+                              radius * std::sin(phi));
+    }
+  }
+  m.vertices.emplace_back(0, 0, radius);
+  auto at = [&](int r, int s) { return 1 + (r - 1) * sectors + (s % sectors); };
+  const int top = int(m.vertices.size()) - 1;
+  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(0, at(1, s + 1), at(1, s));
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int s = 0; s < sectors; ++s) {
+      m.triangles.emplace_back(at(r, s), at(r, s + 1), at(r + 1, s + 1));
+      m.triangles.emplace_back(at(r, s), at(r + 1, s + 1), at(r + 1, s));
+    }
+  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(top, at(rings - 1, s), at(rings - 1, s + 1));
+  return m;
+}
+
+}  // namespace spx::test
