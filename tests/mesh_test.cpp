@@ -58,6 +58,37 @@ TEST(MeshLoad, PoseMustShareTheRestTopology) {
   }
 }
 
+TEST(MeshLoad, ReadsEveryListedFormat) {
+  const std::string dir = test::temp_dir("formats");
+  // ASCII STL of a unit box, written by hand: STL repeats corners per facet, the weld joins them.
+  const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  std::string stl = "solid box\n";
+  for (const auto& t : box.triangles) {
+    stl += " facet normal 0 0 0\n  outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      const auto& v = box.vertices[size_t(t[k])];
+      stl += "   vertex " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+    }
+    stl += "  endloop\n endfacet\n";
+  }
+  write_file_atomic(dir + "/box.stl", stl + "endsolid box\n");
+  const LoadedMesh from_stl = load_mesh(dir + "/box.stl");
+  EXPECT_EQ(from_stl.mesh.vertices.size(), 8u);
+  EXPECT_TRUE(find_defects(from_stl.mesh).watertight());
+
+  SPX_REQUIRE_SHARED_DATA();
+  struct Case { const char* file; size_t triangles; };
+  for (const Case& c : {Case{"static/bunny.off", 6966}, Case{"static/decimated-knight.off", 1000},
+                        Case{"broken/cube_with_fold.ply", 0}, Case{"rigged-simple/RiggedSimple.glb", 188},
+                        Case{"cube/rest.obj", 3072}}) {
+    const LoadedMesh m = load_mesh(test::shared_data() + "/" + c.file);
+    if (c.triangles) EXPECT_EQ(m.mesh.triangles.size(), c.triangles) << c.file;
+    EXPECT_GT(m.mesh.triangles.size(), 0u) << c.file;
+  }
+  // The glTF's seams are welded back into a closed surface.
+  EXPECT_TRUE(find_defects(load_mesh(test::shared_data() + "/rigged-simple/RiggedSimple.glb").mesh).watertight());
+}
+
 TEST(MeshLoad, BadFilesGiveClassifiedErrors) {
   const std::string dir = test::temp_dir("bad");
   auto code_of = [](const std::string& path) {

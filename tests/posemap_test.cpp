@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <fstream>
 
 #include "core/error.hpp"
 #include "mesh/mesh_query.hpp"
@@ -146,6 +147,57 @@ TEST(TetLocator, FindsTheContainingTet) {
     for (int k = 0; k < 4; ++k) back += at.weights[k] * tets.vertices[size_t(tets.tets[size_t(at.tet)][k])];
     EXPECT_LT((back - c).norm(), 1e-12);
   }
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+std::string to_medit(const TetMesh& m) {
+  std::string s = "MeshVersionFormatted 1\nDimension 3\nVertices\n" + std::to_string(m.vertices.size()) + "\n";
+  char line[160];
+  for (const auto& v : m.vertices) {
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0\n", v.x(), v.y(), v.z());
+    s += line;
+  }
+  s += "Tetrahedra\n" + std::to_string(m.tets.size()) + "\n";
+  for (const auto& t : m.tets) s += std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + " " + std::to_string(t[3] + 1) + " 1\n";
+  return s + "End\n";
+}
+
+TEST(PoseMap, AcceptsUserTetsAndStillMapsAffinePosesExactly) {
+  const std::string dir = test::temp_dir("medit");
+  const TriMesh rest = make_barrel().rest;
+  TetOptions coarse;
+  coarse.size = rest.diagonal() / 12;
+  const TetMesh tets = tetrahedralize(rest, coarse);
+  {
+    std::ofstream out(dir + "/rest.mesh");
+    out << to_medit(tets);
+  }
+  const TetMesh back = read_medit_tets(dir + "/rest.mesh");
+  ASSERT_EQ(back.tets.size(), tets.tets.size());
+  EXPECT_EQ(back.boundary_faces.size(), tets.boundary_faces.size());
+
+  Eigen::Affine3d a = Eigen::Affine3d::Identity();
+  a.rotate(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ())).scale(1.2);
+  TriMesh pose = rest;
+  for (auto& v : pose.vertices) v = a * v;
+  const SpheresFile spheres = pack_file(rest, 40);
+  PoseMapOptions opt;
+  opt.tet_file = dir + "/rest.mesh";
+  const PoseMapResult r = pose_map(rest, "rest", {{"turned", "", pose}}, spheres, opt);
+  EXPECT_EQ(r.report["tets"]["tetrahedra"].get<size_t>(), tets.tets.size());
+  for (size_t s = 0; s < spheres.spheres.size(); ++s)
+    EXPECT_LT((r.proxy.poses[1].spheres[s].center - a * spheres.spheres[s].center).norm(), 1e-6 * pose.diagonal());
+
+  {
+    std::ofstream bad(dir + "/bad.mesh");
+    bad << "Vertices\n2\n0 0 0 0\n1 0 0 0\nTetrahedra\n1\n1 2 3 4 1\nEnd\n";
+  }
+  EXPECT_THROW(read_medit_tets(dir + "/bad.mesh"), Error);
 }
 
 }  // namespace
