@@ -10,23 +10,46 @@ Log& Log::silent() {
   return log;
 }
 
+namespace {
+bool stderr_is_tty() {
+  static const bool tty = ::isatty(2) != 0;
+  return tty;
+}
+// Clears a transient stage line before anything permanent is printed.
+void clear_line() {
+  if (stderr_is_tty()) std::fputs("\r\x1b[K", stderr);
+}
+}  // namespace
+
+void Log::clear_transient() { clear_line(); }
+
 void Log::info(const std::string& msg) const {
-  if (verbosity_ >= 0) std::fprintf(stderr, "%s: %s\n", tool_.c_str(), msg.c_str());
+  if (verbosity_ < 0) return;
+  clear_line();
+  std::fprintf(stderr, "%s: %s\n", tool_.c_str(), msg.c_str());
+}
+
+void Log::begin(const std::string& stage) const {
+  if (verbosity_ < 0 || tool_.empty() || !stderr_is_tty()) return;
+  std::fprintf(stderr, "\r\x1b[K%s: %s...", tool_.c_str(), stage.c_str());
+  std::fflush(stderr);
 }
 
 void Log::detail(const std::string& msg) const {
-  if (verbosity_ >= 1) std::fprintf(stderr, "%s: %s\n", tool_.c_str(), msg.c_str());
+  if (verbosity_ < 1) return;
+  clear_line();
+  std::fprintf(stderr, "%s: %s\n", tool_.c_str(), msg.c_str());
 }
 
 void Log::warn(const std::string& msg) {
   warnings_.push_back(msg);
+  if (verbosity_ >= 0) clear_line();
   if (verbosity_ >= 0) std::fprintf(stderr, "%s: warning: %s\n", tool_.c_str(), msg.c_str());
 }
 
 void Log::progress(const char* stage, size_t done, size_t total) const {
   if (verbosity_ < 0 || total == 0) return;
-  static const bool tty = ::isatty(2) != 0;
-  if (!tty) return;
+  if (!stderr_is_tty()) return;
   const size_t step = total / 20 + 1;
   if (done % step != 0 && done != total) return;
   std::fprintf(stderr, "\r%s: %s %3d%%%s", tool_.c_str(), stage, static_cast<int>(100.0 * done / total),
@@ -39,7 +62,9 @@ void Log::record_time(const std::string& stage, double seconds) {
 }
 
 StageTimer::StageTimer(Log& log, std::string stage)
-    : log_(log), stage_(std::move(stage)), start_(std::chrono::steady_clock::now()) {}
+    : log_(log), stage_(std::move(stage)), start_(std::chrono::steady_clock::now()) {
+  if (stage_ != "total") log_.begin(stage_);
+}
 
 StageTimer::~StageTimer() { stop(); }
 

@@ -20,6 +20,10 @@ class Log {
   void warn(const std::string& msg);          // shown unless -q, kept for the report
   // Percent progress for long loops, only when stderr is a terminal.
   void progress(const char* stage, size_t done, size_t total) const;
+  // "tool: stage..." while a stage runs, only when stderr is a terminal (overwritten in place).
+  void begin(const std::string& stage) const;
+  // Erases such a line (before an error message, say).
+  static void clear_transient();
 
   const std::vector<std::string>& warnings() const { return warnings_; }
   // Stage timings in seconds, in the order the stages ran.

@@ -49,12 +49,15 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     }
     return 0;
   } catch (const Error& e) {
+    Log::clear_transient();
     std::fprintf(stderr, "Error: %s\n", e.what());
     code = e.code();
   } catch (const std::bad_alloc&) {
+    Log::clear_transient();
     std::fprintf(stderr, "Error: %s: out of memory (try a coarser --resolution)\n", name_.c_str());
     code = ExitCode::unsupported;
   } catch (const std::exception& e) {
+    Log::clear_transient();
     std::fprintf(stderr, "Error: %s: %s\n", name_.c_str(), e.what());
     code = ExitCode::bad_input;
   }

@@ -40,8 +40,11 @@ MeshDefects find_defects(const TriMesh& mesh) {
 
   std::vector<int> parent(mesh.triangles.size());
   std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  auto find = [&parent](int x) {
+    while (parent[size_t(x)] != x) {
+      parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
+      x = parent[size_t(x)];
+    }
     return x;
   };
   for (size_t i = 0; i < half.size();) {
@@ -51,7 +54,8 @@ MeshDefects find_defects(const TriMesh& mesh) {
     if (n == 1) ++d.boundary_edges;
     else if (n > 2) ++d.non_manifold_edges;
     else if (half[i].forward == half[i + 1].forward) ++d.inconsistent_edges;
-    for (size_t k = i + 1; k < j; ++k) parent[find(half[k].tri)] = find(half[i].tri);
+    const int root = find(half[i].tri);
+    for (size_t k = i + 1; k < j; ++k) parent[size_t(find(half[k].tri))] = root;
     i = j;
   }
   for (size_t t = 0; t < parent.size(); ++t)
