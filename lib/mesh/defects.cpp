@@ -54,10 +54,12 @@ MeshDefects find_defects(const TriMesh& mesh) {
     if (n == 1) ++d.boundary_edges;
     else if (n > 2) ++d.non_manifold_edges;
     else if (half[i].forward == half[i + 1].forward) ++d.inconsistent_edges;
-    const int root = find(half[i].tri);
-    for (size_t k = i + 1; k < j; ++k) parent[size_t(find(half[k].tri))] = root;
     i = j;
   }
+  // Triangles sharing an edge are neighbours in the sorted list.
+  for (size_t k = 1; k < half.size(); ++k)
+    if (half[k].lo == half[k - 1].lo && half[k].hi == half[k - 1].hi)
+      parent[size_t(find(half[k].tri))] = find(half[k - 1].tri);
   for (size_t t = 0; t < parent.size(); ++t)
     if (find(static_cast<int>(t)) == static_cast<int>(t)) ++d.components;
   return d;
