@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "metrics/union_error.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
 #include "samples/samples.hpp"
@@ -83,6 +84,48 @@ TEST(Pack, CentersAreDeepestFirstAndNotInsideEarlierSpheres) {
     for (size_t j = 0; j < i; ++j)
       EXPECT_GT((r.spheres[i].center - r.spheres[j].center).norm(), r.spheres[j].radius * (1 - 1e-9));
   }
+}
+
+// Tolerance search: the kept prefix meets T by the independent metric, and one sphere fewer
+// does not (or the count is already 1).
+TEST(Pack, ToleranceKeepsTheFewestSpheresThatMeetIt) {
+  const TriMesh mesh = make_car().rest;
+  PackOptions opt;
+  opt.min_radius = 0.03;
+  const PackResult all = pack_mesh(mesh, 96, opt);
+  for (double fraction : {0.03, 0.015, 0.01}) {
+    const double t = fraction * mesh.diagonal();
+    const ToleranceResult r = fewest_spheres_within(mesh, all.spheres, t);
+    ASSERT_TRUE(r.met) << fraction;
+    const SphereSet kept(all.spheres.begin(), all.spheres.begin() + long(r.count));
+    const ErrorStats e = vertex_error(mesh, kept);
+    EXPECT_LE(e.max, t);
+    EXPECT_NEAR(e.max, r.max_error, 1e-12);
+    if (r.count > 1) {
+      const SphereSet fewer(all.spheres.begin(), all.spheres.begin() + long(r.count) - 1);
+      EXPECT_GT(vertex_error(mesh, fewer).max, t) << fraction;
+    }
+  }
+  // A tolerance the sequence cannot reach reports the error it did reach, with every sphere.
+  const ToleranceResult impossible = fewest_spheres_within(mesh, all.spheres, 1e-9);
+  EXPECT_FALSE(impossible.met);
+  EXPECT_EQ(impossible.count, all.spheres.size());
+  EXPECT_NEAR(impossible.max_error, vertex_error(mesh, all.spheres).max, 1e-12);
+  // Max error never grows as spheres are added.
+  for (size_t k = 1; k < impossible.max_error_by_count.size(); ++k)
+    EXPECT_LE(impossible.max_error_by_count[k], impossible.max_error_by_count[k - 1] + 1e-12);
+}
+
+TEST(Pack, RefinedCentersGrowSpheresAndStayInside) {
+  const TriMesh mesh = make_car().rest;
+  PackOptions grid, refined;
+  grid.refine_centers = false;
+  grid.max_spheres = refined.max_spheres = 150;
+  const PackResult a = pack_mesh(mesh, 96, grid), b = pack_mesh(mesh, 96, refined);
+  expect_inside(mesh, b.spheres, "refined");
+  EXPECT_GT(b.stats.centers_refined, 0u);
+  // At the same count the refined union is closer to the surface.
+  EXPECT_LT(vertex_error(mesh, b.spheres).median, vertex_error(mesh, a.spheres).median);
 }
 
 TEST(Pack, BadOptionsAreUsageErrors) {

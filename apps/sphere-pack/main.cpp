@@ -11,5 +11,14 @@ int main(int argc, char** argv) {
   tool.app.add_option("--min-radius", opt.min_radius, "Stop when the next sphere would be smaller (default 1.5 voxels)");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius a sphere may have (default unlimited)");
   tool.app.add_option("--max-spheres", opt.max_spheres, "Stop after this many spheres (default unlimited)");
-  return tool.run(argc, argv, [&] { spx::sphere_pack(input, mesh, output, opt, tool.log, tool.report); });
+  std::string tolerance;
+  tool.app.add_option("--tolerance", tolerance,
+                      "Fewest spheres whose rest max vertex error is at most T (length, or T% of the diagonal); "
+                      "needs --mesh");
+  bool grid_centers = false;
+  tool.app.add_flag("--grid-centers", grid_centers, "Keep centers on voxel centers (the paper's plain greedy)");
+  return tool.run(argc, argv, [&] {
+    opt.refine_centers = !grid_centers;
+    spx::sphere_pack(input, mesh, output, opt, spx::parse_tolerance(tolerance), tool.log, tool.report);
+  });
 }

@@ -41,7 +41,7 @@ TriMesh icosphere(int subdivisions) {
   return m;
 }
 
-aiMesh* to_ai_mesh(const TriMesh& m, const std::string& name) {
+aiMesh* to_ai_mesh(const TriMesh& m, const std::vector<Eigen::Vector3f>& colors, const std::string& name) {
   auto* mesh = new aiMesh();
   mesh->mName = name;
   mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
@@ -55,6 +55,10 @@ aiMesh* to_ai_mesh(const TriMesh& m, const std::string& name) {
     aiFace& face = mesh->mFaces[f];
     face.mNumIndices = 3;
     face.mIndices = new unsigned[3]{unsigned(m.triangles[f][0]), unsigned(m.triangles[f][1]), unsigned(m.triangles[f][2])};
+  }
+  if (colors.size() == m.vertices.size() && !colors.empty()) {
+    mesh->mColors[0] = new aiColor4D[colors.size()];
+    for (size_t i = 0; i < colors.size(); ++i) mesh->mColors[0][i] = aiColor4D(colors[i].x(), colors[i].y(), colors[i].z(), 1.0f);
   }
   mesh->mMaterialIndex = 0;
   return mesh;
@@ -74,43 +78,22 @@ TriMesh sphere_union_mesh(const SphereSet& spheres, int subdivisions) {
   return out;
 }
 
-std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int pose, bool spread) {
+std::string encode_scene(const std::vector<SceneNode>& nodes, const std::string& ext) {
   const bool gltf = ext == ".glb";
-  if (!gltf && ext != ".ply") fail_unsupported("", "no preview format for '" + ext + "'");
-  if (pose < 0 || pose >= int(proxy.poses.size())) fail_usage("--pose", "no pose " + std::to_string(pose));
-
+  if (!gltf && ext != ".ply") fail_unsupported("", "no mesh format for '" + ext + "' (use .glb or .ply)");
   aiScene scene;
-  scene.mRootNode = new aiNode("proxy");
+  scene.mRootNode = new aiNode("root");
   scene.mNumMaterials = 1;
   scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
-  aiString material_name("spheres");
+  aiString material_name("spx");
   scene.mMaterials[0]->AddProperty(&material_name, AI_MATKEY_NAME);
-
-  std::vector<int> shown;
-  if (gltf)
-    for (int i = 0; i < int(proxy.poses.size()); ++i) shown.push_back(i);
-  else
-    shown.push_back(pose);
-  // Side by side: each pose shifted by 1.25x the rest pose's width along x.
-  double width = 0;
-  {
-    Eigen::AlignedBox3d box;
-    for (const auto& s : proxy.poses.front().spheres)
-      if (s.radius > 0) box.extend(s.center + Eigen::Vector3d::Constant(s.radius)).extend(s.center - Eigen::Vector3d::Constant(s.radius));
-    if (!box.isEmpty()) width = 1.25 * box.sizes().x();
-  }
-  scene.mNumMeshes = unsigned(shown.size());
-  scene.mMeshes = new aiMesh*[shown.size()];
-  scene.mRootNode->mNumChildren = unsigned(shown.size());
-  scene.mRootNode->mChildren = new aiNode*[shown.size()];
-  for (size_t k = 0; k < shown.size(); ++k) {
-    const ProxyPose& p = proxy.poses[size_t(shown[k])];
-    // Every pose in one glTF: a coarser sphere keeps the file small.
-    TriMesh mesh = sphere_union_mesh(p.spheres, gltf ? 1 : 2);
-    if (gltf && spread)
-      for (auto& v : mesh.vertices) v.x() += width * double(k);
-    scene.mMeshes[k] = to_ai_mesh(mesh, p.name);
-    auto* node = new aiNode(p.name);
+  scene.mNumMeshes = unsigned(nodes.size());
+  scene.mMeshes = new aiMesh*[nodes.size()];
+  scene.mRootNode->mNumChildren = unsigned(nodes.size());
+  scene.mRootNode->mChildren = new aiNode*[nodes.size()];
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    scene.mMeshes[k] = to_ai_mesh(nodes[k].mesh, nodes[k].colors, nodes[k].name);
+    auto* node = new aiNode(nodes[k].name);
     node->mParent = scene.mRootNode;
     node->mNumMeshes = 1;
     node->mMeshes = new unsigned[1]{unsigned(k)};
@@ -118,8 +101,48 @@ std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int 
   }
   Assimp::Exporter exporter;
   const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, gltf ? "glb2" : "plyb");
-  if (!blob) fail_write("", std::string("preview export failed: ") + exporter.GetErrorString());
+  if (!blob) fail_write("", std::string("mesh export failed: ") + exporter.GetErrorString());
   return std::string(static_cast<const char*>(blob->data), blob->size);
+}
+
+std::vector<Eigen::Vector3f> error_colors(const std::vector<double>& e, double scale) {
+  std::vector<Eigen::Vector3f> out(e.size());
+  for (size_t i = 0; i < e.size(); ++i) {
+    const float t = float(std::clamp(std::abs(e[i]) / std::max(scale, 1e-300), 0.0, 1.0));
+    if (e[i] < 0) out[i] = Eigen::Vector3f(1 - t, 1 - t, 1);                          // white -> blue
+    else if (t < 0.5f) out[i] = Eigen::Vector3f(1, 1, 1 - 2 * t);                     // white -> yellow
+    else out[i] = Eigen::Vector3f(1, 2 - 2 * t, 0);                                   // yellow -> red
+  }
+  return out;
+}
+
+std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int pose, bool spread) {
+  const bool gltf = ext == ".glb";
+  if (!gltf && ext != ".ply") fail_unsupported("", "no preview format for '" + ext + "'");
+  if (pose < 0 || pose >= int(proxy.poses.size())) fail_usage("--pose", "no pose " + std::to_string(pose));
+  std::vector<int> shown;
+  if (gltf)
+    for (int i = 0; i < int(proxy.poses.size()); ++i) shown.push_back(i);
+  else
+    shown.push_back(pose);
+  const double width = spread ? side_by_side_step(proxy) : 0.0;
+  std::vector<SceneNode> nodes;
+  for (size_t k = 0; k < shown.size(); ++k) {
+    const ProxyPose& p = proxy.poses[size_t(shown[k])];
+    // Every pose in one glTF: a coarser sphere keeps the file small.
+    SceneNode node{p.name, sphere_union_mesh(p.spheres, gltf ? 1 : 2), {}};
+    if (gltf)
+      for (auto& v : node.mesh.vertices) v.x() += width * double(k);
+    nodes.push_back(std::move(node));
+  }
+  return encode_scene(nodes, ext);
+}
+
+double side_by_side_step(const ProxyModel& proxy) {
+  Eigen::AlignedBox3d box;
+  for (const auto& s : proxy.poses.front().spheres)
+    if (s.radius > 0) box.extend(s.center + Eigen::Vector3d::Constant(s.radius)).extend(s.center - Eigen::Vector3d::Constant(s.radius));
+  return box.isEmpty() ? 0.0 : 1.25 * box.sizes().x();
 }
 
 }  // namespace spx

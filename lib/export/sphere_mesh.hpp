@@ -7,11 +7,28 @@
 
 namespace spx {
 
+// One named mesh of a scene, optionally with a colour per vertex.
+struct SceneNode {
+  std::string name;
+  TriMesh mesh;
+  std::vector<Eigen::Vector3f> colors;  // empty, or one per vertex (0..1)
+};
+
+// Binary glTF (".glb", one node per entry) or binary PLY (".ply", the entries merged) via assimp.
+std::string encode_scene(const std::vector<SceneNode>& nodes, const std::string& extension);
+
+// The paper's error pictures: white where the union meets the surface, through yellow to red
+// at `scale` and beyond; blue where the union pokes out (negative distance).
+std::vector<Eigen::Vector3f> error_colors(const std::vector<double>& signed_error, double scale);
+
 // Every sphere with a positive radius as an icosphere (`subdivisions` 0..4).
 TriMesh sphere_union_mesh(const SphereSet& spheres, int subdivisions = 2);
 
 // Binary glTF with one node per pose (named after it), laid side by side along +x when
 // `spread` is set; or binary PLY of one pose. The format comes from the extension.
+// How far apart poses are laid along x when shown side by side.
+double side_by_side_step(const ProxyModel& proxy);
+
 std::string encode_preview(const ProxyModel& proxy, const std::string& extension, int pose, bool spread);
 
 }  // namespace spx

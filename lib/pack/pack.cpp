@@ -38,7 +38,7 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
     queue.pop();
     const size_t idx = size_t(-neg_index);
     if (work[idx] != -depth) continue;  // cleared by an earlier sphere
-    const Eigen::Vector3d center = shape.world(idx);
+    Eigen::Vector3d center = shape.world(idx);
     // Field distances may exceed the exact ones by a small fraction of a voxel (the interior
     // transform picks the best of nearby candidate triangles): keep spheres safely inside.
     double distance = depth - kFieldMargin * h;
@@ -48,6 +48,22 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
         continue;
       }
       distance = mesh->distance(center);
+      if (opt.refine_centers) {
+        // Ascend the exact distance (its gradient points away from the closest surface point),
+        // staying within half a voxel of the voxel the field chose.
+        const Eigen::Vector3d origin = center;
+        for (int step = 0; step < 6; ++step) {
+          const ClosestPoint c = mesh->closest(center);
+          if (!(c.distance > 0)) break;
+          Eigen::Vector3d next = center + 0.25 * h * (center - c.point) / c.distance;
+          next = origin + (next - origin).cwiseMax(-0.5 * h).cwiseMin(0.5 * h);
+          const double d = mesh->distance(next);
+          if (!(d > distance) || !mesh->inside(next)) break;
+          center = next;
+          distance = d;
+        }
+        if (center != origin) ++stats.centers_refined;
+      }
     }
     const double radius = std::min(opt.max_radius, distance);
     if (radius < stats.min_radius) {
@@ -58,13 +74,14 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
     log.progress("packing", result.spheres.size(), opt.max_spheres);
 
     // Clear the field inside the sphere so no later center falls in it.
-    const Eigen::Vector3i c = shape.coords(idx);
+    const Eigen::Vector3i c = ((center / h).array().round().cast<int>() - shape.origin.array()).matrix();
     const int reach = int(std::floor(radius / h));
     const double r2 = (radius / h) * (radius / h);
-    for (int i = std::max(0, c.x() - reach); i <= std::min(nx - 1, c.x() + reach); ++i)
-      for (int j = std::max(0, c.y() - reach); j <= std::min(ny - 1, c.y() + reach); ++j)
-        for (int k = std::max(0, c.z() - reach); k <= std::min(nz - 1, c.z() + reach); ++k) {
-          const double di = i - c.x(), dj = j - c.y(), dk = k - c.z();
+    const Eigen::Vector3d cg = center / h - shape.origin.cast<double>();  // center in grid units
+    for (int i = std::max(0, c.x() - reach - 1); i <= std::min(nx - 1, c.x() + reach + 1); ++i)
+      for (int j = std::max(0, c.y() - reach - 1); j <= std::min(ny - 1, c.y() + reach + 1); ++j)
+        for (int k = std::max(0, c.z() - reach - 1); k <= std::min(nz - 1, c.z() + reach + 1); ++k) {
+          const double di = i - cg.x(), dj = j - cg.y(), dk = k - cg.z();
           if (di * di + dj * dj + dk * dk <= r2) {
             float& v = work[shape.index(i, j, k)];
             if (v < 0) v = 0;
@@ -85,11 +102,37 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
   return result;
 }
 
+ToleranceResult fewest_spheres_within(const TriMesh& mesh, const SphereSet& sequence, double tolerance) {
+  ToleranceResult r;
+  std::vector<double> d(mesh.vertices.size(), std::numeric_limits<double>::infinity());
+  for (size_t k = 0; k < sequence.size(); ++k) {
+    const Sphere& s = sequence[k];
+    double worst = 0;
+    for (size_t v = 0; v < d.size(); ++v) {
+      d[v] = std::min(d[v], (mesh.vertices[v] - s.center).norm() - s.radius);
+      worst = std::max(worst, std::abs(d[v]));
+    }
+    r.max_error_by_count.push_back(worst);
+    if (worst <= tolerance) {
+      r.met = true;
+      r.count = k + 1;
+      r.max_error = worst;
+      break;
+    }
+  }
+  if (!r.met) {
+    r.count = sequence.size();
+    r.max_error = r.max_error_by_count.empty() ? std::numeric_limits<double>::infinity() : r.max_error_by_count.back();
+  }
+  return r;
+}
+
 nlohmann::json PackStats::to_json() const {
   nlohmann::json j = {{"radius_source", radius_source},   {"stop_reason", stop_reason},
                       {"min_radius", min_radius},         {"smallest_radius", smallest},
                       {"largest_radius", largest},        {"interior_voxels", interior_voxels},
-                      {"centers_rejected", centers_rejected}};
+                      {"centers_rejected", centers_rejected},
+                      {"centers_refined", centers_refined}};
   j["max_radius"] = std::isfinite(max_radius) ? nlohmann::json(max_radius) : nlohmann::json(nullptr);
   return j;
 }

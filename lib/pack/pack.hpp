@@ -17,6 +17,9 @@ struct PackOptions {
   double min_radius = 0;  // 0: 1.5 voxels
   double max_radius = std::numeric_limits<double>::infinity();
   size_t max_spheres = 0;  // 0: no limit
+  // With a mesh: move each center off the voxel grid (within half a voxel) to where the exact
+  // distance to the surface is larger, so each sphere grows.
+  bool refine_centers = true;
 };
 
 struct PackStats {
@@ -24,7 +27,7 @@ struct PackStats {
   std::string stop_reason;
   double min_radius = 0, max_radius = 0;  // the limits in force
   double smallest = 0, largest = 0;       // radii produced
-  size_t interior_voxels = 0, centers_rejected = 0;
+  size_t interior_voxels = 0, centers_rejected = 0, centers_refined = 0;
   nlohmann::json to_json() const;
 };
 
@@ -37,5 +40,16 @@ struct PackResult {
 // values are the radii.
 PackResult pack_spheres(const DenseField& field, const PackOptions& options, const MeshQuery* mesh,
                         Log& log = Log::silent());
+
+// Tolerance-driven sizing. The greedy order does not depend on the min radius or the count,
+// and every vertex's distance to the union only falls as spheres are added, so the fewest
+// spheres whose max vertex error is at most `tolerance` is the shortest prefix that meets it.
+struct ToleranceResult {
+  size_t count = 0;         // spheres to keep
+  double max_error = 0;     // rest-pose max vertex error with them
+  bool met = false;
+  std::vector<double> max_error_by_count;  // [k-1]: max error with the first k spheres
+};
+ToleranceResult fewest_spheres_within(const TriMesh& mesh, const SphereSet& sequence, double tolerance);
 
 }  // namespace spx

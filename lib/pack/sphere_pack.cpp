@@ -1,6 +1,7 @@
 #include "pack/sphere_pack.hpp"
 
 #include <cstdio>
+#include <cmath>
 #include <memory>
 
 #include "core/error.hpp"
@@ -10,8 +11,30 @@
 
 namespace spx {
 
+Tolerance parse_tolerance(const std::string& text) {
+  Tolerance t;
+  if (text.empty()) return t;
+  std::string number = text;
+  if (number.back() == '%') {
+    t.percent = true;
+    number.pop_back();
+  }
+  size_t used = 0;
+  try {
+    t.value = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != number.size() || number.empty() || !(t.value > 0) || !std::isfinite(t.value))
+    fail_usage("--tolerance", "'" + text + "' is not a positive length or percentage (e.g. 0.05 or 1%)");
+  return t;
+}
+
 void sphere_pack(const std::string& input, const std::string& mesh_path, const std::string& output,
-                 const PackOptions& options, Log& log, json& report) {
+                 const PackOptions& user_options, const Tolerance& tolerance, Log& log, json& report) {
+  if (tolerance.set() && mesh_path.empty())
+    fail_usage("--tolerance", "needs --mesh (the error is measured at the mesh's vertices)");
+  PackOptions options = user_options;
   LoadedSdf sdf;
   {
     StageTimer t(log, "load");
@@ -22,6 +45,11 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
     StageTimer t(log, "mesh");
     const LoadedMesh loaded = load_mesh(mesh_path);
     mesh = about_file(mesh_path, [&] { return std::make_unique<MeshQuery>(loaded.mesh); });
+    if (tolerance.set()) {
+      // Pack the whole greedy sequence down to a fine floor, then keep the shortest prefix.
+      options.max_spheres = 0;
+      if (!(user_options.min_radius > 0)) options.min_radius = sdf.field.shape.voxel_size;
+    }
   } else {
     log.detail("no --mesh: radii come from the field (voxel accuracy)");
   }
@@ -33,6 +61,38 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
   if (packed.spheres.empty())
     fail_input(input, "no sphere fits: the largest interior distance is below the min radius " +
                           std::to_string(packed.stats.min_radius));
+  if (tolerance.set()) {
+    StageTimer t(log, "tolerance");
+    const double target = tolerance.percent ? tolerance.value / 100 * mesh->mesh().diagonal() : tolerance.value;
+    const ToleranceResult tr = fewest_spheres_within(mesh->mesh(), packed.spheres, target);
+    size_t keep = tr.count;
+    std::string limit = tr.met ? "tolerance" : "the packing sequence ended before the tolerance was met";
+    if (user_options.max_spheres > 0 && user_options.max_spheres < keep) {
+      keep = user_options.max_spheres;
+      limit = "--max-spheres (tighter than the tolerance)";
+    }
+    packed.spheres.resize(keep);
+    const double reached = tr.max_error_by_count.empty() ? 0 : tr.max_error_by_count[keep - 1];
+    if (!tr.met) {
+      char msg[400];
+      std::snprintf(msg, sizeof msg,
+                    "tolerance %.4g not met: max error %.4g with all %zu spheres down to radius %.4g at voxel size "
+                    "%.4g; use a finer --resolution or a smaller --min-radius",
+                    target, reached, keep, options.min_radius, sdf.field.shape.voxel_size);
+      log.warn(msg);
+    }
+    report["tolerance"] = {{"target", target},   {"given", tolerance.value},
+                           {"percent", tolerance.percent}, {"met", tr.met},
+                           {"max_error", reached},         {"spheres", keep},
+                           {"limited_by", limit},          {"sequence_length", tr.max_error_by_count.size()}};
+  }
+  if (!packed.spheres.empty()) {
+    packed.stats.smallest = packed.stats.largest = packed.spheres.front().radius;
+    for (const auto& s : packed.spheres) {
+      packed.stats.smallest = std::min(packed.stats.smallest, s.radius);
+      packed.stats.largest = std::max(packed.stats.largest, s.radius);
+    }
+  }
   SpheresFile file;
   file.spheres = packed.spheres;
   file.voxel_size = sdf.field.shape.voxel_size;

@@ -1,0 +1,170 @@
+#include "metrics/proxy_eval.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.hpp"
+#include "export/spx_writer.hpp"
+#include "mesh/winding_number.hpp"
+#include "runtime/spx_runtime.h"
+
+namespace spx {
+
+double union_coverage(const TriMesh& mesh, const SphereSet& spheres, int samples) {
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const double cell = box.sizes().maxCoeff() / std::max(1, samples);
+  if (!(cell > 0)) return 0;
+  const Eigen::Vector3i n = (box.sizes() / cell).array().ceil().cast<int>().max(1);
+  const WindingNumber wn(mesh);
+  std::atomic<size_t> inside{0}, covered{0};
+  tbb::parallel_for(tbb::blocked_range<int>(0, n.x()), [&](const tbb::blocked_range<int>& r) {
+    size_t in = 0, cov = 0;
+    for (int i = r.begin(); i != r.end(); ++i)
+      for (int j = 0; j < n.y(); ++j)
+        for (int k = 0; k < n.z(); ++k) {
+          const Eigen::Vector3d p = box.min() + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
+          if (!wn.inside(p)) continue;
+          ++in;
+          for (const auto& s : spheres)
+            if (s.radius > 0 && (p - s.center).squaredNorm() <= s.radius * s.radius) {
+              ++cov;
+              break;
+            }
+        }
+    inside += in;
+    covered += cov;
+  });
+  return inside > 0 ? double(covered) / double(inside) : 0.0;
+}
+
+SurfaceError surface_error(const std::vector<double>& d) {
+  SurfaceError e;
+  e.abs = summarize_abs(d);
+  if (d.empty()) return e;
+  std::vector<double> s(d);
+  std::sort(s.begin(), s.end());
+  e.signed_min = s.front();
+  e.signed_max = s.back();
+  e.signed_median = s.size() % 2 ? s[s.size() / 2] : 0.5 * (s[s.size() / 2 - 1] + s[s.size() / 2]);
+  e.outside_fraction = double(std::count_if(d.begin(), d.end(), [](double v) { return v > 0; })) / double(d.size());
+  return e;
+}
+
+nlohmann::json SurfaceError::to_json() const {
+  return {{"median", abs.median},
+          {"p95", abs.p95},
+          {"max", abs.max},
+          {"signed", {{"median", signed_median}, {"min", signed_min}, {"max", signed_max}}},
+          {"outside_fraction", outside_fraction}};
+}
+
+std::vector<std::vector<float>> blend_weights(size_t poses, int count, unsigned seed) {
+  std::vector<std::vector<float>> out;
+  for (size_t a = 0; a < poses && int(out.size()) < count; ++a)
+    for (size_t b = a + 1; b < poses && int(out.size()) < count; ++b) {
+      std::vector<float> w(poses, 0.0f);
+      w[a] = w[b] = 0.5f;
+      out.push_back(w);
+    }
+  std::mt19937 rng(seed);
+  std::exponential_distribution<double> e(1.0);  // normalised exponentials: uniform on the simplex
+  while (int(out.size()) < count) {
+    std::vector<double> x(poses);
+    double sum = 0;
+    for (auto& v : x) sum += (v = e(rng));
+    std::vector<float> w(poses);
+    for (size_t i = 0; i < poses; ++i) w[i] = float(x[i] / sum);
+    out.push_back(w);
+  }
+  return out;
+}
+
+namespace {
+
+nlohmann::json evaluate_one(const PoseEvaluation& p, int coverage_samples) {
+  nlohmann::json j = surface_error(p.vertex_error).to_json();
+  j["name"] = p.name;
+  j["coverage"] = union_coverage(p.mesh, p.spheres, coverage_samples);
+  size_t zero = 0;
+  for (const auto& s : p.spheres) zero += s.radius <= 0;
+  j["zero_radius"] = zero;
+  return j;
+}
+
+}  // namespace
+
+EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& meshes, const EvalOptions& opt, Log& log) {
+  if (meshes.size() != proxy.poses.size())
+    fail_usage("--pose", "the proxy has " + std::to_string(proxy.poses.size() - 1) + " example poses, " +
+                             std::to_string(meshes.size() - 1) + " were given");
+  if (opt.blends < 0) fail_usage("--blends", "must not be negative");
+  EvalResult result;
+  nlohmann::json poses = nlohmann::json::array();
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    PoseEvaluation p{proxy.poses[i].name, meshes[i], proxy.poses[i].spheres, {}};
+    p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
+    nlohmann::json j = evaluate_one(p, opt.coverage_samples);
+    j["outside"] = proxy.poses[i].outside.size();
+    poses.push_back(j);
+    result.poses.push_back(std::move(p));
+  }
+  result.report["poses"] = poses;
+
+  // Blends, through the runtime reader on the bytes a host would load.
+  const std::string bytes = encode_spx(proxy);
+  Proxy runtime;
+  const Status status = load_memory(bytes.data(), bytes.size(), &runtime);
+  if (status != SPX_OK) fail_input("", std::string("runtime cannot load the proxy: ") + status_string(status));
+  const uint32_t n = runtime.sphere_count();
+  std::vector<float> centers(size_t(n) * 3), radii(n);
+  nlohmann::json blends = nlohmann::json::array();
+  std::vector<double> medians, maxima;
+  for (const auto& w : blend_weights(meshes.size(), opt.blends, opt.seed)) {
+    if (blend_global(runtime, w.data(), uint32_t(w.size()), centers.data(), radii.data()) != SPX_OK)
+      fail_input("", "blend failed");
+    PoseEvaluation p;
+    p.mesh = meshes[0];
+    for (size_t v = 0; v < p.mesh.vertices.size(); ++v) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (size_t i = 0; i < meshes.size(); ++i) x += double(w[i]) * meshes[i].vertices[v];
+      p.mesh.vertices[v] = x;
+    }
+    for (uint32_t s = 0; s < n; ++s)
+      p.spheres.push_back({Eigen::Vector3d(centers[3 * s], centers[3 * s + 1], centers[3 * s + 2]), double(radii[s])});
+    p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
+    p.name = "blend-" + std::to_string(result.blends.size());
+    nlohmann::json j = evaluate_one(p, opt.coverage_samples);
+    j["weights"] = w;
+    medians.push_back(j["median"]);
+    maxima.push_back(j["max"]);
+    blends.push_back(j);
+    result.blends.push_back(std::move(p));
+  }
+  nlohmann::json b = {{"count", blends.size()}, {"samples", blends}};
+  if (!medians.empty()) {
+    std::sort(medians.begin(), medians.end());
+    b["median"] = medians[medians.size() / 2];
+    b["max"] = *std::max_element(maxima.begin(), maxima.end());
+  }
+  result.report["blends"] = b;
+
+  // Runtime cost per frame: median time of a global blend, measured here.
+  std::vector<double> times;
+  const std::vector<float> w = blend_weights(meshes.size(), std::max<int>(1, int(meshes.size())), opt.seed).back();
+  for (int rep = 0; rep < 31; ++rep) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < 20; ++k) blend_global(runtime, w.data(), uint32_t(w.size()), centers.data(), radii.data());
+    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 20);
+  }
+  std::sort(times.begin(), times.end());
+  result.report["runtime"] = {{"blend_global_us_median", times[times.size() / 2]}, {"spheres", n}, {"poses", meshes.size()}};
+  log.detail("global blend: " + std::to_string(times[times.size() / 2]) + " us");
+  return result;
+}
+
+}  // namespace spx

@@ -1,0 +1,55 @@
+#pragma once
+// proxy-eval: how wrong a proxy is, as the paper measures it (vertex-to-union distance per pose,
+// its Figures 4-6), plus coverage of the interior and the blends a host shows at runtime.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/log.hpp"
+#include "mesh/mesh.hpp"
+#include "metrics/union_error.hpp"
+#include "posemap/proxy.hpp"
+
+namespace spx {
+
+// Fraction of the mesh's interior (winding number > 1/2) inside the union, sampled at the
+// centers of a grid with `samples` cells along the longest side of the bounding box.
+double union_coverage(const TriMesh& mesh, const SphereSet& spheres, int samples = 48);
+
+struct SurfaceError {
+  ErrorStats abs;                 // of |distance|
+  double signed_median = 0, signed_min = 0, signed_max = 0;
+  double outside_fraction = 0;    // vertices outside the union (positive distance)
+  nlohmann::json to_json() const;
+};
+SurfaceError surface_error(const std::vector<double>& signed_distance);
+
+struct EvalOptions {
+  int blends = 8;            // weight vectors to try between examples
+  unsigned seed = 1;         // for the random convex combinations
+  int coverage_samples = 48;
+};
+
+struct PoseEvaluation {
+  std::string name;
+  TriMesh mesh;
+  SphereSet spheres;
+  std::vector<double> vertex_error;  // signed, per vertex
+};
+
+struct EvalResult {
+  std::vector<PoseEvaluation> poses;   // rest first, then the examples
+  std::vector<PoseEvaluation> blends;  // the blended meshes and spheres
+  nlohmann::json report;
+};
+
+// `meshes` are M_0..M_e in the proxy's pose order. Blends go through the runtime header,
+// exactly as a host computes them.
+EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& meshes, const EvalOptions& options,
+                          Log& log = Log::silent());
+
+// Weight vectors over `poses` examples: midpoints of pairs first, then seeded random convex
+// combinations; `count` in all.
+std::vector<std::vector<float>> blend_weights(size_t poses, int count, unsigned seed);
+
+}  // namespace spx

@@ -1,0 +1,30 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/json_io.hpp"
+#include "core/log.hpp"
+#include "metrics/proxy_eval.hpp"
+
+namespace spx {
+
+struct EvalToolOptions {
+  EvalOptions eval;
+  std::string colors;      // OUT.ply | OUT.glb: per-vertex error colours
+  int color_pose = 0;      // for .ply
+  double color_scale = 0;  // error shown as full red; 0: the largest max error over the poses
+};
+
+// Loads M_0..M_e checked against each other (and against the proxy's pose count).
+std::vector<TriMesh> load_pose_meshes(const std::string& rest, const std::vector<std::string>& poses, const ProxyModel& proxy,
+                                      const std::string& proxy_path, Log& log);
+
+// The error-coloured meshes (and their sphere unions) of `evaluations`, side by side for .glb.
+std::string encode_error_scene(const std::vector<PoseEvaluation>& evaluations, const std::string& ext, int pose,
+                               double scale, double step);
+
+// proxy-eval IN.proxy.json --rest REST --pose P... [--blends N] [--colors OUT] --report R.json
+void proxy_eval_files(const std::string& proxy_path, const std::string& rest, const std::vector<std::string>& poses,
+                      const EvalToolOptions& options, Log& log, json& report);
+
+}  // namespace spx
