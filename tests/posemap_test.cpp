@@ -202,3 +202,40 @@ TEST(PoseMap, AcceptsUserTetsAndStillMapsAffinePosesExactly) {
 
 }  // namespace
 }  // namespace spx
+
+namespace spx {
+namespace {
+
+// Gap filling: every pose ends within the target (or says it could not), no pose gets worse,
+// and every sphere of every pose stays inside that pose's mesh.
+TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
+  const SampleAsset car = make_car();
+  SpheresFile spheres = pack_file(car.rest, 64);
+  std::vector<PoseInput> poses;
+  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  PoseMapOptions opt;
+  opt.fill_gaps = true;
+  opt.fill_tolerance = 0.015 * car.rest.diagonal();
+  const PoseMapResult r = pose_map(car.rest, "rest", poses, spheres, opt);
+  const auto& fill = r.report["fill_gaps"];
+  ASSERT_FALSE(fill.is_null());
+  EXPECT_GT(fill["spheres_after"].get<size_t>(), fill["spheres_before"].get<size_t>());
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const double before = fill["errors_before"][i + 1]["max"];
+    const double after = r.report["poses"][i + 1]["error"]["max"];
+    EXPECT_LE(after, before + 1e-12) << poses[i].name;
+    if (fill["poses"][i]["target_met"].get<bool>()) EXPECT_LE(after, opt.fill_tolerance * (1 + 1e-9)) << poses[i].name;
+    const MeshQuery q(poses[i].mesh);
+    for (const auto& s : r.proxy.poses[i + 1].spheres)
+      if (s.radius > 0) EXPECT_GE(q.distance(s.center), s.radius - 1e-9);
+  }
+  const MeshQuery rest(car.rest);
+  for (const auto& s : r.proxy.poses[0].spheres) {
+    EXPECT_TRUE(rest.inside(s.center));
+    EXPECT_GE(rest.distance(s.center), s.radius - 1e-9);
+  }
+  EXPECT_EQ(r.proxy.sphere_sites.size(), r.proxy.poses[0].spheres.size());
+}
+
+}  // namespace
+}  // namespace spx

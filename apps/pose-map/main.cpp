@@ -14,5 +14,12 @@ int main(int argc, char** argv) {
   tool.app.add_option("--tet-size", opt.tets.size, "Tet edge length (default: bounding-box diagonal / 30)");
   tool.app.add_option("--tets", opt.tet_file, "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
+  tool.app.add_flag("--fill-gaps", opt.fill_gaps,
+                    "Pack what each pose's mapped spheres leave uncovered and map the new spheres back to rest");
+  tool.app.add_option("--fill-tolerance", opt.fill_tolerance,
+                      "Fill each pose until its max vertex error is at most this (default: the spheres file's "
+                      "--tolerance, else the rest pose's max error)");
+  tool.app.add_option("--fill-min-radius", opt.fill_min_radius, "Smallest gap-filling sphere (default: 3/4 voxel)");
+  tool.app.add_option("--fill-max", opt.fill_max_per_pose, "At most this many gap-filling spheres per pose");
   return tool.run(argc, argv, [&] { spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report); });
 }

@@ -4,6 +4,7 @@
 #include <queue>
 
 #include "core/error.hpp"
+#include "metrics/union_error.hpp"
 
 namespace spx {
 
@@ -102,9 +103,20 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
   return result;
 }
 
-ToleranceResult fewest_spheres_within(const TriMesh& mesh, const SphereSet& sequence, double tolerance) {
+ToleranceResult fewest_spheres_within(const TriMesh& mesh, const SphereSet& sequence, double tolerance,
+                                      const SphereSet& base) {
   ToleranceResult r;
   std::vector<double> d(mesh.vertices.size(), std::numeric_limits<double>::infinity());
+  if (!base.empty()) {
+    d = union_signed_distance(mesh.vertices, base);
+    double worst = 0;
+    for (double v : d) worst = std::max(worst, std::abs(v));
+    if (worst <= tolerance) {
+      r.met = true;
+      r.max_error = worst;
+      return r;
+    }
+  }
   for (size_t k = 0; k < sequence.size(); ++k) {
     const Sphere& s = sequence[k];
     double worst = 0;

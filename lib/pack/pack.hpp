@@ -50,6 +50,8 @@ struct ToleranceResult {
   bool met = false;
   std::vector<double> max_error_by_count;  // [k-1]: max error with the first k spheres
 };
-ToleranceResult fewest_spheres_within(const TriMesh& mesh, const SphereSet& sequence, double tolerance);
+// `base` spheres are already in the union (gap filling adds to what a pose has).
+ToleranceResult fewest_spheres_within(const TriMesh& mesh, const SphereSet& sequence, double tolerance,
+                                      const SphereSet& base = {});
 
 }  // namespace spx

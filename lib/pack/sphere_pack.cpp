@@ -61,6 +61,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
   if (packed.spheres.empty())
     fail_input(input, "no sphere fits: the largest interior distance is below the min radius " +
                           std::to_string(packed.stats.min_radius));
+  double tolerance_target = 0;
   if (tolerance.set()) {
     StageTimer t(log, "tolerance");
     const double target = tolerance.percent ? tolerance.value / 100 * mesh->mesh().diagonal() : tolerance.value;
@@ -72,6 +73,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
       limit = "--max-spheres (tighter than the tolerance)";
     }
     packed.spheres.resize(keep);
+    tolerance_target = target;
     const double reached = tr.max_error_by_count.empty() ? 0 : tr.max_error_by_count[keep - 1];
     if (!tr.met) {
       char msg[400];
@@ -99,6 +101,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
   file.min_radius = packed.stats.min_radius;
   file.max_radius = packed.stats.max_radius;
   file.radius_source = packed.stats.radius_source;
+  file.tolerance = tolerance_target;
   file.sdf = input;
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));

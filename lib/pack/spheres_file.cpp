@@ -42,6 +42,7 @@ json spheres_to_json(const SpheresFile& f) {
   j["min_radius"] = f.min_radius;
   j["max_radius"] = std::isfinite(f.max_radius) ? json(f.max_radius) : json(nullptr);
   j["radius_source"] = f.radius_source;
+  j["tolerance"] = f.tolerance > 0 ? json(f.tolerance) : json(nullptr);
   j["spheres"] = sphere_array_to_json(f.spheres);
   return j;
 }
@@ -59,6 +60,7 @@ SpheresFile read_spheres_file(const std::string& path) {
   if (!max_r.is_null()) f.max_radius = as_finite_number(max_r, "field 'max_radius'", path);
   if (!(f.max_radius > 0)) fail_input(path, "field 'max_radius' is not positive");
   f.radius_source = j.value("radius_source", "");
+  if (j.contains("tolerance") && !j["tolerance"].is_null()) f.tolerance = as_finite_number(j["tolerance"], "field 'tolerance'", path);
   if (j.contains("source") && j["source"].is_object()) {
     const json& s = j["source"];
     if (s.contains("sdf") && s["sdf"].is_string()) f.sdf = s["sdf"];

@@ -14,6 +14,7 @@ struct SpheresFile {
   double min_radius = 0;
   double max_radius = std::numeric_limits<double>::infinity();
   std::string radius_source;  // "mesh" or "field"
+  double tolerance = 0;       // the rest-pose max error sphere-pack was asked for (0: none)
   std::string sdf, mesh;      // inputs, as named on the command line
 };
 

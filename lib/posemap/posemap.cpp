@@ -1,22 +1,49 @@
 #include "posemap/posemap.hpp"
 
 #include <cmath>
+#include <memory>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
 #include "mesh/mesh_query.hpp"
 #include "metrics/union_error.hpp"
+#include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
+#include "sdf/sdf.hpp"
 
 namespace spx {
+namespace {
+
+// Sets the field to 0 (not a candidate center) wherever a sphere already covers it.
+void clear_covered(DenseField& field, const SphereSet& spheres) {
+  const GridShape& g = field.shape;
+  const double h = g.voxel_size;
+  for (const auto& s : spheres) {
+    if (!(s.radius > 0)) continue;
+    const Eigen::Vector3d lo = (s.center.array() - s.radius) / h - g.origin.cast<double>().array();
+    const Eigen::Vector3d hi = (s.center.array() + s.radius) / h - g.origin.cast<double>().array();
+    const Eigen::Vector3i a = lo.array().ceil().cast<int>().max(0);
+    const Eigen::Vector3i b = hi.array().floor().cast<int>().min(g.dims.array() - 1);
+    for (int i = a.x(); i <= b.x(); ++i)
+      for (int j = a.y(); j <= b.y(); ++j)
+        for (int k = a.z(); k <= b.z(); ++k)
+          if ((g.world(i, j, k) - s.center).squaredNorm() <= s.radius * s.radius) {
+            float& v = field.values[g.index(i, j, k)];
+            if (v < 0) v = 0;
+          }
+  }
+}
+
+}  // namespace
 
 PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
                        const SpheresFile& spheres, const PoseMapOptions& opt, Log& log) {
   PoseMapResult result;
   ProxyModel& proxy = result.proxy;
-  proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
   if (std::isnan(opt.max_radius) || opt.max_radius < 0) fail_usage("--max-radius", "must be a positive number");
+  if (std::isnan(opt.fill_min_radius) || opt.fill_min_radius < 0) fail_usage("--fill-min-radius", "must be a positive number");
+  proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
 
   TetMesh tets;
   {
@@ -27,59 +54,127 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
 
   StageTimer harmonic_timer(log, "harmonic");
   const HarmonicMap f(tets, rest, log);
+  std::vector<std::vector<Eigen::Vector3d>> deformed;
+  for (const PoseInput& input : poses) deformed.push_back(f.deform(input.mesh));
   harmonic_timer.stop();
 
-  const size_t n = spheres.spheres.size();
-  std::vector<TetLocator::Location> where(n);
-  for (size_t s = 0; s < n; ++s) where[s] = f.locator().locate(spheres.spheres[s].center);
+  std::vector<std::unique_ptr<MeshQuery>> queries;
+  queries.push_back(std::make_unique<MeshQuery>(rest));
+  for (const PoseInput& input : poses) queries.push_back(std::make_unique<MeshQuery>(input.mesh));
+  std::vector<const TriMesh*> meshes{&rest};
+  for (const PoseInput& input : poses) meshes.push_back(&input.mesh);
 
-  // Rest pose: S_0 as packed.
-  ProxyPose rest_pose{stem_of(rest_source), rest_source, spheres.spheres, {}};
-  proxy.poses.push_back(rest_pose);
+  proxy.poses.push_back({stem_of(rest_source), rest_source, {}, {}});
+  for (const PoseInput& input : poses) proxy.poses.push_back({input.name, input.source, {}, {}});
+  std::vector<Eigen::Vector3d> rest_centers;  // for the blend sites
 
-  nlohmann::json pose_reports = nlohmann::json::array();
-  auto report_pose = [&](const ProxyPose& pose, const TriMesh& mesh) {
-    pose_reports.push_back({{"name", pose.name},
-                            {"source", pose.source},
-                            {"outside", pose.outside},
-                            {"error", vertex_error(mesh, pose.spheres).to_json()}});
-  };
-  report_pose(proxy.poses.front(), rest);
-
-  for (const PoseInput& input : poses) {
-    StageTimer t(log, "pose " + input.name);
-    const std::vector<Eigen::Vector3d> deformed = f.deform(input.mesh);
-    const MeshQuery query(input.mesh);
-    ProxyPose pose{input.name, input.source, SphereSet(n), {}};
-    std::vector<char> outside(n, 0);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16), [&](const tbb::blocked_range<size_t>& r) {
+  // Appends rest spheres to every pose: centers through f, radii from each pose's surface.
+  auto add_spheres = [&](const SphereSet& rest_spheres) {
+    const size_t first = rest_centers.size(), n = rest_spheres.size();
+    for (auto& pose : proxy.poses) pose.spheres.resize(first + n);
+    std::vector<std::vector<char>> outside(poses.size(), std::vector<char>(n, 0));
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t s = r.begin(); s != r.end(); ++s) {
-        Sphere& sphere = pose.spheres[s];
-        sphere.center = f.map(where[s], deformed);
-        if (!query.inside(sphere.center)) {
-          outside[s] = 1;
-          sphere.radius = 0;
-        } else {
-          sphere.radius = std::min(proxy.max_radius, query.distance(sphere.center));
+        proxy.poses[0].spheres[first + s] = rest_spheres[s];
+        const TetLocator::Location at = f.locator().locate(rest_spheres[s].center);
+        for (size_t i = 0; i < poses.size(); ++i) {
+          Sphere& sphere = proxy.poses[i + 1].spheres[first + s];
+          sphere.center = f.map(at, deformed[i]);
+          const MeshQuery& q = *queries[i + 1];
+          if (!q.inside(sphere.center)) {
+            outside[i][s] = 1;
+            sphere.radius = 0;
+          } else {
+            sphere.radius = std::min(proxy.max_radius, q.distance(sphere.center));
+          }
         }
       }
     });
-    for (size_t s = 0; s < n; ++s)
-      if (outside[s]) pose.outside.push_back(int(s));
-    if (!pose.outside.empty())
-      log.warn(input.source + ": " + std::to_string(pose.outside.size()) +
-               " sphere centers land outside this pose; those spheres get radius 0 in it");
-    report_pose(pose, input.mesh);
-    proxy.poses.push_back(std::move(pose));
+    for (const auto& s : rest_spheres) rest_centers.push_back(s.center);
+    for (size_t i = 0; i < poses.size(); ++i)
+      for (size_t s = 0; s < n; ++s)
+        if (outside[i][s]) proxy.poses[i + 1].outside.push_back(int(first + s));
+  };
+  {
+    StageTimer t(log, "map");
+    add_spheres(spheres.spheres);
+  }
+
+  auto pose_errors = [&] {
+    nlohmann::json out = nlohmann::json::array();
+    for (size_t i = 0; i < proxy.poses.size(); ++i)
+      out.push_back(vertex_error(*meshes[i], proxy.poses[i].spheres).to_json());
+    return out;
+  };
+  const size_t mapped_count = rest_centers.size();
+  nlohmann::json errors_before_fill;
+  nlohmann::json fill_report = nullptr;
+
+  if (opt.fill_gaps) {
+    StageTimer t(log, "fill-gaps");
+    errors_before_fill = pose_errors();
+    SdfOptions field_options;
+    field_options.voxel_size = spheres.voxel_size > 0 ? spheres.voxel_size : rest.diagonal() / 128;
+    const double min_radius = opt.fill_min_radius > 0 ? opt.fill_min_radius : 0.75 * field_options.voxel_size;
+    double target = opt.fill_tolerance > 0 ? opt.fill_tolerance : spheres.tolerance;
+    if (!(target > 0)) target = errors_before_fill[0]["max"].get<double>();
+    nlohmann::json per_pose = nlohmann::json::array();
+    for (size_t i = 0; i < poses.size(); ++i) {
+      // The pose's own interior, minus what its spheres already cover.
+      SdfResult sdf = build_sdf(poses[i].mesh, field_options);
+      clear_covered(sdf.field, proxy.poses[i + 1].spheres);
+      PackOptions pack;
+      pack.min_radius = min_radius;
+      pack.max_radius = proxy.max_radius;
+      PackResult found = pack_spheres(sdf.field, pack, queries[i + 1].get());
+      // The fewest of them that bring this pose within the target (as sphere-pack --tolerance).
+      ToleranceResult enough = fewest_spheres_within(poses[i].mesh, found.spheres, target, proxy.poses[i + 1].spheres);
+      if (!enough.met) {
+        // Out of reach at this voxel size: keep only the spheres that lower the max error.
+        const ToleranceResult best = fewest_spheres_within(poses[i].mesh, found.spheres, enough.max_error * (1 + 1e-9),
+                                                           proxy.poses[i + 1].spheres);
+        enough.count = best.count;
+      }
+      size_t keep = enough.count;
+      if (opt.fill_max_per_pose > 0) keep = std::min(keep, opt.fill_max_per_pose);
+      found.spheres.resize(keep);
+      if (!enough.met)
+        log.warn(poses[i].source + ": gap filling reaches max error " + std::to_string(enough.max_error) +
+                 ", not the target " + std::to_string(target) + " (try a finer sdf-build --resolution)");
+
+      // Back to the rest pose through the inverse map: barycentric in the deformed tets.
+      TetMesh posed = tets;
+      posed.vertices = deformed[i];
+      const TetLocator inverse(posed);
+      SphereSet back;
+      size_t lost = 0;
+      for (const Sphere& s : found.spheres) {
+        const TetLocator::Location at = inverse.locate(s.center);
+        Eigen::Vector3d x = Eigen::Vector3d::Zero();
+        for (int k = 0; k < 4; ++k) x += at.weights[k] * tets.vertices[size_t(tets.tets[size_t(at.tet)][k])];
+        if (at.outside > 0 || !queries[0]->inside(x)) {
+          ++lost;
+          continue;
+        }
+        back.push_back({x, std::min(proxy.max_radius, queries[0]->distance(x))});
+      }
+      add_spheres(back);
+      per_pose.push_back({{"pose", poses[i].name}, {"added", back.size()}, {"lost_outside_rest", lost},
+                          {"target_met", enough.met}, {"max_error_reached", enough.max_error}});
+      log.detail(poses[i].name + ": " + std::to_string(back.size()) + " spheres fill its gaps");
+    }
+    fill_report = {{"min_radius", min_radius}, {"target", target}, {"poses", per_pose}, {"spheres_before", mapped_count},
+                   {"spheres_after", rest_centers.size()}, {"errors_before", errors_before_fill}};
   }
 
   // Blend sites: the nearest rest tet vertex of each sphere (the paper's local blend).
+  const size_t n = rest_centers.size();
   std::vector<int> nearest(n, -1);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t s = r.begin(); s != r.end(); ++s) {
       double best = std::numeric_limits<double>::infinity();
       for (size_t v = 0; v < tets.vertices.size(); ++v) {
-        const double d = (tets.vertices[v] - spheres.spheres[s].center).squaredNorm();
+        const double d = (tets.vertices[v] - rest_centers[s]).squaredNorm();
         if (d < best) {
           best = d;
           nearest[s] = int(v);
@@ -97,8 +192,20 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   }
   for (size_t s = 0; s < n; ++s) proxy.sphere_sites.push_back(site_of_vertex[size_t(nearest[s])]);
 
+  for (size_t i = 1; i < proxy.poses.size(); ++i)
+    if (!proxy.poses[i].outside.empty())
+      log.warn(proxy.poses[i].source + ": " + std::to_string(proxy.poses[i].outside.size()) +
+               " sphere centers land outside this pose; those spheres get radius 0 in it");
+
+  const nlohmann::json errors = pose_errors();
+  nlohmann::json pose_reports = nlohmann::json::array();
+  for (size_t i = 0; i < proxy.poses.size(); ++i)
+    pose_reports.push_back({{"name", proxy.poses[i].name},
+                            {"source", proxy.poses[i].source},
+                            {"outside", proxy.poses[i].outside},
+                            {"error", errors[i]}});
   size_t outside_points = 0;
-  for (const auto& w : where) outside_points += w.outside > 0;
+  for (const auto& c : rest_centers) outside_points += f.locator().locate(c).outside > 0;
   result.report = {{"tets",
                     {{"method", opt.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},
                      {"source", opt.tet_file},
@@ -112,7 +219,8 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
                      {"centers_outside_tets", outside_points}}},
                    {"sphere_count", n},
                    {"site_count", proxy.sites.size()},
-                   {"poses", pose_reports}};
+                   {"poses", pose_reports},
+                   {"fill_gaps", fill_report}};
   return result;
 }
 

@@ -23,6 +23,14 @@ struct PoseMapOptions {
   TetOptions tets;
   double max_radius = 0;    // 0: the spheres file's
   std::string tet_file;     // use this MEDIT tet mesh instead of meshing
+  // The paper's future work: pack the part of each pose's interior the mapped spheres leave
+  // uncovered, and map the new centers back to the rest pose through the inverse map.
+  bool fill_gaps = false;
+  double fill_min_radius = 0;   // 0: 3/4 of a voxel of the spheres' field
+  // Each pose is filled until its max vertex error is at most this; 0: the spheres file's
+  // tolerance, or else the rest pose's own max error.
+  double fill_tolerance = 0;
+  size_t fill_max_per_pose = 0; // 0: no limit
 };
 
 struct PoseMapResult {
