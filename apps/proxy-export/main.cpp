@@ -1,3 +1,4 @@
+#include "core/error.hpp"
 #include "core/tool.hpp"
 #include "export/proxy_export.hpp"
 
@@ -7,11 +8,14 @@ int main(int argc, char** argv) {
   std::string input, output;
   spx::ExportOptions opt;
   bool stacked = false;
-  tool.app.add_option("input", input, "ProxyModel from pose-map (.proxy.json)")->required();
+  tool.app.add_option("input", input, "Proxy from pose-map (.proxy.json)")->required();
   tool.app.add_option("-o,--output", output, "Output: .spx, .json, .glb or .ply")->required();
-  tool.app.add_option("--pose", opt.pose, "Pose to write to .ply (0 = rest)")->capture_default_str();
+  tool.app.add_option("--ply-pose", opt.pose, "Pose to write to .ply (0 = rest)")->capture_default_str();
   tool.app.add_flag("--stacked", stacked, "In .glb, keep poses in place instead of side by side");
+  tool.app.add_option("--rest", opt.rest, "With the meshes, previews also colour each pose's mesh by its error");
+  tool.app.add_option("--pose", opt.poses, "Example poses M_1..M_e in the proxy's order (with --rest)");
   return tool.run(argc, argv, [&] {
+    if (!opt.poses.empty() && opt.rest.empty()) throw spx::Error(spx::ExitCode::usage, "--pose", "needs --rest");
     opt.spread = !stacked;
     spx::proxy_export(input, output, opt, tool.log, tool.report);
   });

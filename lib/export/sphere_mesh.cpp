@@ -4,6 +4,8 @@
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
+#include <cmath>
+#include <cstring>
 #include <map>
 
 #include "core/error.hpp"
@@ -78,9 +80,57 @@ TriMesh sphere_union_mesh(const SphereSet& spheres, int subdivisions) {
   return out;
 }
 
+namespace {
+
+// Binary little-endian PLY, written here: assimp 5.2's binary PLY exporter writes colours as
+// floats under a uchar header, which other readers then misread.
+std::string encode_ply(const std::vector<SceneNode>& nodes) {
+  size_t nv = 0, nf = 0;
+  bool colors = false;
+  for (const auto& n : nodes) {
+    nv += n.mesh.vertices.size();
+    nf += n.mesh.triangles.size();
+    colors = colors || !n.colors.empty();
+  }
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment spx " + std::string(SPX_VERSION) +
+                    "\nelement vertex " + std::to_string(nv) + "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (colors) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  out += "element face " + std::to_string(nf) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  auto put32 = [&put](uint32_t u) {
+    const unsigned char b[4] = {uint8_t(u), uint8_t(u >> 8), uint8_t(u >> 16), uint8_t(u >> 24)};
+    put(b, 4);
+  };
+  for (const auto& n : nodes)
+    for (size_t i = 0; i < n.mesh.vertices.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const float f = float(n.mesh.vertices[i][k]);
+        uint32_t u;
+        std::memcpy(&u, &f, 4);
+        put32(u);
+      }
+      if (colors) {
+        const Eigen::Vector3f c = n.colors.empty() ? Eigen::Vector3f(0.8f, 0.8f, 0.8f) : n.colors[i];
+        for (int k = 0; k < 3; ++k) out += char(uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255)));
+      }
+    }
+  uint32_t base = 0;
+  for (const auto& n : nodes) {
+    for (const auto& t : n.mesh.triangles) {
+      out += char(3);
+      for (int k = 0; k < 3; ++k) put32(base + uint32_t(t[k]));
+    }
+    base += uint32_t(n.mesh.vertices.size());
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string encode_scene(const std::vector<SceneNode>& nodes, const std::string& ext) {
   const bool gltf = ext == ".glb";
   if (!gltf && ext != ".ply") fail_unsupported("", "no mesh format for '" + ext + "' (use .glb or .ply)");
+  if (!gltf) return encode_ply(nodes);
   aiScene scene;
   scene.mRootNode = new aiNode("root");
   scene.mNumMaterials = 1;
