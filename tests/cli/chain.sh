@@ -27,6 +27,8 @@ run_chain() {  # $1: output folder
   "$bin/sphere-pack" "$o/rest.vdb" --mesh "$rest" -o "$o/rest.spheres.json" -q --report "$o/pack.report.json"
   "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$o/rest.spheres.json" -o "$o/asset.proxy.json" -q \
     --report "$o/posemap.report.json"
+  "$bin/proxy-eval" "$o/asset.proxy.json" --rest "$rest" "${pose_args[@]}" --blends 4 --colors "$o/errors.glb" -q \
+    --report "$o/eval.report.json"
   for ext in spx json glb ply; do
     "$bin/proxy-export" "$o/asset.proxy.json" -o "$o/proxy.$ext" -q --report "$o/export-$ext.report.json"
   done
@@ -37,7 +39,7 @@ mv "$out/a" "$out/b"
 run_chain "$out/a"
 
 fail=0
-for f in rest.vdb rest.spheres.json asset.proxy.json proxy.spx proxy.json proxy.glb proxy.ply; do
+for f in rest.vdb rest.spheres.json asset.proxy.json proxy.spx proxy.json proxy.glb proxy.ply errors.glb; do
   if ! cmp -s "$out/a/$f" "$out/b/$f"; then
     echo "FAIL: $f differs between two identical runs"
     fail=1
@@ -52,6 +54,7 @@ v proxy-plain.schema.json "$out/a/proxy.json"
 v sdf-build-report.schema.json "$out/a/sdf.report.json"
 v sphere-pack-report.schema.json "$out/a/pack.report.json"
 v pose-map-report.schema.json "$out/a/posemap.report.json"
+v proxy-eval-report.schema.json "$out/a/eval.report.json"
 for ext in spx json glb ply; do v proxy-export-report.schema.json "$out/a/export-$ext.report.json"; done
 # The validator really checks: a proxy without sites must be rejected.
 /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); del d['sites']; json.dump(d, open(sys.argv[2],'w'))" \
@@ -62,6 +65,15 @@ v proxy-plain.schema.json "$out/a/broken.json" --expect-invalid
 count=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['sphere_count'])" "$out/a/pack.report.json")
 lines=$("$build/samples/runtime-demo" "$out/a/proxy.spx" | grep -vc '^#')
 [ "$lines" = "$count" ] || { echo "FAIL: runtime-demo printed $lines spheres, expected $count"; fail=1; }
+
+# proxy-eval and pose-map measure the same thing the same way.
+/usr/bin/python3 - "$out/a/posemap.report.json" "$out/a/eval.report.json" <<'PY' || fail=1
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+for p, q in zip(a["poses"], b["poses"]):
+    if abs(p["error"]["max"] - q["max"]) > 1e-9 or abs(p["error"]["median"] - q["median"]) > 1e-9:
+        print("FAIL: pose-map and proxy-eval disagree on", p["name"]); sys.exit(1)
+PY
 
 # Figures: every pose has an error figure; the rest pose's max error is below 5% of the diagonal.
 /usr/bin/python3 - "$out/a/posemap.report.json" "$out/a/sdf.report.json" <<'PY' || fail=1
