@@ -48,6 +48,18 @@ expect 2 "fake.vdb" "$out/y.json" -- "$bin/sphere-pack" "$out/fake.vdb" -o "$out
 expect 1 "min radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius 0.1 --max-radius 0.01
 expect 1 "min-radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius -2
 
+# --tolerance and --max-spheres combine: the tighter wins, and the report says which.
+"$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 0.5% --max-spheres 5 -o "$out/t.json" -q \
+  --report "$out/t.report.json"
+if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['sphere_count']==5 and 'max-spheres' in r['tolerance']['limited_by'] else 1)" "$out/t.report.json"; then
+  passed=$((passed + 1)); else echo "FAIL: --max-spheres did not win over --tolerance"; fail=$((fail + 1)); fi
+"$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 3% --max-spheres 500 -o "$out/t.json" -q \
+  --report "$out/t.report.json"
+if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['tolerance']; sys.exit(0 if r['met'] and r['max_error']<=r['target'] and r['spheres']<500 else 1)" "$out/t.report.json"; then
+  passed=$((passed + 1)); else echo "FAIL: --tolerance did not win over a loose --max-spheres"; fail=$((fail + 1)); fi
+expect 1 "needs --mesh" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --tolerance 1% -o "$out/u.json"
+expect 1 "tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance abc -o "$out/u.json"
+
 # Poses that do not share the rest topology.
 head -n -1 "$out/in/dent.obj" >"$out/short.obj"
 expect 2 "short.obj: has .* triangles, the rest mesh has" "$out/p.json" -- \
