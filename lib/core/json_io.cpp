@@ -11,7 +11,7 @@ json read_json_file(const std::string& path) {
   const std::string text = read_file(path);
   try {
     return json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     fail_input(path, std::string("not valid JSON: ") + e.what());
   }
 }

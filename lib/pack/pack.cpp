@@ -49,7 +49,8 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
         continue;
       }
       distance = mesh->distance(center);
-      if (opt.refine_centers) {
+      if (opt.field_bounds_radius) distance = std::min(distance, double(depth) - kFieldMargin * h);
+      if (opt.refine_centers && !opt.field_bounds_radius) {
         // Ascend the exact distance (its gradient points away from the closest surface point),
         // staying within half a voxel of the voxel the field chose.
         const Eigen::Vector3d origin = center;

@@ -20,6 +20,9 @@ struct PackOptions {
   // With a mesh: move each center off the voxel grid (within half a voxel) to where the exact
   // distance to the surface is larger, so each sphere grows.
   bool refine_centers = true;
+  // The field bounds radii too (an open mesh's solid ends across its holes, where the mesh has
+  // no triangles to measure to); centers then stay on the grid.
+  bool field_bounds_radius = false;
 };
 
 struct PackStats {

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/subject.hpp"
 #include "pack/spheres_file.hpp"
 #include "sdf/vdb_io.hpp"
@@ -40,6 +41,9 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
     StageTimer t(log, "load");
     sdf = read_sdf_vdb(input);
   }
+  auto open = sdf.metadata.find("spx_open_solid");
+  options.field_bounds_radius = open != sdf.metadata.end() && open->second == "yes";
+  if (options.field_bounds_radius) log.detail("open mesh: radii are also bounded by the field across its holes");
   std::unique_ptr<MeshQuery> mesh;
   if (!mesh_path.empty()) {
     StageTimer t(log, "mesh");
@@ -60,7 +64,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
   }
   if (packed.spheres.empty())
     fail_input(input, "no sphere fits: the largest interior distance is below the min radius " +
-                          std::to_string(packed.stats.min_radius));
+                          num(packed.stats.min_radius));
   double tolerance_target = 0;
   if (tolerance.set()) {
     StageTimer t(log, "tolerance");

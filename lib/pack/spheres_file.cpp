@@ -48,7 +48,14 @@ json spheres_to_json(const SpheresFile& f) {
 }
 
 SpheresFile read_spheres_file(const std::string& path) {
-  const json j = read_json_file(path);
+  try {
+    return spheres_from_json(read_json_file(path), path);
+  } catch (const json::exception& e) {
+    fail_input(path, std::string("malformed spheres file: ") + e.what());
+  }
+}
+
+SpheresFile spheres_from_json(const json& j, const std::string& path) {
   if (!j.is_object() || j.value("format", "") != "spx-spheres")
     fail_input(path, "is not a spheres file (expected \"format\": \"spx-spheres\")");
   const double version = require_number(j, "version", path);

@@ -20,6 +20,7 @@ struct SpheresFile {
 
 json spheres_to_json(const SpheresFile& file);
 SpheresFile read_spheres_file(const std::string& path);
+SpheresFile spheres_from_json(const json& j, const std::string& path);
 
 // [[x,y,z,r], ...] <-> spheres; the reader checks every number.
 json sphere_array_to_json(const SphereSet& spheres);

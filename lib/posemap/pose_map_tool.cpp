@@ -4,6 +4,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/subject.hpp"
 
 namespace spx {
@@ -25,7 +26,7 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
       // A pose at another scale is most likely another unit (cm vs m).
       const double ratio = pose.mesh.diagonal() / rest.mesh.diagonal();
       if (ratio > 3 || ratio < 1.0 / 3)
-        log.warn(path + ": its size is " + std::to_string(ratio) + "x the rest mesh's; is it in another unit?");
+        log.warn(path + ": its size is " + num(ratio) + "x the rest mesh's; is it in another unit?");
       poses.push_back(std::move(pose));
     }
     spheres = read_spheres_file(spheres_path);

@@ -6,7 +6,9 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/defects.hpp"
 #include "metrics/union_error.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
@@ -58,12 +60,44 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   for (const PoseInput& input : poses) deformed.push_back(f.deform(input.mesh));
   harmonic_timer.stop();
 
+  // Open meshes: a pose's solid also ends across its holes, where the mesh has no triangles.
+  // Bound radii there by the pose's own field (distance is 1-Lipschitz: a voxel's value minus
+  // the offset to it is a safe bound at the center).
+  const bool open_solid = !find_defects(rest).watertight();
+  std::vector<DenseField> hole_fields;
+  if (open_solid) {
+    StageTimer t(log, "open-fields");
+    SdfOptions o;
+    o.voxel_size = spheres.voxel_size > 0 ? spheres.voxel_size : rest.diagonal() / 128;
+    for (const PoseInput& input : poses) hole_fields.push_back(build_sdf(input.mesh, o).field);
+  }
+  auto hole_bound = [&](size_t pose, const Eigen::Vector3d& c) {
+    if (!open_solid) return std::numeric_limits<double>::infinity();
+    const DenseField& f = hole_fields[pose];
+    const GridShape& g = f.shape;
+    const Eigen::Vector3i v = ((c / g.voxel_size).array().round().cast<int>() - g.origin.array()).matrix();
+    if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) return 0.0;
+    const double value = f.values[g.index(v.x(), v.y(), v.z())];
+    return std::max(0.0, -value - (g.world(v.x(), v.y(), v.z()) - c).norm() - 0.1 * g.voxel_size);
+  };
+
   std::vector<std::unique_ptr<MeshQuery>> queries;
   queries.push_back(std::make_unique<MeshQuery>(rest));
   for (const PoseInput& input : poses) queries.push_back(std::make_unique<MeshQuery>(input.mesh));
   std::vector<const TriMesh*> meshes{&rest};
   for (const PoseInput& input : poses) meshes.push_back(&input.mesh);
 
+  // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
+  {
+    const double slack = 1e-4 * rest.diagonal();
+    size_t misfits = 0;
+    for (const auto& s : spheres.spheres)
+      if (!queries[0]->inside(s.center) || queries[0]->distance(s.center) < s.radius - slack) ++misfits;
+    if (misfits > 0)
+      fail_input(rest_source, std::to_string(misfits) + " of " + std::to_string(spheres.spheres.size()) +
+                                  " spheres do not fit inside this rest mesh (packed from another mesh, or are --rest "
+                                  "and a --pose swapped?)");
+  }
   proxy.poses.push_back({stem_of(rest_source), rest_source, {}, {}});
   for (const PoseInput& input : poses) proxy.poses.push_back({input.name, input.source, {}, {}});
   std::vector<Eigen::Vector3d> rest_centers;  // for the blend sites
@@ -85,7 +119,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
             outside[i][s] = 1;
             sphere.radius = 0;
           } else {
-            sphere.radius = std::min(proxy.max_radius, q.distance(sphere.center));
+            sphere.radius = std::min({proxy.max_radius, q.distance(sphere.center), hole_bound(i, sphere.center)});
           }
         }
       }
@@ -126,6 +160,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
       PackOptions pack;
       pack.min_radius = min_radius;
       pack.max_radius = proxy.max_radius;
+      pack.field_bounds_radius = open_solid;
       PackResult found = pack_spheres(sdf.field, pack, queries[i + 1].get());
       // The fewest of them that bring this pose within the target (as sphere-pack --tolerance).
       ToleranceResult enough = fewest_spheres_within(poses[i].mesh, found.spheres, target, proxy.poses[i + 1].spheres);
@@ -139,8 +174,8 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
       if (opt.fill_max_per_pose > 0) keep = std::min(keep, opt.fill_max_per_pose);
       found.spheres.resize(keep);
       if (!enough.met)
-        log.warn(poses[i].source + ": gap filling reaches max error " + std::to_string(enough.max_error) +
-                 ", not the target " + std::to_string(target) + " (try a finer sdf-build --resolution)");
+        log.warn(poses[i].source + ": gap filling reaches max error " + num(enough.max_error) +
+                 ", not the target " + num(target) + " (try a finer sdf-build --resolution)");
 
       // Back to the rest pose through the inverse map: barycentric in the deformed tets.
       TetMesh posed = tets;
@@ -217,6 +252,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
                      {"data_points", f.data_points()},
                      {"dropped_points", f.dropped_points()},
                      {"centers_outside_tets", outside_points}}},
+                   {"open_solid", open_solid},
                    {"sphere_count", n},
                    {"site_count", proxy.sites.size()},
                    {"poses", pose_reports},

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
 #include "sdf/edt.hpp"
@@ -60,10 +61,21 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
   if (opt.band < 1 || opt.band > 64) fail_usage("--band", "must be between 1 and 64 voxels");
   const Eigen::AlignedBox3d box = mesh.bounds();
   const double longest = box.sizes().maxCoeff();
-  if (!(longest > 0) || !std::isfinite(longest)) fail_input("", "mesh has zero extent");
+  if (!(longest > 0) || !std::isfinite(longest)) {
+    const double magnitude = box.isEmpty() ? 0.0 : box.min().cwiseAbs().maxCoeff();
+    fail_input("", magnitude > 1e6 ? "all vertices coincide: mesh readers use single precision, which cannot separate "
+                                     "them at coordinates near " + num(magnitude) +
+                                     "; move the mesh near the origin"
+                                   : std::string("mesh has zero extent (all vertices coincide)"));
+  }
 
   GridShape shape;
   shape.voxel_size = opt.voxel_size > 0 ? opt.voxel_size : longest / opt.resolution;
+  // OpenVDB's transforms need voxel_size^3 >= 3e-15 (math::Tolerance<double> in ScaleMap).
+  constexpr double kSmallestVoxel = 1.5e-5;
+  if (shape.voxel_size < kSmallestVoxel)
+    fail_unsupported("", "voxel size " + num(shape.voxel_size) + " is below OpenVDB's smallest (" +
+                             num(kSmallestVoxel) + " in file units); scale the mesh up (e.g. to millimetres)");
   const int pad = opt.band + 1;
   Eigen::Vector3d lo = (box.min() / shape.voxel_size).array().floor() - pad;
   Eigen::Vector3d hi = (box.max() / shape.voxel_size).array().ceil() + pad;
@@ -95,7 +107,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
   const double h = shape.voxel_size;
   const size_t total = shape.count();
   log.detail("grid " + std::to_string(shape.dims.x()) + "x" + std::to_string(shape.dims.y()) + "x" +
-             std::to_string(shape.dims.z()) + ", voxel size " + std::to_string(h));
+             std::to_string(shape.dims.z()) + ", voxel size " + num(h));
 
   // 1. Unsigned narrow band with the closest triangle per voxel, from OpenVDB.
   std::vector<float> dist(total, std::numeric_limits<float>::infinity());
@@ -270,6 +282,23 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
       });
       tri.swap(next);
     }
+    // An open mesh's solid is also bounded across its holes, where there are no triangles:
+    // there, bound interior distances by the distance to the solid's outside: every point of
+    // the solid's boundary lies within half a voxel diagonal of an outside voxel center.
+    if (!stats.defects.watertight()) {
+      std::vector<uint8_t> outside(total);
+      for (size_t idx = 0; idx < total; ++idx) outside[idx] = !inside[idx];
+      const std::vector<int32_t> out_nearest = nearest_seed_transform(shape, outside);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+          if (!inside[idx] || out_nearest[idx] < 0) continue;
+          const double hole = (shape.world(idx) - shape.world(size_t(out_nearest[idx]))).norm() - 0.5 * std::sqrt(3.0) * h;
+          if (hole < d[idx]) d[idx] = float(std::max(hole, 0.0));
+          if (tri[idx] < 0) tri[idx] = 0;  // an inside voxel far from any triangle still has a value
+        }
+      });
+      stats.bounded_by_holes = true;
+    }
     std::atomic<size_t> interior{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
       size_t local = 0;
@@ -287,7 +316,8 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     stats.interior_voxels = interior;
   }
   if (stats.interior_voxels == 0)
-    log.warn("no voxel lies inside the mesh; it may be flat, open or too thin for this resolution");
+    fail_input("", "encloses no volume at this resolution (flat, open with no inside, or thinner than a voxel of " +
+                       num(h) + "); try a finer --resolution");
   return result;
 }
 
@@ -297,6 +327,7 @@ nlohmann::json SdfStats::to_json() const {
           {"band_voxels", band_voxels},
           {"interior_voxels", interior_voxels},
           {"winding_evaluations", winding_evaluations},
+          {"bounded_by_holes", bounded_by_holes},
           {"estimated_memory_gib", estimated_memory_gib}};
 }
 

@@ -22,6 +22,7 @@ struct SdfStats {
   std::string sign_method;
   size_t band_voxels = 0, interior_voxels = 0, winding_evaluations = 0;
   double estimated_memory_gib = 0;
+  bool bounded_by_holes = false;  // not watertight: distances also bounded across the holes
   nlohmann::json to_json() const;
 };
 

@@ -26,6 +26,7 @@ void sdf_build(const std::string& input, const std::string& output, const SdfOpt
     StageTimer t(log, "write");
     write_sdf_vdb(output, sdf.field,
                   {{"spx_source_mesh", input},
+                   {"spx_open_solid", sdf.stats.bounded_by_holes ? "yes" : "no"},
                    {"spx_sign_method", sdf.stats.sign_method},
                    {"spx_generator", std::string("sdf-build (spx) ") + SPX_VERSION}});
   }

@@ -1,0 +1,203 @@
+// Bad and broken input: each case ends in its documented outcome (README "Robustness" table).
+#include <gtest/gtest.h>
+
+#include <openvdb/openvdb.h>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "export/spx_writer.hpp"
+#include "mesh/defects.hpp"
+#include "mesh/mesh_query.hpp"
+#include "mesh/winding_number.hpp"
+#include "pack/pack.hpp"
+#include "pack/spheres_file.hpp"
+#include "posemap/posemap.hpp"
+#include "posemap/proxy.hpp"
+#include "samples/samples.hpp"
+#include "sdf/sdf.hpp"
+#include "sdf/vdb_io.hpp"
+#include "spx_runtime.h"
+#include "test_util.hpp"
+
+namespace spx {
+namespace {
+
+ExitCode code_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e.code();
+  }
+  return ExitCode::ok;
+}
+
+// Sphere surfaces (26 directions at 98% of the radius) and centers lie in the winding-number solid.
+void expect_in_winding_solid(const TriMesh& mesh, const SphereSet& spheres, const std::string& what) {
+  ASSERT_FALSE(spheres.empty()) << what;
+  for (size_t s = 0; s < spheres.size(); ++s) {
+    EXPECT_GT(winding_number_exact(mesh, spheres[s].center), 0.5) << what << " sphere " << s;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (!dx && !dy && !dz) continue;
+          const Eigen::Vector3d p = spheres[s].center + 0.98 * spheres[s].radius * Eigen::Vector3d(dx, dy, dz).normalized();
+          EXPECT_GT(winding_number_exact(mesh, p), 0.5) << what << " sphere " << s << " pokes out at " << p.transpose();
+        }
+  }
+}
+
+TEST(BrokenData, ChainCompletesWithARobustSignAndSpheresStayInTheSolid) {
+  SPX_REQUIRE_SHARED_DATA();
+  for (const char* name : {"broken/truck.obj", "broken/two-boxes-bad-self-union.ply", "broken/hemisphere.obj",
+                           "broken/cube_with_fold.ply", "cylinder/rest.obj"}) {
+    const TriMesh mesh = load_mesh(test::shared_data() + "/" + name).mesh;
+    SdfOptions sopt;
+    sopt.resolution = 48;
+    const SdfResult sdf = build_sdf(mesh, sopt);
+    const MeshQuery query(mesh);
+    PackOptions popt;
+    popt.field_bounds_radius = sdf.stats.bounded_by_holes;
+    expect_in_winding_solid(mesh, pack_spheres(sdf.field, popt, &query).spheres, name);
+  }
+}
+
+TEST(BrokenData, DefectsAreReported) {
+  SPX_REQUIRE_SHARED_DATA();
+  const MeshDefects truck = find_defects(load_mesh(test::shared_data() + "/broken/truck.obj").mesh);
+  EXPECT_EQ(truck.boundary_edges, 1388u);  // as the data's README counts them
+  EXPECT_EQ(truck.non_manifold_edges, 54u);
+  EXPECT_GT(truck.inconsistent_edges, 0u);
+  EXPECT_GE(truck.components, 40u);
+  EXPECT_FALSE(truck.watertight());
+  const MeshDefects hemi = find_defects(load_mesh(test::shared_data() + "/broken/hemisphere.obj").mesh);
+  EXPECT_GT(hemi.boundary_edges, 0u);
+}
+
+TEST(BrokenData, ZeroVolumeStopsWithAClearError) {
+  SPX_REQUIRE_SHARED_DATA();
+  const TriMesh flat = load_mesh(test::shared_data() + "/broken/degenerated.obj").mesh;
+  EXPECT_EQ(code_of([&] { build_sdf(flat, {}); }), ExitCode::bad_input);
+}
+
+TEST(GeneratedInput, DegenerateShapesAndScales) {
+  TriMesh triangle;
+  triangle.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  triangle.triangles = {{0, 1, 2}};
+  EXPECT_EQ(code_of([&] { build_sdf(triangle, {}); }), ExitCode::bad_input);
+  TriMesh line;
+  line.vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  line.triangles = {{0, 1, 2}, {1, 2, 3}};
+  EXPECT_EQ(code_of([&] { build_sdf(line, {}); }), ExitCode::bad_input);
+  EXPECT_EQ(code_of([&] { MeshQuery q(line); }), ExitCode::bad_input);
+  // Far from the origin and huge: works (sizes are relative).
+  for (double scale : {1e9, 1e-3}) {
+    TriMesh box = test::box_mesh(Eigen::Vector3d::Constant(scale), Eigen::Vector3d::Constant(2 * scale));
+    SdfOptions o;
+    o.resolution = 24;
+    const SdfResult sdf = build_sdf(box, o);
+    const MeshQuery q(box);
+    const PackResult r = pack_spheres(sdf.field, {}, &q);
+    ASSERT_FALSE(r.spheres.empty()) << scale;
+    for (const auto& s : r.spheres) EXPECT_GE(q.distance(s.center), s.radius - 1e-9 * scale);
+  }
+  // Tiny: refused up front with an explanation (OpenVDB's smallest voxel).
+  const TriMesh tiny = test::box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e-9));
+  EXPECT_EQ(code_of([&] { build_sdf(tiny, {}); }), ExitCode::unsupported);
+}
+
+TEST(GeneratedInput, AbsurdParameters) {
+  const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  for (double v : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    SdfOptions o;
+    o.voxel_size = v;
+    EXPECT_EQ(code_of([&] { build_sdf(box, o); }), ExitCode::usage) << v;
+  }
+  SdfOptions band;
+  band.band = 0;
+  EXPECT_EQ(code_of([&] { build_sdf(box, band); }), ExitCode::usage);
+  SdfOptions huge;
+  huge.resolution = 5000;  // ~125e9 voxels
+  EXPECT_EQ(code_of([&] { build_sdf(box, huge); }), ExitCode::unsupported);
+  PoseMapOptions pm;
+  pm.tets.size = 1e-9;
+  EXPECT_EQ(code_of([&] { tetrahedralize(box, pm.tets); }), ExitCode::usage);
+}
+
+TEST(PoseInput, SwappedRestAndPoseIsCaught) {
+  const SampleAsset car = make_car();
+  SdfOptions o;
+  o.resolution = 48;
+  const SdfResult sdf = build_sdf(car.rest, o);
+  const MeshQuery q(car.rest);
+  SpheresFile spheres;
+  spheres.spheres = pack_spheres(sdf.field, {}, &q).spheres;
+  spheres.voxel_size = sdf.field.shape.voxel_size;
+  // The roof crumple given as the rest mesh, the real rest given as a pose.
+  const ExitCode c = code_of([&] { pose_map(car.pose(3), "roof.obj", {{"rest", "rest.obj", car.rest}}, spheres, {}); });
+  EXPECT_EQ(c, ExitCode::bad_input);
+}
+
+TEST(FilesBetweenTools, VdbWithTheWrongGridIsRejected) {
+  openvdb::initialize();
+  const std::string dir = test::temp_dir("vdbgrid");
+  auto vec = openvdb::Vec3SGrid::create();
+  vec->setName("velocity");
+  vec->tree().setValue(openvdb::Coord(0, 0, 0), openvdb::Vec3s(1, 0, 0));
+  openvdb::io::File(dir + "/vec.vdb").write({vec});
+  EXPECT_EQ(code_of([&] { read_sdf_vdb(dir + "/vec.vdb"); }), ExitCode::bad_input);
+  openvdb::io::File(dir + "/none.vdb").write(openvdb::GridCPtrVec{});
+  EXPECT_EQ(code_of([&] { read_sdf_vdb(dir + "/none.vdb"); }), ExitCode::bad_input);
+  auto fog = openvdb::FloatGrid::create(0.0f);  // a density grid: background 0, not a distance
+  fog->setName("density");
+  fog->tree().setValue(openvdb::Coord(1, 1, 1), 1.0f);
+  openvdb::io::File(dir + "/fog.vdb").write({fog});
+  EXPECT_EQ(code_of([&] { read_sdf_vdb(dir + "/fog.vdb"); }), ExitCode::bad_input);
+}
+
+TEST(FilesBetweenTools, JsonThatViolatesItsSchemaIsRejected) {
+  const std::string dir = test::temp_dir("json");
+  const std::string head = R"({"format": "spx-spheres", "version": 1, "voxel_size": 0.1, "min_radius": 0.1, "max_radius": null, )";
+  const std::vector<std::pair<std::string, ExitCode>> cases = {
+      {head + R"("spheres": [[0, 0, 0, -1]]})", ExitCode::bad_input},
+      {head + R"("spheres": [[0, 0, 0]]})", ExitCode::bad_input},
+      {head + R"("spheres": [[0, "x", 0, 1]]})", ExitCode::bad_input},
+      {head + R"("spheres": []})", ExitCode::bad_input},
+      {head + R"("spheres": {}})", ExitCode::bad_input},
+      {R"({"format": "spx-spheres", "version": 3, "spheres": []})", ExitCode::unsupported},
+      {R"([1, 2, 3])", ExitCode::bad_input},
+      {R"({"format": "spx-spheres", "version": 1, "voxel_size": 1e999})", ExitCode::bad_input},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    write_file_atomic(dir + "/s.json", cases[i].first);
+    EXPECT_EQ(code_of([&] { read_spheres_file(dir + "/s.json"); }), cases[i].second) << cases[i].first;
+  }
+  const std::vector<std::string> proxies = {
+      R"({"format": "spx-proxy", "version": 1, "max_radius": null, "poses": [{"name": "a", "spheres": [[0,0,0,1]]}], "sites": [[0,0,0]], "sphere_sites": [1]})",
+      R"({"format": "spx-proxy", "version": 1, "max_radius": null, "poses": [{"name": "a", "spheres": [[0,0,0,1]]}, {"name": "b", "spheres": []}], "sites": [[0,0,0]], "sphere_sites": [0]})",
+      R"({"format": "spx-proxy", "version": 1, "max_radius": null, "poses": [], "sites": [], "sphere_sites": []})",
+      R"({"format": "spx-proxy", "version": 1, "max_radius": null, "poses": [{"name": 5, "spheres": [[0,0,0,1]]}], "sites": [[0,0,0]], "sphere_sites": [0]})",
+      R"({"format": "spx-proxy", "version": 1, "max_radius": null, "poses": [{"name": "a", "spheres": [[0,0,0,1]], "outside": "x"}], "sites": [[0,0,0]], "sphere_sites": [0]})",
+  };
+  for (const auto& text : proxies) {
+    write_file_atomic(dir + "/p.json", text);
+    EXPECT_EQ(code_of([&] { read_proxy_file(dir + "/p.json"); }), ExitCode::bad_input) << text;
+  }
+}
+
+TEST(FilesBetweenTools, SpxWithASiteOutOfRangeIsBadData) {
+  ProxyModel p;
+  p.poses.push_back({"rest", "", {{Eigen::Vector3d::Zero(), 1.0}, {Eigen::Vector3d::Ones(), 0.5}}, {}});
+  p.sites = {Eigen::Vector3d::Zero()};
+  p.sphere_sites = {0, 0};
+  std::string bytes = encode_spx(p);
+  const uint32_t at = uint32_t(uint8_t(bytes[44])) | uint32_t(uint8_t(bytes[45])) << 8;  // sphere sites offset
+  bytes[at + 4] = 7;  // second sphere's site: 7 of 1
+  const uint32_t crc = detail::crc32(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size() - 4);
+  for (int k = 0; k < 4; ++k) bytes[bytes.size() - 4 + size_t(k)] = char((crc >> (8 * k)) & 0xFF);
+  Proxy proxy;
+  EXPECT_EQ(load_memory(bytes.data(), bytes.size(), &proxy), SPX_ERR_BAD_DATA);
+  EXPECT_TRUE(proxy.empty());
+}
+
+}  // namespace
+}  // namespace spx
