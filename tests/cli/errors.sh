@@ -74,6 +74,21 @@ echo '{not json' >"$out/broken.proxy.json"
 expect 2 "broken.proxy.json: not valid JSON" "$out/z.spx" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.spx"
 expect 1 "unknown output format" "$out/z.txt" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.txt"
 
+# A pose in another unit (centimetres against metres) is warned about, by name.
+/usr/bin/python3 -c "
+import sys
+out = open(sys.argv[2], 'w')
+for line in open(sys.argv[1]):
+    w = line.split()
+    out.write('v %g %g %g\n' % tuple(100 * float(x) for x in w[1:4]) if w and w[0] == 'v' else line)
+" "$out/in/dent.obj" "$out/dent-cm.obj"
+said=$("$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/dent-cm.obj" --spheres "$out/s.json" -o "$out/cm.json" 2>&1)
+if printf '%s' "$said" | grep -q "dent-cm.obj: its size is .*another unit"; then passed=$((passed + 1)); else
+  echo "FAIL: no unit-scale warning"; fail=$((fail + 1)); fi
+# Swapped rest and pose: the rest spheres do not fit the "rest" mesh.
+expect 2 "swapped" "$out/sw.json" -- "$bin/pose-map" --rest "$out/in/squash.obj" --pose "$out/in/rest.obj" \
+  --spheres "$out/s.json" -o "$out/sw.json"
+
 # A failed run keeps the previous output intact.
 "$bin/sdf-build" "$out/in/rest.obj" -o "$out/keep.vdb" --resolution 16 -q
 before=$(md5sum <"$out/keep.vdb")

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (clang, ASan + UBSan) and runs each for SECONDS (default 60),
+# seeded with real outputs (the car sample chain). Longer runs: scripts/fuzz.sh 3600
+# Crashes land in build/fuzz/ as crash-* files; the script exits non-zero if any target fails.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+seconds=${1:-60}
+cxx=$(command -v clang++-14 || command -v clang++ || true)
+[ -n "$cxx" ] || { echo "fuzz: clang++ not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 1; }
+out=$root/build/fuzz
+mkdir -p "$out/corpus-spx" "$out/corpus-json"
+flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+  -I"$root/lib" -I"$root/lib/runtime" -I/usr/include/eigen3 -DSPX_VERSION='"fuzz"')
+"$cxx" "${flags[@]}" "$root/tests/fuzz/spx_reader.cpp" -o "$out/spx_reader"
+"$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/atomic_file.cpp" \
+  "$root/lib/pack/spheres_file.cpp" "$root/lib/posemap/proxy.cpp" "$root/tests/fuzz/version.cpp" -o "$out/json_readers"
+# Seeds: the outputs of the car chain (build it if needed).
+seeds=$root/build/samples/car
+if [ ! -f "$seeds/car.spx" ]; then
+  make -s -C "$root/samples" ASSET=car BIN="$root/build/release/apps" OUT="$root/build/samples" RES=48
+fi
+cp "$seeds/car.spx" "$out/corpus-spx/"
+cp "$seeds/rest.spheres.json" "$seeds/car.proxy.json" "$seeds/car.json" "$out/corpus-json/"
+cd "$out"
+status=0
+for target in spx_reader json_readers; do
+  corpus=corpus-spx
+  [ $target = json_readers ] && corpus=corpus-json
+  echo "fuzz: $target for ${seconds}s" >&2
+  if ! "./$target" "$corpus" -max_total_time="$seconds" -max_len=200000 -print_final_stats=1 >"$target.log" 2>&1; then
+    status=1
+    tail -40 "$target.log"
+  fi
+  grep -E "stat::number_of_executed_units|stat::new_units_added" "$target.log" | sed "s/^/$target: /"
+done
+if [ $status = 0 ]; then echo "2 passed, 0 failed"; else echo "0 passed, 1 failed"; fi
+exit $status

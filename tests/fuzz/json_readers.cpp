@@ -1,0 +1,35 @@
+// libFuzzer target: the spheres and proxy readers on arbitrary text. Bad input must end in
+// spx::Error (what the tools turn into one error line), never a crash or another exception.
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "core/error.hpp"
+#include "pack/spheres_file.hpp"
+#include "posemap/proxy.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  spx::json j;
+  try {
+    j = spx::json::parse(std::string(reinterpret_cast<const char*>(data), size));
+  } catch (const spx::json::exception&) {
+    return 0;  // read_json_file reports these as "not valid JSON"
+  }
+  for (int reader = 0; reader < 2; ++reader) {
+    try {
+      if (reader == 0) {
+        const spx::SpheresFile f = spx::spheres_from_json(j, "fuzz.json");
+        for (const auto& s : f.spheres)
+          if (!(s.radius > 0)) std::abort();
+      } else {
+        const spx::ProxyModel p = spx::proxy_from_json(j, "fuzz.json");
+        for (int site : p.sphere_sites)
+          if (site < 0 || size_t(site) >= p.sites.size()) std::abort();
+      }
+    } catch (const spx::Error&) {
+    } catch (const spx::json::exception&) {
+      if (reader == 0) std::abort();  // the spheres reader must classify everything itself
+    }
+  }
+  return 0;
+}
