@@ -71,11 +71,6 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
 
   GridShape shape;
   shape.voxel_size = opt.voxel_size > 0 ? opt.voxel_size : longest / opt.resolution;
-  // OpenVDB's transforms need voxel_size^3 >= 3e-15 (math::Tolerance<double> in ScaleMap).
-  constexpr double kSmallestVoxel = 1.5e-5;
-  if (shape.voxel_size < kSmallestVoxel)
-    fail_unsupported("", "voxel size " + num(shape.voxel_size) + " is below OpenVDB's smallest (" +
-                             num(kSmallestVoxel) + " in file units); scale the mesh up (e.g. to millimetres)");
   const int pad = opt.band + 1;
   Eigen::Vector3d lo = (box.min() / shape.voxel_size).array().floor() - pad;
   Eigen::Vector3d hi = (box.max() / shape.voxel_size).array().ceil() + pad;
@@ -94,6 +89,11 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
                   dims.x(), dims.y(), dims.z(), gib(need), opt.memory_limit_gib);
     fail_unsupported("", msg);
   }
+  // OpenVDB's transforms need voxel_size^3 >= 3e-15 (math::Tolerance<double> in ScaleMap).
+  constexpr double kSmallestVoxel = 1.5e-5;
+  if (shape.voxel_size < kSmallestVoxel)
+    fail_unsupported("", "voxel size " + num(shape.voxel_size) + " is below OpenVDB's smallest (" +
+                             num(kSmallestVoxel) + " in file units); scale the mesh up (e.g. to millimetres)");
   shape.origin = lo.cast<int>();
   shape.dims = dims.cast<int>();
   return shape;
