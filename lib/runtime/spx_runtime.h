@@ -243,16 +243,18 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
     }
   }
 
-  // One block: spheres, sites, sphere sites, name pointers, name characters.
-  const uint64_t total = sphere_bytes + site_bytes + ss_bytes + uint64_t(p) * sizeof(char*) + name_chars;
+  // One block: name pointers first (the strictest alignment), then spheres, sites, sphere
+  // sites (all 4-byte types) and the name characters.
+  const uint64_t pointer_bytes = uint64_t(p) * sizeof(char*);
+  const uint64_t total = pointer_bytes + sphere_bytes + site_bytes + ss_bytes + name_chars;
   if (total > SIZE_MAX) return SPX_ERR_OUT_OF_MEMORY;
   unsigned char* block = static_cast<unsigned char*>(SPX_MALLOC(size_t(total)));
   if (!block) return SPX_ERR_OUT_OF_MEMORY;
-  float* spheres = reinterpret_cast<float*>(block);
-  float* sites = reinterpret_cast<float*>(block + sphere_bytes);
-  uint32_t* ss = reinterpret_cast<uint32_t*>(block + sphere_bytes + site_bytes);
-  char** names = reinterpret_cast<char**>(block + sphere_bytes + site_bytes + ss_bytes);
-  char* chars = reinterpret_cast<char*>(names + p);
+  char** names = reinterpret_cast<char**>(block);
+  float* spheres = reinterpret_cast<float*>(block + pointer_bytes);
+  float* sites = reinterpret_cast<float*>(block + pointer_bytes + sphere_bytes);
+  uint32_t* ss = reinterpret_cast<uint32_t*>(block + pointer_bytes + sphere_bytes + site_bytes);
+  char* chars = reinterpret_cast<char*>(block + pointer_bytes + sphere_bytes + site_bytes + ss_bytes);
 
   Status status = SPX_OK;
   for (uint64_t i = 0; i < uint64_t(p) * n; ++i) {

@@ -1,0 +1,174 @@
+// precompute-bench: every precompute stage timed on real meshes, side by side with its baseline
+// in one run (medians of repeats), as JSON.
+//   precompute-bench --data ../shared/data --json OUT.json [--repeats 3] [--max-resolution 512]
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <sys/resource.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+
+#include "core/atomic_file.hpp"
+#include "core/json_io.hpp"
+#include "export/spx_writer.hpp"
+#include "mesh/mesh_query.hpp"
+#include "pack/pack.hpp"
+#include "posemap/harmonic_map.hpp"
+#include "posemap/posemap.hpp"
+#include "samples/samples.hpp"
+#include "sdf/sdf.hpp"
+
+using namespace spx;
+
+namespace {
+
+double peak_rss_gib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / (1024.0 * 1024.0);
+}
+
+// Median seconds of `repeats` runs of fn.
+double median_seconds(int repeats, const std::function<void()>& fn) {
+  std::vector<double> t;
+  for (int r = 0; r < repeats; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    fn();
+    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+// OpenVDB's own signed distance field with the interior completely filled (the baseline).
+openvdb::FloatGrid::Ptr openvdb_filled(const TriMesh& mesh, double h, int band) {
+  std::vector<openvdb::Vec3s> points;
+  for (const auto& v : mesh.vertices) points.emplace_back(float(v.x() / h), float(v.y() / h), float(v.z() / h));
+  std::vector<openvdb::Vec3I> tris;
+  for (const auto& f : mesh.triangles) tris.emplace_back(f[0], f[1], f[2]);
+  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, tris);
+  auto xform = openvdb::math::Transform::createLinearTransform(h);
+  return openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *xform, float(band),
+                                                          std::numeric_limits<float>::max());
+}
+
+json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int repeats) {
+  SdfOptions opt;
+  opt.resolution = resolution;
+  SdfResult ours;
+  const double t_ours = median_seconds(repeats, [&] { ours = build_sdf(mesh, opt); });
+  const double h = ours.field.shape.voxel_size;
+  openvdb::FloatGrid::Ptr base;
+  const double t_base = median_seconds(repeats, [&] { base = openvdb_filled(mesh, h, opt.band); });
+  // Accuracy against the baseline over the interior: sign agreement and distance difference.
+  auto acc = base->getConstAccessor();
+  const GridShape& g = ours.field.shape;
+  size_t interior = 0, sign_differs = 0;
+  double max_diff = 0;
+  for (size_t idx = 0; idx < g.count(); ++idx) {
+    const Eigen::Vector3i c = g.coords(idx) + g.origin;
+    const float b = acc.getValue(openvdb::Coord(c.x(), c.y(), c.z()));
+    const float o = ours.field.values[idx];
+    if (o >= 0 && b >= 0) continue;
+    ++interior;
+    if ((o < 0) != (b < 0)) {
+      ++sign_differs;
+      continue;
+    }
+    max_diff = std::max(max_diff, double(std::abs(o - b)) / h);
+  }
+  SphereSet spheres;
+  const MeshQuery query(mesh);
+  const double t_pack = median_seconds(repeats, [&] { spheres = pack_spheres(ours.field, {}, &query).spheres; });
+  std::fprintf(stderr, "%s @%d: ours %.3f s, OpenVDB filled %.3f s (%.2fx), pack %.3f s (%zu spheres)\n", name.c_str(),
+               resolution, t_ours, t_base, t_base / t_ours, t_pack, spheres.size());
+  return {{"mesh", name},
+          {"triangles", mesh.triangles.size()},
+          {"resolution", resolution},
+          {"voxels", g.count()},
+          {"interior_voxels", ours.stats.interior_voxels},
+          {"sdf_s", t_ours},
+          {"openvdb_filled_s", t_base},
+          {"speedup_vs_openvdb", t_base / t_ours},
+          {"max_interior_difference_voxels", max_diff},
+          {"sign_differs_voxels", sign_differs},
+          {"interior_compared_voxels", interior},
+          {"pack_s", t_pack},
+          {"spheres", spheres.size()},
+          {"peak_rss_gib", peak_rss_gib()}};
+}
+
+json chain_case(const std::string& name, const TriMesh& rest, const std::vector<TriMesh>& poses, int repeats) {
+  json stages;
+  SdfOptions opt;
+  SdfResult sdf;
+  stages["sdf_s"] = median_seconds(repeats, [&] { sdf = build_sdf(rest, opt); });
+  const MeshQuery query(rest);
+  SpheresFile spheres;
+  spheres.voxel_size = sdf.field.shape.voxel_size;
+  stages["pack_s"] = median_seconds(repeats, [&] { spheres.spheres = pack_spheres(sdf.field, {}, &query).spheres; });
+  TetMesh tets;
+  stages["tetrahedralize_s"] = median_seconds(repeats, [&] { tets = tetrahedralize(rest, {}); });
+  std::unique_ptr<HarmonicMap> f;
+  stages["harmonic_setup_s"] = median_seconds(repeats, [&] { f = std::make_unique<HarmonicMap>(tets, rest); });
+  stages["interior_map_per_pose_s"] =
+      median_seconds(repeats, [&] { for (const auto& p : poses) f->deform(p); }) / double(poses.size());
+  std::vector<PoseInput> inputs;
+  for (size_t i = 0; i < poses.size(); ++i) inputs.push_back({"p" + std::to_string(i), "", poses[i]});
+  PoseMapResult mapped;
+  stages["pose_map_total_s"] = median_seconds(repeats, [&] { mapped = pose_map(rest, "rest", inputs, spheres, {}); });
+  stages["radii_and_sites_s"] = std::max(0.0, stages["pose_map_total_s"].get<double>() -
+                                                  stages["tetrahedralize_s"].get<double>() -
+                                                  stages["harmonic_setup_s"].get<double>() -
+                                                  stages["interior_map_per_pose_s"].get<double>() * double(poses.size()));
+  stages["export_spx_s"] = median_seconds(repeats, [&] { encode_spx(mapped.proxy); });
+  double total = 0;
+  for (const char* k : {"sdf_s", "pack_s", "pose_map_total_s", "export_spx_s"}) total += stages[k].get<double>();
+  stages["chain_total_s"] = total;
+  std::fprintf(stderr, "%s chain: %.2f s (sdf %.2f, pack %.2f, pose-map %.2f of which tets %.2f)\n", name.c_str(), total,
+               stages["sdf_s"].get<double>(), stages["pack_s"].get<double>(), stages["pose_map_total_s"].get<double>(),
+               stages["tetrahedralize_s"].get<double>());
+  return {{"mesh", name},        {"triangles", rest.triangles.size()}, {"poses", poses.size()},
+          {"spheres", spheres.spheres.size()}, {"tets", tets.tets.size()}, {"stages", stages},
+          {"peak_rss_gib", peak_rss_gib()}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Precompute benchmark: every stage, with OpenVDB's filled SDF as the baseline", "precompute-bench");
+  std::string data = "../shared/data", out;
+  int repeats = 3, max_res = 512;
+  app.add_option("--data", data, "The shared data folder");
+  app.add_option("--json", out, "Write the results here")->required();
+  app.add_option("--repeats", repeats, "Runs per measurement (the median is reported)");
+  app.add_option("--max-resolution", max_res, "Largest armadillo resolution");
+  CLI11_PARSE(app, argc, argv);
+  openvdb::initialize();
+  json result = {{"generator", std::string("precompute-bench (spx) ") + SPX_VERSION}, {"repeats", repeats}};
+  const TriMesh armadillo = load_mesh(data + "/static/armadillo.obj").mesh;
+  json sdf = json::array();
+  for (int res : {64, 128, 256, 512})
+    if (res <= max_res) sdf.push_back(sdf_case("armadillo", armadillo, res, res >= 512 ? 1 : repeats));
+  result["sdf"] = sdf;
+  json chains = json::array();
+  {
+    const LoadedMesh rest = load_mesh(data + "/elephant/rest.obj");
+    std::vector<TriMesh> poses;
+    for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"})
+      poses.push_back(load_pose(data + "/elephant/" + p + ".obj", rest));
+    chains.push_back(chain_case("elephant", rest.mesh, poses, repeats));
+  }
+  {
+    const SampleAsset car = make_car();
+    std::vector<TriMesh> poses;
+    for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back(car.pose(i));
+    chains.push_back(chain_case("car", car.rest, poses, repeats));
+  }
+  result["chains"] = chains;
+  write_json_atomic(out, result);
+  return 0;
+}
