@@ -1,0 +1,209 @@
+// crash-bench: the paper's Table 1 in our own Bullet host. Every configuration (each sphere
+// proxy given, and the triangle-mesh baseline) runs the same 8-car ramp scene side by side in
+// one process; timings are medians over interleaved repeats. One extra monitored run per
+// configuration measures error over time, contacts, tunnelling, penetration and energy, and a
+// stability sweep repeats that at larger steps and higher launch speeds.
+//   crash-bench --rest rest.obj --pose front.obj ... --proxy car-320.spx --proxy car-66.spx
+//               --json OUT.json [--repeats 5] [--seconds 10] [--no-stability] [--profile NAME]
+#include <algorithm>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "core/format.hpp"
+#include "core/tool.hpp"
+#include "crash_host.hpp"
+#include "mesh/mesh.hpp"
+
+using namespace spx;
+using namespace spx::crash;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+json error_json(const RunStats& run) {
+  std::vector<double> medians, maxima;
+  json cars = json::array();
+  for (const auto& trace : run.error) {
+    medians.insert(medians.end(), trace.median.begin(), trace.median.end());
+    maxima.insert(maxima.end(), trace.max.begin(), trace.max.end());
+    cars.push_back({{"median", trace.median}, {"max", trace.max}});
+  }
+  return {{"median_of_medians_m", median(medians)},
+          {"max_m", maxima.empty() ? 0.0 : *std::max_element(maxima.begin(), maxima.end())},
+          {"times_s", run.sample_times},
+          {"cars", cars}};
+}
+
+json safety_json(const RunStats& run) {
+  return {{"ground_tunnels", run.ground_tunnels},
+          {"car_tunnels", run.car_tunnels},
+          {"max_contact_penetration_m", run.max_contact_penetration},
+          {"max_ground_penetration_m", run.max_ground_penetration},
+          {"max_energy_ratio", run.max_energy_ratio},
+          {"energy_blew_up", run.energy_blew_up()}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Tool tool("crash-bench", "Car crash benchmark: sphere proxies against triangle meshes in Bullet (paper, Table 1).");
+  std::string rest_path, out_path;
+  std::vector<std::string> pose_paths, proxy_paths;
+  int repeats = 5;
+  SceneOptions scene;
+  bool stability = true;
+  std::string only;
+  tool.app.add_option("--rest", rest_path, "Rest mesh M_0")->required()->check(CLI::ExistingFile);
+  tool.app.add_option("--pose", pose_paths, "Example poses M_1..M_e, in the proxies' pose order")->required();
+  tool.app.add_option("--proxy", proxy_paths, ".spx proxies of the car, one configuration each")->required();
+  tool.app.add_option("--json", out_path, "Write the results here")->required();
+  tool.app.add_option("--repeats", repeats, "Timed runs per configuration (median reported)")->check(CLI::Range(1, 100));
+  tool.app.add_option("--seconds", scene.seconds, "Simulated time per run")->check(CLI::Range(0.1, 600.0));
+  tool.app.add_option("--cars", scene.cars, "Cars in the scene")->check(CLI::Range(1, 64));
+  tool.app.add_option("--seed", scene.seed, "Seed for lane, yaw and speed jitter");
+  tool.app.add_flag("!--no-stability", stability, "Skip the larger-step / higher-speed sweep");
+  tool.app.add_option("--profile", only, "Only time this configuration (for a profiler); no baseline, no JSON");
+  return tool.run(argc, argv, [&] {
+    // Inputs: the meshes, in the order the proxies name their poses.
+    const LoadedMesh rest = load_mesh(rest_path);
+    std::vector<TriMesh> meshes = {rest.mesh};
+    for (const auto& p : pose_paths) meshes.push_back(load_pose(p, rest));
+    std::vector<Proxy> proxies(proxy_paths.size());
+    for (size_t i = 0; i < proxy_paths.size(); ++i) {
+      const Status s = load_file(proxy_paths[i].c_str(), &proxies[i]);
+      if (s != SPX_OK) fail_input(proxy_paths[i], std::string("cannot load: ") + status_string(s));
+      for (uint32_t k = 1; k < proxies[i].pose_count() && k <= pose_paths.size(); ++k)
+        if (stem_of(pose_paths[k - 1]) != proxies[i].pose_name(k))
+          fail_input(proxy_paths[i], "pose " + std::to_string(k) + " is '" + proxies[i].pose_name(k) + "' but --pose " +
+                                         std::to_string(k) + " is " + pose_paths[k - 1]);
+    }
+
+    // Configurations: each proxy, then the triangle mesh with the finest proxy's blend sites.
+    std::vector<CarAsset> assets;
+    size_t finest = 0;
+    for (size_t i = 0; i < proxies.size(); ++i) {
+      assets.push_back(make_car_asset("spheres-" + std::to_string(proxies[i].sphere_count()), true, proxies[i], meshes));
+      if (proxies[i].sphere_count() > proxies[finest].sphere_count()) finest = i;
+    }
+    assets.push_back(make_car_asset("triangle-mesh", false, proxies[finest], meshes));
+    const size_t baseline = assets.size() - 1;
+    if (!only.empty()) {
+      const auto it = std::find_if(assets.begin(), assets.end(), [&](const CarAsset& a) { return a.name == only; });
+      if (it == assets.end()) fail_usage(only, "no such configuration");
+      for (int r = 0; r < repeats; ++r) {
+        const RunStats run = run_scene(*it, scene);
+        std::printf("%s: sim %.1f ms, deform %.1f ms\n", only.c_str(), run.sim_ms, run.deform_ms);
+      }
+      return;
+    }
+
+    // Monitored run first (never timed), then timed repeats interleaved across configurations
+    // so that machine noise hits every configuration alike.
+    std::vector<RunStats> monitored;
+    for (const auto& asset : assets) {
+      tool.log.info("monitored run: " + asset.name);
+      SceneOptions o = scene;
+      o.monitor = true;
+      monitored.push_back(run_scene(asset, o));
+    }
+    std::vector<std::vector<RunStats>> timed(assets.size());
+    for (int r = 0; r < repeats; ++r) {
+      tool.log.info("timed round " + std::to_string(r + 1) + "/" + std::to_string(repeats));
+      for (size_t c = 0; c < assets.size(); ++c) timed[c].push_back(run_scene(assets[c], scene));
+    }
+
+    auto medians = [&](size_t c, auto field) {
+      std::vector<double> v;
+      for (const auto& run : timed[c]) v.push_back(field(run));
+      return median(v);
+    };
+    const double base_total = medians(baseline, [](const RunStats& r) { return r.total_ms(); });
+    const double base_sim = medians(baseline, [](const RunStats& r) { return r.sim_ms; });
+    json configs = json::array();
+    std::printf("%-16s %8s %10s %10s %10s %8s %10s %12s %10s\n", "config", "spheres", "sim ms", "deform ms", "total ms",
+                "speedup", "contacts", "err median", "err max");
+    for (size_t c = 0; c < assets.size(); ++c) {
+      const RunStats& m = monitored[c];
+      bool repeatable = true;
+      json runs = json::array();
+      for (const auto& run : timed[c]) {
+        repeatable = repeatable && run.state_hash == m.state_hash;
+        runs.push_back({{"sim_ms", run.sim_ms}, {"deform_ms", run.deform_ms}, {"total_ms", run.total_ms()}});
+      }
+      const double total = medians(c, [](const RunStats& r) { return r.total_ms(); });
+      const double sim = medians(c, [](const RunStats& r) { return r.sim_ms; });
+      json entry = {{"name", assets[c].name},
+                    {"spheres_per_car", assets[c].sphere_count()},
+                    {"triangles_per_car", assets[c].rest.triangles.size()},
+                    {"sim_ms", sim},
+                    {"deform_ms", medians(c, [](const RunStats& r) { return r.deform_ms; })},
+                    {"total_ms", total},
+                    {"speedup", base_total / total},
+                    {"sim_speedup", base_sim / sim},
+                    {"runs", runs},
+                    {"steps", m.steps},
+                    {"contacts", m.contacts},
+                    {"reblends", m.reblends},
+                    {"max_weight_moved", m.max_weight_moved},
+                    {"repeatable", repeatable},
+                    {"safety", safety_json(m)}};
+      if (assets[c].spheres) entry["error"] = error_json(m);
+      json paths = json::array();
+      for (const auto& car : m.path) {
+        json xyz = json::array();
+        for (const auto& p : car) xyz.push_back({p.x(), p.y(), p.z()});
+        paths.push_back(xyz);
+      }
+      entry["paths"] = {{"times_s", m.sample_times}, {"cars", paths}};
+      configs.push_back(entry);
+      std::printf("%-16s %8zu %10.1f %10.1f %10.1f %7.1fx %10llu %12s %10s\n", assets[c].name.c_str(),
+                  assets[c].sphere_count(), sim, entry["deform_ms"].get<double>(), total, base_total / total,
+                  (unsigned long long)m.contacts, assets[c].spheres ? num(entry["error"]["median_of_medians_m"].get<double>()).c_str() : "-",
+                  assets[c].spheres ? num(entry["error"]["max_m"].get<double>()).c_str() : "-");
+    }
+
+    json sweep = json::array();
+    if (stability) {
+      std::printf("\n%-16s %6s %6s %8s %8s %12s %12s %8s\n", "config", "dt", "speed", "ground", "car", "contact pen",
+                  "ground pen", "energy");
+      for (double dt : {1.0 / 60, 1.0 / 30, 1.0 / 15})
+        for (double speed : {1.0, 1.5, 2.0})
+          for (const auto& asset : assets) {
+            SceneOptions o = scene;
+            o.dt = dt;
+            o.speed_scale = speed;
+            o.monitor = true;
+            o.sample_every = 1 << 30;  // error traces are not part of the sweep
+            tool.log.info("stability: " + asset.name + " at dt 1/" + std::to_string(int(std::lround(1 / dt))) +
+                          ", launch speed x" + num(speed));
+            const RunStats run = run_scene(asset, o);
+            json row = safety_json(run);
+            row["name"] = asset.name;
+            row["dt_s"] = dt;
+            row["speed_scale"] = speed;
+            sweep.push_back(row);
+            std::printf("%-16s  1/%-3d %6.1f %8d %8d %12.3f %12.3f %8.2f%s\n", asset.name.c_str(),
+                        int(std::lround(1 / dt)), speed, run.ground_tunnels, run.car_tunnels,
+                        run.max_contact_penetration, run.max_ground_penetration, run.max_energy_ratio,
+                        run.energy_blew_up() ? " blew up" : "");
+          }
+    }
+
+    json result = {{"generator", std::string("crash-bench (spx) ") + SPX_VERSION},
+                   {"scene",
+                    {{"cars", scene.cars},
+                     {"seconds", scene.seconds},
+                     {"dt_s", scene.dt},
+                     {"seed", scene.seed},
+                     {"impulse_threshold", scene.impulse_threshold}}},
+                   {"repeats", repeats},
+                   {"configs", configs},
+                   {"stability", sweep}};
+    write_json_atomic(out_path, result);
+    tool.report = {{"json", out_path}, {"configs", configs.size()}};
+  });
+}
