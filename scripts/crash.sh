@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The crash benchmark (paper, Table 1 and Figure 5): car proxies at 320, 114 and 66 spheres from
+# the chain (sphere-pack --max-spheres), then crash-bench in one process, then charts.
+#   scripts/crash.sh [OUT_DIR] [crash-bench options...]     (default: build/crash, --repeats 5)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+out=${1:-$root/build/crash}
+shift || true
+bash "$root/scripts/setup.sh"
+command -v gnuplot >/dev/null || { sudo=""; [ "$(id -u)" -eq 0 ] || sudo=sudo;
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends gnuplot-nox >/dev/null; }
+bash "$root/scripts/build.sh" >/dev/null
+mkdir -p "$out"
+proxies=()
+for n in 320 114 66; do
+  make -s -C "$root/samples" BIN="$root/build/release/apps" OUT="$out" ASSET=car NAME=car-$n \
+    PACK_FLAGS="--max-spheres $n" "$out/car-$n/car-$n.spx" >/dev/null
+  proxies+=(--proxy "$out/car-$n/car-$n.spx")
+done
+d=$out/car-320
+"$root/build/release/samples/crash-bench" --rest "$d/rest.obj" --pose "$d/front.obj" --pose "$d/rear.obj" \
+  --pose "$d/side.obj" --pose "$d/roof.obj" "${proxies[@]}" --json "$out/crash.json" --repeats 5 "$@" | tee "$out/table.txt"
+
+# Figure 5: median and max error over time, one line per car, one column per proxy; and the
+# speed/accuracy trade-off.
+/usr/bin/python3 - "$out" <<'PY'
+import json, sys
+out = sys.argv[1]
+d = json.load(open(out + "/crash.json"))
+proxies = [c for c in d["configs"] if c["spheres_per_car"] > 0]
+for c in proxies:
+    e = c["error"]
+    with open(f"{out}/error-{c['spheres_per_car']}.dat", "w") as f:
+        for i, t in enumerate(e["times_s"]):
+            f.write(f"{t} " + " ".join(f"{car['median'][i]} {car['max'][i]}" for car in e["cars"]) + "\n")
+with open(out + "/tradeoff.dat", "w") as f:
+    for c in proxies:
+        f.write(f"{c['spheres_per_car']} {c['speedup']} {c['error']['median_of_medians_m']} {c['error']['max_m']}\n")
+open(out + "/columns.txt", "w").write(" ".join(str(c["spheres_per_car"]) for c in proxies) + "\n")
+open(out + "/cars.txt", "w").write(str(d["scene"]["cars"]) + "\n")
+PY
+cols=$(cat "$out/columns.txt")
+cars=$(cat "$out/cars.txt")
+for term in svg png; do
+  gnuplot <<GP
+set terminal $([ $term = svg ] && echo "svg size 1500,700 dynamic" || echo "pngcairo size 1500,700")
+set output "$out/crash-error.$term"
+set key off
+set grid
+set multiplot layout 2,3 title "Car crash: vertex-to-union error over time, one colour per car (car 5.25 m long)"
+do for [row=1:2] {
+  do for [n in "$cols"] {
+    set title sprintf("%s spheres per car: %s", n, row == 1 ? "median" : "max")
+    set xlabel "time (s)"; set ylabel "error (m)"
+    plot for [car=1:$cars] "$out/error-".n.".dat" u 1:(column(2*car + row - 1)) w l lw 1.2
+  }
+}
+unset multiplot
+GP
+  gnuplot <<GP
+set terminal $([ $term = svg ] && echo "svg size 700,480 dynamic" || echo "pngcairo size 700,480")
+set output "$out/crash-tradeoff.$term"
+set grid
+set key top right
+set xlabel "error over the crash (m)"; set ylabel "speedup over the triangle mesh (x)"
+set title "Speed against accuracy: sphere proxies vs 1536-triangle GImpact meshes"
+set offsets 0.005, 0.02, 2, 2
+plot "$out/tradeoff.dat" u 3:2 w lp pt 7 t "median error", "" u 4:2 w lp pt 5 dt 2 t "max error", \
+     "" u 3:2:(sprintf("%d spheres", \$1)) w labels offset 0,1.2 notitle
+GP
+done
+echo "charts: $out/crash-error.svg $out/crash-tradeoff.svg (and .png)"
