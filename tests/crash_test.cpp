@@ -83,9 +83,10 @@ TEST(CrashHost, MismatchedPosesAreRejected) {
 }
 
 // The crash happens in the air at about 1.6 s; 2.5 s covers it and the landing.
-void expect_sane_crash(bool spheres) {
+void expect_sane_crash(bool spheres, bool sphere_set = false) {
   const CarProxy& car = car_proxy();
-  const CarAsset a = make_car_asset(spheres ? "spheres" : "triangle-mesh", spheres, car.proxy, car.meshes);
+  CarAsset a = make_car_asset(spheres ? "spheres" : "triangle-mesh", spheres, car.proxy, car.meshes);
+  a.sphere_set = sphere_set;
   SceneOptions opt;
   opt.seconds = 2.5;
   opt.monitor = true;
@@ -115,4 +116,117 @@ void expect_sane_crash(bool spheres) {
 }
 
 TEST(CrashHost, SphereProxiesCrashRepeatablyWithoutTunnelling) { expect_sane_crash(true); }
+TEST(CrashHost, SphereSetProxiesCrashRepeatablyWithoutTunnelling) { expect_sane_crash(true, true); }
 TEST(CrashHost, TriangleMeshesCrashRepeatablyWithoutTunnelling) { expect_sane_crash(false); }
+
+// SphereSetStaticAlgorithm against brute force and against Bullet's own compound algorithm:
+// a random sphere set dropped into a tilted box and onto a plane, in many placements; the
+// deepest contact must be the deepest sphere, and a contact must exist exactly when a sphere
+// comes within reach.
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
+#include <btBulletCollisionCommon.h>
+
+#include <random>
+
+#include "sphere_contacts.hpp"
+
+namespace {
+
+double deepest(btCollisionWorld& world) {
+  world.performDiscreteCollisionDetection();
+  double best = 1e9;
+  btDispatcher* d = world.getDispatcher();
+  for (int m = 0; m < d->getNumManifolds(); ++m) {
+    const btPersistentManifold* manifold = d->getManifoldByIndexInternal(m);
+    for (int c = 0; c < manifold->getNumContacts(); ++c)
+      best = std::min(best, double(manifold->getContactPoint(c).getDistance()));
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST(SphereSet, DeepestContactMatchesBruteForceAndBulletsCompound) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::vector<btSphereShape> balls;
+  balls.reserve(40);
+  btCompoundShape compound;
+  std::vector<btVector3> centers;
+  for (int i = 0; i < 40; ++i) {
+    balls.emplace_back(0.1f + 0.2f * std::abs(u(rng)));
+    btTransform t;
+    t.setIdentity();
+    centers.emplace_back(u(rng), 0.5f * u(rng), 0.3f * u(rng));
+    t.setOrigin(centers.back());
+    compound.addChildShape(t, &balls.back());
+  }
+  btBoxShape box(btVector3(2, 1.5f, 0.4f));
+  btStaticPlaneShape plane(btVector3(0.1f, -0.2f, 1).normalized(), 0.3f);
+  int compared = 0, touching = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const bool use_plane = trial % 2 == 1;
+    btCollisionShape* other = use_plane ? static_cast<btCollisionShape*>(&plane) : &box;
+    btTransform where_set, where_other;
+    where_set.setIdentity();
+    where_set.setRotation(btQuaternion(btVector3(u(rng), u(rng), u(rng)).normalized(), 3 * u(rng)));
+    where_set.setOrigin(btVector3(0.6f * u(rng), 0.6f * u(rng), 0.9f + 0.9f * u(rng)));
+    where_other.setIdentity();
+    where_other.setRotation(btQuaternion(btVector3(0.3f, 1, 0.2f).normalized(), 0.4f * u(rng)));
+
+    // Brute force: the smallest signed distance from any sphere to the other shape.
+    double brute = 1e9;
+    for (size_t i = 0; i < centers.size(); ++i) {
+      const btVector3 c = where_set * centers[i];
+      const double r = balls[i].getRadius();
+      if (use_plane) {
+        const btVector3 n = where_other.getBasis() * plane.getPlaneNormal();
+        brute = std::min(brute, double(n.dot(c) - plane.getPlaneConstant() - n.dot(where_other.getOrigin())) - r);
+      } else {
+        const btVector3 p = where_other.invXform(c), h = box.getHalfExtentsWithMargin();
+        btVector3 q = p;
+        q.setMax(-h);
+        q.setMin(h);
+        const bool inside = q == p;
+        double d = (p - q).length();
+        if (inside) {
+          d = 1e9;
+          for (int a = 0; a < 3; ++a) d = std::min(d, double(h[a] - std::abs(p[a])));
+          d = -d;
+        }
+        brute = std::min(brute, d - r);
+      }
+    }
+
+    double ours = 1e9, bullets = 1e9;
+    for (int kind = 0; kind < 2; ++kind) {
+      btDefaultCollisionConfiguration config;
+      btCollisionDispatcher dispatcher(&config);
+      if (kind == 0) spx::crash::register_sphere_set_algorithms(dispatcher);
+      btDbvtBroadphase broadphase;
+      btCollisionWorld world(&dispatcher, &broadphase, &config);
+      btCollisionObject a, b;
+      a.setCollisionShape(&compound);
+      a.setWorldTransform(where_set);
+      b.setCollisionShape(other);
+      b.setWorldTransform(where_other);
+      world.addCollisionObject(&a);
+      world.addCollisionObject(&b);
+      (kind == 0 ? ours : bullets) = deepest(world);
+      world.removeCollisionObject(&a);
+      world.removeCollisionObject(&b);
+    }
+    if (brute < -0.05) {  // clearly touching: both must report the deepest sphere
+      ++touching;
+      EXPECT_NEAR(ours, brute, 1e-4) << "trial " << trial;
+      if (bullets < 1e8) {
+        EXPECT_NEAR(ours, bullets, 2e-3) << "trial " << trial;
+        ++compared;
+      }
+    } else if (brute > 0.05) {
+      EXPECT_GT(ours, 1e8) << "no contact when every sphere is clear, trial " << trial;
+    }
+  }
+  EXPECT_GT(touching, 40);
+  EXPECT_GT(compared, 40);
+}

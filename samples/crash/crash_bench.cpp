@@ -1,10 +1,16 @@
-// crash-bench: the paper's Table 1 in our own Bullet host. Every configuration (each sphere
-// proxy given, and the triangle-mesh baseline) runs the same 8-car ramp scene side by side in
-// one process; timings are medians over interleaved repeats. One extra monitored run per
-// configuration measures error over time, contacts, tunnelling, penetration and energy, and a
-// stability sweep repeats that at larger steps and higher launch speeds.
+// crash-bench: the paper's Table 1 in our own Bullet host. Every configuration runs the same
+// 8-car ramp scene side by side in one process:
+//   compound-N     the proxy as a btCompoundShape of btSphereShape (the paper's setup)
+//   sphereset-N    the same compound, with SphereSetStaticAlgorithm against ground and ramps
+//   triangle-mesh  the car mesh in a btGImpactMeshShape (the paper's baseline)
+// The crash is chaotic (a different contact model gives a different pile-up), so every
+// configuration runs several seeds (each its own crash); a run's time is the mean over seeds,
+// and the reported time the median over interleaved repeats. Monitored runs (never timed)
+// measure error over time, contacts, tunnelling, penetration and energy; a stability sweep
+// repeats them at larger steps and higher launch speeds.
 //   crash-bench --rest rest.obj --pose front.obj ... --proxy car-320.spx --proxy car-66.spx
-//               --json OUT.json [--repeats 5] [--seconds 10] [--no-stability] [--profile NAME]
+//               --json OUT.json [--repeats 5] [--seeds 3] [--seconds 10] [--no-stability]
+//               [--profile NAME]
 #include <algorithm>
 #include <cstdio>
 
@@ -38,13 +44,42 @@ json error_json(const RunStats& run) {
           {"cars", cars}};
 }
 
-json safety_json(const RunStats& run) {
-  return {{"ground_tunnels", run.ground_tunnels},
-          {"car_tunnels", run.car_tunnels},
-          {"max_contact_penetration_m", run.max_contact_penetration},
-          {"max_ground_penetration_m", run.max_ground_penetration},
-          {"max_energy_ratio", run.max_energy_ratio},
-          {"energy_blew_up", run.energy_blew_up()}};
+// Summed over the crashes of several seeds (tunnels), or their worst (penetration, energy).
+json safety_json(const std::vector<RunStats>& runs) {
+  int ground = 0, cars = 0;
+  double contact = 0, below = 0, energy = 0;
+  bool blew_up = false;
+  for (const auto& run : runs) {
+    ground += run.ground_tunnels;
+    cars += run.car_tunnels;
+    contact = std::max(contact, run.max_contact_penetration);
+    below = std::max(below, run.max_ground_penetration);
+    energy = std::max(energy, run.max_energy_ratio);
+    blew_up = blew_up || run.energy_blew_up();
+  }
+  return {{"ground_tunnels", ground},
+          {"car_tunnels", cars},
+          {"max_contact_penetration_m", contact},
+          {"max_ground_penetration_m", below},
+          {"max_energy_ratio", energy},
+          {"energy_blew_up", blew_up},
+          {"crashes", runs.size()}};
+}
+
+// One timed run: the mean over `seeds` crashes (the first crash's stats, mean timings).
+RunStats run_seeds(const CarAsset& asset, SceneOptions scene, int seeds) {
+  RunStats first;
+  double sim = 0, deform = 0;
+  for (int k = 0; k < seeds; ++k) {
+    const RunStats run = run_scene(asset, scene);
+    if (k == 0) first = run;
+    sim += run.sim_ms;
+    deform += run.deform_ms;
+    ++scene.seed;
+  }
+  first.sim_ms = sim / seeds;
+  first.deform_ms = deform / seeds;
+  return first;
 }
 
 }  // namespace
@@ -53,7 +88,7 @@ int main(int argc, char** argv) {
   Tool tool("crash-bench", "Car crash benchmark: sphere proxies against triangle meshes in Bullet (paper, Table 1).");
   std::string rest_path, out_path;
   std::vector<std::string> pose_paths, proxy_paths;
-  int repeats = 5;
+  int repeats = 5, seeds = 3;
   SceneOptions scene;
   bool stability = true;
   std::string only;
@@ -64,7 +99,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--repeats", repeats, "Timed runs per configuration (median reported)")->check(CLI::Range(1, 100));
   tool.app.add_option("--seconds", scene.seconds, "Simulated time per run")->check(CLI::Range(0.1, 600.0));
   tool.app.add_option("--cars", scene.cars, "Cars in the scene")->check(CLI::Range(1, 64));
-  tool.app.add_option("--seed", scene.seed, "Seed for lane, yaw and speed jitter");
+  tool.app.add_option("--seed", scene.seed, "First seed for lane, yaw and speed jitter");
+  tool.app.add_option("--seeds", seeds, "Crashes (consecutive seeds) per run")->check(CLI::Range(1, 100));
   tool.app.add_flag("!--no-stability", stability, "Skip the larger-step / higher-speed sweep");
   tool.app.add_option("--profile", only, "Only time this configuration (for a profiler); no baseline, no JSON");
   return tool.run(argc, argv, [&] {
@@ -82,11 +118,15 @@ int main(int argc, char** argv) {
                                          std::to_string(k) + " is " + pose_paths[k - 1]);
     }
 
-    // Configurations: each proxy, then the triangle mesh with the finest proxy's blend sites.
+    // Configurations: each proxy as Bullet's compound and with the sphere-set narrow phase,
+    // then the triangle mesh with the finest proxy's blend sites.
     std::vector<CarAsset> assets;
     size_t finest = 0;
     for (size_t i = 0; i < proxies.size(); ++i) {
-      assets.push_back(make_car_asset("spheres-" + std::to_string(proxies[i].sphere_count()), true, proxies[i], meshes));
+      const std::string n = std::to_string(proxies[i].sphere_count());
+      assets.push_back(make_car_asset("compound-" + n, true, proxies[i], meshes));
+      assets.push_back(make_car_asset("sphereset-" + n, true, proxies[i], meshes));
+      assets.back().sphere_set = true;
       if (proxies[i].sphere_count() > proxies[finest].sphere_count()) finest = i;
     }
     assets.push_back(make_car_asset("triangle-mesh", false, proxies[finest], meshes));
@@ -95,25 +135,32 @@ int main(int argc, char** argv) {
       const auto it = std::find_if(assets.begin(), assets.end(), [&](const CarAsset& a) { return a.name == only; });
       if (it == assets.end()) fail_usage(only, "no such configuration");
       for (int r = 0; r < repeats; ++r) {
-        const RunStats run = run_scene(*it, scene);
+        const RunStats run = run_seeds(*it, scene, seeds);
         std::printf("%s: sim %.1f ms, deform %.1f ms\n", only.c_str(), run.sim_ms, run.deform_ms);
       }
       return;
     }
 
-    // Monitored run first (never timed), then timed repeats interleaved across configurations
+    // Monitored runs first (never timed), then timed repeats interleaved across configurations
     // so that machine noise hits every configuration alike.
     std::vector<RunStats> monitored;
+    std::vector<json> safety;
     for (const auto& asset : assets) {
-      tool.log.info("monitored run: " + asset.name);
+      tool.log.info("monitored runs: " + asset.name);
       SceneOptions o = scene;
       o.monitor = true;
-      monitored.push_back(run_scene(asset, o));
+      std::vector<RunStats> runs;
+      for (int k = 0; k < seeds; ++k) {
+        o.seed = scene.seed + uint32_t(k);
+        runs.push_back(run_scene(asset, o));
+      }
+      safety.push_back(safety_json(runs));
+      monitored.push_back(runs.front());  // Figure 5 and the paths show the first crash
     }
     std::vector<std::vector<RunStats>> timed(assets.size());
     for (int r = 0; r < repeats; ++r) {
       tool.log.info("timed round " + std::to_string(r + 1) + "/" + std::to_string(repeats));
-      for (size_t c = 0; c < assets.size(); ++c) timed[c].push_back(run_scene(assets[c], scene));
+      for (size_t c = 0; c < assets.size(); ++c) timed[c].push_back(run_seeds(assets[c], scene, seeds));
     }
 
     auto medians = [&](size_t c, auto field) {
@@ -131,7 +178,7 @@ int main(int argc, char** argv) {
       bool repeatable = true;
       json runs = json::array();
       for (const auto& run : timed[c]) {
-        repeatable = repeatable && run.state_hash == m.state_hash;
+        repeatable = repeatable && run.state_hash == m.state_hash;  // first seed's final state
         runs.push_back({{"sim_ms", run.sim_ms}, {"deform_ms", run.deform_ms}, {"total_ms", run.total_ms()}});
       }
       const double total = medians(c, [](const RunStats& r) { return r.total_ms(); });
@@ -150,7 +197,7 @@ int main(int argc, char** argv) {
                     {"reblends", m.reblends},
                     {"max_weight_moved", m.max_weight_moved},
                     {"repeatable", repeatable},
-                    {"safety", safety_json(m)}};
+                    {"safety", safety[c]}};
       if (assets[c].spheres) entry["error"] = error_json(m);
       json paths = json::array();
       for (const auto& car : m.path) {
@@ -180,16 +227,21 @@ int main(int argc, char** argv) {
             o.sample_every = 1 << 30;  // error traces are not part of the sweep
             tool.log.info("stability: " + asset.name + " at dt 1/" + std::to_string(int(std::lround(1 / dt))) +
                           ", launch speed x" + num(speed));
-            const RunStats run = run_scene(asset, o);
-            json row = safety_json(run);
+            std::vector<RunStats> runs;
+            for (int k = 0; k < seeds; ++k) {
+              o.seed = scene.seed + uint32_t(k);
+              runs.push_back(run_scene(asset, o));
+            }
+            json row = safety_json(runs);
             row["name"] = asset.name;
             row["dt_s"] = dt;
             row["speed_scale"] = speed;
             sweep.push_back(row);
             std::printf("%-16s  1/%-3d %6.1f %8d %8d %12.3f %12.3f %8.2f%s\n", asset.name.c_str(),
-                        int(std::lround(1 / dt)), speed, run.ground_tunnels, run.car_tunnels,
-                        run.max_contact_penetration, run.max_ground_penetration, run.max_energy_ratio,
-                        run.energy_blew_up() ? " blew up" : "");
+                        int(std::lround(1 / dt)), speed, row["ground_tunnels"].get<int>(),
+                        row["car_tunnels"].get<int>(), row["max_contact_penetration_m"].get<double>(),
+                        row["max_ground_penetration_m"].get<double>(), row["max_energy_ratio"].get<double>(),
+                        row["energy_blew_up"].get<bool>() ? " blew up" : "");
           }
     }
 
@@ -199,6 +251,7 @@ int main(int argc, char** argv) {
                      {"seconds", scene.seconds},
                      {"dt_s", scene.dt},
                      {"seed", scene.seed},
+                    {"seeds", seeds},
                      {"impulse_threshold", scene.impulse_threshold}}},
                    {"repeats", repeats},
                    {"configs", configs},

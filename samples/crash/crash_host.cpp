@@ -1,7 +1,6 @@
 #include "crash_host.hpp"
 
 #include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
-#include <BulletCollision/CollisionDispatch/btSphereBoxCollisionAlgorithm.h>
 #include <BulletCollision/Gimpact/btGImpactShape.h>
 #include <btBulletDynamicsCommon.h>
 
@@ -15,6 +14,7 @@
 #include "core/error.hpp"
 #include "mesh/winding_number.hpp"
 #include "metrics/union_error.hpp"
+#include "sphere_contacts.hpp"
 
 namespace spx::crash {
 namespace {
@@ -112,12 +112,7 @@ class World {
   World(const CarAsset& asset, const SceneOptions& options) : asset_(asset), opt_(options) {
     dispatcher_ = std::make_unique<btCollisionDispatcher>(&config_);
     btGImpactCollisionAlgorithm::registerAlgorithm(dispatcher_.get());
-    // Bullet ships an analytic sphere-box test but leaves it off by default (bullet3 PR #2916:
-    // "leave it up to the user to enable and test corner cases"); without it a sphere meets a
-    // box through GJK. The stability sweep is our corner-case test.
-    box_sphere_.m_swapped = true;
-    dispatcher_->registerCollisionCreateFunc(SPHERE_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &sphere_box_);
-    dispatcher_->registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, SPHERE_SHAPE_PROXYTYPE, &box_sphere_);
+    if (asset.spheres && asset.sphere_set) register_sphere_set_algorithms(*dispatcher_);
     world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), &broadphase_, &solver_, &config_);
     world_->setGravity(btVector3(0, 0, btScalar(-gravity_)));
     for (const auto& t : asset.rest.triangles) indices_.insert(indices_.end(), {t[0], t[1], t[2]});
@@ -199,7 +194,7 @@ class World {
     // and the baseline deserves its fast path.
     add_static(std::make_unique<GroundPlane>(150.0), t);
     // Ramps: boxes tilted about y, the top face rising from below the ground to ramp_height_
-    // at ramp_gap_ from the middle (boxes: Bullet has a dedicated sphere-box test).
+    // at ramp_gap_ from the middle.
     const double pitch = std::atan2(ramp_height_, ramp_length_), thickness = 0.6, overrun = 0.6;
     const double top_length = std::hypot(ramp_length_, ramp_height_) + overrun;
     for (int side : {-1, 1}) {
@@ -451,7 +446,6 @@ class World {
   const double lane_spacing_ = 4, start_distance_ = 28, launch_speed_ = 18;
 
   btDefaultCollisionConfiguration config_;
-  btSphereBoxCollisionAlgorithm::CreateFunc sphere_box_, box_sphere_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
   btDbvtBroadphase broadphase_;
   btSequentialImpulseConstraintSolver solver_;

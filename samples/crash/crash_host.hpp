@@ -31,8 +31,10 @@ int match_dent(const std::vector<Dent>& dents, const Eigen::Vector3d& point, con
 
 // Everything the cars of one configuration share.
 struct CarAsset {
-  std::string name;               // configuration name ("spheres-320", "triangle-mesh")
+  std::string name;               // configuration name ("compound-320", "triangle-mesh")
   bool spheres = true;            // collide with the proxy (else the triangle mesh)
+  bool sphere_set = false;        // proxies against the ground and ramps through
+                                  // SphereSetStaticAlgorithm instead of Bullet's compound one
   const Proxy* proxy = nullptr;   // blend sites (and spheres when `spheres`)
   TriMesh rest;                   // M_0, mesh frame
   std::vector<TriMesh> poses;     // M_0..M_e, the proxy's pose order
@@ -55,7 +57,7 @@ struct SceneOptions {
   double seconds = 10;
   double dt = 1.0 / 60;          // one Bullet substep per frame
   double speed_scale = 1;        // launch speed multiplier (stability runs)
-  uint32_t seed = 1;             // lane offsets, yaw and speed jitter
+  uint32_t seed = 1;             // lane offsets, yaw and speed jitter (each seed is its own crash)
   double impulse_threshold = 2500;  // N*s summed over one contact pair in one step
   double impulse_scale = 20000;     // N*s above the threshold for a full step toward the example
   double max_step = 0.5;            // cap on how far one step moves a site's weights

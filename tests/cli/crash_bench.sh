@@ -13,13 +13,13 @@ d=$out/car-40
 poses=(--pose "$d/front.obj" --pose "$d/rear.obj" --pose "$d/side.obj" --pose "$d/roof.obj")
 bench=$build/samples/crash-bench
 "$bench" --rest "$d/rest.obj" "${poses[@]}" --proxy "$out/car-40/car-40.spx" --proxy "$out/car-120/car-120.spx" \
-  --json "$out/crash.json" --seconds 2.5 --repeats 2 --no-stability -q >"$out/table.txt"
+  --json "$out/crash.json" --seconds 2.5 --repeats 2 --seeds 2 --no-stability -q >"$out/table.txt"
 /usr/bin/python3 "$src/tests/cli/validate_json.py" "$src/schemas" crash-bench.schema.json "$out/crash.json"
 /usr/bin/python3 - "$out/crash.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 names = [c["name"] for c in d["configs"]]
-assert names == ["spheres-40", "spheres-120", "triangle-mesh"], names
+assert names == ["compound-40", "sphereset-40", "compound-120", "sphereset-120", "triangle-mesh"], names
 for c in d["configs"]:
     assert c["repeatable"], (c["name"], "timed runs must end in the monitored run's exact state")
     s = c["safety"]
@@ -31,6 +31,7 @@ base = d["configs"][-1]
 assert base["spheres_per_car"] == 0 and abs(base["speedup"] - 1) < 1e-12
 for c in d["configs"][:-1]:
     assert 0 < c["spheres_per_car"] <= int(c["name"].split("-")[1])
+    assert c["safety"]["crashes"] == 2
     assert abs(c["speedup"] - base["total_ms"] / c["total_ms"]) < 1e-9 * c["speedup"]
     e = c["error"]
     assert len(e["cars"]) == d["scene"]["cars"] and len(e["times_s"]) > 0
