@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # The crash benchmark (paper, Table 1 and Figure 5): car proxies at 320, 114 and 66 spheres from
 # the chain (sphere-pack --max-spheres), then crash-bench in one process, then charts.
-#   scripts/crash.sh [OUT_DIR] [crash-bench options...]     (default: build/crash, --repeats 5)
+#   scripts/crash.sh [OUT_DIR] [crash-bench options...]
+# (default: build/crash; options default to --repeats 5 --seeds 5)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 out=${1:-$root/build/crash}
 shift || true
+options=("$@")
+[ ${#options[@]} -gt 0 ] || options=(--repeats 5 --seeds 5)
 bash "$root/scripts/setup.sh"
 command -v gnuplot >/dev/null || { sudo=""; [ "$(id -u)" -eq 0 ] || sudo=sudo;
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends gnuplot-nox >/dev/null; }
@@ -19,10 +22,10 @@ for n in 320 114 66; do
 done
 d=$out/car-320
 "$root/build/release/samples/crash-bench" --rest "$d/rest.obj" --pose "$d/front.obj" --pose "$d/rear.obj" \
-  --pose "$d/side.obj" --pose "$d/roof.obj" "${proxies[@]}" --json "$out/crash.json" --repeats 5 "$@" | tee "$out/table.txt"
+  --pose "$d/side.obj" --pose "$d/roof.obj" "${proxies[@]}" --json "$out/crash.json" "${options[@]}" | tee "$out/table.txt"
 
-# Figure 5: median and max error over time, one line per car, one column per proxy; and the
-# speed/accuracy trade-off.
+# Figure 5: median and max error over time, one line per car, one column per proxy (the
+# sphere-set runs); and the speed/accuracy trade-off for both proxy kinds.
 /usr/bin/python3 - "$out" <<'PY'
 import json, sys
 out = sys.argv[1]
@@ -30,13 +33,15 @@ d = json.load(open(out + "/crash.json"))
 proxies = [c for c in d["configs"] if c["spheres_per_car"] > 0]
 for c in proxies:
     e = c["error"]
-    with open(f"{out}/error-{c['spheres_per_car']}.dat", "w") as f:
+    with open(f"{out}/error-{c['name']}.dat", "w") as f:
         for i, t in enumerate(e["times_s"]):
             f.write(f"{t} " + " ".join(f"{car['median'][i]} {car['max'][i]}" for car in e["cars"]) + "\n")
-with open(out + "/tradeoff.dat", "w") as f:
-    for c in proxies:
-        f.write(f"{c['spheres_per_car']} {c['speedup']} {c['error']['median_of_medians_m']} {c['error']['max_m']}\n")
-open(out + "/columns.txt", "w").write(" ".join(str(c["spheres_per_car"]) for c in proxies) + "\n")
+for kind in ("compound", "sphereset"):
+    with open(f"{out}/tradeoff-{kind}.dat", "w") as f:
+        for c in proxies:
+            if c["name"].startswith(kind + "-"):
+                f.write(f"{c['spheres_per_car']} {c['speedup']} {c['error']['median_of_medians_m']} {c['error']['max_m']}\n")
+open(out + "/columns.txt", "w").write(" ".join(c["name"] for c in proxies if c["name"].startswith("sphereset-")) + "\n")
 open(out + "/cars.txt", "w").write(str(d["scene"]["cars"]) + "\n")
 PY
 cols=$(cat "$out/columns.txt")
@@ -47,10 +52,11 @@ set terminal $([ $term = svg ] && echo "svg size 1500,700 dynamic" || echo "pngc
 set output "$out/crash-error.$term"
 set key off
 set grid
-set multiplot layout 2,3 title "Car crash: vertex-to-union error over time, one colour per car (car 5.25 m long)"
+set format y "%.4f"
+set multiplot layout 2,3 title "Car crash (first seed): vertex-to-union error over time, one colour per car (car 5.25 m long)"
 do for [row=1:2] {
   do for [n in "$cols"] {
-    set title sprintf("%s spheres per car: %s", n, row == 1 ? "median" : "max")
+    set title sprintf("%s spheres per car: %s", n[11:], row == 1 ? "median" : "max")
     set xlabel "time (s)"; set ylabel "error (m)"
     plot for [car=1:$cars] "$out/error-".n.".dat" u 1:(column(2*car + row - 1)) w l lw 1.2
   }
@@ -58,15 +64,18 @@ do for [row=1:2] {
 unset multiplot
 GP
   gnuplot <<GP
-set terminal $([ $term = svg ] && echo "svg size 700,480 dynamic" || echo "pngcairo size 700,480")
+set terminal $([ $term = svg ] && echo "svg size 760,500 dynamic" || echo "pngcairo size 760,500")
 set output "$out/crash-tradeoff.$term"
 set grid
-set key top right
-set xlabel "error over the crash (m)"; set ylabel "speedup over the triangle mesh (x)"
+set key top left
+set xlabel "median vertex-to-union error over the crash (m)"; set ylabel "speedup over the triangle mesh (x)"
 set title "Speed against accuracy: sphere proxies vs 1536-triangle GImpact meshes"
-set offsets 0.005, 0.02, 2, 2
-plot "$out/tradeoff.dat" u 3:2 w lp pt 7 t "median error", "" u 4:2 w lp pt 5 dt 2 t "max error", \
-     "" u 3:2:(sprintf("%d spheres", \$1)) w labels offset 0,1.2 notitle
+set offsets 0.004, 0.006, 3, 3
+set yrange [0:*]
+plot "$out/tradeoff-sphereset.dat" u 3:2 w lp pt 7 t "sphere-set narrow phase", \
+     "$out/tradeoff-compound.dat" u 3:2 w lp pt 5 dt 2 t "Bullet compound", \
+     "$out/tradeoff-sphereset.dat" u 3:2:(sprintf("%d", \$1)) w labels offset 0,1 notitle, \
+     "$out/tradeoff-compound.dat" u 3:2:(sprintf("%d", \$1)) w labels offset 0,-1 notitle
 GP
 done
 echo "charts: $out/crash-error.svg $out/crash-tradeoff.svg (and .png)"
