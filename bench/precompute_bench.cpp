@@ -1,6 +1,7 @@
 // precompute-bench: every precompute stage timed on real meshes, side by side with its baseline
 // in one run (medians of repeats), as JSON.
 //   precompute-bench --data ../shared/data --json OUT.json [--repeats 3] [--max-resolution 512]
+//                    [--resolution N ...] [--no-chains]
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <sys/resource.h>
@@ -15,6 +16,7 @@
 #include "core/json_io.hpp"
 #include "export/spx_writer.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/winding_number.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/posemap.hpp"
@@ -80,11 +82,46 @@ json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int 
     }
     max_diff = std::max(max_diff, double(std::abs(o - b)) / h);
   }
-  SphereSet spheres;
+  // Both against the truth on a sample of the interior (every voxel either calls inside):
+  // the exact distance (CGAL) with the winding number's side.
   const MeshQuery query(mesh);
+  const WindingNumber wn(mesh);
+  const size_t stride = std::max<size_t>(1, interior / 20000);
+  size_t seen = 0, sampled = 0, ours_sign = 0, base_sign = 0;
+  double ours_max = 0, base_max = 0, ours_sum = 0, base_sum = 0;
+  for (size_t idx = 0; idx < g.count(); ++idx) {
+    const Eigen::Vector3i c = g.coords(idx) + g.origin;
+    const float b = acc.getValue(openvdb::Coord(c.x(), c.y(), c.z()));
+    const float o = ours.field.values[idx];
+    if ((o >= 0 && b >= 0) || seen++ % stride != 0) continue;
+    const Eigen::Vector3d p = g.world(idx);
+    const bool in = wn.inside(p);
+    const double truth = in ? -query.distance(p) : query.distance(p);
+    ++sampled;
+    ours_sign += (o < 0) != in;
+    base_sign += (b < 0) != in;
+    const double eo = std::abs(o - truth) / h, eb = std::abs(b - truth) / h;
+    ours_max = std::max(ours_max, eo);
+    base_max = std::max(base_max, eb);
+    ours_sum += eo;
+    base_sum += eb;
+  }
+  const json truth = {{"sampled_voxels", sampled},
+                      {"ours_max_error_voxels", ours_max},
+                      {"ours_mean_error_voxels", ours_sum / double(std::max<size_t>(sampled, 1))},
+                      {"ours_sign_errors", ours_sign},
+                      {"openvdb_max_error_voxels", base_max},
+                      {"openvdb_mean_error_voxels", base_sum / double(std::max<size_t>(sampled, 1))},
+                      {"openvdb_sign_errors", base_sign}};
+  SphereSet spheres;
   const double t_pack = median_seconds(repeats, [&] { spheres = pack_spheres(ours.field, {}, &query).spheres; });
-  std::fprintf(stderr, "%s @%d: ours %.3f s, OpenVDB filled %.3f s (%.2fx), pack %.3f s (%zu spheres)\n", name.c_str(),
-               resolution, t_ours, t_base, t_base / t_ours, t_pack, spheres.size());
+  std::fprintf(stderr,
+               "%s @%d: ours %.3f s, OpenVDB filled %.3f s (%.2fx), pack %.3f s (%zu spheres); against the exact "
+               "distance (%zu voxels): ours max %.3f / mean %.4f voxels, %zu sign errors; OpenVDB max %.3f / mean %.4f, "
+               "%zu sign errors\n",
+               name.c_str(), resolution, t_ours, t_base, t_base / t_ours, t_pack, spheres.size(), sampled, ours_max,
+               ours_sum / double(std::max<size_t>(sampled, 1)), ours_sign, base_max,
+               base_sum / double(std::max<size_t>(sampled, 1)), base_sign);
   return {{"mesh", name},
           {"triangles", mesh.triangles.size()},
           {"resolution", resolution},
@@ -96,6 +133,7 @@ json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int 
           {"max_interior_difference_voxels", max_diff},
           {"sign_differs_voxels", sign_differs},
           {"interior_compared_voxels", interior},
+          {"against_exact", truth},
           {"pack_s", t_pack},
           {"spheres", spheres.size()},
           {"peak_rss_gib", peak_rss_gib()}};
@@ -142,27 +180,31 @@ int main(int argc, char** argv) {
   CLI::App app("Precompute benchmark: every stage, with OpenVDB's filled SDF as the baseline", "precompute-bench");
   std::string data = "../shared/data", out;
   int repeats = 3, max_res = 512;
+  std::vector<int> resolutions = {64, 128, 256, 512};
+  bool chains_too = true;
   app.add_option("--data", data, "The shared data folder");
   app.add_option("--json", out, "Write the results here")->required();
   app.add_option("--repeats", repeats, "Runs per measurement (the median is reported)");
   app.add_option("--max-resolution", max_res, "Largest armadillo resolution");
+  app.add_option("--resolution", resolutions, "Armadillo resolutions (default 64 128 256 512)");
+  app.add_flag("!--no-chains", chains_too, "Only the SDF cases");
   CLI11_PARSE(app, argc, argv);
   openvdb::initialize();
   json result = {{"generator", std::string("precompute-bench (spx) ") + SPX_VERSION}, {"repeats", repeats}};
   const TriMesh armadillo = load_mesh(data + "/static/armadillo.obj").mesh;
   json sdf = json::array();
-  for (int res : {64, 128, 256, 512})
+  for (int res : resolutions)
     if (res <= max_res) sdf.push_back(sdf_case("armadillo", armadillo, res, res >= 512 ? 1 : repeats));
   result["sdf"] = sdf;
   json chains = json::array();
-  {
+  if (chains_too) {
     const LoadedMesh rest = load_mesh(data + "/elephant/rest.obj");
     std::vector<TriMesh> poses;
     for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"})
       poses.push_back(load_pose(data + "/elephant/" + p + ".obj", rest));
     chains.push_back(chain_case("elephant", rest.mesh, poses, repeats));
   }
-  {
+  if (chains_too) {
     const SampleAsset car = make_car();
     std::vector<TriMesh> poses;
     for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back(car.pose(i));

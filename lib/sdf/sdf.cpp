@@ -1,8 +1,6 @@
 #include "sdf/sdf.hpp"
 
-#include <openvdb/openvdb.h>
-#include <openvdb/tools/MeshToVolume.h>
-
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <tbb/blocked_range.h>
@@ -13,6 +11,7 @@
 #include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
 #include "sdf/edt.hpp"
+#include "sdf/surface_layer.hpp"
 
 namespace spx {
 namespace {
@@ -26,23 +25,48 @@ const char* gib(double v) {
   return fmt_buf;
 }
 
+// Bounding spheres of the triangles: a candidate whose sphere is farther than the best
+// distance so far cannot win, and is skipped without the exact test.
+struct TriangleSpheres {
+  std::vector<Eigen::Vector3d> center;
+  std::vector<double> radius;
+  explicit TriangleSpheres(const TriMesh& mesh) {
+    for (const auto& f : mesh.triangles) {
+      const Eigen::Vector3d c = (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / 3;
+      double r = 0;
+      for (int v = 0; v < 3; ++v) r = std::max(r, (mesh.vertices[f[v]] - c).norm());
+      center.push_back(c);
+      radius.push_back(r * (1 + 1e-12));
+    }
+  }
+  // Squared distance from p to triangle t, or +inf when it certainly exceeds `best`.
+  double distance2(const TriMesh& mesh, int32_t t, const Eigen::Vector3d& p, double best) const {
+    const double gap = (p - center[size_t(t)]).norm() - radius[size_t(t)];
+    if (gap > 0 && gap * gap > best) return std::numeric_limits<double>::infinity();
+    const auto& f = mesh.triangles[size_t(t)];
+    return (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).squaredNorm();
+  }
+};
+
 // The exact closest of the candidate triangles of voxel `seed` and its 26 neighbours, seen
-// from point p. Returns the triangle; `distance` receives the exact distance.
-int32_t best_candidate(const TriMesh& mesh, const GridShape& shape, const std::vector<int32_t>& closest, size_t seed,
-                       const Eigen::Vector3d& p, double* distance) {
+// from point p (the seed's own first, so that the bound prunes early). Returns the triangle;
+// `distance` receives the exact distance.
+int32_t best_candidate(const TriMesh& mesh, const TriangleSpheres& spheres, const GridShape& shape,
+                       const std::vector<int32_t>& closest, size_t seed, const Eigen::Vector3d& p, double* distance) {
   const Eigen::Vector3i c = shape.coords(seed);
-  double best = std::numeric_limits<double>::infinity();
-  int32_t best_tri = -1;
+  int32_t best_tri = closest[seed];
+  double best = spheres.distance2(mesh, best_tri, p, std::numeric_limits<double>::infinity());
+  int32_t tried[27] = {best_tri};  // neighbouring surface voxels mostly share triangles: test each once
+  int count = 1;
   for (int di = -1; di <= 1; ++di)
     for (int dj = -1; dj <= 1; ++dj)
       for (int dk = -1; dk <= 1; ++dk) {
         const int i = c.x() + di, j = c.y() + dj, k = c.z() + dk;
         if (i < 0 || j < 0 || k < 0 || i >= shape.dims.x() || j >= shape.dims.y() || k >= shape.dims.z()) continue;
         const int32_t tri = closest[shape.index(i, j, k)];
-        if (tri < 0 || tri == best_tri) continue;
-        const auto& f = mesh.triangles[size_t(tri)];
-        const double d =
-            (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).squaredNorm();
+        if (tri < 0 || std::find(tried, tried + count, tri) != tried + count) continue;
+        tried[count++] = tri;
+        const double d = spheres.distance2(mesh, tri, p, best);
         if (d < best || (d == best && tri < best_tri)) {
           best = d;
           best_tri = tri;
@@ -50,6 +74,50 @@ int32_t best_candidate(const TriMesh& mesh, const GridShape& shape, const std::v
       }
   *distance = std::sqrt(best);
   return best_tri;
+}
+
+// Signs every voxel outside `walls` from one winding number per 6-connected region the walls
+// enclose (the winding number is constant off the surface of a closed mesh). Returns the
+// number of winding numbers evaluated.
+size_t fill_regions(const GridShape& shape, const std::vector<uint8_t>& walls, const WindingNumber& wn,
+                    std::vector<uint8_t>& inside) {
+  const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+  const size_t sy = size_t(nz), sx = size_t(ny) * size_t(nz);
+  std::vector<uint8_t> seen(walls);
+  struct Cell {
+    int i, j, k;
+  };
+  std::vector<Cell> stack;
+  size_t evaluations = 0;
+  for (int i0 = 0; i0 < nx; ++i0)
+    for (int j0 = 0; j0 < ny; ++j0)
+      for (int k0 = 0; k0 < nz; ++k0) {
+        const size_t start = shape.index(i0, j0, k0);
+        if (seen[start]) continue;
+        const uint8_t sign = wn.inside(shape.world(start));
+        ++evaluations;
+        seen[start] = 1;
+        stack.assign(1, Cell{i0, j0, k0});
+        while (!stack.empty()) {
+          const Cell c = stack.back();
+          stack.pop_back();
+          const size_t idx = shape.index(c.i, c.j, c.k);
+          inside[idx] = sign;
+          auto visit = [&](bool ok, size_t m, int i, int j, int k) {
+            if (ok && !seen[m]) {
+              seen[m] = 1;
+              stack.push_back(Cell{i, j, k});
+            }
+          };
+          visit(c.i > 0, idx - sx, c.i - 1, c.j, c.k);
+          visit(c.i + 1 < nx, idx + sx, c.i + 1, c.j, c.k);
+          visit(c.j > 0, idx - sy, c.i, c.j - 1, c.k);
+          visit(c.j + 1 < ny, idx + sy, c.i, c.j + 1, c.k);
+          visit(c.k > 0, idx - 1, c.i, c.j, c.k - 1);
+          visit(c.k + 1 < nz, idx + 1, c.i, c.j, c.k + 1);
+        }
+      }
+  return evaluations;
 }
 
 }  // namespace
@@ -109,116 +177,52 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
   log.detail("grid " + std::to_string(shape.dims.x()) + "x" + std::to_string(shape.dims.y()) + "x" +
              std::to_string(shape.dims.z()) + ", voxel size " + num(h));
 
-  // 1. Unsigned narrow band with the closest triangle per voxel, from OpenVDB.
+  // 1. The surface layer: every voxel within one voxel of the surface, with its exact distance
+  //    and closest triangle (each triangle visits the voxels of its box grown by a voxel).
+  //    Any surface crossing between two face-adjacent voxel centres lies within half a voxel
+  //    of one of them, so the layer separates inside from outside.
   std::vector<float> dist(total, std::numeric_limits<float>::infinity());
   std::vector<int32_t> closest(total, -1);
-  {
-    StageTimer t(log, "band");
-    openvdb::initialize();
-    std::vector<openvdb::Vec3s> points;
-    points.reserve(mesh.vertices.size());
-    for (const auto& v : mesh.vertices)
-      points.emplace_back(float(v.x() / h), float(v.y() / h), float(v.z() / h));
-    std::vector<openvdb::Vec3I> tris;
-    tris.reserve(mesh.triangles.size());
-    for (const auto& f : mesh.triangles) tris.emplace_back(f[0], f[1], f[2]);
-    openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, tris);
-    auto xform = openvdb::math::Transform::createLinearTransform(h);
-    openvdb::Int32Grid index_grid(-1);
-    auto band = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        adapter, *xform, float(opt.band), float(opt.band), openvdb::tools::UNSIGNED_DISTANCE_FIELD, &index_grid);
-    auto index_acc = index_grid.getConstAccessor();
-    for (auto it = band->cbeginValueOn(); it; ++it) {
-      const openvdb::Coord c = it.getCoord();
-      const Eigen::Vector3i local = Eigen::Vector3i(c.x(), c.y(), c.z()) - shape.origin;
-      if ((local.array() < 0).any() || (local.array() >= shape.dims.array()).any()) continue;
-      const int32_t tri = index_acc.getValue(c);
-      if (tri < 0) continue;
-      const size_t idx = shape.index(local.x(), local.y(), local.z());
-      dist[idx] = *it;
-      closest[idx] = tri;
-    }
-  }
-
-  // OpenVDB's values deeper in the band are propagated, not exact. Keep its closest triangles
-  // only in the surface layer (within a voxel of the surface, where they come from direct
-  // voxelisation), refined against the neighbours' candidates; every other voxel gets its
-  // distance from the surface layer through the feature transform below.
   std::vector<uint8_t> surface_layer(total, 0);
+  std::vector<size_t> layer_list;
   {
     StageTimer t(log, "surface-layer");
-    std::vector<size_t> band;
+    rasterize_surface_layer(mesh, shape, dist, closest);
     for (size_t i = 0; i < total; ++i)
-      if (closest[i] >= 0) band.push_back(i);
-    std::vector<int32_t> refined(closest);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, band.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t n = r.begin(); n != r.end(); ++n) {
-        const size_t idx = band[n];
-        if (dist[idx] > 1.5 * h) continue;
-        double best;
-        refined[idx] = best_candidate(mesh, shape, closest, idx, shape.world(idx), &best);
-        dist[idx] = float(best);
+      if (closest[i] >= 0) {
+        surface_layer[i] = 1;
+        layer_list.push_back(i);
       }
-    });
-    closest.swap(refined);
-    for (size_t idx : band)
-      if (dist[idx] <= h) surface_layer[idx] = 1;
   }
+  stats.band_voxels = layer_list.size();
 
-  // 2. Sign: generalized winding number at band voxels; elsewhere per connected region
-  //    when the mesh is watertight (w is then constant off the surface), else per voxel.
+  // 2. Sign. A closed, manifold, consistently oriented single surface: the angle-weighted
+  //    pseudo-normal of each layer voxel's closest feature (Baerentzen & Aanaes 2005), then one
+  //    generalized winding number per region the layer encloses. Anything else (holes,
+  //    flipped faces, several pieces that may overlap): the winding number at every voxel.
   const WindingNumber wn(mesh);
-  std::vector<uint8_t> inside(total, 0), in_band(total, 0);
-  std::vector<size_t> band_list;
-  for (size_t i = 0; i < total; ++i)
-    if (closest[i] >= 0) {
-      in_band[i] = 1;
-      band_list.push_back(i);
-    }
-  stats.band_voxels = band_list.size();
+  std::vector<uint8_t> inside(total, 0);
   {
     StageTimer t(log, "sign");
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, band_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t n = r.begin(); n != r.end(); ++n) inside[band_list[n]] = wn.inside(shape.world(band_list[n]));
-    });
-    stats.winding_evaluations = band_list.size();
-    const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
-    if (stats.defects.watertight()) {
-      stats.sign_method = "winding number at band voxels, one per region elsewhere (watertight mesh)";
-      std::vector<uint8_t> seen(in_band);
-      std::vector<size_t> queue;
-      for (size_t start = 0; start < total; ++start) {
-        if (seen[start]) continue;
-        const uint8_t sign = wn.inside(shape.world(start));
-        ++stats.winding_evaluations;
-        queue.assign(1, start);
-        seen[start] = 1;
-        while (!queue.empty()) {
-          const size_t idx = queue.back();
-          queue.pop_back();
-          inside[idx] = sign;
-          const Eigen::Vector3i c = shape.coords(idx);
-          const int n[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-          for (const auto& d : n) {
-            const int i = c.x() + d[0], j = c.y() + d[1], k = c.z() + d[2];
-            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
-            const size_t m = shape.index(i, j, k);
-            if (!seen[m]) {
-              seen[m] = 1;
-              queue.push_back(m);
-            }
-          }
+    const bool single_closed_surface = stats.defects.watertight() && stats.defects.components == 1;
+    if (single_closed_surface) {
+      stats.sign_method = "pseudo-normals in the surface layer, one winding number per region elsewhere (closed surface)";
+      const PseudoNormals normals(mesh);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t n = r.begin(); n != r.end(); ++n) {
+          const size_t idx = layer_list[n];
+          inside[idx] = normals.inside(mesh, closest[idx], shape.world(idx));
         }
-      }
+      });
+      stats.winding_evaluations = fill_regions(shape, surface_layer, wn, inside);
     } else {
-      stats.sign_method = "winding number at every voxel (mesh is not watertight)";
+      stats.sign_method = "winding number at every voxel (not a single closed surface)";
       // Outside the bounding box |w| <= 1/2 (a plane separates the query from the mesh).
       const Eigen::AlignedBox3d box = mesh.bounds();
       std::atomic<size_t> evaluations{0};
       tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
         size_t local = 0;
         for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-          if (in_band[idx]) continue;
           const Eigen::Vector3d p = shape.world(idx);
           if (!box.contains(p)) continue;
           inside[idx] = wn.inside(p);
@@ -226,7 +230,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
         }
         evaluations += local;
       });
-      stats.winding_evaluations += evaluations;
+      stats.winding_evaluations = evaluations;
     }
   }
 
@@ -237,51 +241,75 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
   field.background = float(opt.band * h);
   field.values.assign(total, field.background);
   {
-    StageTimer t(log, "interior");
+    const TriangleSpheres spheres(mesh);
+    StageTimer edt(log, "feature-transform");
     const std::vector<int32_t> nearest = nearest_seed_transform(shape, surface_layer);
+    edt.stop();
+    StageTimer candidates(log, "closest-triangles");
     // Each voxel's triangle: the best candidate around its nearest surface voxel, then two
     // sweeps in which it also tries its six neighbours' triangles (vector propagation), which
     // fixes voxels whose nearest surface voxel slid along the surface away from the foot point.
     std::vector<int32_t> tri(total, -1);
     std::vector<float> d(total, std::numeric_limits<float>::infinity());
-    auto wanted = [&](size_t idx) { return !surface_layer[idx] && (inside[idx] || in_band[idx]) && nearest[idx] >= 0; };
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+    // Outside, only the band of opt.band voxels is stored (the rest is background).
+    const double band_reach = (opt.band + 1) * h;
+    std::vector<uint8_t> wanted(total, 0);
+    const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+    const size_t sy = size_t(nz), sx = size_t(ny) * size_t(nz);
+    // Parallel over grid lines along z; `line(i, j, base)` sees voxels base .. base + nz - 1.
+    auto for_each_line = [&](auto&& line) {
+      tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 16), [&](const tbb::blocked_range<int>& r) {
+        for (int l = r.begin(); l != r.end(); ++l) line(l / ny, l % ny, size_t(l) * sy);
+      });
+    };
+    for_each_line([&](int i, int j, size_t base) {
+      for (int k = 0; k < nz; ++k) {
+        const size_t idx = base + size_t(k);
         if (surface_layer[idx]) {
           tri[idx] = closest[idx];
           d[idx] = dist[idx];
-        } else if (wanted(idx)) {
-          double e;
-          tri[idx] = best_candidate(mesh, shape, closest, size_t(nearest[idx]), shape.world(idx), &e);
-          d[idx] = float(e);
+          continue;
         }
+        if (nearest[idx] < 0) continue;
+        const Eigen::Vector3d p = shape.world(i, j, k);
+        if (!inside[idx] && (p - shape.world(size_t(nearest[idx]))).squaredNorm() > band_reach * band_reach) continue;
+        wanted[idx] = 1;
+        double e;
+        tri[idx] = best_candidate(mesh, spheres, shape, closest, size_t(nearest[idx]), p, &e);
+        d[idx] = float(e);
       }
     });
-    const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+    candidates.stop();
+    StageTimer refine(log, "refine");
     for (int sweep = 0; sweep < 2; ++sweep) {
       std::vector<int32_t> next(tri);
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-          if (!wanted(idx)) continue;
-          const Eigen::Vector3i c = shape.coords(idx);
-          const Eigen::Vector3d p = shape.world(idx);
-          const int off[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-          for (const auto& o : off) {
-            const int i = c.x() + o[0], j = c.y() + o[1], k = c.z() + o[2];
-            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
-            const int32_t t = tri[shape.index(i, j, k)];
-            if (t < 0 || t == next[idx]) continue;
-            const auto& f = mesh.triangles[size_t(t)];
-            const double e = (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).norm();
+      for_each_line([&](int i, int j, size_t base) {
+        for (int k = 0; k < nz; ++k) {
+          const size_t idx = base + size_t(k);
+          if (!wanted[idx]) continue;
+          const Eigen::Vector3d p = shape.world(i, j, k);
+          auto consider = [&](bool exists, size_t m) {
+            if (!exists) return;
+            const int32_t t = tri[m];
+            if (t < 0 || t == next[idx]) return;
+            const double e = std::sqrt(spheres.distance2(mesh, t, p, double(d[idx]) * double(d[idx])));
             if (e < d[idx]) {
               d[idx] = float(e);
               next[idx] = t;
             }
-          }
+          };
+          consider(i > 0, idx - sx);
+          consider(i + 1 < nx, idx + sx);
+          consider(j > 0, idx - sy);
+          consider(j + 1 < ny, idx + sy);
+          consider(k > 0, idx - 1);
+          consider(k + 1 < nz, idx + 1);
         }
       });
       tri.swap(next);
     }
+    refine.stop();
+    StageTimer finish(log, "values");
     // An open mesh's solid is also bounded across its holes, where there are no triangles:
     // there, bound interior distances by the distance to the solid's outside: every point of
     // the solid's boundary lies within half a voxel diagonal of an outside voxel center.

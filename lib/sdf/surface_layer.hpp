@@ -1,0 +1,37 @@
+#pragma once
+// The voxels next to a mesh's surface: exact distances and closest triangles, and the sign
+// there for closed surfaces.
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+#include "sdf/dense_field.hpp"
+
+namespace spx {
+
+// For every voxel whose centre lies within one voxel of the mesh: the exact distance and the
+// closest triangle (the lowest index on ties, so the result does not depend on threads).
+// Other voxels are left as they are. Each triangle visits the voxels of its bounding box grown
+// by one voxel, in parallel.
+void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::vector<float>& dist,
+                             std::vector<int32_t>& closest);
+
+// Angle-weighted pseudo-normals (Baerentzen & Aanaes 2005): for a closed, manifold,
+// consistently oriented surface, the side of a point is the sign of (p - c) . N, where c is
+// the closest point and N the pseudo-normal of the face, edge or vertex c lies on.
+class PseudoNormals {
+ public:
+  explicit PseudoNormals(const TriMesh& mesh);
+  // Whether p is inside, given the triangle closest to p.
+  bool inside(const TriMesh& mesh, int32_t triangle, const Eigen::Vector3d& p) const;
+
+ private:
+  static uint64_t edge_key(int a, int b) {
+    return a < b ? (uint64_t(uint32_t(a)) << 32) | uint32_t(b) : (uint64_t(uint32_t(b)) << 32) | uint32_t(a);
+  }
+  std::vector<Eigen::Vector3d> face_, vertex_;
+  std::unordered_map<uint64_t, Eigen::Vector3d> edge_;
+};
+
+}  // namespace spx
