@@ -72,7 +72,7 @@ TEST(Sdf, SphereInteriorDistancesAreAccurate) {
   EXPECT_GT(inside, 10000u);
   EXPECT_LT(worst, 0.1 * s.voxel_size) << "interior distance error vs exact mesh distance";
   EXPECT_EQ(sdf.stats.defects.boundary_edges, 0u);
-  EXPECT_NE(sdf.stats.sign_method.find("watertight"), std::string::npos);
+  EXPECT_NE(sdf.stats.sign_method.find("closed surface"), std::string::npos);
 }
 
 TEST(Sdf, OpenMeshSignFollowsTheWindingNumber) {
