@@ -106,7 +106,19 @@ json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int 
     ours_sum += eo;
     base_sum += eb;
   }
-  const json truth = {{"sampled_voxels", sampled},
+  // Every voxel within a voxel of the surface, where a sign is hardest: ours against the winding number.
+  size_t near_surface = 0, near_sign_errors = 0;
+  for (size_t idx = 0; idx < g.count(); ++idx) {
+    const float o = ours.field.values[idx];
+    if (std::abs(o) > h) continue;
+    ++near_surface;
+    near_sign_errors += (o < 0) != wn.inside(g.world(idx));
+  }
+  std::fprintf(stderr, "%s @%d: %zu sign errors among the %zu voxels within a voxel of the surface\n", name.c_str(),
+               resolution, near_sign_errors, near_surface);
+  const json truth = {{"near_surface_voxels", near_surface},
+                      {"near_surface_sign_errors", near_sign_errors},
+                      {"sampled_voxels", sampled},
                       {"ours_max_error_voxels", ours_max},
                       {"ours_mean_error_voxels", ours_sum / double(std::max<size_t>(sampled, 1))},
                       {"ours_sign_errors", ours_sign},

@@ -21,6 +21,8 @@ if [ ! -f "$seeds/car.spx" ]; then
 fi
 cp "$seeds/car.spx" "$out/corpus-spx/"
 cp "$seeds/rest.spheres.json" "$seeds/car.proxy.json" "$seeds/car.json" "$out/corpus-json/"
+# Inputs that once crashed a target stay in its corpus, so every run retries them first.
+cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"
 cd "$out"
 status=0
 for target in spx_reader json_readers; do

@@ -182,6 +182,14 @@ TEST(FilesBetweenTools, JsonThatViolatesItsSchemaIsRejected) {
     write_file_atomic(dir + "/p.json", text);
     EXPECT_EQ(code_of([&] { read_proxy_file(dir + "/p.json"); }), ExitCode::bad_input) << text;
   }
+  // Fields of the wrong type end in our own error naming the file, never in the JSON library's
+  // unnamed type error (fuzz.short found {"format": 625}).
+  for (const std::string& text : std::vector<std::string>{R"({"format": 625})", R"({"format": ["spx-spheres"]})",
+                                 head + R"("radius_source": 5, "spheres": [[0, 0, 0, 1]]})"})
+    EXPECT_EQ(code_of([&] { spheres_from_json(json::parse(text), "f.json"); }), ExitCode::bad_input) << text;
+  for (const std::string& text : std::vector<std::string>{R"({"format": 625})",
+                                 R"({"format": "spx-proxy", "version": 1, "max_radius": null, "poses": [{"name": "a", "source": 5, "spheres": [[0,0,0,1]]}], "sites": [[0,0,0]], "sphere_sites": [0]})"})
+    EXPECT_EQ(code_of([&] { proxy_from_json(json::parse(text), "f.json"); }), ExitCode::bad_input) << text;
 }
 
 TEST(FilesBetweenTools, SpxWithASiteOutOfRangeIsBadData) {

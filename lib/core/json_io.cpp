@@ -38,4 +38,14 @@ double require_number(const json& j, const char* key, const std::string& file) {
   return as_finite_number(require(j, key, file), std::string("field '") + key + "'", file);
 }
 
+std::string optional_string(const json& j, const char* key, const std::string& fallback, const std::string& file) {
+  if (!j.is_object() || !j.contains(key) || j[key].is_null()) return fallback;
+  if (!j[key].is_string()) fail_input(file, std::string("field '") + key + "' is not a string");
+  return j[key].get<std::string>();
+}
+
+bool has_format(const json& j, const char* format) {
+  return j.is_object() && j.contains("format") && j["format"].is_string() && j["format"] == format;
+}
+
 }  // namespace spx

@@ -56,7 +56,7 @@ SpheresFile read_spheres_file(const std::string& path) {
 }
 
 SpheresFile spheres_from_json(const json& j, const std::string& path) {
-  if (!j.is_object() || j.value("format", "") != "spx-spheres")
+  if (!has_format(j, "spx-spheres"))
     fail_input(path, "is not a spheres file (expected \"format\": \"spx-spheres\")");
   const double version = require_number(j, "version", path);
   if (version >= 2) fail_unsupported(path, "spheres format version " + std::to_string(int(version)) + " is newer than this tool (1)");
@@ -66,7 +66,7 @@ SpheresFile spheres_from_json(const json& j, const std::string& path) {
   const json& max_r = require(j, "max_radius", path);
   if (!max_r.is_null()) f.max_radius = as_finite_number(max_r, "field 'max_radius'", path);
   if (!(f.max_radius > 0)) fail_input(path, "field 'max_radius' is not positive");
-  f.radius_source = j.value("radius_source", "");
+  f.radius_source = optional_string(j, "radius_source", "", path);
   if (j.contains("tolerance") && !j["tolerance"].is_null()) f.tolerance = as_finite_number(j["tolerance"], "field 'tolerance'", path);
   if (j.contains("source") && j["source"].is_object()) {
     const json& s = j["source"];

@@ -30,7 +30,7 @@ json proxy_to_json(const ProxyModel& p) {
 }
 
 ProxyModel proxy_from_json(const json& j, const std::string& path) {
-  if (!j.is_object() || j.value("format", "") != "spx-proxy")
+  if (!has_format(j, "spx-proxy"))
     fail_input(path, "is not a proxy file (expected \"format\": \"spx-proxy\")");
   const double version = require_number(j, "version", path);
   if (version >= 2) fail_unsupported(path, "proxy format version " + std::to_string(int(version)) + " is newer than this tool (1)");
@@ -45,7 +45,7 @@ ProxyModel proxy_from_json(const json& j, const std::string& path) {
     const json& name = require(poses[i], "name", path);
     if (!name.is_string()) fail_input(path, what + ".name is not a string");
     pose.name = name;
-    pose.source = poses[i].value("source", "");
+    pose.source = optional_string(poses[i], "source", "", path);
     pose.spheres = sphere_array_from_json(require(poses[i], "spheres", path), what + ".spheres", path, true);
     if (poses[i].contains("outside")) pose.outside = poses[i]["outside"].get<std::vector<int>>();
     if (i > 0 && pose.spheres.size() != p.poses.front().spheres.size())

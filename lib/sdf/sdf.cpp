@@ -208,13 +208,19 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     if (single_closed_surface) {
       stats.sign_method = "pseudo-normals in the surface layer, one winding number per region elsewhere (closed surface)";
       const PseudoNormals normals(mesh);
+      std::atomic<size_t> asked{0};
       tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        size_t local = 0;
         for (size_t n = r.begin(); n != r.end(); ++n) {
           const size_t idx = layer_list[n];
-          inside[idx] = normals.inside(mesh, closest[idx], shape.world(idx));
+          const Eigen::Vector3d p = shape.world(idx);
+          const int side = normals.side(mesh, closest[idx], p);
+          if (side == 0) ++local;
+          inside[idx] = side == 0 ? wn.inside(p) : side < 0;
         }
+        asked += local;
       });
-      stats.winding_evaluations = fill_regions(shape, surface_layer, wn, inside);
+      stats.winding_evaluations = asked + fill_regions(shape, surface_layer, wn, inside);
     } else {
       stats.sign_method = "winding number at every voxel (not a single closed surface)";
       // Outside the bounding box |w| <= 1/2 (a plane separates the query from the mesh).
@@ -270,43 +276,57 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
           d[idx] = dist[idx];
           continue;
         }
-        if (nearest[idx] < 0) continue;
+        const int32_t seed = nearest[idx];
+        if (seed < 0) continue;
         const Eigen::Vector3d p = shape.world(i, j, k);
-        if (!inside[idx] && (p - shape.world(size_t(nearest[idx]))).squaredNorm() > band_reach * band_reach) continue;
+        if (!inside[idx]) {
+          // Outside: only the band of opt.band voxels is stored. The seed's k is cheap to get;
+          // most far voxels fail on it before the full test.
+          const int seed_k = int(size_t(seed) % sy);
+          if (std::abs(seed_k - k) * h > band_reach) continue;
+          if ((p - shape.world(size_t(seed))).squaredNorm() > band_reach * band_reach) continue;
+        }
         wanted[idx] = 1;
         double e;
-        tri[idx] = best_candidate(mesh, spheres, shape, closest, size_t(nearest[idx]), p, &e);
+        tri[idx] = best_candidate(mesh, spheres, shape, closest, size_t(seed), p, &e);
         d[idx] = float(e);
       }
     });
     candidates.stop();
     StageTimer refine(log, "refine");
+    std::vector<size_t> wanted_list;
+    for (size_t idx = 0; idx < total; ++idx)
+      if (wanted[idx]) wanted_list.push_back(idx);
     for (int sweep = 0; sweep < 2; ++sweep) {
-      std::vector<int32_t> next(tri);
-      for_each_line([&](int i, int j, size_t base) {
-        for (int k = 0; k < nz; ++k) {
-          const size_t idx = base + size_t(k);
-          if (!wanted[idx]) continue;
-          const Eigen::Vector3d p = shape.world(i, j, k);
+      std::vector<int32_t> next_tri(wanted_list.size());
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t n = r.begin(); n != r.end(); ++n) {
+          const size_t idx = wanted_list[n];
+          const Eigen::Vector3i c = shape.coords(idx);
+          const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
+          int32_t own = tri[idx];
+          double best = double(d[idx]) * double(d[idx]);
           auto consider = [&](bool exists, size_t m) {
             if (!exists) return;
             const int32_t t = tri[m];
-            if (t < 0 || t == next[idx]) return;
-            const double e = std::sqrt(spheres.distance2(mesh, t, p, double(d[idx]) * double(d[idx])));
-            if (e < d[idx]) {
-              d[idx] = float(e);
-              next[idx] = t;
+            if (t < 0 || t == own) return;
+            const double e = spheres.distance2(mesh, t, p, best);
+            if (e < best) {
+              best = e;
+              own = t;
             }
           };
-          consider(i > 0, idx - sx);
-          consider(i + 1 < nx, idx + sx);
-          consider(j > 0, idx - sy);
-          consider(j + 1 < ny, idx + sy);
-          consider(k > 0, idx - 1);
-          consider(k + 1 < nz, idx + 1);
+          consider(c.x() > 0, idx - sx);
+          consider(c.x() + 1 < nx, idx + sx);
+          consider(c.y() > 0, idx - sy);
+          consider(c.y() + 1 < ny, idx + sy);
+          consider(c.z() > 0, idx - 1);
+          consider(c.z() + 1 < nz, idx + 1);
+          next_tri[n] = own;
+          if (own != tri[idx]) d[idx] = float(std::sqrt(best));  // this voxel's own slot only
         }
       });
-      tri.swap(next);
+      for (size_t n = 0; n < wanted_list.size(); ++n) tri[wanted_list[n]] = next_tri[n];
     }
     refine.stop();
     StageTimer finish(log, "values");

@@ -79,7 +79,7 @@ PseudoNormals::PseudoNormals(const TriMesh& mesh) : vertex_(mesh.vertices.size()
   }
 }
 
-bool PseudoNormals::inside(const TriMesh& mesh, int32_t triangle, const Eigen::Vector3d& p) const {
+int PseudoNormals::side(const TriMesh& mesh, int32_t triangle, const Eigen::Vector3d& p) const {
   const auto& f = mesh.triangles[size_t(triangle)];
   Eigen::Vector3d bary;
   const Eigen::Vector3d c = closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]], &bary);
@@ -94,7 +94,9 @@ bool PseudoNormals::inside(const TriMesh& mesh, int32_t triangle, const Eigen::V
   } else {
     n = face_[size_t(triangle)];
   }
-  return (p - c).dot(n) < 0;
+  const double along = (p - c).dot(n), norms = (p - c).norm() * n.norm();
+  if (!(std::abs(along) >= 0.2 * norms) || norms == 0) return 0;
+  return along < 0 ? -1 : 1;
 }
 
 }  // namespace spx

@@ -23,8 +23,10 @@ void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::v
 class PseudoNormals {
  public:
   explicit PseudoNormals(const TriMesh& mesh);
-  // Whether p is inside, given the triangle closest to p.
-  bool inside(const TriMesh& mesh, int32_t triangle, const Eigen::Vector3d& p) const;
+  // The side of p, given the triangle closest to p: -1 inside, +1 outside, 0 when p - c is
+  // nearly tangent to the pseudo-normal (|cos| < 0.2): there a triangle that is closest only
+  // up to rounding can give the wrong side, and the caller should ask the winding number.
+  int side(const TriMesh& mesh, int32_t triangle, const Eigen::Vector3d& p) const;
 
  private:
   static uint64_t edge_key(int a, int b) {
