@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <random>
 
 #include "core/atomic_file.hpp"
@@ -142,6 +144,30 @@ TEST(VdbIo, RejectsFilesThatAreNotSdfs) {
   write_file_atomic(dir + "/text.vdb", "hello, not a vdb\n");
   EXPECT_THROW(read_sdf_vdb(dir + "/text.vdb"), Error);
   EXPECT_THROW(read_sdf_vdb(dir + "/missing.vdb"), Error);
+}
+
+// Threads must not change a single bit: the surface layer is an atomic minimum over (distance,
+// triangle), and every later stage writes only its own voxel.
+TEST(Sdf, RepeatedBuildsAreBitIdentical) {
+  SPX_REQUIRE_SHARED_DATA();
+  const TriMesh mesh = load_mesh(test::shared_data() + "/static/armadillo.obj").mesh;
+  SdfOptions opt;
+  opt.resolution = 128;
+  const SdfResult first = build_sdf(mesh, opt);
+  for (int run = 0; run < 3; ++run) {
+    const SdfResult again = build_sdf(mesh, opt);
+    ASSERT_EQ(again.field.values.size(), first.field.values.size());
+    size_t differ = 0, sign = 0;
+    double largest = 0;
+    for (size_t i = 0; i < first.field.values.size(); ++i) {
+      const float a = first.field.values[i], b = again.field.values[i];
+      if (std::memcmp(&a, &b, sizeof(float)) == 0) continue;
+      ++differ;
+      sign += (a < 0) != (b < 0);
+      largest = std::max(largest, double(std::abs(a - b)));
+    }
+    EXPECT_EQ(differ, 0u) << "run " << run << ": " << sign << " signs differ, values by up to " << largest;
+  }
 }
 
 }  // namespace

@@ -73,8 +73,8 @@ PseudoNormals::PseudoNormals(const TriMesh& mesh) : vertex_(mesh.vertices.size()
       const Eigen::Vector3d u = *p[(corner + 1) % 3] - *p[corner], v = *p[(corner + 2) % 3] - *p[corner];
       const double angle = std::atan2(u.cross(v).norm(), u.dot(v));
       vertex_[size_t(f[corner])] += angle * n;
-      auto& e = edge_[edge_key(f[corner], f[(corner + 1) % 3])];
-      e += n;
+      // try_emplace with an explicit zero: a default Eigen vector is uninitialised.
+      edge_.try_emplace(edge_key(f[corner], f[(corner + 1) % 3]), Eigen::Vector3d::Zero()).first->second += n;
     }
   }
 }
