@@ -7,20 +7,24 @@
 namespace spx {
 namespace {
 
-constexpr int64_t kNone = std::numeric_limits<int64_t>::max() / 4;
+// Squared distances in voxels: 32 bits while they fit (half the memory traffic), else 64.
+template <class Dist>
+constexpr Dist kNone = std::numeric_limits<Dist>::max() / 4;
 
 // 1D squared-distance transform of f (kNone = no sample) with argmin, on a line of n samples.
+template <class Dist>
 struct LineScratch {
-  std::vector<int64_t> f, d;
+  std::vector<Dist> f, d;
   std::vector<int32_t> arg, feat, v;
   std::vector<double> z;
   explicit LineScratch(int n) : f(n), d(n), arg(n), feat(n), v(n), z(n + 1) {}
 };
 
-void transform_line(int n, LineScratch& s) {
+template <class Dist>
+void transform_line(int n, LineScratch<Dist>& s) {
   int k = -1;
   for (int q = 0; q < n; ++q) {
-    if (s.f[q] >= kNone) continue;
+    if (s.f[q] >= kNone<Dist>) continue;
     if (k < 0) {
       k = 0;
       s.v[0] = q;
@@ -42,7 +46,7 @@ void transform_line(int n, LineScratch& s) {
   }
   if (k < 0) {
     for (int q = 0; q < n; ++q) {
-      s.d[q] = kNone;
+      s.d[q] = kNone<Dist>;
       s.arg[q] = -1;
     }
     return;
@@ -51,17 +55,16 @@ void transform_line(int n, LineScratch& s) {
   for (int q = 0; q < n; ++q) {
     while (s.z[k + 1] < q) ++k;
     const int p = s.v[k];
-    s.d[q] = int64_t(q - p) * (q - p) + s.f[p];
+    s.d[q] = Dist(q - p) * Dist(q - p) + s.f[p];
     s.arg[q] = p;
   }
 }
 
-}  // namespace
-
-std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed) {
+template <class Dist>
+std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t>& seed) {
   const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
   const size_t total = shape.count();
-  std::vector<int64_t> dist(total);
+  std::vector<Dist> dist(total);
   std::vector<int32_t> feature(total);
 
   // Pass along z (contiguous): nearest seed on the line by two scans.
@@ -80,7 +83,7 @@ std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::v
         int best = before;
         if (last >= 0 && (before < 0 || last - k < k - before)) best = last;
         feature[base + k] = best < 0 ? -1 : int32_t(base + best);
-        dist[base + k] = best < 0 ? kNone : int64_t(k - best) * (k - best);
+        dist[base + k] = best < 0 ? kNone<Dist> : Dist(k - best) * Dist(k - best);
       }
     }
   });
@@ -88,7 +91,7 @@ std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::v
   // Passes along y, then x: lower envelope of parabolas, carrying the seed index.
   auto pass = [&](int n, int lines, auto&& offset_of) {
     tbb::parallel_for(tbb::blocked_range<int>(0, lines), [&](const tbb::blocked_range<int>& r) {
-      LineScratch s(n);
+      LineScratch<Dist> s(n);
       for (int line = r.begin(); line != r.end(); ++line) {
         for (int q = 0; q < n; ++q) {
           const size_t idx = offset_of(line, q);
@@ -107,6 +110,14 @@ std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::v
   pass(ny, nx * nz, [&](int line, int j) { return shape.index(line / nz, j, line % nz); });
   pass(nx, ny * nz, [&](int line, int i) { return shape.index(i, line / nz, line % nz); });
   return feature;
+}
+
+}  // namespace
+
+std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed) {
+  const int64_t longest = shape.dims.maxCoeff();
+  return 3 * longest * longest < int64_t(kNone<int32_t>) ? transform<int32_t>(shape, seed)
+                                                          : transform<int64_t>(shape, seed);
 }
 
 }  // namespace spx

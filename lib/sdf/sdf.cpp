@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <memory>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -61,6 +62,7 @@ int32_t best_candidate(const TriMesh& mesh, const TriangleSpheres& spheres, cons
   for (int di = -1; di <= 1; ++di)
     for (int dj = -1; dj <= 1; ++dj)
       for (int dk = -1; dk <= 1; ++dk) {
+        if (std::abs(di) + std::abs(dj) + std::abs(dk) > 2) continue;  // not the corners: the refine sweeps do the rest
         const int i = c.x() + di, j = c.y() + dj, k = c.z() + dk;
         if (i < 0 || j < 0 || k < 0 || i >= shape.dims.x() || j >= shape.dims.y() || k >= shape.dims.z()) continue;
         const int32_t tri = closest[shape.index(i, j, k)];
@@ -79,7 +81,8 @@ int32_t best_candidate(const TriMesh& mesh, const TriangleSpheres& spheres, cons
 // Signs every voxel outside `walls` from one winding number per 6-connected region the walls
 // enclose (the winding number is constant off the surface of a closed mesh). Returns the
 // number of winding numbers evaluated.
-size_t fill_regions(const GridShape& shape, const std::vector<uint8_t>& walls, const WindingNumber& wn,
+template <class Winding>
+size_t fill_regions(const GridShape& shape, const std::vector<uint8_t>& walls, Winding&& winding_inside,
                     std::vector<uint8_t>& inside) {
   const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
   const size_t sy = size_t(nz), sx = size_t(ny) * size_t(nz);
@@ -94,7 +97,7 @@ size_t fill_regions(const GridShape& shape, const std::vector<uint8_t>& walls, c
       for (int k0 = 0; k0 < nz; ++k0) {
         const size_t start = shape.index(i0, j0, k0);
         if (seen[start]) continue;
-        const uint8_t sign = wn.inside(shape.world(start));
+        const uint8_t sign = winding_inside(shape.world(start));
         ++evaluations;
         seen[start] = 1;
         stack.assign(1, Cell{i0, j0, k0});
@@ -200,7 +203,6 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
   //    pseudo-normal of each layer voxel's closest feature (Baerentzen & Aanaes 2005), then one
   //    generalized winding number per region the layer encloses. Anything else (holes,
   //    flipped faces, several pieces that may overlap): the winding number at every voxel.
-  const WindingNumber wn(mesh);
   std::vector<uint8_t> inside(total, 0);
   {
     StageTimer t(log, "sign");
@@ -208,21 +210,35 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     if (single_closed_surface) {
       stats.sign_method = "pseudo-normals in the surface layer, one winding number per region elsewhere (closed surface)";
       const PseudoNormals normals(mesh);
-      std::atomic<size_t> asked{0};
+      std::vector<uint8_t> tangent(layer_list.size(), 0);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        size_t local = 0;
         for (size_t n = r.begin(); n != r.end(); ++n) {
           const size_t idx = layer_list[n];
-          const Eigen::Vector3d p = shape.world(idx);
-          const int side = normals.side(mesh, closest[idx], p);
-          if (side == 0) ++local;
-          inside[idx] = side == 0 ? wn.inside(p) : side < 0;
+          const int side = normals.side(mesh, closest[idx], shape.world(idx));
+          inside[idx] = side < 0;
+          tangent[n] = side == 0;
         }
-        asked += local;
       });
-      stats.winding_evaluations = asked + fill_regions(shape, surface_layer, wn, inside);
+      // A handful of winding numbers cost less summed exactly than a tree costs to build.
+      std::unique_ptr<WindingNumber> tree;
+      size_t exact_left = 32;
+      auto winding_inside = [&](const Eigen::Vector3d& p) {
+        if (!tree && exact_left > 0) {
+          --exact_left;
+          return winding_number_exact(mesh, p) > 0.5;
+        }
+        if (!tree) tree = std::make_unique<WindingNumber>(mesh);
+        return tree->inside(p);
+      };
+      for (size_t n = 0; n < layer_list.size(); ++n)
+        if (tangent[n]) {
+          inside[layer_list[n]] = winding_inside(shape.world(layer_list[n]));
+          ++stats.winding_evaluations;
+        }
+      stats.winding_evaluations += fill_regions(shape, surface_layer, winding_inside, inside);
     } else {
       stats.sign_method = "winding number at every voxel (not a single closed surface)";
+      const WindingNumber wn(mesh);
       // Outside the bounding box |w| <= 1/2 (a plane separates the query from the mesh).
       const Eigen::AlignedBox3d box = mesh.bounds();
       std::atomic<size_t> evaluations{0};
