@@ -7,6 +7,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 out=${1:-$root/build/crash}
 shift || true
+mkdir -p "$out" && out=$(cd "$out" && pwd)  # make runs in samples/: relative paths would land there
 options=("$@")
 [ ${#options[@]} -gt 0 ] || options=(--repeats 5 --seeds 5)
 bash "$root/scripts/setup.sh"

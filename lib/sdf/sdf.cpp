@@ -197,7 +197,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
         layer_list.push_back(i);
       }
   }
-  stats.band_voxels = layer_list.size();
+  stats.surface_voxels = layer_list.size();
 
   // 2. Sign. A closed, manifold, consistently oriented single surface: the angle-weighted
   //    pseudo-normal of each layer voxel's closest feature (Baerentzen & Aanaes 2005), then one
@@ -388,7 +388,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
 nlohmann::json SdfStats::to_json() const {
   return {{"defects", defects.to_json()},
           {"sign_method", sign_method},
-          {"band_voxels", band_voxels},
+          {"surface_voxels", surface_voxels},
           {"interior_voxels", interior_voxels},
           {"winding_evaluations", winding_evaluations},
           {"bounded_by_holes", bounded_by_holes},

@@ -20,7 +20,7 @@ struct SdfOptions {
 struct SdfStats {
   MeshDefects defects;
   std::string sign_method;
-  size_t band_voxels = 0, interior_voxels = 0, winding_evaluations = 0;
+  size_t surface_voxels = 0, interior_voxels = 0, winding_evaluations = 0;  // surface: within a voxel of the mesh
   double estimated_memory_gib = 0;
   bool bounded_by_holes = false;  // not watertight: distances also bounded across the holes
   nlohmann::json to_json() const;
