@@ -78,48 +78,53 @@ int32_t best_candidate(const TriMesh& mesh, const TriangleSpheres& spheres, cons
   return best_tri;
 }
 
-// Signs every voxel outside `walls` from one winding number per 6-connected region the walls
-// enclose (the winding number is constant off the surface of a closed mesh). Returns the
-// number of winding numbers evaluated.
+// Marks the voxels the surface layer encloses. A region of non-layer voxels is inside when
+// the layer voxels around it are: a surface crossing between face neighbours lies within half
+// a voxel of one of them, which is then in the layer. So a flood from every inside layer voxel
+// reaches exactly the inside regions, in time proportional to the inside, not to the grid. One
+// winding number per region confirms it, so that a wrongly signed layer voxel cannot flood the
+// outside. Returns the number of winding numbers evaluated.
 template <class Winding>
-size_t fill_regions(const GridShape& shape, const std::vector<uint8_t>& walls, Winding&& winding_inside,
-                    std::vector<uint8_t>& inside) {
+size_t fill_inside(const GridShape& shape, const std::vector<uint8_t>& layer, const std::vector<size_t>& layer_list,
+                   Winding&& winding_inside, std::vector<uint8_t>& inside) {
   const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
   const size_t sy = size_t(nz), sx = size_t(ny) * size_t(nz);
-  std::vector<uint8_t> seen(walls);
-  struct Cell {
-    int i, j, k;
-  };
-  std::vector<Cell> stack;
+  std::vector<uint8_t> seen(shape.count(), 0);
+  std::vector<size_t> region, stack;
   size_t evaluations = 0;
-  for (int i0 = 0; i0 < nx; ++i0)
-    for (int j0 = 0; j0 < ny; ++j0)
-      for (int k0 = 0; k0 < nz; ++k0) {
-        const size_t start = shape.index(i0, j0, k0);
-        if (seen[start]) continue;
-        const uint8_t sign = winding_inside(shape.world(start));
-        ++evaluations;
-        seen[start] = 1;
-        stack.assign(1, Cell{i0, j0, k0});
-        while (!stack.empty()) {
-          const Cell c = stack.back();
-          stack.pop_back();
-          const size_t idx = shape.index(c.i, c.j, c.k);
-          inside[idx] = sign;
-          auto visit = [&](bool ok, size_t m, int i, int j, int k) {
-            if (ok && !seen[m]) {
-              seen[m] = 1;
-              stack.push_back(Cell{i, j, k});
-            }
-          };
-          visit(c.i > 0, idx - sx, c.i - 1, c.j, c.k);
-          visit(c.i + 1 < nx, idx + sx, c.i + 1, c.j, c.k);
-          visit(c.j > 0, idx - sy, c.i, c.j - 1, c.k);
-          visit(c.j + 1 < ny, idx + sy, c.i, c.j + 1, c.k);
-          visit(c.k > 0, idx - 1, c.i, c.j, c.k - 1);
-          visit(c.k + 1 < nz, idx + 1, c.i, c.j, c.k + 1);
-        }
+  // Visits the in-grid face neighbours of voxel idx.
+  auto around = [&](size_t idx, auto&& visit) {
+    const Eigen::Vector3i c = shape.coords(idx);
+    if (c.x() > 0) visit(idx - sx);
+    if (c.x() + 1 < nx) visit(idx + sx);
+    if (c.y() > 0) visit(idx - sy);
+    if (c.y() + 1 < ny) visit(idx + sy);
+    if (c.z() > 0) visit(idx - 1);
+    if (c.z() + 1 < nz) visit(idx + 1);
+  };
+  for (size_t wall : layer_list) {
+    if (!inside[wall]) continue;
+    around(wall, [&](size_t start) {
+      if (layer[start] || seen[start]) return;
+      seen[start] = 1;
+      region.assign(1, start);
+      stack.assign(1, start);
+      while (!stack.empty()) {
+        const size_t idx = stack.back();
+        stack.pop_back();
+        around(idx, [&](size_t m) {
+          if (!layer[m] && !seen[m]) {
+            seen[m] = 1;
+            region.push_back(m);
+            stack.push_back(m);
+          }
+        });
       }
+      ++evaluations;
+      if (winding_inside(shape.world(start)))
+        for (size_t idx : region) inside[idx] = 1;
+    });
+  }
   return evaluations;
 }
 
@@ -208,7 +213,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     StageTimer t(log, "sign");
     const bool single_closed_surface = stats.defects.watertight() && stats.defects.components == 1;
     if (single_closed_surface) {
-      stats.sign_method = "pseudo-normals in the surface layer, one winding number per region elsewhere (closed surface)";
+      stats.sign_method = "pseudo-normals in the surface layer, one winding number per enclosed region (closed surface)";
       const PseudoNormals normals(mesh);
       std::vector<uint8_t> tangent(layer_list.size(), 0);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -235,7 +240,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
           inside[layer_list[n]] = winding_inside(shape.world(layer_list[n]));
           ++stats.winding_evaluations;
         }
-      stats.winding_evaluations += fill_regions(shape, surface_layer, winding_inside, inside);
+      stats.winding_evaluations += fill_inside(shape, surface_layer, layer_list, winding_inside, inside);
     } else {
       stats.sign_method = "winding number at every voxel (not a single closed surface)";
       const WindingNumber wn(mesh);
