@@ -23,6 +23,17 @@ struct GridShape {
   Eigen::Vector3d world(int i, int j, int k) const {
     return voxel_size * Eigen::Vector3d(origin.x() + i, origin.y() + j, origin.z() + k);
   }
+  // Calls visit(m) for every face neighbour m of voxel idx (at coords c) inside the block.
+  template <class Visit>
+  void for_each_face_neighbour(size_t idx, const Eigen::Vector3i& c, Visit&& visit) const {
+    const size_t sy = size_t(dims.z()), sx = size_t(dims.y()) * sy;
+    if (c.x() > 0) visit(idx - sx);
+    if (c.x() + 1 < dims.x()) visit(idx + sx);
+    if (c.y() > 0) visit(idx - sy);
+    if (c.y() + 1 < dims.y()) visit(idx + sy);
+    if (c.z() > 0) visit(idx - 1);
+    if (c.z() + 1 < dims.z()) visit(idx + 1);
+  }
   Eigen::Vector3d world(size_t idx) const {
     const Eigen::Vector3i c = coords(idx);
     return world(c.x(), c.y(), c.z());

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <memory>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -49,8 +48,8 @@ struct TriangleSpheres {
   }
 };
 
-// The exact closest of the candidate triangles of voxel `seed` and its 26 neighbours, seen
-// from point p (the seed's own first, so that the bound prunes early). Returns the triangle;
+// The exact closest of the candidate triangles of voxel `seed` and its 18 face and edge
+// neighbours, seen from point p (the seed's own first, so that the bound prunes early). Returns the triangle;
 // `distance` receives the exact distance.
 int32_t best_candidate(const TriMesh& mesh, const TriangleSpheres& spheres, const GridShape& shape,
                        const std::vector<int32_t>& closest, size_t seed, const Eigen::Vector3d& p, double* distance) {
@@ -87,21 +86,10 @@ int32_t best_candidate(const TriMesh& mesh, const TriangleSpheres& spheres, cons
 template <class Winding>
 size_t fill_inside(const GridShape& shape, const std::vector<uint8_t>& layer, const std::vector<size_t>& layer_list,
                    Winding&& winding_inside, std::vector<uint8_t>& inside) {
-  const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
-  const size_t sy = size_t(nz), sx = size_t(ny) * size_t(nz);
   std::vector<uint8_t> seen(shape.count(), 0);
   std::vector<size_t> region, stack;
   size_t evaluations = 0;
-  // Visits the in-grid face neighbours of voxel idx.
-  auto around = [&](size_t idx, auto&& visit) {
-    const Eigen::Vector3i c = shape.coords(idx);
-    if (c.x() > 0) visit(idx - sx);
-    if (c.x() + 1 < nx) visit(idx + sx);
-    if (c.y() > 0) visit(idx - sy);
-    if (c.y() + 1 < ny) visit(idx + sy);
-    if (c.z() > 0) visit(idx - 1);
-    if (c.z() + 1 < nz) visit(idx + 1);
-  };
+  auto around = [&](size_t idx, auto&& visit) { shape.for_each_face_neighbour(idx, shape.coords(idx), visit); };
   for (size_t wall : layer_list) {
     if (!inside[wall]) continue;
     around(wall, [&](size_t start) {
@@ -261,8 +249,8 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     }
   }
 
-  // 3. Interior distances: nearest band voxel by an exact feature transform, then the exact
-  //    distance to that voxel's closest triangle.
+  // 3. Interior distances: nearest surface voxel by an exact feature transform, then the exact
+  //    distance to the closest of the triangles around it.
   DenseField& field = result.field;
   field.shape = shape;
   field.background = float(opt.band * h);
@@ -276,13 +264,13 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     // Each voxel's triangle: the best candidate around its nearest surface voxel, then two
     // sweeps in which it also tries its six neighbours' triangles (vector propagation), which
     // fixes voxels whose nearest surface voxel slid along the surface away from the foot point.
-    std::vector<int32_t> tri(total, -1);
-    std::vector<float> d(total, std::numeric_limits<float>::infinity());
+    std::vector<int32_t> tri(closest);  // surface voxels keep theirs
+    std::vector<float> d(dist);
     // Outside, only the band of opt.band voxels is stored (the rest is background).
     const double band_reach = (opt.band + 1) * h;
     std::vector<uint8_t> wanted(total, 0);
     const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
-    const size_t sy = size_t(nz), sx = size_t(ny) * size_t(nz);
+    const size_t sy = size_t(nz);
     // Parallel over grid lines along z; `line(i, j, base)` sees voxels base .. base + nz - 1.
     auto for_each_line = [&](auto&& line) {
       tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 16), [&](const tbb::blocked_range<int>& r) {
@@ -292,11 +280,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     for_each_line([&](int i, int j, size_t base) {
       for (int k = 0; k < nz; ++k) {
         const size_t idx = base + size_t(k);
-        if (surface_layer[idx]) {
-          tri[idx] = closest[idx];
-          d[idx] = dist[idx];
-          continue;
-        }
+        if (surface_layer[idx]) continue;
         const int32_t seed = nearest[idx];
         if (seed < 0) continue;
         const Eigen::Vector3d p = shape.world(i, j, k);
@@ -327,8 +311,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
           const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
           int32_t own = tri[idx];
           double best = double(d[idx]) * double(d[idx]);
-          auto consider = [&](bool exists, size_t m) {
-            if (!exists) return;
+          shape.for_each_face_neighbour(idx, c, [&](size_t m) {
             const int32_t t = tri[m];
             if (t < 0 || t == own) return;
             const double e = spheres.distance2(mesh, t, p, best);
@@ -336,13 +319,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
               best = e;
               own = t;
             }
-          };
-          consider(c.x() > 0, idx - sx);
-          consider(c.x() + 1 < nx, idx + sx);
-          consider(c.y() > 0, idx - sy);
-          consider(c.y() + 1 < ny, idx + sy);
-          consider(c.z() > 0, idx - 1);
-          consider(c.z() + 1 < nz, idx + 1);
+          });
           next_tri[n] = own;
           if (own != tri[idx]) d[idx] = float(std::sqrt(best));  // this voxel's own slot only
         }

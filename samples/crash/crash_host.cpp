@@ -72,7 +72,7 @@ uint64_t fnv(uint64_t h, const void* data, size_t n) {
   return h;
 }
 
-// The ground: Bullet's plane test (GImpact has a fast path for it), over a finite slab (5 km
+// The ground: Bullet's plane test (GImpact has a fast path for it), over a finite slab (10 km
 // across: a car launched at twice the speed slides for hundreds of metres). Bullet's
 // own plane reports an infinite box, which defeats a compound's child culling: every sphere of
 // every car would be tested against the ground every step.
