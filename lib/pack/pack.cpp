@@ -33,7 +33,6 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
   std::vector<float> work = field.values;
 
   stats.stop_reason = "no interior voxel left";
-  const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
   while (!queue.empty()) {
     const auto [depth, neg_index] = queue.top();
     queue.pop();
@@ -75,33 +74,41 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
     result.spheres.push_back({center, radius});
     log.progress("packing", result.spheres.size(), opt.max_spheres);
 
-    // Clear the field inside the sphere so no later center falls in it.
-    const Eigen::Vector3i c = ((center / h).array().round().cast<int>() - shape.origin.array()).matrix();
-    const int reach = int(std::floor(radius / h));
-    const double r2 = (radius / h) * (radius / h);
-    const Eigen::Vector3d cg = center / h - shape.origin.cast<double>();  // center in grid units
-    for (int i = std::max(0, c.x() - reach - 1); i <= std::min(nx - 1, c.x() + reach + 1); ++i)
-      for (int j = std::max(0, c.y() - reach - 1); j <= std::min(ny - 1, c.y() + reach + 1); ++j)
-        for (int k = std::max(0, c.z() - reach - 1); k <= std::min(nz - 1, c.z() + reach + 1); ++k) {
-          const double di = i - cg.x(), dj = j - cg.y(), dk = k - cg.z();
-          if (di * di + dj * dj + dk * dk <= r2) {
-            float& v = work[shape.index(i, j, k)];
-            if (v < 0) v = 0;
-          }
-        }
+    clear_inside(work, shape, center, radius);  // no later center falls in it
     if (opt.max_spheres > 0 && result.spheres.size() >= opt.max_spheres) {
       stats.stop_reason = "reached the max sphere count";
       break;
     }
   }
-  if (!result.spheres.empty()) {
-    stats.smallest = stats.largest = result.spheres.front().radius;
-    for (const auto& s : result.spheres) {
-      stats.smallest = std::min(stats.smallest, s.radius);
-      stats.largest = std::max(stats.largest, s.radius);
-    }
-  }
+  stats.set_radius_range(result.spheres);
   return result;
+}
+
+void PackStats::set_radius_range(const SphereSet& spheres) {
+  if (spheres.empty()) return;
+  smallest = largest = spheres.front().radius;
+  for (const auto& s : spheres) {
+    smallest = std::min(smallest, s.radius);
+    largest = std::max(largest, s.radius);
+  }
+}
+
+void clear_inside(std::vector<float>& values, const GridShape& shape, const Eigen::Vector3d& center, double radius) {
+  const double h = shape.voxel_size;
+  const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+  const Eigen::Vector3i c = ((center / h).array().round().cast<int>() - shape.origin.array()).matrix();
+  const int reach = int(std::floor(radius / h));
+  const double r2 = (radius / h) * (radius / h);
+  const Eigen::Vector3d cg = center / h - shape.origin.cast<double>();  // center in grid units
+  for (int i = std::max(0, c.x() - reach - 1); i <= std::min(nx - 1, c.x() + reach + 1); ++i)
+    for (int j = std::max(0, c.y() - reach - 1); j <= std::min(ny - 1, c.y() + reach + 1); ++j)
+      for (int k = std::max(0, c.z() - reach - 1); k <= std::min(nz - 1, c.z() + reach + 1); ++k) {
+        const double di = i - cg.x(), dj = j - cg.y(), dk = k - cg.z();
+        if (di * di + dj * dj + dk * dk <= r2) {
+          float& v = values[shape.index(i, j, k)];
+          if (v < 0) v = 0;
+        }
+      }
 }
 
 ToleranceResult fewest_spheres_within(const TriMesh& mesh, const SphereSet& sequence, double tolerance,

@@ -32,7 +32,14 @@ struct PackStats {
   double smallest = 0, largest = 0;       // radii produced
   size_t interior_voxels = 0, centers_rejected = 0, centers_refined = 0;
   nlohmann::json to_json() const;
+  // smallest and largest from the radii of `spheres` (left at 0 when there are none).
+  void set_radius_range(const SphereSet& spheres);
 };
+
+// Sets to 0 (no longer a candidate centre) every negative value whose voxel centre lies in the
+// sphere: what packing does after placing a sphere, and what gap filling does for the spheres
+// a pose already has.
+void clear_inside(std::vector<float>& values, const GridShape& shape, const Eigen::Vector3d& center, double radius);
 
 struct PackResult {
   SphereSet spheres;

@@ -92,13 +92,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
                            {"max_error", reached},         {"spheres", keep},
                            {"limited_by", limit},          {"sequence_length", tr.max_error_by_count.size()}};
   }
-  if (!packed.spheres.empty()) {
-    packed.stats.smallest = packed.stats.largest = packed.spheres.front().radius;
-    for (const auto& s : packed.spheres) {
-      packed.stats.smallest = std::min(packed.stats.smallest, s.radius);
-      packed.stats.largest = std::max(packed.stats.largest, s.radius);
-    }
-  }
+  packed.stats.set_radius_range(packed.spheres);  // after the tolerance prefix
   SpheresFile file;
   file.spheres = packed.spheres;
   file.voxel_size = sdf.field.shape.voxel_size;

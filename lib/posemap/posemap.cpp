@@ -19,22 +19,8 @@ namespace {
 
 // Sets the field to 0 (not a candidate center) wherever a sphere already covers it.
 void clear_covered(DenseField& field, const SphereSet& spheres) {
-  const GridShape& g = field.shape;
-  const double h = g.voxel_size;
-  for (const auto& s : spheres) {
-    if (!(s.radius > 0)) continue;
-    const Eigen::Vector3d lo = (s.center.array() - s.radius) / h - g.origin.cast<double>().array();
-    const Eigen::Vector3d hi = (s.center.array() + s.radius) / h - g.origin.cast<double>().array();
-    const Eigen::Vector3i a = lo.array().ceil().cast<int>().max(0);
-    const Eigen::Vector3i b = hi.array().floor().cast<int>().min(g.dims.array() - 1);
-    for (int i = a.x(); i <= b.x(); ++i)
-      for (int j = a.y(); j <= b.y(); ++j)
-        for (int k = a.z(); k <= b.z(); ++k)
-          if ((g.world(i, j, k) - s.center).squaredNorm() <= s.radius * s.radius) {
-            float& v = field.values[g.index(i, j, k)];
-            if (v < 0) v = 0;
-          }
-  }
+  for (const auto& s : spheres)
+    if (s.radius > 0) clear_inside(field.values, field.shape, s.center, s.radius);
 }
 
 }  // namespace
