@@ -5,11 +5,9 @@
 #include "core/error.hpp"
 #include "crash_host.hpp"
 #include "export/spx_writer.hpp"
-#include "mesh/mesh_query.hpp"
-#include "pack/pack.hpp"
 #include "posemap/posemap.hpp"
 #include "samples/samples.hpp"
-#include "sdf/sdf.hpp"
+#include "test_util.hpp"
 
 using namespace spx;
 using namespace spx::crash;
@@ -25,15 +23,9 @@ struct CarProxy {
 const CarProxy& car_proxy() {
   static const CarProxy car = [] {
     const SampleAsset asset = make_car();
-    SdfOptions sopt;
-    sopt.resolution = 64;
-    const SdfResult sdf = build_sdf(asset.rest, sopt);
-    const MeshQuery query(asset.rest);
     PackOptions popt;
     popt.max_spheres = 100;
-    SpheresFile spheres;
-    spheres.spheres = pack_spheres(sdf.field, popt, &query).spheres;
-    spheres.voxel_size = sdf.field.shape.voxel_size;
+    const SpheresFile spheres = test::pack_file(asset.rest, 64, popt);
     std::vector<PoseInput> poses;
     for (size_t i = 0; i < asset.pose_names.size(); ++i) poses.push_back({asset.pose_names[i], "", asset.pose(i)});
     const std::string bytes = encode_spx(pose_map(asset.rest, "rest", poses, spheres, {}).proxy);

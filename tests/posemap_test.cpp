@@ -15,17 +15,6 @@
 namespace spx {
 namespace {
 
-SpheresFile pack_file(const TriMesh& mesh, int resolution) {
-  SdfOptions sopt;
-  sopt.resolution = resolution;
-  const SdfResult sdf = build_sdf(mesh, sopt);
-  const MeshQuery query(mesh);
-  SpheresFile f;
-  f.spheres = pack_spheres(sdf.field, {}, &query).spheres;
-  f.voxel_size = sdf.field.shape.voxel_size;
-  return f;
-}
-
 Eigen::Affine3d some_affine() {
   Eigen::Affine3d a = Eigen::Affine3d::Identity();
   a.translate(Eigen::Vector3d(1.5, -2.0, 0.25));
@@ -40,7 +29,7 @@ void expect_affine_exact(const TriMesh& rest, int resolution, const std::string&
   const Eigen::Affine3d a = some_affine();
   TriMesh pose = rest;
   for (auto& v : pose.vertices) v = a * v;
-  const SpheresFile spheres = pack_file(rest, resolution);
+  const SpheresFile spheres = test::pack_file(rest, resolution);
   const PoseMapResult r = pose_map(rest, "rest.obj", {{"affine", "affine.obj", pose}}, spheres, {});
   const double tol = 1e-6 * pose.diagonal();
   ASSERT_EQ(r.proxy.poses.size(), 2u);
@@ -68,7 +57,7 @@ TEST(PoseMap, AffinePosesOfSharedMeshes) {
 // shrink with finer tets: it is the model, not the discretisation).
 TEST(PoseMap, AnalyticSampleMapsClosely) {
   const SampleAsset car = make_car();
-  const SpheresFile spheres = pack_file(car.rest, 64);
+  const SpheresFile spheres = test::pack_file(car.rest, 64);
   std::vector<PoseInput> poses;
   for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
   const PoseMapResult r = pose_map(car.rest, "rest", poses, spheres, {});
@@ -87,7 +76,7 @@ TEST(PoseMap, AnalyticSampleMapsClosely) {
 
 TEST(PoseMap, RadiiAreDistancesToEachPoseAndSitesAreNearest) {
   const SampleAsset barrel = make_barrel();
-  const SpheresFile spheres = pack_file(barrel.rest, 48);
+  const SpheresFile spheres = test::pack_file(barrel.rest, 48);
   std::vector<PoseInput> poses;
   for (size_t i = 0; i < barrel.pose_names.size(); ++i) poses.push_back({barrel.pose_names[i], "", barrel.pose(i)});
   PoseMapOptions opt;
@@ -116,7 +105,7 @@ TEST(PoseMap, CentersOutsideAPoseAreReportedNotKept) {
   const TriMesh rest = test::uv_sphere(1.0, 16, 32);
   TriMesh pose = rest;
   for (auto& v : pose.vertices) v = Eigen::Vector3d(v.x(), v.y(), v.z() * 0.05);
-  const SpheresFile spheres = pack_file(rest, 32);
+  const SpheresFile spheres = test::pack_file(rest, 32);
   const PoseMapResult r = pose_map(rest, "rest", {{"flat", "", pose}}, spheres, {});
   const MeshQuery q(pose);
   size_t outside = 0;
@@ -185,7 +174,7 @@ TEST(PoseMap, AcceptsUserTetsAndStillMapsAffinePosesExactly) {
   a.rotate(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ())).scale(1.2);
   TriMesh pose = rest;
   for (auto& v : pose.vertices) v = a * v;
-  const SpheresFile spheres = pack_file(rest, 40);
+  const SpheresFile spheres = test::pack_file(rest, 40);
   PoseMapOptions opt;
   opt.tet_file = dir + "/rest.mesh";
   const PoseMapResult r = pose_map(rest, "rest", {{"turned", "", pose}}, spheres, opt);
@@ -210,7 +199,7 @@ namespace {
 // and every sphere of every pose stays inside that pose's mesh.
 TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
   const SampleAsset car = make_car();
-  SpheresFile spheres = pack_file(car.rest, 64);
+  SpheresFile spheres = test::pack_file(car.rest, 64);
   std::vector<PoseInput> poses;
   for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
   PoseMapOptions opt;

@@ -125,13 +125,7 @@ TEST(GeneratedInput, AbsurdParameters) {
 
 TEST(PoseInput, SwappedRestAndPoseIsCaught) {
   const SampleAsset car = make_car();
-  SdfOptions o;
-  o.resolution = 48;
-  const SdfResult sdf = build_sdf(car.rest, o);
-  const MeshQuery q(car.rest);
-  SpheresFile spheres;
-  spheres.spheres = pack_spheres(sdf.field, {}, &q).spheres;
-  spheres.voxel_size = sdf.field.shape.voxel_size;
+  const SpheresFile spheres = test::pack_file(car.rest, 48);
   // The roof crumple given as the rest mesh, the real rest given as a pose.
   const ExitCode c = code_of([&] { pose_map(car.pose(3), "roof.obj", {{"rest", "rest.obj", car.rest}}, spheres, {}); });
   EXPECT_EQ(c, ExitCode::bad_input);

@@ -6,6 +6,10 @@
 #include <string>
 
 #include "mesh/mesh.hpp"
+#include "mesh/mesh_query.hpp"
+#include "pack/pack.hpp"
+#include "pack/spheres_file.hpp"
+#include "sdf/sdf.hpp"
 
 namespace spx::test {
 
@@ -21,6 +25,18 @@ inline std::string temp_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("spx-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir.string();
+}
+
+// The chain's first two stages in memory: the SDF at `resolution`, then packing with exact radii.
+inline SpheresFile pack_file(const TriMesh& mesh, int resolution, const PackOptions& pack = {}) {
+  SdfOptions sopt;
+  sopt.resolution = resolution;
+  const SdfResult sdf = build_sdf(mesh, sopt);
+  const MeshQuery query(mesh);
+  SpheresFile f;
+  f.spheres = pack_spheres(sdf.field, pack, &query).spheres;
+  f.voxel_size = sdf.field.shape.voxel_size;
+  return f;
 }
 
 // Axis-aligned box as 12 outward triangles.
