@@ -36,9 +36,42 @@ class MeshQuery {
   std::unique_ptr<Tree> tree_;
 };
 
-// Reference for tests and for hot loops that already know the triangle.
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                                          Eigen::Vector3d* barycentric = nullptr);
+// The closest point of triangle abc to p, with its barycentric weights on request (Ericson,
+// Real-Time Collision Detection, 5.1.5). Inline: the SDF calls it tens of millions of times.
+inline Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                                 const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                                                 Eigen::Vector3d* bary = nullptr) {
+  auto out = [&](double u, double v, double w) {
+    if (bary) *bary = Eigen::Vector3d(u, v, w);
+    return Eigen::Vector3d(u * a + v * b + w * c);
+  };
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return out(1, 0, 0);
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return out(0, 1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return out(1 - v, v, 0);
+  }
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return out(0, 0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return out(1 - w, 0, w);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return out(0, 1 - w, w);
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  const double v = vb * denom, w = vc * denom;
+  return out(1 - v - w, v, w);
+}
 
 }  // namespace spx

@@ -4,6 +4,7 @@
 // Memory layout is OpenVDB's LayoutZYX (z fastest), so the block can be handed to tools::Dense.
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace spx {
@@ -16,6 +17,11 @@ struct GridShape {
   size_t count() const { return size_t(dims.x()) * size_t(dims.y()) * size_t(dims.z()); }
   size_t index(int i, int j, int k) const { return size_t(k) + size_t(dims.z()) * (size_t(j) + size_t(dims.y()) * size_t(i)); }
   Eigen::Vector3i coords(size_t idx) const {
+    if (idx <= UINT32_MAX) {  // 32-bit division where it fits: several times faster, and this sits in hot loops
+      const uint32_t n = uint32_t(idx), nz = uint32_t(dims.z()), ny = uint32_t(dims.y());
+      const uint32_t line = n / nz;
+      return {int(line / ny), int(line % ny), int(n - line * nz)};
+    }
     const int k = int(idx % size_t(dims.z()));
     idx /= size_t(dims.z());
     return {int(idx / size_t(dims.y())), int(idx % size_t(dims.y())), k};

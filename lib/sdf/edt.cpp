@@ -1,5 +1,6 @@
 #include "sdf/edt.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -88,27 +89,35 @@ std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t
     }
   });
 
-  // Passes along y, then x: lower envelope of parabolas, carrying the seed index.
-  auto pass = [&](int n, int lines, auto&& offset_of) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, lines), [&](const tbb::blocked_range<int>& r) {
-      LineScratch<Dist> s(n);
-      for (int line = r.begin(); line != r.end(); ++line) {
-        for (int q = 0; q < n; ++q) {
-          const size_t idx = offset_of(line, q);
-          s.f[q] = dist[idx];
-          s.feat[q] = feature[idx];
-        }
-        transform_line(n, s);
-        for (int q = 0; q < n; ++q) {
-          const size_t idx = offset_of(line, q);
-          dist[idx] = s.d[q];
-          feature[idx] = s.arg[q] < 0 ? -1 : s.feat[s.arg[q]];
-        }
+  // Passes along y, then x: lower envelope of parabolas, carrying the seed index. The lines
+  // of a pass run across z, the contiguous axis, so they go in blocks of kBlock neighbours
+  // along z: each cache line gathered or scattered is then used whole, not for one value.
+  constexpr int kBlock = 16;
+  const int z_blocks = (nz + kBlock - 1) / kBlock;
+  // n samples per line, `stride` apart; line block b of `blocks` starts at first(b / z_blocks) + its z.
+  auto pass = [&](int n, int blocks, size_t stride, auto&& first) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, blocks), [&](const tbb::blocked_range<int>& r) {
+      std::vector<LineScratch<Dist>> s(kBlock, LineScratch<Dist>(n));
+      for (int b = r.begin(); b != r.end(); ++b) {
+        const int k0 = (b % z_blocks) * kBlock, width = std::min(kBlock, nz - k0);
+        const size_t base = first(b / z_blocks) + size_t(k0);
+        for (int q = 0; q < n; ++q)
+          for (int w = 0; w < width; ++w) {
+            s[w].f[q] = dist[base + q * stride + w];
+            s[w].feat[q] = feature[base + q * stride + w];
+          }
+        for (int w = 0; w < width; ++w) transform_line(n, s[w]);
+        for (int q = 0; q < n; ++q)
+          for (int w = 0; w < width; ++w) {
+            dist[base + q * stride + w] = s[w].d[q];
+            feature[base + q * stride + w] = s[w].arg[q] < 0 ? -1 : s[w].feat[s[w].arg[q]];
+          }
       }
     });
   };
-  pass(ny, nx * nz, [&](int line, int j) { return shape.index(line / nz, j, line % nz); });
-  pass(nx, ny * nz, [&](int line, int i) { return shape.index(i, line / nz, line % nz); });
+  const size_t plane = size_t(ny) * size_t(nz);
+  pass(ny, nx * z_blocks, size_t(nz), [&](int i) { return size_t(i) * plane; });
+  pass(nx, ny * z_blocks, plane, [&](int j) { return size_t(j) * size_t(nz); });
   return feature;
 }
 

@@ -25,56 +25,98 @@ const char* gib(double v) {
   return fmt_buf;
 }
 
-// Bounding spheres of the triangles: a candidate whose sphere is farther than the best
-// distance so far cannot win, and is skipped without the exact test.
+// The triangles laid out for the distance loops: corners side by side (one or two cache lines
+// per triangle instead of an index and three scattered vertices), with a bounding sphere: a
+// candidate whose sphere is farther than the best distance so far cannot win, and is skipped
+// without the exact test.
 struct TriangleSpheres {
-  std::vector<Eigen::Vector3d> center;
-  std::vector<double> radius;
+  struct Entry {
+    Eigen::Vector3d a, b, c, normal;  // unit normal (zero for a degenerate triangle)
+    double offset;                    // normal . a
+  };
+  std::vector<Entry> entries;
   explicit TriangleSpheres(const TriMesh& mesh) {
+    entries.reserve(mesh.triangles.size());
     for (const auto& f : mesh.triangles) {
-      const Eigen::Vector3d c = (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / 3;
-      double r = 0;
-      for (int v = 0; v < 3; ++v) r = std::max(r, (mesh.vertices[f[v]] - c).norm());
-      center.push_back(c);
-      radius.push_back(r * (1 + 1e-12));
+      Entry e{mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]], Eigen::Vector3d::Zero(), 0};
+      const Eigen::Vector3d n = (e.b - e.a).cross(e.c - e.a);
+      if (n.norm() > 0) e.normal = n / n.norm();
+      e.offset = e.normal.dot(e.a);
+      entries.push_back(e);
     }
   }
   // Squared distance from p to triangle t, or +inf when it certainly exceeds `best`.
-  double distance2(const TriMesh& mesh, int32_t t, const Eigen::Vector3d& p, double best) const {
-    const double gap = (p - center[size_t(t)]).norm() - radius[size_t(t)];
-    if (gap > 0 && gap * gap > best) return std::numeric_limits<double>::infinity();
-    const auto& f = mesh.triangles[size_t(t)];
-    return (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).squaredNorm();
+  double distance2(int32_t t, const Eigen::Vector3d& p, double best) const {
+    const Entry& e = entries[size_t(t)];
+    const double plane = e.normal.dot(p) - e.offset;
+    if (plane * plane > best * (1 + 1e-9)) return std::numeric_limits<double>::infinity();
+    return (closest_point_on_triangle(p, e.a, e.b, e.c) - p).squaredNorm();
   }
 };
 
-// The exact closest of the candidate triangles of voxel `seed` and its 18 face and edge
-// neighbours, seen from point p (the seed's own first, so that the bound prunes early). Returns the triangle;
-// `distance` receives the exact distance.
-int32_t best_candidate(const TriMesh& mesh, const TriangleSpheres& spheres, const GridShape& shape,
-                       const std::vector<int32_t>& closest, size_t seed, const Eigen::Vector3d& p, double* distance) {
-  const Eigen::Vector3i c = shape.coords(seed);
-  int32_t best_tri = closest[seed];
-  double best = spheres.distance2(mesh, best_tri, p, std::numeric_limits<double>::infinity());
-  int32_t tried[27] = {best_tri};  // neighbouring surface voxels mostly share triangles: test each once
-  int count = 1;
-  for (int di = -1; di <= 1; ++di)
-    for (int dj = -1; dj <= 1; ++dj)
-      for (int dk = -1; dk <= 1; ++dk) {
-        if (std::abs(di) + std::abs(dj) + std::abs(dk) > 2) continue;  // not the corners: the refine sweeps do the rest
-        const int i = c.x() + di, j = c.y() + dj, k = c.z() + dk;
-        if (i < 0 || j < 0 || k < 0 || i >= shape.dims.x() || j >= shape.dims.y() || k >= shape.dims.z()) continue;
-        const int32_t tri = closest[shape.index(i, j, k)];
-        if (tri < 0 || std::find(tried, tried + count, tri) != tried + count) continue;
-        tried[count++] = tri;
-        const double d = spheres.distance2(mesh, tri, p, best);
-        if (d < best || (d == best && tri < best_tri)) {
-          best = d;
-          best_tri = tri;
+// The candidate triangles of the voxels whose nearest surface voxel is `seed`: the closest
+// triangles of the seed and its 18 face and edge neighbours (not the corners: the refine
+// sweeps do the rest), each once, the seed's own first so that the bound prunes early.
+struct Candidates {
+  int32_t tri[19];
+  int count = 0;
+  Candidates(const GridShape& shape, const std::vector<int32_t>& closest, size_t seed) {
+    const Eigen::Vector3i c = shape.coords(seed);
+    tri[count++] = closest[seed];
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int dk = -1; dk <= 1; ++dk) {
+          if (std::abs(di) + std::abs(dj) + std::abs(dk) > 2) continue;
+          const int i = c.x() + di, j = c.y() + dj, k = c.z() + dk;
+          if (i < 0 || j < 0 || k < 0 || i >= shape.dims.x() || j >= shape.dims.y() || k >= shape.dims.z()) continue;
+          const int32_t t = closest[shape.index(i, j, k)];
+          if (t >= 0 && std::find(tri, tri + count, t) == tri + count) tri[count++] = t;
         }
+  }
+  // The exact closest of them to p (the lowest index on ties); `distance` receives the distance.
+  int32_t closest_to(const TriangleSpheres& spheres, const Eigen::Vector3d& p, double* distance) const {
+    int32_t best_tri = tri[0];
+    double best = spheres.distance2(best_tri, p, std::numeric_limits<double>::infinity());
+    for (int n = 1; n < count; ++n) {
+      const double e = spheres.distance2(tri[n], p, best);
+      if (e < best || (e == best && tri[n] < best_tri)) {
+        best = e;
+        best_tri = tri[n];
       }
-  *distance = std::sqrt(best);
-  return best_tri;
+    }
+    *distance = std::sqrt(best);
+    return best_tri;
+  }
+};
+
+// The mesh with its triangles in Morton order of their centroids' voxels: the distance loops
+// then find the triangles of one neighbourhood side by side in memory (in cache) instead of
+// scattered over the whole list. Triangle indices below are in this order.
+TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
+  auto spread = [](uint64_t v) {  // 21 bits -> every third bit of 63
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffull;
+    v = (v | v << 16) & 0x1f0000ff0000ffull;
+    v = (v | v << 8) & 0x100f00f00f00f00full;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+    v = (v | v << 2) & 0x1249249249249249ull;
+    return v;
+  };
+  std::vector<std::pair<uint64_t, int32_t>> order(mesh.triangles.size());
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& f = mesh.triangles[t];
+    const Eigen::Vector3d c = (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / (3 * shape.voxel_size);
+    uint64_t key = 0;
+    for (int axis = 0; axis < 3; ++axis)
+      key |= spread(uint64_t(std::clamp(int64_t(std::floor(c[axis])) - shape.origin[axis], int64_t(0), int64_t(0x1fffff)))) << axis;
+    order[t] = {key, int32_t(t)};
+  }
+  std::sort(order.begin(), order.end());
+  TriMesh sorted;
+  sorted.vertices = mesh.vertices;
+  sorted.triangles.reserve(order.size());
+  for (const auto& [key, t] : order) sorted.triangles.push_back(mesh.triangles[size_t(t)]);
+  return sorted;
 }
 
 // Marks the voxels the surface layer encloses. A region of non-layer voxels is inside when
@@ -163,11 +205,14 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
   return shape;
 }
 
-SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
+SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   SdfResult result;
   SdfStats& stats = result.stats;
-  stats.defects = find_defects(mesh);
-  const GridShape shape = plan_grid(mesh, opt, &stats.estimated_memory_gib);
+  StageTimer prepare(log, "defects-and-order");
+  stats.defects = find_defects(input);
+  const GridShape shape = plan_grid(input, opt, &stats.estimated_memory_gib);
+  const TriMesh mesh = in_spatial_order(input, shape);
+  prepare.stop();
   const double h = shape.voxel_size;
   const size_t total = shape.count();
   log.detail("grid " + std::to_string(shape.dims.x()) + "x" + std::to_string(shape.dims.y()) + "x" +
@@ -177,12 +222,12 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
   //    and closest triangle (each triangle visits the voxels of its box grown by a voxel).
   //    Any surface crossing between two face-adjacent voxel centres lies within half a voxel
   //    of one of them, so the layer separates inside from outside.
+  StageTimer layer_stage(log, "surface-layer");
   std::vector<float> dist(total, std::numeric_limits<float>::infinity());
   std::vector<int32_t> closest(total, -1);
   std::vector<uint8_t> surface_layer(total, 0);
   std::vector<size_t> layer_list;
   {
-    StageTimer t(log, "surface-layer");
     rasterize_surface_layer(mesh, shape, dist, closest);
     for (size_t i = 0; i < total; ++i)
       if (closest[i] >= 0) {
@@ -190,6 +235,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
         layer_list.push_back(i);
       }
   }
+  layer_stage.stop();
   stats.surface_voxels = layer_list.size();
 
   // 2. Sign. A closed, manifold, consistently oriented single surface: the angle-weighted
@@ -260,7 +306,7 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
     StageTimer edt(log, "feature-transform");
     const std::vector<int32_t> nearest = nearest_seed_transform(shape, surface_layer);
     edt.stop();
-    StageTimer candidates(log, "closest-triangles");
+    StageTimer closest_stage(log, "closest-triangles");
     // Each voxel's triangle: the best candidate around its nearest surface voxel, then two
     // sweeps in which it also tries its six neighbours' triangles (vector propagation), which
     // fixes voxels whose nearest surface voxel slid along the surface away from the foot point.
@@ -283,48 +329,85 @@ SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& opt, Log& log) {
         if (surface_layer[idx]) continue;
         const int32_t seed = nearest[idx];
         if (seed < 0) continue;
-        const Eigen::Vector3d p = shape.world(i, j, k);
         if (!inside[idx]) {
           // Outside: only the band of opt.band voxels is stored. The seed's k is cheap to get;
           // most far voxels fail on it before the full test.
-          const int seed_k = int(size_t(seed) % sy);
+          const int seed_k = int(uint32_t(seed) % uint32_t(sy));  // indices fit 32 bits (plan_grid)
           if (std::abs(seed_k - k) * h > band_reach) continue;
-          if ((p - shape.world(size_t(seed))).squaredNorm() > band_reach * band_reach) continue;
+          if ((shape.world(i, j, k) - shape.world(size_t(seed))).squaredNorm() > band_reach * band_reach) continue;
         }
         wanted[idx] = 1;
-        double e;
-        tri[idx] = best_candidate(mesh, spheres, shape, closest, size_t(seed), p, &e);
-        d[idx] = float(e);
       }
     });
-    candidates.stop();
-    StageTimer refine(log, "refine");
     std::vector<size_t> wanted_list;
     for (size_t idx = 0; idx < total; ++idx)
       if (wanted[idx]) wanted_list.push_back(idx);
+    // Grouped by nearest surface voxel: the voxels of a group share its candidate triangles,
+    // which then stay in cache while each voxel picks its closest (a counting sort).
+    std::vector<size_t> group_start(layer_list.size() + 1, 0), by_seed(wanted_list.size());
+    {
+      std::vector<int32_t> layer_id(total, -1);
+      for (size_t n = 0; n < layer_list.size(); ++n) layer_id[layer_list[n]] = int32_t(n);
+      std::vector<int32_t> group(wanted_list.size());
+      for (size_t n = 0; n < wanted_list.size(); ++n) {
+        group[n] = layer_id[size_t(nearest[wanted_list[n]])];
+        ++group_start[size_t(group[n]) + 1];
+      }
+      for (size_t g = 0; g < layer_list.size(); ++g) group_start[g + 1] += group_start[g];
+      std::vector<size_t> fill(group_start.begin(), group_start.end() - 1);
+      for (size_t n = 0; n < wanted_list.size(); ++n) by_seed[fill[size_t(group[n])]++] = wanted_list[n];
+    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t g = r.begin(); g != r.end(); ++g) {
+        if (group_start[g] == group_start[g + 1]) continue;
+        const Candidates candidates(shape, closest, layer_list[g]);
+        for (size_t n = group_start[g]; n != group_start[g + 1]; ++n) {
+          const size_t idx = by_seed[n];
+          double e;
+          tri[idx] = candidates.closest_to(spheres, shape.world(idx), &e);
+          d[idx] = float(e);
+        }
+      }
+    });
+    closest_stage.stop();
+    StageTimer refine(log, "refine");
+    // wanted[idx] bit 2: the voxel's triangle changed in the last sweep. A voxel none of whose
+    // face neighbours nor itself changed would repeat the same tests, so it is skipped.
+    constexpr uint8_t kChanged = 2;
     for (int sweep = 0; sweep < 2; ++sweep) {
       std::vector<int32_t> next_tri(wanted_list.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t n = r.begin(); n != r.end(); ++n) {
           const size_t idx = wanted_list[n];
           const Eigen::Vector3i c = shape.coords(idx);
-          const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
           int32_t own = tri[idx];
-          double best = double(d[idx]) * double(d[idx]);
+          next_tri[n] = own;
+          int32_t seen[6];
+          int count = 0;
+          bool stale = sweep == 0 || (wanted[idx] & kChanged);
           shape.for_each_face_neighbour(idx, c, [&](size_t m) {
-            const int32_t t = tri[m];
-            if (t < 0 || t == own) return;
-            const double e = spheres.distance2(mesh, t, p, best);
+            stale = stale || (wanted[m] & kChanged);
+            if (tri[m] >= 0 && tri[m] != own && std::find(seen, seen + count, tri[m]) == seen + count) seen[count++] = tri[m];
+          });
+          if (!stale) continue;
+          const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
+          double best = double(d[idx]) * double(d[idx]);
+          for (int q = 0; q < count; ++q) {
+            const double e = spheres.distance2(seen[q], p, best);
             if (e < best) {
               best = e;
-              own = t;
+              own = seen[q];
             }
-          });
+          }
           next_tri[n] = own;
           if (own != tri[idx]) d[idx] = float(std::sqrt(best));  // this voxel's own slot only
         }
       });
-      for (size_t n = 0; n < wanted_list.size(); ++n) tri[wanted_list[n]] = next_tri[n];
+      for (size_t n = 0; n < wanted_list.size(); ++n) {
+        const size_t idx = wanted_list[n];
+        wanted[idx] = next_tri[n] != tri[idx] ? 1 | kChanged : 1;
+        tri[idx] = next_tri[n];
+      }
     }
     refine.stop();
     StageTimer finish(log, "values");
