@@ -62,7 +62,7 @@ void transform_line(int n, LineScratch<Dist>& s) {
 }
 
 template <class Dist>
-std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t>& seed) {
+std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t>& seed, uint8_t bits) {
   const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
   const size_t total = shape.count();
   std::vector<Dist> dist(total);
@@ -74,12 +74,12 @@ std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t
       const size_t base = size_t(line) * nz;
       int last = -1;
       for (int k = 0; k < nz; ++k) {
-        if (seed[base + k]) last = k;
+        if (seed[base + k] & bits) last = k;
         feature[base + k] = last;
       }
       last = -1;
       for (int k = nz - 1; k >= 0; --k) {
-        if (seed[base + k]) last = k;
+        if (seed[base + k] & bits) last = k;
         const int before = feature[base + k];
         int best = before;
         if (last >= 0 && (before < 0 || last - k < k - before)) best = last;
@@ -123,10 +123,10 @@ std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t
 
 }  // namespace
 
-std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed) {
+std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed, uint8_t bits) {
   const int64_t longest = shape.dims.maxCoeff();
-  return 3 * longest * longest < int64_t(kNone<int32_t>) ? transform<int32_t>(shape, seed)
-                                                          : transform<int64_t>(shape, seed);
+  return 3 * longest * longest < int64_t(kNone<int32_t>) ? transform<int32_t>(shape, seed, bits)
+                                                          : transform<int64_t>(shape, seed, bits);
 }
 
 }  // namespace spx

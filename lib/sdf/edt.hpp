@@ -9,8 +9,9 @@
 
 namespace spx {
 
-// `seed[idx]` nonzero marks a seed. Returns, per voxel, the flat index of a nearest seed
+// `seed[idx] & bits` nonzero marks a seed. Returns, per voxel, the flat index of a nearest seed
 // (Euclidean distance between voxel centers) or -1 when there is no seed at all.
-std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed);
+std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed,
+                                            uint8_t bits = 0xff);
 
 }  // namespace spx

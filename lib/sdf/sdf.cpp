@@ -54,23 +54,50 @@ struct TriangleSpheres {
   }
 };
 
+// One byte of state per voxel (one array instead of one per state).
+enum VoxelFlag : uint8_t {
+  kLayer = 1,    // within a voxel of the surface: exact distance and triangle from the rasterizer
+  kInside = 2,   // inside the solid
+  kWanted = 4,   // gets a distance: inside, or outside within the band
+  kChanged = 8,  // its triangle changed in the last refine sweep
+  kSeen = 16,    // reached by the region flood
+};
+
+// The indices i in [0, n) where pred(i) holds, ascending (gathered in parallel chunks).
+template <class Pred>
+std::vector<size_t> indices_where(size_t n, Pred&& pred) {
+  const size_t chunks = 256;
+  std::vector<std::vector<size_t>> part(chunks);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    for (size_t i = n * c / chunks, end = n * (c + 1) / chunks; i < end; ++i)
+      if (pred(i)) part[c].push_back(i);
+  });
+  std::vector<size_t> all;
+  size_t count = 0;
+  for (const auto& p : part) count += p.size();
+  all.reserve(count);
+  for (const auto& p : part) all.insert(all.end(), p.begin(), p.end());
+  return all;
+}
+
 // The candidate triangles of the voxels whose nearest surface voxel is `seed`: the closest
 // triangles of the seed and its 18 face and edge neighbours (not the corners: the refine
 // sweeps do the rest), each once, the seed's own first so that the bound prunes early.
 struct Candidates {
   int32_t tri[19];
   int count = 0;
-  Candidates(const GridShape& shape, const std::vector<int32_t>& closest, size_t seed) {
+  Candidates(const GridShape& shape, const std::vector<int32_t>& tri_of, const std::vector<uint8_t>& flags, size_t seed) {
     const Eigen::Vector3i c = shape.coords(seed);
-    tri[count++] = closest[seed];
+    tri[count++] = tri_of[seed];
     for (int di = -1; di <= 1; ++di)
       for (int dj = -1; dj <= 1; ++dj)
         for (int dk = -1; dk <= 1; ++dk) {
           if (std::abs(di) + std::abs(dj) + std::abs(dk) > 2) continue;
           const int i = c.x() + di, j = c.y() + dj, k = c.z() + dk;
           if (i < 0 || j < 0 || k < 0 || i >= shape.dims.x() || j >= shape.dims.y() || k >= shape.dims.z()) continue;
-          const int32_t t = closest[shape.index(i, j, k)];
-          if (t >= 0 && std::find(tri, tri + count, t) == tri + count) tri[count++] = t;
+          const size_t m = shape.index(i, j, k);
+          if (!(flags[m] & kLayer)) continue;  // only the rasterizer's triangles, never another voxel's result
+          if (std::find(tri, tri + count, tri_of[m]) == tri + count) tri[count++] = tri_of[m];
         }
   }
   // The exact closest of them to p (the lowest index on ties); `distance` receives the distance.
@@ -126,25 +153,24 @@ TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
 // winding number per region confirms it, so that a wrongly signed layer voxel cannot flood the
 // outside. Returns the number of winding numbers evaluated.
 template <class Winding>
-size_t fill_inside(const GridShape& shape, const std::vector<uint8_t>& layer, const std::vector<size_t>& layer_list,
-                   Winding&& winding_inside, std::vector<uint8_t>& inside) {
-  std::vector<uint8_t> seen(shape.count(), 0);
+size_t fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list, Winding&& winding_inside,
+                   std::vector<uint8_t>& flags) {
   std::vector<size_t> region, stack;
   size_t evaluations = 0;
   auto around = [&](size_t idx, auto&& visit) { shape.for_each_face_neighbour(idx, shape.coords(idx), visit); };
   for (size_t wall : layer_list) {
-    if (!inside[wall]) continue;
+    if (!(flags[wall] & kInside)) continue;
     around(wall, [&](size_t start) {
-      if (layer[start] || seen[start]) return;
-      seen[start] = 1;
+      if (flags[start] & (kLayer | kSeen)) return;
+      flags[start] |= kSeen;
       region.assign(1, start);
       stack.assign(1, start);
       while (!stack.empty()) {
         const size_t idx = stack.back();
         stack.pop_back();
         around(idx, [&](size_t m) {
-          if (!layer[m] && !seen[m]) {
-            seen[m] = 1;
+          if (!(flags[m] & (kLayer | kSeen))) {
+            flags[m] |= kSeen;
             region.push_back(m);
             stack.push_back(m);
           }
@@ -152,7 +178,7 @@ size_t fill_inside(const GridShape& shape, const std::vector<uint8_t>& layer, co
       }
       ++evaluations;
       if (winding_inside(shape.world(start)))
-        for (size_t idx : region) inside[idx] = 1;
+        for (size_t idx : region) flags[idx] |= kInside;
     });
   }
   return evaluations;
@@ -221,20 +247,20 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   // 1. The surface layer: every voxel within one voxel of the surface, with its exact distance
   //    and closest triangle (each triangle visits the voxels of its box grown by a voxel).
   //    Any surface crossing between two face-adjacent voxel centres lies within half a voxel
-  //    of one of them, so the layer separates inside from outside.
+  //    of one of them, so the layer separates inside from outside. `field.values` holds
+  //    unsigned distances until the sign is applied at the end; `tri` each voxel's triangle.
+  DenseField& field = result.field;
+  field.shape = shape;
+  field.background = float(opt.band * h);
   StageTimer layer_stage(log, "surface-layer");
-  std::vector<float> dist(total, std::numeric_limits<float>::infinity());
-  std::vector<int32_t> closest(total, -1);
-  std::vector<uint8_t> surface_layer(total, 0);
-  std::vector<size_t> layer_list;
-  {
-    rasterize_surface_layer(mesh, shape, dist, closest);
-    for (size_t i = 0; i < total; ++i)
-      if (closest[i] >= 0) {
-        surface_layer[i] = 1;
-        layer_list.push_back(i);
-      }
-  }
+  field.values.assign(total, field.background);
+  std::vector<int32_t> tri(total, -1);
+  std::vector<uint8_t> flags(total, 0);
+  rasterize_surface_layer(mesh, shape, field.values, tri);
+  const std::vector<size_t> layer_list = indices_where(total, [&](size_t idx) { return tri[idx] >= 0; });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t n = r.begin(); n != r.end(); ++n) flags[layer_list[n]] = kLayer;
+  });
   layer_stage.stop();
   stats.surface_voxels = layer_list.size();
 
@@ -242,7 +268,6 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   //    pseudo-normal of each layer voxel's closest feature (Baerentzen & Aanaes 2005), then one
   //    generalized winding number per region the layer encloses. Anything else (holes,
   //    flipped faces, several pieces that may overlap): the winding number at every voxel.
-  std::vector<uint8_t> inside(total, 0);
   {
     StageTimer t(log, "sign");
     const bool single_closed_surface = stats.defects.watertight() && stats.defects.components == 1;
@@ -253,8 +278,8 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t n = r.begin(); n != r.end(); ++n) {
           const size_t idx = layer_list[n];
-          const int side = normals.side(mesh, closest[idx], shape.world(idx));
-          inside[idx] = side < 0;
+          const int side = normals.side(mesh, tri[idx], shape.world(idx));
+          if (side < 0) flags[idx] |= kInside;
           tangent[n] = side == 0;
         }
       });
@@ -271,10 +296,11 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
       };
       for (size_t n = 0; n < layer_list.size(); ++n)
         if (tangent[n]) {
-          inside[layer_list[n]] = winding_inside(shape.world(layer_list[n]));
+          const size_t idx = layer_list[n];
+          flags[idx] = winding_inside(shape.world(idx)) ? (flags[idx] | kInside) : (flags[idx] & ~kInside);
           ++stats.winding_evaluations;
         }
-      stats.winding_evaluations += fill_inside(shape, surface_layer, layer_list, winding_inside, inside);
+      stats.winding_evaluations += fill_inside(shape, layer_list, winding_inside, flags);
     } else {
       stats.sign_method = "winding number at every voxel (not a single closed surface)";
       const WindingNumber wn(mesh);
@@ -286,7 +312,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
         for (size_t idx = r.begin(); idx != r.end(); ++idx) {
           const Eigen::Vector3d p = shape.world(idx);
           if (!box.contains(p)) continue;
-          inside[idx] = wn.inside(p);
+          if (wn.inside(p)) flags[idx] |= kInside;
           ++local;
         }
         evaluations += local;
@@ -297,62 +323,52 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
 
   // 3. Interior distances: nearest surface voxel by an exact feature transform, then the exact
   //    distance to the closest of the triangles around it.
-  DenseField& field = result.field;
-  field.shape = shape;
-  field.background = float(opt.band * h);
-  field.values.assign(total, field.background);
   {
     const TriangleSpheres spheres(mesh);
     StageTimer edt(log, "feature-transform");
-    const std::vector<int32_t> nearest = nearest_seed_transform(shape, surface_layer);
+    const std::vector<int32_t> nearest = nearest_seed_transform(shape, flags, kLayer);
     edt.stop();
     StageTimer closest_stage(log, "closest-triangles");
     // Each voxel's triangle: the best candidate around its nearest surface voxel, then two
     // sweeps in which it also tries its six neighbours' triangles (vector propagation), which
     // fixes voxels whose nearest surface voxel slid along the surface away from the foot point.
-    std::vector<int32_t> tri(closest);  // surface voxels keep theirs
-    std::vector<float> d(dist);
     // Outside, only the band of opt.band voxels is stored (the rest is background).
     const double band_reach = (opt.band + 1) * h;
-    std::vector<uint8_t> wanted(total, 0);
     const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
     const size_t sy = size_t(nz);
-    // Parallel over grid lines along z; `line(i, j, base)` sees voxels base .. base + nz - 1.
-    auto for_each_line = [&](auto&& line) {
-      tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 16), [&](const tbb::blocked_range<int>& r) {
-        for (int l = r.begin(); l != r.end(); ++l) line(l / ny, l % ny, size_t(l) * sy);
-      });
-    };
-    for_each_line([&](int i, int j, size_t base) {
-      for (int k = 0; k < nz; ++k) {
-        const size_t idx = base + size_t(k);
-        if (surface_layer[idx]) continue;
-        const int32_t seed = nearest[idx];
-        if (seed < 0) continue;
-        if (!inside[idx]) {
-          // Outside: only the band of opt.band voxels is stored. The seed's k is cheap to get;
-          // most far voxels fail on it before the full test.
-          const int seed_k = int(uint32_t(seed) % uint32_t(sy));  // indices fit 32 bits (plan_grid)
-          if (std::abs(seed_k - k) * h > band_reach) continue;
-          if ((shape.world(i, j, k) - shape.world(size_t(seed))).squaredNorm() > band_reach * band_reach) continue;
+    tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 16), [&](const tbb::blocked_range<int>& r) {
+      for (int l = r.begin(); l != r.end(); ++l) {
+        const int i = l / ny, j = l % ny;
+        const size_t base = size_t(l) * sy;
+        for (int k = 0; k < nz; ++k) {
+          const size_t idx = base + size_t(k);
+          const int32_t seed = nearest[idx];
+          if ((flags[idx] & kLayer) || seed < 0) continue;
+          if (!(flags[idx] & kInside)) {
+            // Outside: only the band is stored. The seed's k is cheap to get; most far voxels fail
+            // on it before the full test.
+            const int seed_k = int(uint32_t(seed) % uint32_t(sy));  // indices fit 32 bits (plan_grid)
+            if (std::abs(seed_k - k) * h > band_reach) continue;
+            if ((shape.world(i, j, k) - shape.world(size_t(seed))).squaredNorm() > band_reach * band_reach) continue;
+          }
+          flags[idx] |= kWanted;
         }
-        wanted[idx] = 1;
       }
     });
-    std::vector<size_t> wanted_list;
-    for (size_t idx = 0; idx < total; ++idx)
-      if (wanted[idx]) wanted_list.push_back(idx);
+    const std::vector<size_t> wanted_list = indices_where(total, [&](size_t idx) { return flags[idx] & kWanted; });
     // Grouped by nearest surface voxel: the voxels of a group share its candidate triangles,
     // which then stay in cache while each voxel picks its closest (a counting sort).
     std::vector<size_t> group_start(layer_list.size() + 1, 0), by_seed(wanted_list.size());
     {
-      std::vector<int32_t> layer_id(total, -1);
-      for (size_t n = 0; n < layer_list.size(); ++n) layer_id[layer_list[n]] = int32_t(n);
+      std::unique_ptr<int32_t[]> layer_id(new int32_t[total]);  // read at layer voxels only
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t n = r.begin(); n != r.end(); ++n) layer_id[layer_list[n]] = int32_t(n);
+      });
       std::vector<int32_t> group(wanted_list.size());
-      for (size_t n = 0; n < wanted_list.size(); ++n) {
-        group[n] = layer_id[size_t(nearest[wanted_list[n]])];
-        ++group_start[size_t(group[n]) + 1];
-      }
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t n = r.begin(); n != r.end(); ++n) group[n] = layer_id[size_t(nearest[wanted_list[n]])];
+      });
+      for (int32_t g : group) ++group_start[size_t(g) + 1];
       for (size_t g = 0; g < layer_list.size(); ++g) group_start[g + 1] += group_start[g];
       std::vector<size_t> fill(group_start.begin(), group_start.end() - 1);
       for (size_t n = 0; n < wanted_list.size(); ++n) by_seed[fill[size_t(group[n])]++] = wanted_list[n];
@@ -360,22 +376,21 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t g = r.begin(); g != r.end(); ++g) {
         if (group_start[g] == group_start[g + 1]) continue;
-        const Candidates candidates(shape, closest, layer_list[g]);
+        const Candidates candidates(shape, tri, flags, layer_list[g]);
         for (size_t n = group_start[g]; n != group_start[g + 1]; ++n) {
           const size_t idx = by_seed[n];
           double e;
           tri[idx] = candidates.closest_to(spheres, shape.world(idx), &e);
-          d[idx] = float(e);
+          field.values[idx] = float(e);
         }
       }
     });
     closest_stage.stop();
     StageTimer refine(log, "refine");
-    // wanted[idx] bit 2: the voxel's triangle changed in the last sweep. A voxel none of whose
-    // face neighbours nor itself changed would repeat the same tests, so it is skipped.
-    constexpr uint8_t kChanged = 2;
+    // A voxel none of whose face neighbours nor itself changed in the last sweep would repeat
+    // the same tests, so it is skipped.
+    std::vector<int32_t> next_tri(wanted_list.size());
     for (int sweep = 0; sweep < 2; ++sweep) {
-      std::vector<int32_t> next_tri(wanted_list.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t n = r.begin(); n != r.end(); ++n) {
           const size_t idx = wanted_list[n];
@@ -384,14 +399,15 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
           next_tri[n] = own;
           int32_t seen[6];
           int count = 0;
-          bool stale = sweep == 0 || (wanted[idx] & kChanged);
+          bool stale = sweep == 0 || (flags[idx] & kChanged);
           shape.for_each_face_neighbour(idx, c, [&](size_t m) {
-            stale = stale || (wanted[m] & kChanged);
+            stale = stale || (flags[m] & kChanged);
             if (tri[m] >= 0 && tri[m] != own && std::find(seen, seen + count, tri[m]) == seen + count) seen[count++] = tri[m];
           });
           if (!stale) continue;
           const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
-          double best = double(d[idx]) * double(d[idx]);
+          float& value = field.values[idx];  // this voxel's own slot only
+          double best = double(value) * double(value);
           for (int q = 0; q < count; ++q) {
             const double e = spheres.distance2(seen[q], p, best);
             if (e < best) {
@@ -400,14 +416,16 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
             }
           }
           next_tri[n] = own;
-          if (own != tri[idx]) d[idx] = float(std::sqrt(best));  // this voxel's own slot only
+          if (own != tri[idx]) value = float(std::sqrt(best));
         }
       });
-      for (size_t n = 0; n < wanted_list.size(); ++n) {
-        const size_t idx = wanted_list[n];
-        wanted[idx] = next_tri[n] != tri[idx] ? 1 | kChanged : 1;
-        tri[idx] = next_tri[n];
-      }
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t n = r.begin(); n != r.end(); ++n) {
+          const size_t idx = wanted_list[n];
+          flags[idx] = next_tri[n] != tri[idx] ? (flags[idx] | kChanged) : (flags[idx] & ~kChanged);
+          tri[idx] = next_tri[n];
+        }
+      });
     }
     refine.stop();
     StageTimer finish(log, "values");
@@ -416,14 +434,15 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
     // the solid's boundary lies within half a voxel diagonal of an outside voxel center.
     if (!stats.defects.watertight()) {
       std::vector<uint8_t> outside(total);
-      for (size_t idx = 0; idx < total; ++idx) outside[idx] = !inside[idx];
+      for (size_t idx = 0; idx < total; ++idx) outside[idx] = !(flags[idx] & kInside);
       const std::vector<int32_t> out_nearest = nearest_seed_transform(shape, outside);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-          if (!inside[idx] || out_nearest[idx] < 0) continue;
+          if (!(flags[idx] & kInside) || out_nearest[idx] < 0) continue;
           const double hole = (shape.world(idx) - shape.world(size_t(out_nearest[idx]))).norm() - 0.5 * std::sqrt(3.0) * h;
-          if (hole < d[idx]) d[idx] = float(std::max(hole, 0.0));
-          if (tri[idx] < 0) tri[idx] = 0;  // an inside voxel far from any triangle still has a value
+          // An inside voxel far from any triangle still gets a value.
+          if (tri[idx] < 0 || hole < field.values[idx]) field.values[idx] = float(std::max(hole, 0.0));
+          if (tri[idx] < 0) tri[idx] = 0;
         }
       });
       stats.bounded_by_holes = true;
@@ -433,11 +452,11 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
       size_t local = 0;
       for (size_t idx = r.begin(); idx != r.end(); ++idx) {
         if (tri[idx] < 0) continue;  // far outside: background
-        if (inside[idx]) {
-          field.values[idx] = -d[idx];
+        if (flags[idx] & kInside) {
+          field.values[idx] = -field.values[idx];
           ++local;
         } else {
-          field.values[idx] = std::min(d[idx], field.background);
+          field.values[idx] = std::min(field.values[idx], field.background);
         }
       }
       interior += local;
