@@ -29,7 +29,7 @@ TEST(Edt, NearestSeedMatchesBruteForce) {
       seed[idx] = 1;
       seeds.push_back(idx);
     }
-    const std::vector<int32_t> nearest = nearest_seed_transform(shape, seed);
+    const auto nearest = nearest_seed_transform(shape, seed);
     for (size_t idx = 0; idx < shape.count(); ++idx) {
       const Eigen::Vector3i c = shape.coords(idx);
       int best = std::numeric_limits<int>::max();

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <vector>
 
 namespace spx {
@@ -45,6 +47,29 @@ struct GridShape {
     return world(c.x(), c.y(), c.z());
   }
 };
+
+// A std::vector whose elements are left uninitialised when it is sized: a grid that a parallel
+// loop fills first then has its pages zeroed by the kernel on every core, not on one.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using GridVector = std::vector<T, UninitializedAllocator<T>>;
 
 struct DenseField {
   GridShape shape;

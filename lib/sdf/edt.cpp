@@ -62,11 +62,11 @@ void transform_line(int n, LineScratch<Dist>& s) {
 }
 
 template <class Dist>
-std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t>& seed, uint8_t bits) {
+GridVector<int32_t> transform(const GridShape& shape, const uint8_t* seed, uint8_t bits) {
   const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
   const size_t total = shape.count();
-  std::vector<Dist> dist(total);
-  std::vector<int32_t> feature(total);
+  GridVector<Dist> dist(total);  // every element is written by the first pass
+  GridVector<int32_t> feature(total);
 
   // Pass along z (contiguous): nearest seed on the line by two scans.
   tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny), [&](const tbb::blocked_range<int>& r) {
@@ -123,7 +123,7 @@ std::vector<int32_t> transform(const GridShape& shape, const std::vector<uint8_t
 
 }  // namespace
 
-std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed, uint8_t bits) {
+GridVector<int32_t> nearest_seed_transform(const GridShape& shape, const uint8_t* seed, uint8_t bits) {
   const int64_t longest = shape.dims.maxCoeff();
   return 3 * longest * longest < int64_t(kNone<int32_t>) ? transform<int32_t>(shape, seed, bits)
                                                           : transform<int64_t>(shape, seed, bits);

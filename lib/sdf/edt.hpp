@@ -11,7 +11,9 @@ namespace spx {
 
 // `seed[idx] & bits` nonzero marks a seed. Returns, per voxel, the flat index of a nearest seed
 // (Euclidean distance between voxel centers) or -1 when there is no seed at all.
-std::vector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed,
-                                            uint8_t bits = 0xff);
+GridVector<int32_t> nearest_seed_transform(const GridShape& shape, const uint8_t* seed, uint8_t bits = 0xff);
+inline GridVector<int32_t> nearest_seed_transform(const GridShape& shape, const std::vector<uint8_t>& seed) {
+  return nearest_seed_transform(shape, seed.data());
+}
 
 }  // namespace spx

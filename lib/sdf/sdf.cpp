@@ -86,7 +86,7 @@ std::vector<size_t> indices_where(size_t n, Pred&& pred) {
 struct Candidates {
   int32_t tri[19];
   int count = 0;
-  Candidates(const GridShape& shape, const std::vector<int32_t>& tri_of, const std::vector<uint8_t>& flags, size_t seed) {
+  Candidates(const GridShape& shape, const GridVector<int32_t>& tri_of, const GridVector<uint8_t>& flags, size_t seed) {
     const Eigen::Vector3i c = shape.coords(seed);
     tri[count++] = tri_of[seed];
     for (int di = -1; di <= 1; ++di)
@@ -154,7 +154,7 @@ TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
 // outside. Returns the number of winding numbers evaluated.
 template <class Winding>
 size_t fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list, Winding&& winding_inside,
-                   std::vector<uint8_t>& flags) {
+                   GridVector<uint8_t>& flags) {
   std::vector<size_t> region, stack;
   size_t evaluations = 0;
   auto around = [&](size_t idx, auto&& visit) { shape.for_each_face_neighbour(idx, shape.coords(idx), visit); };
@@ -254,8 +254,12 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   field.background = float(opt.band * h);
   StageTimer layer_stage(log, "surface-layer");
   field.values.assign(total, field.background);
-  std::vector<int32_t> tri(total, -1);
-  std::vector<uint8_t> flags(total, 0);
+  GridVector<int32_t> tri(total);
+  GridVector<uint8_t> flags(total);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(tri.begin() + ptrdiff_t(r.begin()), tri.begin() + ptrdiff_t(r.end()), -1);
+    std::fill(flags.begin() + ptrdiff_t(r.begin()), flags.begin() + ptrdiff_t(r.end()), 0);
+  });
   rasterize_surface_layer(mesh, shape, field.values, tri);
   const std::vector<size_t> layer_list = indices_where(total, [&](size_t idx) { return tri[idx] >= 0; });
   tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -326,7 +330,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   {
     const TriangleSpheres spheres(mesh);
     StageTimer edt(log, "feature-transform");
-    const std::vector<int32_t> nearest = nearest_seed_transform(shape, flags, kLayer);
+    const GridVector<int32_t> nearest = nearest_seed_transform(shape, flags.data(), kLayer);
     edt.stop();
     StageTimer closest_stage(log, "closest-triangles");
     // Each voxel's triangle: the best candidate around its nearest surface voxel, then two
@@ -435,7 +439,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
     if (!stats.defects.watertight()) {
       std::vector<uint8_t> outside(total);
       for (size_t idx = 0; idx < total; ++idx) outside[idx] = !(flags[idx] & kInside);
-      const std::vector<int32_t> out_nearest = nearest_seed_transform(shape, outside);
+      const GridVector<int32_t> out_nearest = nearest_seed_transform(shape, outside);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t idx = r.begin(); idx != r.end(); ++idx) {
           if (!(flags[idx] & kInside) || out_nearest[idx] < 0) continue;

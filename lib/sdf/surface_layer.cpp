@@ -3,7 +3,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -13,52 +12,63 @@
 namespace spx {
 
 void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::vector<float>& dist,
-                             std::vector<int32_t>& closest) {
-  const size_t total = shape.count();
+                             GridVector<int32_t>& closest) {
   const double h = shape.voxel_size;
-  // (distance bits, triangle) in one word: non-negative floats order like their bit patterns,
-  // so one atomic minimum keeps the nearest triangle and, on ties, the lowest index.
-  constexpr uint64_t kEmpty = ~uint64_t(0);
-  std::unique_ptr<std::atomic<uint64_t>[]> best(new std::atomic<uint64_t>[total]);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) best[i].store(kEmpty, std::memory_order_relaxed);
-  });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.triangles.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t t = r.begin(); t != r.end(); ++t) {
-      const auto& f = mesh.triangles[t];
-      const Eigen::Vector3d &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
-      const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c) / h, hi = a.cwiseMax(b).cwiseMax(c) / h;
-      int from[3], to[3];
-      for (int axis = 0; axis < 3; ++axis) {
-        from[axis] = std::max(0, int(std::ceil(lo[axis] - 1)) - shape.origin[axis]);
-        to[axis] = std::min(shape.dims[axis] - 1, int(std::floor(hi[axis] + 1)) - shape.origin[axis]);
-      }
-      for (int i = from[0]; i <= to[0]; ++i)
-        for (int j = from[1]; j <= to[1]; ++j)
-          for (int k = from[2]; k <= to[2]; ++k) {
-            const Eigen::Vector3d p = shape.world(i, j, k);
-            const double d2 = (closest_point_on_triangle(p, a, b, c) - p).squaredNorm();
-            if (d2 > h * h) continue;
-            const float d = float(std::sqrt(d2));
-            uint32_t bits;
-            std::memcpy(&bits, &d, sizeof bits);
-            const uint64_t key = (uint64_t(bits) << 32) | uint32_t(t);
-            std::atomic<uint64_t>& slot = best[shape.index(i, j, k)];
-            uint64_t seen = slot.load(std::memory_order_relaxed);
-            while (key < seen && !slot.compare_exchange_weak(seen, key, std::memory_order_relaxed)) {
-            }
+  struct Box {
+    int from[3], to[3];
+  };
+  std::vector<Box> boxes(mesh.triangles.size());
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& f = mesh.triangles[t];
+    const Eigen::Vector3d &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
+    const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c) / h, hi = a.cwiseMax(b).cwiseMax(c) / h;
+    for (int axis = 0; axis < 3; ++axis) {
+      boxes[t].from[axis] = std::max(0, int(std::ceil(lo[axis] - 1)) - shape.origin[axis]);
+      boxes[t].to[axis] = std::min(shape.dims[axis] - 1, int(std::floor(hi[axis] + 1)) - shape.origin[axis]);
+    }
+  }
+  // Keeps the nearest triangle per voxel, the lowest index on ties: the result does not depend
+  // on the order in which triangles arrive. Voxels of x-planes from..to only.
+  auto raster = [&](size_t t, int from_x, int to_x) {
+    const auto& f = mesh.triangles[t];
+    const Eigen::Vector3d &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
+    const Box& box = boxes[t];
+    for (int i = from_x; i <= to_x; ++i)
+      for (int j = box.from[1]; j <= box.to[1]; ++j)
+        for (int k = box.from[2]; k <= box.to[2]; ++k) {
+          const Eigen::Vector3d p = shape.world(i, j, k);
+          const double d2 = (closest_point_on_triangle(p, a, b, c) - p).squaredNorm();
+          if (d2 > h * h) continue;
+          const float d = float(std::sqrt(d2));
+          const size_t idx = shape.index(i, j, k);
+          if (closest[idx] < 0 || d < dist[idx] || (d == dist[idx] && int32_t(t) < closest[idx])) {
+            dist[idx] = d;
+            closest[idx] = int32_t(t);
           }
-    }
-  });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const uint64_t key = best[i].load(std::memory_order_relaxed);
-      if (key == kEmpty) continue;
-      const uint32_t bits = uint32_t(key >> 32);
-      std::memcpy(&dist[i], &bits, sizeof bits);
-      closest[i] = int32_t(uint32_t(key));
-    }
-  });
+        }
+  };
+  // Slabs of kSlab x-planes: a triangle narrower than a slab, filed under the slab of its first
+  // plane, writes within that slab and the next. So the even slabs run in parallel without
+  // locks, then the odd ones. Wider triangles (rare in meshes fine enough to need speed) go
+  // last, one at a time, parallel over their planes.
+  constexpr int kSlab = 8;
+  const int slabs = (shape.dims.x() + kSlab - 1) / kSlab;
+  std::vector<std::vector<int32_t>> in_slab(static_cast<size_t>(slabs));
+  std::vector<int32_t> wide;
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    const Box& box = boxes[t];
+    if (box.from[0] > box.to[0] || box.from[1] > box.to[1] || box.from[2] > box.to[2]) continue;
+    if (box.to[0] - box.from[0] < kSlab) in_slab[size_t(box.from[0] / kSlab)].push_back(int32_t(t));
+    else wide.push_back(int32_t(t));
+  }
+  for (int parity = 0; parity < 2; ++parity)
+    tbb::parallel_for(tbb::blocked_range<int>(0, (slabs + 1 - parity) / 2), [&](const tbb::blocked_range<int>& r) {
+      for (int n = r.begin(); n != r.end(); ++n)
+        for (int32_t t : in_slab[size_t(2 * n + parity)]) raster(size_t(t), boxes[size_t(t)].from[0], boxes[size_t(t)].to[0]);
+    });
+  for (int32_t t : wide)
+    tbb::parallel_for(tbb::blocked_range<int>(boxes[size_t(t)].from[0], boxes[size_t(t)].to[0] + 1),
+                      [&](const tbb::blocked_range<int>& r) { raster(size_t(t), r.begin(), r.end() - 1); });
 }
 
 PseudoNormals::PseudoNormals(const TriMesh& mesh) : vertex_(mesh.vertices.size(), Eigen::Vector3d::Zero()) {

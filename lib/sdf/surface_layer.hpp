@@ -12,10 +12,10 @@ namespace spx {
 
 // For every voxel whose centre lies within one voxel of the mesh: the exact distance and the
 // closest triangle (the lowest index on ties, so the result does not depend on threads).
-// Other voxels are left as they are. Each triangle visits the voxels of its bounding box grown
-// by one voxel, in parallel.
+// `closest` must start at -1 everywhere; other voxels are left as they are. Each triangle
+// visits the voxels of its bounding box grown by one voxel, in parallel.
 void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::vector<float>& dist,
-                             std::vector<int32_t>& closest);
+                             GridVector<int32_t>& closest);
 
 // Angle-weighted pseudo-normals (Baerentzen & Aanaes 2005): for a closed, manifold,
 // consistently oriented surface, the side of a point is the sign of (p - c) . N, where c is
