@@ -151,19 +151,21 @@ TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
 // a voxel of one of them, which is then in the layer. So a flood from every inside layer voxel
 // reaches exactly the inside regions, in time proportional to the inside, not to the grid. One
 // winding number per region confirms it, so that a wrongly signed layer voxel cannot flood the
-// outside. Returns the number of winding numbers evaluated.
+// outside. `winding_inside(points)` answers for a batch. Returns the number of regions.
 template <class Winding>
 size_t fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list, Winding&& winding_inside,
                    GridVector<uint8_t>& flags) {
-  std::vector<size_t> region, stack;
-  size_t evaluations = 0;
+  std::vector<size_t> voxels, region_start, stack;
+  std::vector<Eigen::Vector3d> probes;
   auto around = [&](size_t idx, auto&& visit) { shape.for_each_face_neighbour(idx, shape.coords(idx), visit); };
   for (size_t wall : layer_list) {
     if (!(flags[wall] & kInside)) continue;
     around(wall, [&](size_t start) {
       if (flags[start] & (kLayer | kSeen)) return;
       flags[start] |= kSeen;
-      region.assign(1, start);
+      region_start.push_back(voxels.size());
+      probes.push_back(shape.world(start));
+      voxels.push_back(start);
       stack.assign(1, start);
       while (!stack.empty()) {
         const size_t idx = stack.back();
@@ -171,17 +173,19 @@ size_t fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list
         around(idx, [&](size_t m) {
           if (!(flags[m] & (kLayer | kSeen))) {
             flags[m] |= kSeen;
-            region.push_back(m);
+            voxels.push_back(m);
             stack.push_back(m);
           }
         });
       }
-      ++evaluations;
-      if (winding_inside(shape.world(start)))
-        for (size_t idx : region) flags[idx] |= kInside;
     });
   }
-  return evaluations;
+  region_start.push_back(voxels.size());
+  const std::vector<uint8_t> inside = winding_inside(probes);
+  for (size_t r = 0; r < probes.size(); ++r)
+    if (inside[r])
+      for (size_t n = region_start[r]; n < region_start[r + 1]; ++n) flags[voxels[n]] |= kInside;
+  return probes.size();
 }
 
 }  // namespace
@@ -287,24 +291,28 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
           tangent[n] = side == 0;
         }
       });
-      // A handful of winding numbers cost less summed exactly than a tree costs to build.
-      std::unique_ptr<WindingNumber> tree;
-      size_t exact_left = 32;
-      auto winding_inside = [&](const Eigen::Vector3d& p) {
-        if (!tree && exact_left > 0) {
-          --exact_left;
-          return winding_number_exact(mesh, p) > 0.5;
-        }
-        if (!tree) tree = std::make_unique<WindingNumber>(mesh);
-        return tree->inside(p);
+      // Winding numbers for a batch of points, in parallel: a handful cost less summed exactly
+      // than a tree costs to build.
+      auto winding_inside = [&](const std::vector<Eigen::Vector3d>& points) {
+        std::vector<uint8_t> in(points.size());
+        std::unique_ptr<WindingNumber> tree;
+        if (points.size() > 32) tree = std::make_unique<WindingNumber>(mesh);
+        tbb::parallel_for(size_t(0), points.size(), [&](size_t n) {
+          in[n] = tree ? tree->inside(points[n]) : winding_number_exact(mesh, points[n]) > 0.5;
+        });
+        stats.winding_evaluations += points.size();
+        return in;
       };
+      std::vector<Eigen::Vector3d> tangent_points;
       for (size_t n = 0; n < layer_list.size(); ++n)
+        if (tangent[n]) tangent_points.push_back(shape.world(layer_list[n]));
+      const std::vector<uint8_t> tangent_inside = winding_inside(tangent_points);
+      for (size_t n = 0, m = 0; n < layer_list.size(); ++n)
         if (tangent[n]) {
           const size_t idx = layer_list[n];
-          flags[idx] = winding_inside(shape.world(idx)) ? (flags[idx] | kInside) : (flags[idx] & ~kInside);
-          ++stats.winding_evaluations;
+          flags[idx] = tangent_inside[m++] ? (flags[idx] | kInside) : (flags[idx] & ~kInside);
         }
-      stats.winding_evaluations += fill_inside(shape, layer_list, winding_inside, flags);
+      fill_inside(shape, layer_list, winding_inside, flags);
     } else {
       stats.sign_method = "winding number at every voxel (not a single closed surface)";
       const WindingNumber wn(mesh);

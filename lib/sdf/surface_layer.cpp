@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <cmath>
 #include <cstring>
@@ -72,20 +73,37 @@ void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::v
 }
 
 PseudoNormals::PseudoNormals(const TriMesh& mesh) : vertex_(mesh.vertices.size(), Eigen::Vector3d::Zero()) {
-  face_.reserve(mesh.triangles.size());
-  edge_.reserve(mesh.triangles.size() * 2);
-  for (const auto& f : mesh.triangles) {
-    const Eigen::Vector3d* p[3] = {&mesh.vertices[f[0]], &mesh.vertices[f[1]], &mesh.vertices[f[2]]};
-    const Eigen::Vector3d area = (*p[1] - *p[0]).cross(*p[2] - *p[0]);
-    const Eigen::Vector3d n = area.norm() > 0 ? Eigen::Vector3d(area / area.norm()) : Eigen::Vector3d::Zero();
-    face_.push_back(n);
-    for (int corner = 0; corner < 3; ++corner) {
-      const Eigen::Vector3d u = *p[(corner + 1) % 3] - *p[corner], v = *p[(corner + 2) % 3] - *p[corner];
-      const double angle = std::atan2(u.cross(v).norm(), u.dot(v));
-      vertex_[size_t(f[corner])] += angle * n;
-      // try_emplace with an explicit zero: a default Eigen vector is uninitialised.
-      edge_.try_emplace(edge_key(f[corner], f[(corner + 1) % 3]), Eigen::Vector3d::Zero()).first->second += n;
+  const size_t count = mesh.triangles.size();
+  face_.resize(count);
+  std::vector<Eigen::Vector3d> corner_weight(3 * count);  // angle * face normal, per corner
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t t = r.begin(); t != r.end(); ++t) {
+      const auto& f = mesh.triangles[t];
+      const Eigen::Vector3d* p[3] = {&mesh.vertices[f[0]], &mesh.vertices[f[1]], &mesh.vertices[f[2]]};
+      const Eigen::Vector3d area = (*p[1] - *p[0]).cross(*p[2] - *p[0]);
+      face_[t] = area.norm() > 0 ? Eigen::Vector3d(area / area.norm()) : Eigen::Vector3d::Zero();
+      for (int corner = 0; corner < 3; ++corner) {
+        const Eigen::Vector3d u = *p[(corner + 1) % 3] - *p[corner], v = *p[(corner + 2) % 3] - *p[corner];
+        corner_weight[3 * t + size_t(corner)] = std::atan2(u.cross(v).norm(), u.dot(v)) * face_[t];
+      }
     }
+  });
+  // Sums in triangle order, so that the result does not depend on threads.
+  for (size_t t = 0; t < count; ++t)
+    for (int corner = 0; corner < 3; ++corner) vertex_[size_t(mesh.triangles[t][corner])] += corner_weight[3 * t + size_t(corner)];
+  // Edge k of triangle t (corner k to k + 1) is slot 3t + k. Sorted by undirected edge, then
+  // slot, the faces of each edge sit side by side, in triangle order.
+  std::vector<std::pair<uint64_t, uint32_t>> half(3 * count);
+  for (size_t t = 0; t < count; ++t)
+    for (int k = 0; k < 3; ++k)
+      half[3 * t + size_t(k)] = {edge_key(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3]), uint32_t(3 * t + size_t(k))};
+  tbb::parallel_sort(half.begin(), half.end());
+  edge_.resize(3 * count);
+  for (size_t i = 0; i < half.size();) {
+    size_t j = i;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (; j < half.size() && half[j].first == half[i].first; ++j) sum += face_[half[j].second / 3];
+    for (; i < j; ++i) edge_[half[i].second] = sum;
   }
 }
 
@@ -100,7 +118,7 @@ int PseudoNormals::side(const TriMesh& mesh, int32_t triangle, const Eigen::Vect
     n = vertex_[size_t(f[corner])];
   } else if (zeros == 1) {  // the edge opposite the zero weight
     const int opposite = bary[0] == 0 ? 0 : bary[1] == 0 ? 1 : 2;
-    n = edge_.at(edge_key(f[(opposite + 1) % 3], f[(opposite + 2) % 3]));
+    n = edge_[3 * size_t(triangle) + size_t((opposite + 1) % 3)];
   } else {
     n = face_[size_t(triangle)];
   }

@@ -2,7 +2,6 @@
 // The voxels next to a mesh's surface: exact distances and closest triangles, and the sign
 // there for closed surfaces.
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -33,7 +32,7 @@ class PseudoNormals {
     return a < b ? (uint64_t(uint32_t(a)) << 32) | uint32_t(b) : (uint64_t(uint32_t(b)) << 32) | uint32_t(a);
   }
   std::vector<Eigen::Vector3d> face_, vertex_;
-  std::unordered_map<uint64_t, Eigen::Vector3d> edge_;
+  std::vector<Eigen::Vector3d> edge_;  // slot 3t + k: the sum of the normals of the faces on edge k of triangle t
 };
 
 }  // namespace spx
