@@ -10,6 +10,7 @@
 #include "mesh/winding_number.hpp"
 #include "sdf/edt.hpp"
 #include "sdf/sdf.hpp"
+#include "sdf/surface_layer.hpp"
 #include "sdf/vdb_io.hpp"
 #include "test_util.hpp"
 
@@ -46,6 +47,49 @@ TEST(Edt, NoSeedsGivesNone) {
   shape.dims = Eigen::Vector3i(4, 5, 6);
   const auto nearest = nearest_seed_transform(shape, std::vector<uint8_t>(shape.count(), 0));
   for (int32_t n : nearest) EXPECT_EQ(n, -1);
+}
+
+// The slab rasterizer against every triangle tried at every voxel, for narrow triangles (a
+// sphere) and wide ones (a box many slabs across) in one mesh: same distances, same triangles
+// (the lowest index on ties).
+TEST(SurfaceLayer, MatchesBruteForce) {
+  TriMesh mesh = test::uv_sphere(1.0, 12, 24);
+  const TriMesh box = test::box_mesh({1.2, -0.9, -0.8}, {3.4, 0.9, 0.8});
+  const int offset = int(mesh.vertices.size());
+  mesh.vertices.insert(mesh.vertices.end(), box.vertices.begin(), box.vertices.end());
+  for (const auto& f : box.triangles) mesh.triangles.push_back(f + Eigen::Vector3i::Constant(offset));
+  GridShape shape;
+  shape.voxel_size = 0.13;
+  shape.origin = (mesh.bounds().min() / shape.voxel_size).array().floor().cast<int>() - 2;
+  shape.dims = (mesh.bounds().max() / shape.voxel_size).array().ceil().cast<int>() + 2 - shape.origin.array() + 1;
+  ASSERT_GT(shape.dims.x(), 16 + 8);  // the box is wider than a slab
+  std::vector<float> dist(shape.count(), std::numeric_limits<float>::infinity());
+  GridVector<int32_t> closest(shape.count());
+  std::fill(closest.begin(), closest.end(), -1);
+  rasterize_surface_layer(mesh, shape, dist, closest);
+  const double h = shape.voxel_size;
+  size_t layer = 0;
+  for (size_t idx = 0; idx < shape.count(); ++idx) {
+    const Eigen::Vector3d p = shape.world(idx);
+    int32_t best = -1;
+    float best_d = 0;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& f = mesh.triangles[t];
+      const double d2 = (closest_point_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - p).squaredNorm();
+      if (d2 > h * h) continue;
+      const float d = float(std::sqrt(d2));
+      if (best < 0 || d < best_d) {
+        best = int32_t(t);
+        best_d = d;
+      }
+    }
+    ASSERT_EQ(closest[idx], best) << "voxel " << idx;
+    if (best >= 0) {
+      ++layer;
+      ASSERT_EQ(dist[idx], best_d) << "voxel " << idx;
+    }
+  }
+  EXPECT_GT(layer, 1000u);
 }
 
 // A sphere's field is known: |p| - R. Interior values must match within the mesh's own
