@@ -16,8 +16,9 @@
 namespace spx {
 namespace {
 
-// Working set per voxel: distances, closest triangle, flags, seed index, EDT distances, labels.
-constexpr double kBytesPerVoxel = 4 + 4 + 1 + 4 + 8 + 4 + 4;
+// Working set per voxel: distance, triangle, flags, the feature transform's seed and squared
+// distance, the layer index (touched at surface voxels only).
+constexpr double kBytesPerVoxel = 4 + 4 + 1 + 4 + 4 + 4;
 
 char fmt_buf[64];
 const char* gib(double v) {
