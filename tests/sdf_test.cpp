@@ -190,8 +190,8 @@ TEST(VdbIo, RejectsFilesThatAreNotSdfs) {
   EXPECT_THROW(read_sdf_vdb(dir + "/missing.vdb"), Error);
 }
 
-// Threads must not change a single bit: the surface layer is an atomic minimum over (distance,
-// triangle), and every later stage writes only its own voxel.
+// Threads must not change a single bit: the surface layer keeps the minimum over (distance,
+// triangle) whatever order the slabs run in, and every later stage writes only its own voxel.
 TEST(Sdf, RepeatedBuildsAreBitIdentical) {
   SPX_REQUIRE_SHARED_DATA();
   const TriMesh mesh = load_mesh(test::shared_data() + "/static/armadillo.obj").mesh;

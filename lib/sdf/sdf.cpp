@@ -26,17 +26,17 @@ const char* gib(double v) {
   return fmt_buf;
 }
 
-// The triangles laid out for the distance loops: corners side by side (one or two cache lines
-// per triangle instead of an index and three scattered vertices), with a bounding sphere: a
-// candidate whose sphere is farther than the best distance so far cannot win, and is skipped
+// The triangles laid out for the distance loops: corners side by side (two cache lines per
+// triangle instead of an index and three scattered vertices), with the triangle's plane: a
+// candidate whose plane is farther than the best distance so far cannot win, and is skipped
 // without the exact test.
-struct TriangleSpheres {
+struct TriangleTable {
   struct Entry {
     Eigen::Vector3d a, b, c, normal;  // unit normal (zero for a degenerate triangle)
     double offset;                    // normal . a
   };
   std::vector<Entry> entries;
-  explicit TriangleSpheres(const TriMesh& mesh) {
+  explicit TriangleTable(const TriMesh& mesh) {
     entries.reserve(mesh.triangles.size());
     for (const auto& f : mesh.triangles) {
       Entry e{mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]], Eigen::Vector3d::Zero(), 0};
@@ -63,6 +63,8 @@ enum VoxelFlag : uint8_t {
   kChanged = 8,  // its triangle changed in the last refine sweep
   kSeen = 16,    // reached by the region flood
 };
+
+void set_flag(uint8_t& flags, VoxelFlag flag, bool on) { flags = on ? uint8_t(flags | flag) : uint8_t(flags & ~flag); }
 
 // The indices i in [0, n) where pred(i) holds, ascending (gathered in parallel chunks).
 template <class Pred>
@@ -102,11 +104,11 @@ struct Candidates {
         }
   }
   // The exact closest of them to p (the lowest index on ties); `distance` receives the distance.
-  int32_t closest_to(const TriangleSpheres& spheres, const Eigen::Vector3d& p, double* distance) const {
+  int32_t closest_to(const TriangleTable& triangles, const Eigen::Vector3d& p, double* distance) const {
     int32_t best_tri = tri[0];
-    double best = spheres.distance2(best_tri, p, std::numeric_limits<double>::infinity());
+    double best = triangles.distance2(best_tri, p, std::numeric_limits<double>::infinity());
     for (int n = 1; n < count; ++n) {
-      const double e = spheres.distance2(tri[n], p, best);
+      const double e = triangles.distance2(tri[n], p, best);
       if (e < best || (e == best && tri[n] < best_tri)) {
         best = e;
         best_tri = tri[n];
@@ -152,9 +154,9 @@ TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
 // a voxel of one of them, which is then in the layer. So a flood from every inside layer voxel
 // reaches exactly the inside regions, in time proportional to the inside, not to the grid. One
 // winding number per region confirms it, so that a wrongly signed layer voxel cannot flood the
-// outside. `winding_inside(points)` answers for a batch. Returns the number of regions.
+// outside. `winding_inside(points)` answers for a batch.
 template <class Winding>
-size_t fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list, Winding&& winding_inside,
+void fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list, Winding&& winding_inside,
                    GridVector<uint8_t>& flags) {
   std::vector<size_t> voxels, region_start, stack;
   std::vector<Eigen::Vector3d> probes;
@@ -186,7 +188,6 @@ size_t fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list
   for (size_t r = 0; r < probes.size(); ++r)
     if (inside[r])
       for (size_t n = region_start[r]; n < region_start[r + 1]; ++n) flags[voxels[n]] |= kInside;
-  return probes.size();
 }
 
 }  // namespace
@@ -311,7 +312,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
       for (size_t n = 0, m = 0; n < layer_list.size(); ++n)
         if (tangent[n]) {
           const size_t idx = layer_list[n];
-          flags[idx] = tangent_inside[m++] ? (flags[idx] | kInside) : (flags[idx] & ~kInside);
+          set_flag(flags[idx], kInside, tangent_inside[m++]);
         }
       fill_inside(shape, layer_list, winding_inside, flags);
     } else {
@@ -337,7 +338,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   // 3. Interior distances: nearest surface voxel by an exact feature transform, then the exact
   //    distance to the closest of the triangles around it.
   {
-    const TriangleSpheres spheres(mesh);
+    const TriangleTable triangles(mesh);
     StageTimer edt(log, "feature-transform");
     const GridVector<int32_t> nearest = nearest_seed_transform(shape, flags.data(), kLayer);
     edt.stop();
@@ -393,7 +394,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
         for (size_t n = group_start[g]; n != group_start[g + 1]; ++n) {
           const size_t idx = by_seed[n];
           double e;
-          tri[idx] = candidates.closest_to(spheres, shape.world(idx), &e);
+          tri[idx] = candidates.closest_to(triangles, shape.world(idx), &e);
           field.values[idx] = float(e);
         }
       }
@@ -422,7 +423,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
           float& value = field.values[idx];  // this voxel's own slot only
           double best = double(value) * double(value);
           for (int q = 0; q < count; ++q) {
-            const double e = spheres.distance2(seen[q], p, best);
+            const double e = triangles.distance2(seen[q], p, best);
             if (e < best) {
               best = e;
               own = seen[q];
@@ -435,7 +436,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t n = r.begin(); n != r.end(); ++n) {
           const size_t idx = wanted_list[n];
-          flags[idx] = next_tri[n] != tri[idx] ? (flags[idx] | kChanged) : (flags[idx] & ~kChanged);
+          set_flag(flags[idx], kChanged, next_tri[n] != tri[idx]);
           tri[idx] = next_tri[n];
         }
       });

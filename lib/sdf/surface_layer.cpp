@@ -5,8 +5,6 @@
 #include <tbb/parallel_sort.h>
 
 #include <cmath>
-#include <cstring>
-#include <memory>
 
 #include "mesh/mesh_query.hpp"
 
