@@ -228,3 +228,126 @@ TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
 
 }  // namespace
 }  // namespace spx
+
+namespace spx {
+namespace {
+
+TriMesh translated(TriMesh m, const Eigen::Vector3d& by) {
+  for (auto& v : m.vertices) v += by;
+  return m;
+}
+
+TriMesh merged(const TriMesh& a, const TriMesh& b) {
+  TriMesh m = a;
+  const int offset = int(a.vertices.size());
+  m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (const auto& t : b.triangles) m.triangles.push_back(t + Eigen::Vector3i::Constant(offset));
+  return m;
+}
+
+// Mesh_3's own first points come from rays shot from one centre: a small body off to the side
+// is missed, gets no tets, and its spheres used to follow the other body's map into radius 0.
+TEST(PoseMap, EveryBodyIsMeshedAndAStillBodyKeepsItsRadii) {
+  const TriMesh big = test::uv_sphere(1.0, 16, 32);
+  TriMesh small = test::uv_sphere(0.3, 12, 24);
+  for (auto& v : small.vertices) v = Eigen::Vector3d(3 * v.x() + 4, v.y() + 0.5, v.z());
+  const TriMesh rest = merged(big, small);
+  TriMesh moved = big;  // the big body squashes and shifts; the small one stays put
+  for (auto& v : moved.vertices) v = Eigen::Vector3d(1.2 * v.x() + 0.1, 0.9 * v.y(), v.z());
+  const TriMesh pose = merged(moved, small);
+
+  const SpheresFile spheres = test::pack_file(rest, 96);
+  const PoseMapResult r = pose_map(rest, "two.obj", {{"pose", "pose.obj", pose}}, spheres, {});
+  size_t still = 0;
+  for (size_t s = 0; s < spheres.spheres.size(); ++s) {
+    const Sphere& at_rest = r.proxy.poses[0].spheres[s];
+    if (at_rest.center.x() < 2.5) continue;
+    ++still;
+    EXPECT_EQ(r.proxy.poses[1].spheres[s].center, at_rest.center) << "sphere " << s;
+    EXPECT_EQ(r.proxy.poses[1].spheres[s].radius, at_rest.radius) << "sphere " << s;
+    EXPECT_GT(at_rest.radius, 0.0);
+  }
+  EXPECT_GT(still, 3u);
+  EXPECT_EQ(r.report["poses"][1]["zero_radius"]["total"].get<size_t>(), 0u);
+}
+
+TEST(PoseMap, ABodyThatCannotBeMeshedIsNamed) {
+  // A plate far thinner than the tets: no tet's circumcentre falls inside it.
+  const TriMesh rest = merged(test::uv_sphere(1.0, 16, 32), test::box_mesh({3, 0, 0}, {4, 1, 0.001}));
+  try {
+    tetrahedralize(rest, {});
+    FAIL() << "a body far thinner than the tets was meshed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("body 2 of 2"), std::string::npos) << e.what();
+    EXPECT_EQ(e.code(), ExitCode::bad_input);
+  }
+}
+
+// Counts the radius-0 spheres of each pose against the report, which splits them by cause.
+void expect_zero_radii_counted(const PoseMapResult& r) {
+  for (size_t i = 0; i < r.proxy.poses.size(); ++i) {
+    size_t zeros = 0;
+    for (const auto& s : r.proxy.poses[i].spheres) zeros += s.radius == 0;
+    const auto& z = r.report["poses"][i]["zero_radius"];
+    EXPECT_EQ(z["total"].get<size_t>(), zeros) << r.proxy.poses[i].name;
+    EXPECT_EQ(z["center_outside"].get<size_t>() + z["hole_bound"].get<size_t>() + z["other"].get<size_t>(), zeros);
+    EXPECT_EQ(z["center_outside"].get<size_t>(), r.proxy.poses[i].outside.size());
+  }
+}
+
+// One rule sets every radius, the rest's included: a pose identical to the rest keeps the rest
+// radii exactly, on open meshes too (whose solid is bounded across the holes by a field).
+void expect_rest_copy_keeps_radii(const std::string& file, int resolution, const std::vector<std::string>& extra_poses) {
+  const LoadedMesh loaded = load_mesh(file);
+  const TriMesh& rest = loaded.mesh;
+  PackOptions pack;
+  pack.field_bounds_radius = true;  // as sphere-pack does for an open solid
+  const SpheresFile spheres = test::pack_file(rest, resolution, pack);
+  std::vector<PoseInput> poses{{"copy", "copy.obj", rest}};
+  for (const auto& p : extra_poses) poses.push_back({stem_of(p), p, load_pose(p, loaded)});
+  const PoseMapResult r = pose_map(rest, file, poses, spheres, {});
+  EXPECT_TRUE(r.report["open_solid"].get<bool>());
+  size_t positive = 0;
+  for (size_t s = 0; s < spheres.spheres.size(); ++s) {
+    EXPECT_EQ(r.proxy.poses[1].spheres[s].radius, r.proxy.poses[0].spheres[s].radius) << file << " sphere " << s;
+    EXPECT_EQ(r.proxy.poses[1].spheres[s].center, r.proxy.poses[0].spheres[s].center) << file << " sphere " << s;
+    positive += r.proxy.poses[0].spheres[s].radius > 0;
+  }
+  EXPECT_GT(positive, spheres.spheres.size() / 2) << file;
+  expect_zero_radii_counted(r);
+}
+
+TEST(PoseMap, OpenMeshesPoseEqualToRestKeepsRestRadii) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string d = test::shared_data();
+  expect_rest_copy_keeps_radii(d + "/cylinder/rest.obj", 64,
+                               {d + "/cylinder/pose-1.obj", d + "/cylinder/pose-2.obj", d + "/cylinder/pose-3.obj",
+                                d + "/cylinder/pose-4.obj"});
+  expect_rest_copy_keeps_radii(d + "/broken/hemisphere.obj", 64, {});
+}
+
+// Radii packed from the field alone (sphere-pack without --mesh) become exact distances in the
+// rest pose too, as in every other pose: one source, named in the report.
+TEST(PoseMap, RestRadiiComeFromTheSameSourceAsPoseRadii) {
+  const SampleAsset barrel = make_barrel();
+  SdfOptions sopt;
+  sopt.resolution = 40;
+  const SdfResult sdf = build_sdf(barrel.rest, sopt);
+  SpheresFile spheres;
+  spheres.spheres = pack_spheres(sdf.field, {}, nullptr).spheres;  // field radii
+  spheres.voxel_size = sdf.field.shape.voxel_size;
+  const PoseMapResult r = pose_map(barrel.rest, "rest", {{"copy", "", barrel.rest}}, spheres, {});
+  const MeshQuery q(barrel.rest);
+  size_t changed = 0;
+  for (size_t s = 0; s < spheres.spheres.size(); ++s) {
+    const Sphere& m = r.proxy.poses[0].spheres[s];
+    EXPECT_EQ(m.radius, q.distance(m.center));
+    EXPECT_EQ(m.radius, r.proxy.poses[1].spheres[s].radius);
+    changed += m.radius != spheres.spheres[s].radius;
+  }
+  EXPECT_GT(changed, 0u);
+  EXPECT_EQ(r.report["radius_source"].get<std::string>(), "exact distance to each pose's mesh");
+}
+
+}  // namespace
+}  // namespace spx

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "mesh/components.hpp"
+
 namespace spx {
 
 bool is_degenerate(const TriMesh& mesh, int t, double diagonal) {
@@ -38,15 +40,6 @@ MeshDefects find_defects(const TriMesh& mesh) {
     return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.tri < y.tri;
   });
 
-  std::vector<int> parent(mesh.triangles.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&parent](int x) {
-    while (parent[size_t(x)] != x) {
-      parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
-      x = parent[size_t(x)];
-    }
-    return x;
-  };
   for (size_t i = 0; i < half.size();) {
     size_t j = i;
     while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
@@ -56,12 +49,7 @@ MeshDefects find_defects(const TriMesh& mesh) {
     else if (half[i].forward == half[i + 1].forward) ++d.inconsistent_edges;
     i = j;
   }
-  // Triangles sharing an edge are neighbours in the sorted list.
-  for (size_t k = 1; k < half.size(); ++k)
-    if (half[k].lo == half[k - 1].lo && half[k].hi == half[k - 1].hi)
-      parent[size_t(find(half[k].tri))] = find(half[k - 1].tri);
-  for (size_t t = 0; t < parent.size(); ++t)
-    if (find(static_cast<int>(t)) == static_cast<int>(t)) ++d.components;
+  d.components = edge_components(mesh).count;
   return d;
 }
 

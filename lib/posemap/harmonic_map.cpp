@@ -185,10 +185,16 @@ std::vector<Eigen::Vector3d> HarmonicMap::deform(const TriMesh& pose) const {
   return out;
 }
 
-Eigen::Vector3d HarmonicMap::map(const TetLocator::Location& at, const std::vector<Eigen::Vector3d>& deformed) const {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  for (int k = 0; k < 4; ++k) p += at.weights[k] * deformed[size_t(tets_.tets[size_t(at.tet)][k])];
-  return p;
+Eigen::Vector3d HarmonicMap::map(const Eigen::Vector3d& p, const TetLocator::Location& at,
+                                 const std::vector<Eigen::Vector3d>& deformed) const {
+  // p plus the interpolated displacement: where nothing moves (a body that stays still, a pose
+  // equal to the rest) the displacement is exactly zero and p comes back bit for bit.
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) {
+    const size_t v = size_t(tets_.tets[size_t(at.tet)][k]);
+    u += at.weights[k] * (deformed[v] - tets_.vertices[v]);
+  }
+  return p + u;
 }
 
 }  // namespace spx

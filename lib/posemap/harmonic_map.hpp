@@ -49,8 +49,9 @@ class HarmonicMap {
 
   // Tet-vertex positions in a pose whose surface vertices are `pose.vertices`.
   std::vector<Eigen::Vector3d> deform(const TriMesh& pose) const;
-  // f(p) in a pose given by deform()'s result.
-  Eigen::Vector3d map(const TetLocator::Location& at, const std::vector<Eigen::Vector3d>& deformed) const;
+  // f(p) in a pose given by deform()'s result; `at` is locator().locate(p).
+  Eigen::Vector3d map(const Eigen::Vector3d& p, const TetLocator::Location& at,
+                      const std::vector<Eigen::Vector3d>& deformed) const;
 
   const TetLocator& locator() const { return locator_; }
   size_t data_points() const { return data_.size(); }

@@ -1,5 +1,6 @@
 #include "posemap/posemap.hpp"
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <tbb/blocked_range.h>
@@ -16,6 +17,46 @@
 
 namespace spx {
 namespace {
+
+// The one rule for a sphere's radius in any pose, the rest included: min(max radius, exact
+// distance to the pose's mesh and, for open meshes, a bound from the pose's own field across
+// its holes); 0 where the center is outside, with the cause counted for the report.
+struct PoseSolid {
+  const MeshQuery* mesh;
+  const DenseField* holes;  // null for closed meshes
+  double max_radius;
+
+  enum class Zero : char { none, outside, hole_bound, other };
+  struct Radius {
+    double value = 0;
+    Zero zero = Zero::none;
+  };
+
+  Radius radius(const Eigen::Vector3d& c) const {
+    if (!mesh->inside(c)) return {0, Zero::outside};
+    const double exact = std::min(max_radius, mesh->distance(c));
+    const double r = std::min(exact, hole_bound(c));
+    if (r > 0) return {r, Zero::none};
+    return {0, exact > 0 ? Zero::hole_bound : Zero::other};
+  }
+
+  // Distance is 1-Lipschitz: a voxel's depth less its offset to c bounds the depth at c; the
+  // best of the 8 voxels around c, less the field's own error margin.
+  double hole_bound(const Eigen::Vector3d& c) const {
+    if (!holes) return std::numeric_limits<double>::infinity();
+    const GridShape& g = holes->shape;
+    const Eigen::Vector3d at = c / g.voxel_size - g.origin.cast<double>();
+    const Eigen::Vector3i lo = at.array().floor().cast<int>();
+    double best = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+      if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
+      const double depth = -holes->values[g.index(v.x(), v.y(), v.z())];
+      best = std::max(best, depth - (g.world(v.x(), v.y(), v.z()) - c).norm());
+    }
+    return std::max(0.0, best - 0.1 * g.voxel_size);
+  }
+};
 
 // Sets the field to 0 (not a candidate center) wherever a sphere already covers it.
 void clear_covered(DenseField& field, const SphereSet& spheres) {
@@ -46,32 +87,26 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   for (const PoseInput& input : poses) deformed.push_back(f.deform(input.mesh));
   harmonic_timer.stop();
 
-  // Open meshes: a pose's solid also ends across its holes, where the mesh has no triangles.
-  // Bound radii there by the pose's own field (distance is 1-Lipschitz: a voxel's value minus
-  // the offset to it is a safe bound at the center).
+  std::vector<std::unique_ptr<MeshQuery>> queries;
+  queries.push_back(std::make_unique<MeshQuery>(rest));
+  for (const PoseInput& input : poses) queries.push_back(std::make_unique<MeshQuery>(input.mesh));
+  std::vector<const TriMesh*> meshes{&rest};
+  for (const PoseInput& input : poses) meshes.push_back(&input.mesh);
+
+  // Open meshes: a solid also ends across its holes, where the mesh has no triangles. Every
+  // pose, the rest included, gets its own field at the spheres' voxel size, so one rule sets
+  // every radius.
   const bool open_solid = !find_defects(rest).watertight();
   std::vector<DenseField> hole_fields;
   if (open_solid) {
     StageTimer t(log, "open-fields");
     SdfOptions o;
     o.voxel_size = spheres.voxel_size > 0 ? spheres.voxel_size : rest.diagonal() / 128;
-    for (const PoseInput& input : poses) hole_fields.push_back(build_sdf(input.mesh, o).field);
+    for (const TriMesh* mesh : meshes) hole_fields.push_back(build_sdf(*mesh, o).field);
   }
-  auto hole_bound = [&](size_t pose, const Eigen::Vector3d& c) {
-    if (!open_solid) return std::numeric_limits<double>::infinity();
-    const DenseField& f = hole_fields[pose];
-    const GridShape& g = f.shape;
-    const Eigen::Vector3i v = ((c / g.voxel_size).array().round().cast<int>() - g.origin.array()).matrix();
-    if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) return 0.0;
-    const double value = f.values[g.index(v.x(), v.y(), v.z())];
-    return std::max(0.0, -value - (g.world(v.x(), v.y(), v.z()) - c).norm() - 0.1 * g.voxel_size);
-  };
-
-  std::vector<std::unique_ptr<MeshQuery>> queries;
-  queries.push_back(std::make_unique<MeshQuery>(rest));
-  for (const PoseInput& input : poses) queries.push_back(std::make_unique<MeshQuery>(input.mesh));
-  std::vector<const TriMesh*> meshes{&rest};
-  for (const PoseInput& input : poses) meshes.push_back(&input.mesh);
+  std::vector<PoseSolid> solids;
+  for (size_t i = 0; i < meshes.size(); ++i)
+    solids.push_back({queries[i].get(), open_solid ? &hole_fields[i] : nullptr, proxy.max_radius});
 
   // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
   {
@@ -88,32 +123,33 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   for (const PoseInput& input : poses) proxy.poses.push_back({input.name, input.source, {}, {}});
   std::vector<Eigen::Vector3d> rest_centers;  // for the blend sites
 
-  // Appends rest spheres to every pose: centers through f, radii from each pose's surface.
+  // Appends rest spheres to every pose: centers through f, and in every pose (the rest too)
+  // the radius by the one rule of PoseSolid.
+  std::vector<std::array<size_t, 3>> zero_radius(proxy.poses.size(), {0, 0, 0});  // by cause
   auto add_spheres = [&](const SphereSet& rest_spheres) {
     const size_t first = rest_centers.size(), n = rest_spheres.size();
     for (auto& pose : proxy.poses) pose.spheres.resize(first + n);
-    std::vector<std::vector<char>> outside(poses.size(), std::vector<char>(n, 0));
+    std::vector<std::vector<char>> cause(proxy.poses.size(), std::vector<char>(n, 0));
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t s = r.begin(); s != r.end(); ++s) {
-        proxy.poses[0].spheres[first + s] = rest_spheres[s];
-        const TetLocator::Location at = f.locator().locate(rest_spheres[s].center);
-        for (size_t i = 0; i < poses.size(); ++i) {
-          Sphere& sphere = proxy.poses[i + 1].spheres[first + s];
-          sphere.center = f.map(at, deformed[i]);
-          const MeshQuery& q = *queries[i + 1];
-          if (!q.inside(sphere.center)) {
-            outside[i][s] = 1;
-            sphere.radius = 0;
-          } else {
-            sphere.radius = std::min({proxy.max_radius, q.distance(sphere.center), hole_bound(i, sphere.center)});
-          }
+        const Eigen::Vector3d& c = rest_spheres[s].center;
+        const TetLocator::Location at = f.locator().locate(c);
+        for (size_t i = 0; i < proxy.poses.size(); ++i) {
+          Sphere& sphere = proxy.poses[i].spheres[first + s];
+          sphere.center = i == 0 ? c : f.map(c, at, deformed[i - 1]);
+          const PoseSolid::Radius radius = solids[i].radius(sphere.center);
+          sphere.radius = radius.value;
+          cause[i][s] = char(radius.zero);
         }
       }
     });
     for (const auto& s : rest_spheres) rest_centers.push_back(s.center);
-    for (size_t i = 0; i < poses.size(); ++i)
-      for (size_t s = 0; s < n; ++s)
-        if (outside[i][s]) proxy.poses[i + 1].outside.push_back(int(first + s));
+    for (size_t i = 0; i < proxy.poses.size(); ++i)
+      for (size_t s = 0; s < n; ++s) {
+        if (cause[i][s] == char(PoseSolid::Zero::none)) continue;
+        ++zero_radius[i][size_t(cause[i][s]) - 1];
+        if (cause[i][s] == char(PoseSolid::Zero::outside)) proxy.poses[i].outside.push_back(int(first + s));
+      }
   };
   {
     StageTimer t(log, "map");
@@ -213,10 +249,15 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   }
   for (size_t s = 0; s < n; ++s) proxy.sphere_sites.push_back(site_of_vertex[size_t(nearest[s])]);
 
-  for (size_t i = 1; i < proxy.poses.size(); ++i)
-    if (!proxy.poses[i].outside.empty())
-      log.warn(proxy.poses[i].source + ": " + std::to_string(proxy.poses[i].outside.size()) +
+  for (size_t i = 0; i < proxy.poses.size(); ++i) {
+    const auto& [outside, holes, other] = zero_radius[i];
+    if (outside > 0)
+      log.warn(proxy.poses[i].source + ": " + std::to_string(outside) +
                " sphere centers land outside this pose; those spheres get radius 0 in it");
+    if (holes + other > 0)
+      log.warn(proxy.poses[i].source + ": " + std::to_string(holes + other) + " spheres get radius 0 in this pose (" +
+               std::to_string(holes) + " bounded by its holes, " + std::to_string(other) + " on its surface)");
+  }
 
   const nlohmann::json errors = pose_errors();
   nlohmann::json pose_reports = nlohmann::json::array();
@@ -224,6 +265,11 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
     pose_reports.push_back({{"name", proxy.poses[i].name},
                             {"source", proxy.poses[i].source},
                             {"outside", proxy.poses[i].outside},
+                            {"zero_radius",
+                             {{"total", zero_radius[i][0] + zero_radius[i][1] + zero_radius[i][2]},
+                              {"center_outside", zero_radius[i][0]},
+                              {"hole_bound", zero_radius[i][1]},
+                              {"other", zero_radius[i][2]}}},
                             {"error", errors[i]}});
   size_t outside_points = 0;
   for (const auto& c : rest_centers) outside_points += f.locator().locate(c).outside > 0;
@@ -239,6 +285,9 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
                      {"dropped_points", f.dropped_points()},
                      {"centers_outside_tets", outside_points}}},
                    {"open_solid", open_solid},
+                   {"radius_source", open_solid ? "exact distance to each pose's mesh, bounded across its holes by "
+                                                  "that pose's own field"
+                                                : "exact distance to each pose's mesh"},
                    {"sphere_count", n},
                    {"site_count", proxy.sites.size()},
                    {"poses", pose_reports},

@@ -15,6 +15,8 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
+#include "mesh/components.hpp"
 #include "mesh/winding_number.hpp"
 
 namespace spx {
@@ -26,11 +28,102 @@ using Tr = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_ta
 using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr>;
 using Criteria = CGAL::Mesh_criteria_3<Tr>;
 
+// Mesh_3 finds its first surface points by shooting rays from one centre, so a body the rays
+// miss (the second animal of an OBJ holding two, a car's wheel) gets no tets at all, and one
+// that a single ray hits is not refined either. This domain adds crossings of the level set
+// spread over each body's own triangles.
+class SeededDomain : public Domain {
+ public:
+  struct Body {
+    std::vector<K::Segment_3> seeds;  // short segments across its triangles
+  };
+  SeededDomain(Domain domain, std::vector<Body> bodies) : Domain(std::move(domain)), bodies_(std::move(bodies)) {}
+
+  struct Construct_initial_points {
+    const SeededDomain& d;
+    template <class Out>
+    Out operator()(Out out, int n = 12) const {
+      std::vector<std::pair<K::Point_3, Index>> points;
+      d.Domain::construct_initial_points_object()(std::back_inserter(points), n);
+      // One body: the rays find it (and the tets stay as they always were). Several: seed
+      // them all, since a body that only one ray hit would not be refined either.
+      size_t solids = 0;
+      for (const Body& body : d.bodies_) solids += !body.seeds.empty();
+      if (solids > 1)
+        for (const Body& body : d.bodies_)
+          for (const K::Segment_3& s : body.seeds)
+            if (const auto patch = d.do_intersect_surface_object()(s))
+              points.emplace_back(std::get<0>(d.construct_intersection_object()(s)),
+                                  d.index_from_surface_patch_index(*patch));
+      return std::copy(points.begin(), points.end(), out);
+    }
+  };
+  Construct_initial_points construct_initial_points_object() const { return {*this}; }
+
+ private:
+  std::vector<Body> bodies_;
+};
+
+// Up to 48 segments across triangles of each part where the level set {winding = 1/2}
+// crosses: parts with none (open flaps of a soup) bound no solid of their own.
+std::vector<SeededDomain::Body> seed_bodies(const TriMesh& surface, const Components& parts,
+                                           const std::function<double(const K::Point_3&)>& level) {
+  std::vector<std::vector<int>> triangles(parts.count);
+  for (size_t t = 0; t < surface.triangles.size(); ++t) triangles[size_t(parts.of_triangle[t])].push_back(int(t));
+  std::vector<SeededDomain::Body> bodies(parts.count);
+  auto point = [](const Eigen::Vector3d& p) { return K::Point_3(p.x(), p.y(), p.z()); };
+  for (size_t b = 0; b < parts.count; ++b) {
+    const std::vector<int>& tris = triangles[b];
+    const size_t tries = std::min<size_t>(tris.size(), 128), stride = std::max<size_t>(1, tris.size() / tries);
+    for (size_t k = 0; k < tris.size() && bodies[b].seeds.size() < 48; k += stride) {
+      const Eigen::Vector3i& f = surface.triangles[size_t(tris[k])];
+      const Eigen::Vector3d &a = surface.vertices[size_t(f[0])], &p1 = surface.vertices[size_t(f[1])],
+                            &p2 = surface.vertices[size_t(f[2])];
+      const Eigen::Vector3d n = (p1 - a).cross(p2 - a);
+      const double shortest = std::min({(p1 - a).norm(), (p2 - p1).norm(), (a - p2).norm()});
+      if (!(n.norm() > 0) || !(shortest > 0)) continue;
+      const Eigen::Vector3d c = (a + p1 + p2) / 3, step = 0.1 * shortest * n.normalized();
+      const K::Point_3 from = point(c - step), to = point(c + step);
+      if ((level(from) < 0) != (level(to) < 0)) bodies[b].seeds.emplace_back(from, to);
+    }
+  }
+  return bodies;
+}
+
 void orient(TetMesh& m) {
   for (auto& t : m.tets) {
     const Eigen::Vector3d& a = m.vertices[t[0]];
     const double det = (m.vertices[t[1]] - a).cross(m.vertices[t[2]] - a).dot(m.vertices[t[3]] - a);
     if (det < 0) std::swap(t[2], t[3]);
+  }
+}
+
+// A body that bounds a solid (its triangles cross the level set) must have tet vertices
+// near its seeds; otherwise its spheres would follow another body's motion.
+void check_every_body_meshed(const TetMesh& tets, const TriMesh& surface, const Components& parts,
+                             const std::vector<SeededDomain::Body>& bodies, double size) {
+  size_t solids = 0, solid = 0;
+  for (const auto& body : bodies) solids += !body.seeds.empty();
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    if (bodies[b].seeds.empty()) continue;
+    ++solid;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const K::Segment_3& s : bodies[b].seeds) {
+      const Eigen::Vector3d p(s.source().x(), s.source().y(), s.source().z());
+      for (const auto& v : tets.vertices) nearest = std::min(nearest, (v - p).squaredNorm());
+    }
+    if (std::sqrt(nearest) <= 2 * size) continue;
+    Eigen::AlignedBox3d box;
+    size_t triangles = 0;
+    for (size_t t = 0; t < surface.triangles.size(); ++t)
+      if (parts.of_triangle[t] == int(b)) {
+        ++triangles;
+        for (int k = 0; k < 3; ++k) box.extend(surface.vertices[size_t(surface.triangles[t][k])]);
+      }
+    const Eigen::Vector3d c = box.center();
+    fail_input("", "body " + std::to_string(solid) + " of " + std::to_string(solids) + " (" +
+                       std::to_string(triangles) + " triangles around " + num(c.x()) + ", " + num(c.y()) + ", " +
+                       num(c.z()) + ") produced no tetrahedra; is it thinner than --tet-size " + num(size) + "?");
   }
 }
 
@@ -84,9 +177,14 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
   const Eigen::Vector3d c = box.center();
   const double radius = 0.5 * diag + 2 * size;
   namespace params = CGAL::parameters;
-  Domain domain = Domain::create_implicit_mesh_domain(
-      params::function = level, params::bounding_object = K::Sphere_3(K::Point_3(c.x(), c.y(), c.z()), radius * radius),
-      params::relative_error_bound = 1e-6);
+  const Components parts = edge_components(surface);
+  std::vector<SeededDomain::Body> bodies = seed_bodies(surface, parts, level);
+  SeededDomain domain(
+      Domain::create_implicit_mesh_domain(
+          params::function = level,
+          params::bounding_object = K::Sphere_3(K::Point_3(c.x(), c.y(), c.z()), radius * radius),
+          params::relative_error_bound = 1e-6),
+      bodies);
   Criteria criteria(params::facet_angle = 25, params::facet_size = size, params::facet_distance = size / 10,
                     params::cell_radius_edge_ratio = 3, params::cell_size = size);
   CGAL::get_default_random() = CGAL::Random(0);  // perturbation and exudation draw from it
@@ -112,6 +210,7 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
     fail_input("", "the rest shape produced no tetrahedra (is it closed, or thinner than --tet-size?)");
   orient(out);
   find_tet_boundary(out);
+  check_every_body_meshed(out, surface, parts, bodies, size);
   return out;
 }
 
