@@ -1,6 +1,7 @@
 #include <CGAL/Simple_cartesian.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <random>
 
@@ -55,6 +56,66 @@ TEST(MeshLoad, PoseMustShareTheRestTopology) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ExitCode::bad_input);
     EXPECT_NE(std::string(e.what()).find("reordered.obj"), std::string::npos);
+  }
+}
+
+// A pose listing the rest's faces in another order, with their corners rotated (as another
+// exporter writes them): matched by its triangles, each vertex lands on its own rest vertex,
+// even on a symmetric mesh that maps onto itself in many ways.
+TEST(MeshLoad, PoseWithReorderedFacesIsMatchedByItsTriangles) {
+  const std::string dir = test::temp_dir("reorder");
+  const TriMesh rest_mesh = test::uv_sphere(1.0, 12, 24);
+  write_file_atomic(dir + "/rest.obj", to_obj(rest_mesh));
+  const LoadedMesh rest = load_mesh(dir + "/rest.obj");
+  auto bend = [](const Eigen::Vector3d& v) { return Eigen::Vector3d(1.2 * v.x() + 0.3 * v.z() * v.z(), 0.9 * v.y(), v.z()); };
+  TriMesh pose = rest_mesh;
+  for (auto& v : pose.vertices) v = bend(v);
+  std::mt19937 rng(7);
+  std::shuffle(pose.triangles.begin(), pose.triangles.end(), rng);
+  for (size_t t = 0; t < pose.triangles.size(); ++t) {
+    const Eigen::Vector3i f = pose.triangles[t];
+    pose.triangles[t] = t % 3 == 0 ? f : t % 3 == 1 ? Eigen::Vector3i(f[1], f[2], f[0]) : Eigen::Vector3i(f[2], f[0], f[1]);
+  }
+  write_file_atomic(dir + "/shuffled.obj", to_obj(pose));
+  const TriMesh got = load_pose(dir + "/shuffled.obj", rest);
+  ASSERT_EQ(got.vertices.size(), rest.mesh.vertices.size());
+  for (size_t v = 0; v < got.vertices.size(); ++v)
+    EXPECT_LT((got.vertices[v] - bend(rest.mesh.vertices[v])).norm(), 1e-6) << "vertex " << v;
+
+  TriMesh other = pose;  // one triangle really differs: it says how, naming both files
+  std::swap(other.triangles[0][0], other.triangles[5][1]);
+  write_file_atomic(dir + "/other.obj", to_obj(other));
+  try {
+    load_pose(dir + "/other.obj", rest);
+    FAIL() << "a pose with other triangles was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input);
+    EXPECT_NE(std::string(e.what()).find("other.obj: its triangles connect its vertices otherwise"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("rest.obj"), std::string::npos) << e.what();
+  }
+}
+
+// Mixed formats: a GLB rest (its own vertex list) with OBJ poses (face corners). Each pose
+// vertex must land where the same pose read against the OBJ rest puts it.
+TEST(MeshLoad, GlbRestWithObjPoses) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string d = test::shared_data() + "/rigged-simple/";
+  const LoadedMesh glb = load_mesh(d + "RiggedSimple.glb");
+  const LoadedMesh obj = load_mesh(d + "rest.obj");
+  ASSERT_EQ(glb.mesh.vertices.size(), obj.mesh.vertices.size());
+  std::vector<size_t> same(glb.mesh.vertices.size());  // GLB vertex -> OBJ vertex at the same rest point
+  for (size_t v = 0; v < same.size(); ++v) {
+    double best = 1e30;
+    for (size_t u = 0; u < obj.mesh.vertices.size(); ++u) {
+      const double e = (glb.mesh.vertices[v] - obj.mesh.vertices[u]).norm();
+      if (e < best) best = e, same[v] = u;
+    }
+    ASSERT_LT(best, 1e-5 * glb.mesh.diagonal());
+  }
+  for (const char* name : {"pose-00.obj", "pose-01.obj", "pose-02.obj", "pose-03.obj"}) {
+    const TriMesh a = load_pose(d + name, glb), b = load_pose(d + name, obj);
+    for (size_t v = 0; v < same.size(); ++v) EXPECT_EQ(a.vertices[v], b.vertices[same[v]]) << name << " vertex " << v;
   }
 }
 

@@ -2,6 +2,8 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/pose_match.hpp"
 
 namespace spx {
 namespace {
@@ -90,20 +93,29 @@ Eigen::AlignedBox3d TriMesh::bounds() const {
   return box;
 }
 
+namespace {
+
+// Coincident positions become one vertex, numbered in order of first appearance.
+std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& welded) {
+  std::vector<int> weld(positions.size());
+  std::unordered_map<PositionKey, int, PositionHash> seen;
+  seen.reserve(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const auto& p = positions[i];
+    auto [it, fresh] = seen.emplace(PositionKey{p.x() + 0.0, p.y() + 0.0, p.z() + 0.0}, static_cast<int>(welded.size()));
+    if (fresh) welded.push_back(p);
+    weld[i] = it->second;
+  }
+  return weld;
+}
+
+}  // namespace
+
 LoadedMesh load_mesh(const std::string& path) {
   RawMesh raw = read_raw(path);
   LoadedMesh out;
   out.path = path;
-  out.weld.resize(raw.positions.size());
-  std::unordered_map<PositionKey, int, PositionHash> seen;
-  seen.reserve(raw.positions.size());
-  for (size_t i = 0; i < raw.positions.size(); ++i) {
-    const auto& p = raw.positions[i];
-    auto [it, fresh] = seen.emplace(PositionKey{p.x() + 0.0, p.y() + 0.0, p.z() + 0.0},
-                                    static_cast<int>(out.mesh.vertices.size()));
-    if (fresh) out.mesh.vertices.push_back(p);
-    out.weld[i] = it->second;
-  }
+  out.weld = weld_by_position(raw.positions, out.mesh.vertices);
   out.file_triangles = std::move(raw.triangles);
   out.mesh.triangles.reserve(out.file_triangles.size());
   for (const auto& t : out.file_triangles)
@@ -111,36 +123,56 @@ LoadedMesh load_mesh(const std::string& path) {
   return out;
 }
 
-TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
-  RawMesh raw = read_raw(path);
-  const std::string differs = " (poses must share the rest mesh's topology: " + rest.path + ")";
-  if (raw.triangles.size() != rest.file_triangles.size())
-    fail_input(path, "has " + std::to_string(raw.triangles.size()) + " triangles, the rest mesh has " +
-                         std::to_string(rest.file_triangles.size()) + differs);
-  if (raw.positions.size() != rest.file_vertex_count())
-    fail_input(path, "has " + std::to_string(raw.positions.size()) + " vertices, the rest mesh has " +
-                         std::to_string(rest.file_vertex_count()) + differs);
-  for (size_t t = 0; t < raw.triangles.size(); ++t)
-    if (raw.triangles[t] != rest.file_triangles[t])
-      fail_input(path, "triangle " + std::to_string(t) + " uses other vertices than in the rest mesh" + differs);
+namespace {
 
-  TriMesh pose;
-  pose.triangles = rest.mesh.triangles;
-  pose.vertices.assign(rest.mesh.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
+// A pose laid out as the rest file: the rest's own weld gives its vertices. False when points
+// that are one at rest part (the faces are in another order, or a seam really opens).
+bool pose_by_rest_weld(const RawMesh& raw, const LoadedMesh& rest, TriMesh& pose) {
+  if (raw.positions.size() != rest.file_vertex_count() || raw.triangles != rest.file_triangles) return false;
   std::vector<char> set(rest.mesh.vertices.size(), 0);
   double scale = 0;
   for (const auto& p : raw.positions) scale = std::max(scale, p.cwiseAbs().maxCoeff());
   const double tol = 1e-6 * std::max(scale, 1e-30);
   for (size_t i = 0; i < raw.positions.size(); ++i) {
-    const int v = rest.weld[i];
+    const size_t v = size_t(rest.weld[i]);
     if (!set[v]) {
       pose.vertices[v] = raw.positions[i];
       set[v] = 1;
     } else if ((pose.vertices[v] - raw.positions[i]).norm() > tol) {
-      fail_input(path, "vertices that are one point in the rest mesh move apart in this pose (file vertex " +
-                           std::to_string(i) + ")" + differs);
+      return false;
     }
   }
+  return true;
+}
+
+// Any other layout (a GLB's vertices against an OBJ's face corners, faces in another order or
+// their corners rotated): weld the pose by its own positions and match it by its triangles.
+void pose_by_triangles(const std::string& path, const RawMesh& raw, const LoadedMesh& rest, const std::string& differs,
+                       TriMesh& pose) {
+  TriMesh own;
+  const std::vector<int> weld = weld_by_position(raw.positions, own.vertices);
+  for (const auto& t : raw.triangles) own.triangles.emplace_back(weld[size_t(t[0])], weld[size_t(t[1])], weld[size_t(t[2])]);
+  std::vector<int> to_rest;
+  try {
+    to_rest = match_pose_vertices(rest.mesh, own, path);
+  } catch (const Error& e) {
+    throw Error(e.code(), "", e.what() + differs);
+  }
+  for (size_t v = 0; v < own.vertices.size(); ++v) pose.vertices[size_t(to_rest[v])] = own.vertices[v];
+}
+
+}  // namespace
+
+TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
+  const RawMesh raw = read_raw(path);
+  const std::string differs = " (poses must share the rest mesh's topology: " + rest.path + ")";
+  if (raw.triangles.size() != rest.file_triangles.size())
+    fail_input(path, "has " + std::to_string(raw.triangles.size()) + " triangles, the rest mesh has " +
+                         std::to_string(rest.file_triangles.size()) + differs);
+  TriMesh pose;
+  pose.triangles = rest.mesh.triangles;
+  pose.vertices.assign(rest.mesh.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
+  if (!pose_by_rest_weld(raw, rest, pose)) pose_by_triangles(path, raw, rest, differs, pose);
   return pose;
 }
 

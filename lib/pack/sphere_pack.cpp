@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cmath>
 #include <memory>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -31,6 +32,49 @@ Tolerance parse_tolerance(const std::string& text) {
   return t;
 }
 
+namespace {
+
+// --mesh must be the mesh the field was built from: with a pose or another model, centers come
+// from one shape and radii from another. Its bounds must match those sdf-build recorded, and
+// its vertices must lie on the field's zero level (distance is 1-Lipschitz: a voxel's |value|
+// less its offset to the vertex bounds the vertex's own distance to the field's surface).
+void check_mesh_matches_field(const TriMesh& mesh, const std::string& mesh_path, const LoadedSdf& sdf,
+                              const std::string& sdf_path) {
+  const GridShape& g = sdf.field.shape;
+  const double h = g.voxel_size;
+  const auto source = sdf.metadata.find("spx_source_mesh");
+  const std::string built_from = source == sdf.metadata.end() ? "" : " (built from " + source->second + ")";
+  auto mismatch = [&](const std::string& how) {
+    fail_input(mesh_path, "is not the mesh " + sdf_path + built_from + " was built from: " + how);
+  };
+  size_t off_surface = 0;
+  for (const Eigen::Vector3d& p : mesh.vertices) {
+    const Eigen::Vector3i v = ((p / h).array().round().cast<int>() - g.origin.array()).matrix();
+    if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) {
+      ++off_surface;
+      continue;
+    }
+    const double value = std::abs(sdf.field.values[g.index(v.x(), v.y(), v.z())]);
+    off_surface += value - (g.world(v.x(), v.y(), v.z()) - p).norm() > 2 * h;
+  }
+  if (off_surface > mesh.vertices.size() / 100)
+    mismatch(std::to_string(off_surface) + " of its " + std::to_string(mesh.vertices.size()) +
+             " vertices lie more than 2 voxels off the field's surface (a pose, or another model?)");
+  const auto recorded = sdf.metadata.find("spx_source_bounds");
+  if (recorded != sdf.metadata.end()) {
+    std::istringstream in(recorded->second);
+    Eigen::Vector3d lo, hi;
+    if (in >> lo.x() >> lo.y() >> lo.z() >> hi.x() >> hi.y() >> hi.z()) {
+      const Eigen::AlignedBox3d b = mesh.bounds();
+      const double off = std::max((b.min() - lo).cwiseAbs().maxCoeff(), (b.max() - hi).cwiseAbs().maxCoeff());
+      if (off > 0.25 * h)
+        mismatch("its bounding box differs from the field's mesh by " + num(off) + " (" + num(off / h) + " voxels)");
+    }
+  }
+}
+
+}  // namespace
+
 void sphere_pack(const std::string& input, const std::string& mesh_path, const std::string& output,
                  const PackOptions& user_options, const Tolerance& tolerance, Log& log, json& report) {
   if (tolerance.set() && mesh_path.empty())
@@ -48,6 +92,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
   if (!mesh_path.empty()) {
     StageTimer t(log, "mesh");
     const LoadedMesh loaded = load_mesh(mesh_path);
+    check_mesh_matches_field(loaded.mesh, mesh_path, sdf, input);
     mesh = about_file(mesh_path, [&] { return std::make_unique<MeshQuery>(loaded.mesh); });
     if (tolerance.set()) {
       // Pack the whole greedy sequence down to a fine floor, then keep the shortest prefix.

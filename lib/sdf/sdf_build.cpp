@@ -22,10 +22,15 @@ void sdf_build(const std::string& input, const std::string& output, const SdfOpt
              " inconsistently oriented edges); inside is where the winding number exceeds 1/2");
   if (d.degenerate_triangles > 0) log.warn(input + ": " + std::to_string(d.degenerate_triangles) + " degenerate triangles");
   if (d.watertight() && d.signed_volume < 0) log.warn(input + ": triangles face inward (negative volume); the winding-number sign is used as is");
+  const Eigen::AlignedBox3d bounds = loaded.mesh.bounds();
+  char box[200];
+  std::snprintf(box, sizeof box, "%.9g %.9g %.9g %.9g %.9g %.9g", bounds.min().x(), bounds.min().y(), bounds.min().z(),
+                bounds.max().x(), bounds.max().y(), bounds.max().z());
   {
     StageTimer t(log, "write");
     write_sdf_vdb(output, sdf.field,
                   {{"spx_source_mesh", input},
+                   {"spx_source_bounds", box},
                    {"spx_open_solid", sdf.stats.bounded_by_holes ? "yes" : "no"},
                    {"spx_sign_method", sdf.stats.sign_method},
                    {"spx_generator", std::string("sdf-build (spx) ") + SPX_VERSION}});

@@ -60,6 +60,13 @@ if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['toleran
 expect 1 "needs --mesh" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --tolerance 1% -o "$out/u.json"
 expect 1 "tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance abc -o "$out/u.json"
 
+# --mesh must be the mesh the field was built from: a pose or another model is refused, naming both.
+expect 2 "dent.obj: is not the mesh .*rest.vdb (built from .*rest.obj) was built from: its bounding box differs" \
+  "$out/m.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/dent.obj" -o "$out/m.json"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$out/other.obj"
+expect 2 "other.obj: is not the mesh .*rest.vdb .*: [0-9] of its 4 vertices lie more than 2 voxels off" \
+  "$out/m.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/other.obj" -o "$out/m.json"
+
 # Poses that do not share the rest topology.
 head -n -1 "$out/in/dent.obj" >"$out/short.obj"
 expect 2 "short.obj: has .* triangles, the rest mesh has" "$out/p.json" -- \
