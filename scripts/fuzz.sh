@@ -1,24 +1,26 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan) and runs each for SECONDS (default 60),
-# seeded with real outputs (the car sample chain). Longer runs: scripts/fuzz.sh 3600
-# Crashes land in build/fuzz/ as crash-* files; the script exits non-zero if any target fails.
+# seeded with real outputs (the car sample chain, made fresh by BUILD_DIR's tools).
+#   scripts/fuzz.sh [SECONDS] [BUILD_DIR]      (BUILD_DIR: default build/release)
+# Everything it writes goes under BUILD_DIR/fuzz; crashes land there as crash-* files, and the
+# script exits non-zero if any target fails.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
+build=$(cd "${2:-$root/build/release}" && pwd)
 cxx=$(command -v clang++-14 || command -v clang++ || true)
 [ -n "$cxx" ] || { echo "fuzz: clang++ not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 1; }
-out=$root/build/fuzz
+out=$build/fuzz
+rm -rf "$out/corpus-spx" "$out/corpus-json" "$out/seeds"
 mkdir -p "$out/corpus-spx" "$out/corpus-json"
 flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
   -I"$root/lib" -I"$root/lib/runtime" -I/usr/include/eigen3 -DSPX_VERSION='"fuzz"')
 "$cxx" "${flags[@]}" "$root/tests/fuzz/spx_reader.cpp" -o "$out/spx_reader"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/atomic_file.cpp" \
   "$root/lib/pack/spheres_file.cpp" "$root/lib/posemap/proxy.cpp" "$root/tests/fuzz/version.cpp" -o "$out/json_readers"
-# Seeds: the outputs of the car chain (build it if needed).
-seeds=$root/build/samples/car
-if [ ! -f "$seeds/car.spx" ]; then
-  make -s -C "$root/samples" ASSET=car BIN="$root/build/release/apps" OUT="$root/build/samples" RES=48
-fi
+# Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
+make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
+seeds=$out/seeds/car
 cp "$seeds/car.spx" "$out/corpus-spx/"
 cp "$seeds/rest.spheres.json" "$seeds/car.proxy.json" "$seeds/car.json" "$out/corpus-json/"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.

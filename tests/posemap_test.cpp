@@ -101,11 +101,15 @@ TEST(PoseMap, RadiiAreDistancesToEachPoseAndSitesAreNearest) {
 }
 
 TEST(PoseMap, CentersOutsideAPoseAreReportedNotKept) {
-  // A pose that pinches the middle of a bar to nearly nothing pushes mapped centers out.
+  // A narrow, deep crease pressed into a ball: the smooth interior map moves the centers under
+  // it less than the surface, so they land outside (a broad squash would carry them along).
   const TriMesh rest = test::uv_sphere(1.0, 16, 32);
   TriMesh pose = rest;
-  for (auto& v : pose.vertices) v = Eigen::Vector3d(v.x(), v.y(), v.z() * 0.05);
-  const SpheresFile spheres = test::pack_file(rest, 32);
+  for (auto& v : pose.vertices)
+    if (std::abs(v.y()) < 0.25 && v.z() > 0.3) v.z() = 0.3 + 0.05 * (v.z() - 0.3) - 0.6 * (0.25 - std::abs(v.y()));
+  PackOptions small;
+  small.max_radius = 0.3;  // many spheres, some deep in the cap
+  const SpheresFile spheres = test::pack_file(rest, 32, small);
   const PoseMapResult r = pose_map(rest, "rest", {{"flat", "", pose}}, spheres, {});
   const MeshQuery q(pose);
   size_t outside = 0;
@@ -118,6 +122,7 @@ TEST(PoseMap, CentersOutsideAPoseAreReportedNotKept) {
                 r.proxy.poses[1].outside.end());
     }
   }
+  EXPECT_GT(outside, 0u) << "the flattened pose was meant to push centers out";
   EXPECT_EQ(outside, r.proxy.poses[1].outside.size());
 }
 
@@ -204,7 +209,8 @@ TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
   for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
   PoseMapOptions opt;
   opt.fill_gaps = true;
-  opt.fill_tolerance = 0.015 * car.rest.diagonal();
+  opt.fill_tolerance = {1.5, true};  // 1.5% of the diagonal
+  const double target = 0.015 * car.rest.diagonal();
   const PoseMapResult r = pose_map(car.rest, "rest", poses, spheres, opt);
   const auto& fill = r.report["fill_gaps"];
   ASSERT_FALSE(fill.is_null());
@@ -213,7 +219,9 @@ TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
     const double before = fill["errors_before"][i + 1]["max"];
     const double after = r.report["poses"][i + 1]["error"]["max"];
     EXPECT_LE(after, before + 1e-12) << poses[i].name;
-    if (fill["poses"][i]["target_met"].get<bool>()) EXPECT_LE(after, opt.fill_tolerance * (1 + 1e-9)) << poses[i].name;
+    // 1.5% is within reach at 64 voxels on every car pose: the fill must get there.
+    EXPECT_TRUE(fill["poses"][i]["target_met"].get<bool>()) << poses[i].name;
+    EXPECT_LE(after, target * (1 + 1e-9)) << poses[i].name;
     const MeshQuery q(poses[i].mesh);
     for (const auto& s : r.proxy.poses[i + 1].spheres)
       if (s.radius > 0) EXPECT_GE(q.distance(s.center), s.radius - 1e-9);

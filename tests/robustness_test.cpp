@@ -5,6 +5,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/tool.hpp"
 #include "export/spx_writer.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/mesh_query.hpp"
@@ -199,6 +200,57 @@ TEST(FilesBetweenTools, SpxWithASiteOutOfRangeIsBadData) {
   Proxy proxy;
   EXPECT_EQ(load_memory(bytes.data(), bytes.size(), &proxy), SPX_ERR_BAD_DATA);
   EXPECT_TRUE(proxy.empty());
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// Expected failures are spx::Errors with their class; anything else is a bug and says so.
+TEST(Tool, UnexpectedExceptionsAreInternalErrors) {
+  char name[] = "tool";
+  char* argv[] = {name, nullptr};
+  Tool bug("tool", "test");
+  EXPECT_EQ(bug.run(1, argv, [] { throw std::logic_error("boom"); }), int(ExitCode::internal));
+  Tool bad("tool", "test");
+  EXPECT_EQ(bad.run(1, argv, [] { fail_input("in.obj", "bad"); }), int(ExitCode::bad_input));
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// tests/data/json: documents the schemas accept or reject (ctest schema.*); the readers must
+// agree on each one.
+TEST(FilesBetweenTools, SharedDocumentsAreJudgedAsTheSchemasJudge) {
+  const std::string root = std::string(SPX_TEST_DATA) + "/json/";
+  size_t judged = 0;
+  for (const std::string kind : {"spheres", "proxy"})
+    for (const bool valid : {true, false})
+      for (const auto& entry : std::filesystem::directory_iterator(root + kind + (valid ? "/valid" : "/invalid"))) {
+        const std::string path = entry.path().string();
+        auto read = [&] {
+          if (kind == "spheres") read_spheres_file(path);
+          else read_proxy_file(path);
+        };
+        ++judged;
+        if (valid) {
+          EXPECT_NO_THROW(read()) << path;
+          continue;
+        }
+        try {
+          read();
+          ADD_FAILURE() << path << " was accepted; its schema rejects it";
+        } catch (const Error& e) {
+          EXPECT_EQ(e.code(), ExitCode::bad_input) << path << ": " << e.what();
+          EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+        }
+      }
+  EXPECT_GE(judged, 30u);
 }
 
 }  // namespace

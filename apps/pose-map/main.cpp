@@ -16,10 +16,15 @@ int main(int argc, char** argv) {
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
   tool.app.add_flag("--fill-gaps", opt.fill_gaps,
                     "Pack what each pose's mapped spheres leave uncovered and map the new spheres back to rest");
-  tool.app.add_option("--fill-tolerance", opt.fill_tolerance,
+  std::string fill_tolerance;
+  tool.app.add_option("--fill-tolerance", fill_tolerance,
                       "Fill each pose until its max vertex error is at most this (default: the spheres file's "
                       "--tolerance, else the rest pose's max error)");
   tool.app.add_option("--fill-min-radius", opt.fill_min_radius, "Smallest gap-filling sphere (default: 3/4 voxel)");
-  tool.app.add_option("--fill-max", opt.fill_max_per_pose, "At most this many gap-filling spheres per pose");
-  return tool.run(argc, argv, [&] { spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report); });
+  tool.app.add_option("--fill-max", opt.fill_max_per_pose, "At most this many gap-filling spheres per pose")
+      ->check(CLI::PositiveNumber);
+  return tool.run(argc, argv, [&] {
+    opt.fill_tolerance = spx::parse_tolerance(fill_tolerance, "--fill-tolerance");
+    spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report);
+  });
 }

@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--mesh", mesh, "The mesh the field was built from: radii become exact distances to it");
   tool.app.add_option("--min-radius", opt.min_radius, "Stop when the next sphere would be smaller (default 1.5 voxels)");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius a sphere may have (default unlimited)");
-  tool.app.add_option("--max-spheres", opt.max_spheres, "Stop after this many spheres (default unlimited)");
+  tool.app.add_option("--max-spheres", opt.max_spheres, "Stop after this many spheres (default unlimited)")
+      ->check(CLI::PositiveNumber);
   std::string tolerance;
   tool.app.add_option("--tolerance", tolerance,
                       "Fewest spheres whose rest max vertex error is at most T (length, or T% of the diagonal); "
@@ -19,6 +20,6 @@ int main(int argc, char** argv) {
   tool.app.add_flag("--grid-centers", grid_centers, "Keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {
     opt.refine_centers = !grid_centers;
-    spx::sphere_pack(input, mesh, output, opt, spx::parse_tolerance(tolerance), tool.log, tool.report);
+    spx::sphere_pack(input, mesh, output, opt, spx::parse_tolerance(tolerance, "--tolerance"), tool.log, tool.report);
   });
 }

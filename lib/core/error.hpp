@@ -10,7 +10,8 @@ enum class ExitCode : int {
   usage = 1,        // bad command line or parameter
   bad_input = 2,    // unreadable or invalid input file
   unsupported = 3,  // valid input we do not handle (format, newer version)
-  cannot_write = 4  // output could not be written
+  cannot_write = 4, // output could not be written
+  internal = 5      // a bug: an unexpected failure inside the tool (please report it)
 };
 
 class Error : public std::runtime_error {

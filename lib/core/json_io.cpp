@@ -9,6 +9,11 @@ namespace spx {
 
 json read_json_file(const std::string& path) {
   const std::string text = read_file(path);
+  if (text.compare(0, 4, "\x89SPX") == 0)
+    fail_input(path, "is a runtime .spx file (from proxy-export), not JSON; give the .proxy.json pose-map wrote");
+  if (text.compare(0, 4, " BDV") == 0) fail_input(path, "is an OpenVDB file (from sdf-build), not JSON");
+  if (text.compare(0, 4, "glTF") == 0) fail_input(path, "is a binary glTF file, not JSON");
+  if (text.find('\0') != std::string::npos) fail_input(path, "is a binary file, not JSON");
   try {
     return json::parse(text);
   } catch (const json::exception& e) {
@@ -42,6 +47,22 @@ std::string optional_string(const json& j, const char* key, const std::string& f
   if (!j.is_object() || !j.contains(key) || j[key].is_null()) return fallback;
   if (!j[key].is_string()) fail_input(file, std::string("field '") + key + "' is not a string");
   return j[key].get<std::string>();
+}
+
+std::string require_string(const json& j, const char* key, const std::string& file) {
+  const json& v = require(j, key, file);
+  if (!v.is_string()) fail_input(file, std::string("field '") + key + "' is not a string");
+  return v.get<std::string>();
+}
+
+int require_version(const json& j, const std::string& what, int newest, const std::string& file) {
+  const json& v = require(j, "version", file);
+  if (!v.is_number_integer() || v.get<long long>() < 1)
+    fail_input(file, "field 'version' is not a " + what + " format version (an integer from 1)");
+  if (v.get<long long>() > newest)
+    fail_unsupported(file, what + " format version " + std::to_string(v.get<long long>()) + " is newer than this tool (" +
+                               std::to_string(newest) + ")");
+  return int(v.get<long long>());
 }
 
 bool has_format(const json& j, const char* format) {

@@ -57,9 +57,10 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     std::fprintf(stderr, "Error: %s: out of memory (try a coarser --resolution)\n", name_.c_str());
     code = ExitCode::unsupported;
   } catch (const std::exception& e) {
+    // Every expected failure is an spx::Error with its class; anything else is our bug.
     Log::clear_transient();
-    std::fprintf(stderr, "Error: %s: %s\n", name_.c_str(), e.what());
-    code = ExitCode::bad_input;
+    std::fprintf(stderr, "Error: %s: internal error: %s (please report it with the inputs)\n", name_.c_str(), e.what());
+    code = ExitCode::internal;
   }
   return static_cast<int>(code);
 }

@@ -169,7 +169,9 @@ std::vector<Eigen::Vector3f> error_colors(const std::vector<double>& e, double s
 std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int pose, bool spread) {
   const bool gltf = ext == ".glb";
   if (!gltf && ext != ".ply") fail_unsupported("", "no preview format for '" + ext + "'");
-  if (pose < 0 || pose >= int(proxy.poses.size())) fail_usage("--pose", "no pose " + std::to_string(pose));
+  if (pose < 0 || pose >= int(proxy.poses.size()))
+    fail_usage("--ply-pose", "no pose " + std::to_string(pose) + " (the proxy has poses 0.." +
+                                 std::to_string(proxy.poses.size() - 1) + ")");
   std::vector<int> shown;
   if (gltf)
     for (int i = 0; i < int(proxy.poses.size()); ++i) shown.push_back(i);

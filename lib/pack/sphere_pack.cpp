@@ -13,25 +13,6 @@
 
 namespace spx {
 
-Tolerance parse_tolerance(const std::string& text) {
-  Tolerance t;
-  if (text.empty()) return t;
-  std::string number = text;
-  if (number.back() == '%') {
-    t.percent = true;
-    number.pop_back();
-  }
-  size_t used = 0;
-  try {
-    t.value = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != number.size() || number.empty() || !(t.value > 0) || !std::isfinite(t.value))
-    fail_usage("--tolerance", "'" + text + "' is not a positive length or percentage (e.g. 0.05 or 1%)");
-  return t;
-}
-
 namespace {
 
 // --mesh must be the mesh the field was built from: with a pose or another model, centers come
@@ -113,15 +94,21 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
   double tolerance_target = 0;
   if (tolerance.set()) {
     StageTimer t(log, "tolerance");
-    const double target = tolerance.percent ? tolerance.value / 100 * mesh->mesh().diagonal() : tolerance.value;
+    const double diagonal = mesh->mesh().diagonal();
+    const double target = tolerance.length(diagonal);
+    if (target >= 0.1 * diagonal)
+      log.warn("--tolerance " + num(tolerance.value) + (tolerance.percent ? "%" : "") + " is " +
+               num(100 * target / diagonal) + "% of the mesh's bounding-box diagonal (" + num(diagonal) + ")" +
+               (tolerance.percent ? "" : "; did you mean " + num(tolerance.value) + "%?"));
     const ToleranceResult tr = fewest_spheres_within(mesh->mesh(), packed.spheres, target);
     size_t keep = tr.count;
-    std::string limit = tr.met ? "tolerance" : "the packing sequence ended before the tolerance was met";
+    std::string limit = tr.met ? "met the tolerance" : "the packing sequence ended before the tolerance was met";
     if (user_options.max_spheres > 0 && user_options.max_spheres < keep) {
       keep = user_options.max_spheres;
       limit = "--max-spheres (tighter than the tolerance)";
     }
     packed.spheres.resize(keep);
+    packed.stats.stop_reason = limit;  // the prefix, not the packing that made the sequence, decides
     tolerance_target = target;
     const double reached = tr.max_error_by_count.empty() ? 0 : tr.max_error_by_count[keep - 1];
     if (!tr.met) {

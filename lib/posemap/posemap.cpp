@@ -172,7 +172,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
     SdfOptions field_options;
     field_options.voxel_size = spheres.voxel_size > 0 ? spheres.voxel_size : rest.diagonal() / 128;
     const double min_radius = opt.fill_min_radius > 0 ? opt.fill_min_radius : 0.75 * field_options.voxel_size;
-    double target = opt.fill_tolerance > 0 ? opt.fill_tolerance : spheres.tolerance;
+    double target = opt.fill_tolerance.set() ? opt.fill_tolerance.length(rest.diagonal()) : spheres.tolerance;
     if (!(target > 0)) target = errors_before_fill[0]["max"].get<double>();
     nlohmann::json per_pose = nlohmann::json::array();
     for (size_t i = 0; i < poses.size(); ++i) {

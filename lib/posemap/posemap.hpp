@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "core/tolerance.hpp"
 #include "mesh/mesh.hpp"
 #include "pack/spheres_file.hpp"
 #include "posemap/proxy.hpp"
@@ -29,7 +30,7 @@ struct PoseMapOptions {
   double fill_min_radius = 0;   // 0: 3/4 of a voxel of the spheres' field
   // Each pose is filled until its max vertex error is at most this; 0: the spheres file's
   // tolerance, or else the rest pose's own max error.
-  double fill_tolerance = 0;
+  Tolerance fill_tolerance;
   size_t fill_max_per_pose = 0; // 0: no limit
 };
 

@@ -32,11 +32,13 @@ json proxy_to_json(const ProxyModel& p) {
 ProxyModel proxy_from_json(const json& j, const std::string& path) {
   if (!has_format(j, "spx-proxy"))
     fail_input(path, "is not a proxy file (expected \"format\": \"spx-proxy\")");
-  const double version = require_number(j, "version", path);
-  if (version >= 2) fail_unsupported(path, "proxy format version " + std::to_string(int(version)) + " is newer than this tool (1)");
+  // The same rules as schemas/proxy.schema.json (tests/data/json holds documents both judge).
+  require_version(j, "proxy", 1, path);
+  require_string(j, "generator", path);
   ProxyModel p;
   const json& max_r = require(j, "max_radius", path);
   if (!max_r.is_null()) p.max_radius = as_finite_number(max_r, "field 'max_radius'", path);
+  if (!(p.max_radius > 0)) fail_input(path, "field 'max_radius' is not positive");
   const json& poses = require(j, "poses", path);
   if (!poses.is_array() || poses.empty()) fail_input(path, "field 'poses' must be a non-empty array");
   for (size_t i = 0; i < poses.size(); ++i) {
@@ -45,9 +47,15 @@ ProxyModel proxy_from_json(const json& j, const std::string& path) {
     const json& name = require(poses[i], "name", path);
     if (!name.is_string()) fail_input(path, what + ".name is not a string");
     pose.name = name;
-    pose.source = optional_string(poses[i], "source", "", path);
+    pose.source = require_string(poses[i], "source", path);
     pose.spheres = sphere_array_from_json(require(poses[i], "spheres", path), what + ".spheres", path, true);
-    if (poses[i].contains("outside")) pose.outside = poses[i]["outside"].get<std::vector<int>>();
+    const json& outside = require(poses[i], "outside", path);
+    if (!outside.is_array()) fail_input(path, what + ".outside is not an array");
+    for (const json& v : outside) {
+      if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() >= (long long)pose.spheres.size())
+        fail_input(path, what + ".outside holds an index that is not a sphere");
+      pose.outside.push_back(v.get<int>());
+    }
     if (i > 0 && pose.spheres.size() != p.poses.front().spheres.size())
       fail_input(path, what + " has " + std::to_string(pose.spheres.size()) + " spheres, the rest pose has " +
                            std::to_string(p.poses.front().spheres.size()));

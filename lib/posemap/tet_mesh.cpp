@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -217,23 +218,30 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
 TetMesh read_medit_tets(const std::string& path) {
   std::ifstream in(path);
   if (!in) fail_input(path, "cannot open");
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
   TetMesh m;
   std::string word;
-  auto read_count = [&](const char* section) {
+  // A vertex line takes at least 8 bytes ("0 0 0 0\n"), a tet line 10: a count the file cannot
+  // hold is a corrupt file, not a reason to allocate.
+  auto read_count = [&](const char* section, size_t min_line) {
     long n = -1;
     if (!(in >> n) || n < 0) fail_input(path, std::string("bad count in section ") + section);
+    if (!ec && size_t(n) > bytes / min_line)
+      fail_input(path, std::string("section ") + section + " claims " + std::to_string(n) + " entries; the file has " +
+                           std::to_string(bytes) + " bytes");
     return n;
   };
   while (in >> word) {
     if (word == "Vertices") {
-      const long n = read_count("Vertices");
+      const long n = read_count("Vertices", 8);
       m.vertices.resize(size_t(n));
       for (auto& v : m.vertices) {
         int ref;
         if (!(in >> v.x() >> v.y() >> v.z() >> ref) || !v.allFinite()) fail_input(path, "bad vertex");
       }
     } else if (word == "Tetrahedra") {
-      const long n = read_count("Tetrahedra");
+      const long n = read_count("Tetrahedra", 10);
       m.tets.resize(size_t(n));
       for (auto& t : m.tets) {
         int ref;

@@ -62,7 +62,7 @@ enum Status {
   SPX_ERR_BAD_MAGIC,         // not a .spx file
   SPX_ERR_NEWER_VERSION,     // written by a newer major format version
   SPX_ERR_BAD_VERSION,       // a version this reader never knew (legacy or corrupt)
-  SPX_ERR_BAD_SIZES,         // header sizes, counts or offsets are inconsistent
+  SPX_ERR_BAD_SIZES,         // header sizes, counts or offsets inconsistent; flags or reserved set
   SPX_ERR_CHECKSUM,          // CRC-32 mismatch: corrupt bytes
   SPX_ERR_BAD_DATA,          // non-finite value, negative radius or site index out of range
   SPX_ERR_WEIGHT_COUNT,      // weight vector length is not pose_count()
@@ -217,7 +217,10 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
   const uint32_t n = rd32(b + 24), p = rd32(b + 28), s = rd32(b + 32);
   const uint32_t off_spheres = rd32(b + 40), off_ss = rd32(b + 44), off_sites = rd32(b + 48);
   const uint32_t off_names = rd32(b + 52), names_size = rd32(b + 56);
-  if (header < SPX_HEADER_SIZE || b[36] != 4 || b[37] != 4) return SPX_ERR_BAD_SIZES;
+  // Flags and the reserved word have no meaning in format 1: a set bit is a file this reader
+  // cannot honour, not one to half-read.
+  if (header < SPX_HEADER_SIZE || b[36] != 4 || b[37] != 4 || rd16(b + 38) != 0 || rd32(b + 60) != 0)
+    return SPX_ERR_BAD_SIZES;
   if (n == 0 || p == 0 || s == 0 || p > SPX_MAX_POSES || s > n) return SPX_ERR_BAD_SIZES;
   const uint64_t body = size - 4;
   const uint64_t sphere_bytes = uint64_t(p) * n * 16, ss_bytes = uint64_t(n) * 4, site_bytes = uint64_t(s) * 12;
@@ -230,7 +233,13 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
         return SPX_ERR_BAD_SIZES;
   }
 
-  // Names: p length-prefixed strings inside the names section.
+  // The sections tile the body exactly (each padded to 4 bytes): a count that shrank would
+  // otherwise leave bytes nobody reads, and a file that silently loses spheres.
+  const uint64_t padded = ((sphere_bytes + 3) & ~uint64_t(3)) + ((ss_bytes + 3) & ~uint64_t(3)) +
+                          ((site_bytes + 3) & ~uint64_t(3)) + ((uint64_t(names_size) + 3) & ~uint64_t(3));
+  if (header + padded != body) return SPX_ERR_BAD_SIZES;
+
+  // Names: p length-prefixed strings that fill the names section.
   uint64_t name_chars = 0;
   {
     uint64_t at = off_names;
@@ -241,6 +250,7 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
       name_chars += len + 1;
       at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
     }
+    if (at != uint64_t(off_names) + names_size) return SPX_ERR_BAD_SIZES;
   }
 
   // One block: name pointers first (the strictest alignment), then spheres, sites, sphere

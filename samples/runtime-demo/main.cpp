@@ -2,13 +2,19 @@
 //   runtime-demo FILE.spx [w0 w1 ...]      (no weights: the rest pose)
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "spx_runtime.h"
 
 int main(int argc, char** argv) {
+  const char* usage = "usage: runtime-demo FILE.spx [w0 w1 ...]  (no weights: the rest pose)\n";
+  if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+    std::printf("%s", usage);
+    return 0;
+  }
   if (argc < 2) {
-    std::fprintf(stderr, "usage: runtime-demo FILE.spx [w0 w1 ...]\n");
+    std::fprintf(stderr, "%s", usage);
     return 1;
   }
   spx::Proxy proxy;

@@ -96,6 +96,40 @@ if printf '%s' "$said" | grep -q "dent-cm.obj: its size is .*another unit"; then
 expect 2 "swapped" "$out/sw.json" -- "$bin/pose-map" --rest "$out/in/squash.obj" --pose "$out/in/rest.obj" \
   --spheres "$out/s.json" -o "$out/sw.json"
 
+# Counts and tolerances users mistype.
+expect 1 "max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres 0
+expect 1 "max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres -5
+expect 1 "fill-max" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
+  --spheres "$out/s.json" -o "$out/n.json" --fill-gaps --fill-max 0
+expect 1 "fill-tolerance: 'abc'" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
+  --spheres "$out/s.json" -o "$out/n.json" --fill-gaps --fill-tolerance abc
+"$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 2 -o "$out/big.json" --report "$out/big.report.json" \
+  2>"$out/big.err"
+if grep -q "warning: --tolerance 2 is .* of the mesh's bounding-box diagonal .*did you mean 2%" "$out/big.err" &&
+   /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['pack']['stop_reason']==r['tolerance']['limited_by'] else 1)" "$out/big.report.json"; then
+  passed=$((passed + 1)); else echo "FAIL: --tolerance 2 (no %): $(cat "$out/big.err")"; fail=$((fail + 1)); fi
+"$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/ft.json" -q \
+  --fill-gaps --fill-tolerance 2% --report "$out/ft.report.json"
+if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if abs(r['fill_gaps']['target'] - 0.02 * float(sys.argv[2])) < 1e-9 else 1)" \
+     "$out/ft.report.json" "$(/usr/bin/python3 -c "
+import sys
+v=[list(map(float,l.split()[1:4])) for l in open(sys.argv[1]) if l.startswith('v ')]
+print(sum((max(c)-min(c))**2 for c in zip(*v))**0.5)" "$out/in/rest.obj")"; then
+  passed=$((passed + 1)); else echo "FAIL: --fill-tolerance 2% not 2% of the diagonal"; fail=$((fail + 1)); fi
+
+# Files of the wrong kind, counts a file cannot hold.
+"$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/ok.proxy.json" -q
+"$bin/proxy-export" "$out/ok.proxy.json" -o "$out/ok.spx" -q
+expect 1 "Error: --ply-pose: no pose 12" "$out/o.ply" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/o.ply" --ply-pose 12
+expect 2 "ok.spx: is a runtime .spx file" "$out/o.json" -- "$bin/proxy-export" "$out/ok.spx" -o "$out/o.json"
+expect 2 "rest.vdb: is an OpenVDB file" "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
+  --spheres "$out/rest.vdb" -o "$out/o.json"
+printf 'MeshVersionFormatted 1\nDimension 3\nVertices\n100000000000\n0 0 0 0\n' >"$out/huge.mesh"
+expect 2 "huge.mesh: section Vertices claims 100000000000 entries" "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
+  --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/o.json" --tets "$out/huge.mesh"
+if "$1/samples/runtime-demo" --help | grep -q "usage: runtime-demo"; then passed=$((passed + 1)); else
+  echo "FAIL: runtime-demo --help"; fail=$((fail + 1)); fi
+
 # A failed run keeps the previous output intact.
 "$bin/sdf-build" "$out/in/rest.obj" -o "$out/keep.vdb" --resolution 16 -q
 before=$(md5sum <"$out/keep.vdb")

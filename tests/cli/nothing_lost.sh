@@ -18,16 +18,20 @@ before=$(md5sum <"$out/rest.vdb")
 full=$(md5sum <"$out/full.vdb")
 cp "$out/rest.vdb" "$out/old.vdb"
 # Kill a long run at several moments (loading, building, writing): the old file stays.
+killed=0
 for delay in 0.05 0.3 0.8 1.5 2.5; do
   cp "$out/old.vdb" "$out/rest.vdb"
   "$bin/sdf-build" "$out/in/rest.obj" -o "$out/rest.vdb" --resolution 600 -q &
   pid=$!
   sleep "$delay"
-  kill -9 "$pid" 2>/dev/null
+  # A run that already finished cannot be killed: then it must have left the complete file.
+  if kill -9 "$pid" 2>/dev/null; then killed=$((killed + 1)); else
+    check "unkillable run after ${delay}s did not finish" '[ "$(md5sum <"$out/rest.vdb")" = "$full" ]'; fi
   wait "$pid" 2>/dev/null
   check "killed after ${delay}s: rest.vdb is neither the old file nor the complete new one" \
     '[ "$(md5sum <"$out/rest.vdb")" = "$before" ] || [ "$(md5sum <"$out/rest.vdb")" = "$full" ]'
 done
+check "no run was killed mid-way (the kills tested nothing)" '[ "$killed" -ge 2 ]'
 # A killed first run leaves no file under the target name (or, if it finished, the whole one).
 "$bin/sdf-build" "$out/in/rest.obj" -o "$out/fresh.vdb" --resolution 600 -q &
 pid=$!
