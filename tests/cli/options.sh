@@ -1,0 +1,140 @@
+#!/usr/bin/env bash
+# Every option does what its help says: each is run and its effect read from the report or the
+# output file (GLB and PLY outputs are read back by readback.py, which checks their structure).
+# usage: options.sh BUILD_DIR OUT_DIR
+set -uo pipefail
+bin=$1/apps out=$2 here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$out" && mkdir -p "$out"
+passed=0 failed=0
+py() { /usr/bin/python3 -c "$@"; }
+check() { if eval "$2"; then passed=$((passed + 1)); else echo "FAIL: $1"; failed=$((failed + 1)); fi; }
+field() { py "import json,sys; r=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$1" "$2"; }
+
+"$bin/sample-gen" barrel -o "$out/in" -q
+rest=$out/in/rest.obj poses=("$out/in/dent.obj" "$out/in/squash.obj" "$out/in/top.obj")
+pose_args=()
+for p in "${poses[@]}"; do pose_args+=(--pose "$p"); done
+
+# sdf-build: --voxel-size, --band, --memory-limit
+"$bin/sdf-build" "$rest" -o "$out/vs.vdb" --voxel-size 0.05 -q --report "$out/vs.json"
+check "--voxel-size 0.05 not used" '[ "$(field "$out/vs.json" "r[\"grid\"][\"voxel_size\"]")" = "0.05" ]'
+"$bin/sdf-build" "$rest" -o "$out/b3.vdb" --resolution 32 -q --report "$out/b3.json"
+"$bin/sdf-build" "$rest" -o "$out/b6.vdb" --resolution 32 --band 6 -q --report "$out/b6.json"
+check "--band 6 did not widen the grid" \
+  '[ "$(field "$out/b6.json" "r[\"grid\"][\"band_voxels_exterior\"]")" = 6 ] &&
+   [ "$(field "$out/b6.json" "r[\"grid\"][\"dims\"][0]")" -gt "$(field "$out/b3.json" "r[\"grid\"][\"dims\"][0]")" ]'
+"$bin/sdf-build" "$rest" -o "$out/m.vdb" --resolution 64 --memory-limit 0.00001 -q 2>"$out/m.err"
+code=$?
+check "--memory-limit 0.00001 did not refuse (exit 3)" '[ "$code" = 3 ] && grep -q "GiB" "$out/m.err" && [ ! -e "$out/m.vdb" ]'
+"$bin/sdf-build" "$rest" -o "$out/m.vdb" --resolution 64 --memory-limit 1 -q
+check "--memory-limit 1 refused a small grid" '[ -s "$out/m.vdb" ]'
+
+# sphere-pack: --grid-centers keeps centers on voxel centers
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/s.json" -q --report "$out/s.report.json"
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/g.json" --grid-centers -q --report "$out/g.report.json"
+check "--grid-centers still refined centers" '[ "$(field "$out/g.report.json" "r[\"pack\"][\"centers_refined\"]")" = 0 ] &&
+   [ "$(field "$out/s.report.json" "r[\"pack\"][\"centers_refined\"]")" -gt 0 ]'
+check "--grid-centers centers are not on voxel centers" '[ "$(py "
+import json,sys
+f=json.load(open(sys.argv[1])); h=f[\"voxel_size\"]
+print(all(abs(c/h-round(c/h))<1e-6 for s in f[\"spheres\"] for c in s[:3]))" "$out/g.json")" = True ]'
+
+# pose-map: --tet-size, --tets, --max-radius, the --fill-* options
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/p.proxy.json" -q --report "$out/p.json"
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/t.proxy.json" --tet-size 0.3 -q \
+  --report "$out/t.json"
+check "--tet-size 0.3 did not coarsen the tets" \
+  '[ "$(field "$out/t.json" "r[\"tets\"][\"vertices\"]")" -lt "$(field "$out/p.json" "r[\"tets\"][\"vertices\"]")" ]'
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/r.proxy.json" --max-radius 0.1 -q
+check "--max-radius 0.1 exceeded" '[ "$(py "
+import json,sys
+p=json.load(open(sys.argv[1])); print(max(s[3] for q in p[\"poses\"] for s in q[\"spheres\"]) <= 0.1)" "$out/r.proxy.json")" = True ]'
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/f.proxy.json" -q --report "$out/f.json" \
+  --fill-gaps --fill-tolerance 1% --fill-min-radius 0.02 --fill-max 2
+check "--fill-max 2 / --fill-min-radius 0.02 not honoured" '[ "$(py "
+import json,sys
+f=json.load(open(sys.argv[1]))[\"fill_gaps\"]
+print(f[\"min_radius\"] == 0.02 and all(p[\"added\"] <= 2 for p in f[\"poses\"]) and f[\"spheres_after\"] > f[\"spheres_before\"])" "$out/f.json")" = True ]'
+# A user tet mesh (MEDIT) of a box: 5 tets, the pose a shifted box.
+cat >"$out/box.obj" <<'OBJ'
+v 0 0 0
+v 1 0 0
+v 0 1 0
+v 1 1 0
+v 0 0 1
+v 1 0 1
+v 0 1 1
+v 1 1 1
+f 1 3 2
+f 2 3 4
+f 5 6 7
+f 6 8 7
+f 1 2 5
+f 2 6 5
+f 3 7 4
+f 4 7 8
+f 1 5 3
+f 3 5 7
+f 2 4 6
+f 4 8 6
+OBJ
+sed 's/^v \([0-9]\) /v 1\1 /' "$out/box.obj" | sed 's/^v 10 /v 0.5 /; s/^v 11 /v 1.5 /' >"$out/box-moved.obj"
+printf 'MeshVersionFormatted 1\nDimension 3\nVertices\n8\n0 0 0 0\n1 0 0 0\n0 1 0 0\n1 1 0 0\n0 0 1 0\n1 0 1 0\n0 1 1 0\n1 1 1 0\nTetrahedra\n5\n1 2 3 5 1\n2 4 3 8 1\n2 5 6 8 1\n3 5 8 7 1\n2 3 5 8 1\nEnd\n' >"$out/box.mesh"
+"$bin/sdf-build" "$out/box.obj" -o "$out/box.vdb" --resolution 16 -q
+"$bin/sphere-pack" "$out/box.vdb" --mesh "$out/box.obj" -o "$out/box.spheres.json" -q
+"$bin/pose-map" --rest "$out/box.obj" --pose "$out/box-moved.obj" --spheres "$out/box.spheres.json" --tets "$out/box.mesh" \
+  -o "$out/box.proxy.json" -q --report "$out/box.json"
+check "--tets box.mesh not used" '[ "$(field "$out/box.json" "r[\"tets\"][\"tetrahedra\"]")" = 5 ] &&
+  [ "$(field "$out/box.json" "r[\"tets\"][\"method\"]")" = "user tets" ]'
+check "--tets: a shifted box did not shift the spheres by 0.5" '[ "$(py "
+import json,sys
+p=json.load(open(sys.argv[1]))[\"poses\"]
+print(all(abs(b[0]-a[0]-0.5)<1e-9 and abs(b[3]-a[3])<1e-9 for a,b in zip(p[0][\"spheres\"],p[1][\"spheres\"])))" "$out/box.proxy.json")" = True ]'
+
+# proxy-eval: --seed, --blends, --coverage-samples, --colors with --color-pose and --color-scale
+ev() { "$bin/proxy-eval" "$out/p.proxy.json" --rest "$rest" "${pose_args[@]}" -q "$@"; }
+# 4 examples: the 6 midpoints come first, then random blends drawn with the seed.
+ev --seed 3 --blends 8 --report "$out/e3.json"
+ev --seed 3 --blends 8 --report "$out/e3b.json"
+ev --seed 4 --blends 8 --report "$out/e4.json"
+same() { py "import json,sys; a,b=(json.load(open(f))['blends']['samples'] for f in sys.argv[1:3]); print(a==b)" "$1" "$2"; }
+check "--seed: same seed gave other blends" '[ "$(same "$out/e3.json" "$out/e3b.json")" = True ]'
+check "--seed: another seed gave the same blends" '[ "$(same "$out/e3.json" "$out/e4.json")" = False ]'
+check "--blends 8 did not give 8 blends" '[ "$(field "$out/e3.json" "r[\"blends\"][\"count\"]")" = 8 ]'
+ev --coverage-samples 8 --report "$out/c8.json"
+ev --coverage-samples 40 --report "$out/c40.json"
+check "--coverage-samples changed nothing" '[ "$(field "$out/c8.json" "r[\"poses\"][0][\"coverage\"]")" != "$(field "$out/c40.json" "r[\"poses\"][0][\"coverage\"]")" ]'
+ev --colors "$out/c1.ply" --color-pose 1 --color-scale 0.01 --report "$out/col.json"
+ev --colors "$out/c0.ply" --color-pose 0
+check "--color-scale 0.01 not used" '[ "$(field "$out/col.json" "r[\"colors\"][\"scale\"]")" = 0.01 ]'
+check "--color-pose: pose 1 and pose 0 wrote the same PLY" '! cmp -s "$out/c1.ply" "$out/c0.ply"'
+check "--colors .ply does not read back with colours" \
+  '[ "$(py "import json,sys; print(json.loads(sys.argv[1])[\"colors\"])" "$("$here/readback.py" "$out/c1.ply")")" = True ]'
+ev --colors "$out/c.glb"
+check "--colors .glb does not read back" '"$here/readback.py" "$out/c.glb" >/dev/null'
+
+# proxy-export: --ply-pose, --stacked, --rest/--pose; GLB and PLY read back
+"$bin/proxy-export" "$out/p.proxy.json" -o "$out/x0.ply" -q
+"$bin/proxy-export" "$out/p.proxy.json" -o "$out/x2.ply" --ply-pose 2 -q
+b0=$("$here/readback.py" "$out/x0.ply") b2=$("$here/readback.py" "$out/x2.ply")
+check "--ply-pose 2 wrote the rest pose" '[ "$b0" != "$b2" ]'
+check "PLY spheres outside the proxy's bounds" '[ "$(py "
+import json,sys
+b=json.loads(sys.argv[1])[\"bounds\"]; p=json.load(open(sys.argv[2]))[\"poses\"][0][\"spheres\"]
+lo=[min(s[k]-s[3] for s in p if s[3]>0) for k in range(3)]; hi=[max(s[k]+s[3] for s in p if s[3]>0) for k in range(3)]
+print(all(lo[k]-1e-3<=b[0][k] and b[1][k]<=hi[k]+1e-3 and b[1][k]-b[0][k] > 0.9*(hi[k]-lo[k]) for k in range(3)))" "$b0" "$out/p.proxy.json")" = True ]'
+"$bin/proxy-export" "$out/p.proxy.json" -o "$out/spread.glb" -q
+"$bin/proxy-export" "$out/p.proxy.json" -o "$out/stacked.glb" --stacked -q
+"$bin/proxy-export" "$out/p.proxy.json" -o "$out/meshes.glb" --rest "$rest" "${pose_args[@]}" -q
+s1=$("$here/readback.py" "$out/spread.glb") s2=$("$here/readback.py" "$out/stacked.glb") s3=$("$here/readback.py" "$out/meshes.glb")
+check "GLB does not read back" '[ -n "$s1" ] && [ -n "$s2" ] && [ -n "$s3" ]'
+check "--stacked: poses not in place, or not spread without it" '[ "$(py "
+import json,sys
+a=json.loads(sys.argv[1]); b=json.loads(sys.argv[2])
+print(a[\"vertices\"]==b[\"vertices\"] and a[\"vertices\"]>0 and (a[\"bounds\"][1][0]-a[\"bounds\"][0][0]) + (sum(abs(t[0]) for t in a[\"translations\"])) > (b[\"bounds\"][1][0]-b[\"bounds\"][0][0]) + (sum(abs(t[0]) for t in b[\"translations\"])))" "$s1" "$s2")" = True ]'
+check "--rest/--pose: no pose meshes in the GLB" '[ "$(py "
+import json,sys
+a=json.loads(sys.argv[1]); c=json.loads(sys.argv[2]); print(c[\"vertices\"] > a[\"vertices\"])" "$s1" "$s3")" = True ]'
+
+echo "$passed passed, $failed failed"
+[ "$failed" = 0 ]
