@@ -6,21 +6,22 @@
 #include <openvdb/tools/MeshToVolume.h>
 #include <sys/resource.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <functional>
 
 #include "core/atomic_file.hpp"
+#include "core/version.hpp"
+#include "tool/tool.hpp"
 #include "core/json_io.hpp"
-#include "export/spx_writer.hpp"
+#include "io/spx_writer.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/posemap.hpp"
-#include "samples/samples.hpp"
+#include "synthetic/synthetic.hpp"
 #include "sdf/sdf.hpp"
 
 using namespace spx;
@@ -186,10 +187,14 @@ json chain_case(const std::string& name, const TriMesh& rest, const std::vector<
           {"peak_rss_gib", peak_rss_gib()}};
 }
 
+void run(const std::string& data, const std::string& out, int repeats, int max_res, const std::vector<int>& resolutions,
+         bool chains_too);
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app("Precompute benchmark: every stage, with OpenVDB's filled SDF as the baseline", "precompute-bench");
+  spx::Tool tool("precompute-bench", "Precompute benchmark: every stage, with OpenVDB's filled SDF as the baseline");
+  CLI::App& app = tool.app;
   std::string data = "../shared/data", out;
   int repeats = 3, max_res = 512;
   std::vector<int> resolutions = {64, 128, 256, 512};
@@ -200,9 +205,15 @@ int main(int argc, char** argv) {
   app.add_option("--max-resolution", max_res, "Largest armadillo resolution");
   app.add_option("--resolution", resolutions, "Armadillo resolutions (default 64 128 256 512)");
   app.add_flag("!--no-chains", chains_too, "Only the SDF cases");
-  CLI11_PARSE(app, argc, argv);
+  return tool.run(argc, argv, [&] { run(data, out, repeats, max_res, resolutions, chains_too); });
+}
+
+namespace {
+
+void run(const std::string& data, const std::string& out, int repeats, int max_res, const std::vector<int>& resolutions,
+         bool chains_too) {
   openvdb::initialize();
-  json result = {{"generator", std::string("precompute-bench (spx) ") + SPX_VERSION}, {"repeats", repeats}};
+  json result = {{"generator", std::string("precompute-bench (spx) ") + spx::version_string()}, {"repeats", repeats}};
   const TriMesh armadillo = load_mesh(data + "/static/armadillo.obj").mesh;
   json sdf = json::array();
   for (int res : resolutions)
@@ -224,5 +235,6 @@ int main(int argc, char** argv) {
   }
   result["chains"] = chains;
   write_json_atomic(out, result);
-  return 0;
 }
+
+}  // namespace

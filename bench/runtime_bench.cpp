@@ -7,7 +7,7 @@
 #include <cstring>
 #include <random>
 
-#include "export/spx_writer.hpp"
+#include "io/spx_writer.hpp"
 #include "spx_runtime.h"
 
 namespace {

@@ -4,9 +4,9 @@
 
 #include "core/error.hpp"
 #include "crash_host.hpp"
-#include "export/spx_writer.hpp"
+#include "io/spx_writer.hpp"
 #include "posemap/posemap.hpp"
-#include "samples/samples.hpp"
+#include "synthetic/synthetic.hpp"
 #include "test_util.hpp"
 
 using namespace spx;

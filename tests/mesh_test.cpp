@@ -10,7 +10,7 @@
 #include "mesh/defects.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
-#include "samples/samples.hpp"
+#include "synthetic/synthetic.hpp"
 #include "test_util.hpp"
 
 namespace spx {

@@ -3,8 +3,8 @@
 #include <random>
 
 #include "metrics/proxy_eval.hpp"
-#include "metrics/union_error.hpp"
-#include "samples/samples.hpp"
+#include "mesh/union_distance.hpp"
+#include "synthetic/synthetic.hpp"
 #include "test_util.hpp"
 
 namespace spx {

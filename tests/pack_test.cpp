@@ -1,10 +1,10 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
-#include "metrics/union_error.hpp"
+#include "mesh/union_distance.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
-#include "samples/samples.hpp"
+#include "synthetic/synthetic.hpp"
 #include "sdf/sdf.hpp"
 #include "test_util.hpp"
 

@@ -8,7 +8,7 @@
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/posemap.hpp"
-#include "samples/samples.hpp"
+#include "synthetic/synthetic.hpp"
 #include "sdf/sdf.hpp"
 #include "test_util.hpp"
 

@@ -2,8 +2,8 @@
 
 #include <random>
 
-#include "export/spx_writer.hpp"
-#include "posemap/proxy.hpp"
+#include "io/spx_writer.hpp"
+#include "io/proxy_file.hpp"
 #include "spx_runtime.h"
 
 namespace spx {

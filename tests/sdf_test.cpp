@@ -11,7 +11,7 @@
 #include "sdf/edt.hpp"
 #include "sdf/sdf.hpp"
 #include "sdf/surface_layer.hpp"
-#include "sdf/vdb_io.hpp"
+#include "io/vdb_io.hpp"
 #include "test_util.hpp"
 
 namespace spx {

@@ -8,7 +8,7 @@
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
-#include "pack/spheres_file.hpp"
+#include "io/spheres_file.hpp"
 #include "sdf/sdf.hpp"
 
 namespace spx::test {

@@ -1,4 +1,4 @@
-#include "core/tool.hpp"
+#include "tool/tool.hpp"
 #include "posemap/pose_map_tool.hpp"
 
 int main(int argc, char** argv) {
@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   tool.app.add_option("--fill-min-radius", opt.fill_min_radius, "Smallest gap-filling sphere (default: 3/4 voxel)");
   tool.app.add_option("--fill-max", opt.fill_max_per_pose, "At most this many gap-filling spheres per pose")
       ->check(CLI::PositiveNumber);
+  tool.name_option("poses", "--pose");
   return tool.run(argc, argv, [&] {
     opt.fill_tolerance = spx::parse_tolerance(fill_tolerance, "--fill-tolerance");
     spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report);

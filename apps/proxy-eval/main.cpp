@@ -1,4 +1,4 @@
-#include "core/tool.hpp"
+#include "tool/tool.hpp"
 #include "metrics/proxy_eval_tool.hpp"
 
 int main(int argc, char** argv) {
@@ -17,5 +17,7 @@ int main(int argc, char** argv) {
   tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
   tool.app.add_option("--color-pose", opt.color_pose, "Pose written to a .ply (0 = rest)")->capture_default_str();
   tool.app.add_option("--color-scale", opt.color_scale, "Error shown as full red (default: the largest max error)");
+  tool.name_option("poses", "--pose");
+  tool.name_option("pose", "--color-pose");
   return tool.run(argc, argv, [&] { spx::proxy_eval_files(proxy, rest, poses, opt, tool.log, tool.report); });
 }

@@ -1,5 +1,5 @@
 #include "core/error.hpp"
-#include "core/tool.hpp"
+#include "tool/tool.hpp"
 #include "export/proxy_export.hpp"
 
 int main(int argc, char** argv) {
@@ -14,9 +14,11 @@ int main(int argc, char** argv) {
   tool.app.add_flag("--stacked", stacked, "In .glb, keep poses in place instead of side by side");
   tool.app.add_option("--rest", opt.rest, "With the meshes, previews also colour each pose's mesh by its error");
   tool.app.add_option("--pose", opt.poses, "Example poses M_1..M_e in the proxy's order (with --rest)");
+  tool.name_option("poses", "--pose");
+  tool.name_option("pose", "--ply-pose");
   return tool.run(argc, argv, [&] {
-    if (!opt.poses.empty() && opt.rest.empty()) throw spx::Error(spx::ExitCode::usage, "--pose", "needs --rest");
+    if (!opt.poses.empty() && opt.rest.empty()) spx::fail_usage("--pose", "needs --rest");
     opt.spread = !stacked;
-    spx::proxy_export(input, output, opt, tool.log, tool.report);
+    spx::proxy_export_files(input, output, opt, tool.log, tool.report);
   });
 }

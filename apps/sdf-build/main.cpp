@@ -1,4 +1,4 @@
-#include "core/tool.hpp"
+#include "tool/tool.hpp"
 #include "sdf/sdf_build.hpp"
 
 int main(int argc, char** argv) {
@@ -15,5 +15,5 @@ int main(int argc, char** argv) {
   tool.app.add_option("--band", opt.band, "Exterior narrow band in voxels")->capture_default_str();
   tool.app.add_option("--memory-limit", opt.memory_limit_gib, "Refuse grids needing more memory than this (GiB)")
       ->capture_default_str();
-  return tool.run(argc, argv, [&] { spx::sdf_build(input, output, opt, tool.log, tool.report); });
+  return tool.run(argc, argv, [&] { spx::sdf_build_files(input, output, opt, tool.log, tool.report); });
 }

@@ -1,4 +1,4 @@
-#include "core/tool.hpp"
+#include "tool/tool.hpp"
 #include "pack/sphere_pack.hpp"
 
 int main(int argc, char** argv) {
@@ -20,6 +20,6 @@ int main(int argc, char** argv) {
   tool.app.add_flag("--grid-centers", grid_centers, "Keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {
     opt.refine_centers = !grid_centers;
-    spx::sphere_pack(input, mesh, output, opt, spx::parse_tolerance(tolerance, "--tolerance"), tool.log, tool.report);
+    spx::sphere_pack_files(input, mesh, output, opt, spx::parse_tolerance(tolerance, "--tolerance"), tool.log, tool.report);
   });
 }

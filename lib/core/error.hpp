@@ -18,16 +18,28 @@ class Error : public std::runtime_error {
  public:
   Error(ExitCode code, std::string subject, const std::string& message)
       : std::runtime_error(subject.empty() ? message : subject + ": " + message),
-        code_(code), subject_(std::move(subject)) {}
+        code_(code), subject_(std::move(subject)), message_(message) {}
   ExitCode code() const { return code_; }
   const std::string& subject() const { return subject_; }
+  const std::string& message() const { return message_; }
 
  private:
   ExitCode code_;
-  std::string subject_;
+  std::string subject_, message_;
 };
 
-// `subject` is what the message is about: a file name or an option name.
+// A bad value in a library function's typed options. `option` is the field's name
+// ("max_radius"); the command-line layer names it as its users spell it ("--max-radius").
+class OptionError : public Error {
+ public:
+  OptionError(const std::string& option, const std::string& message) : Error(ExitCode::usage, option, message) {}
+  const std::string& option() const { return subject(); }
+};
+
+[[noreturn]] inline void fail_option(const std::string& option, const std::string& msg) {
+  throw OptionError(option, msg);
+}
+// `subject` is what the message is about: a file name, or a value given on the command line.
 [[noreturn]] inline void fail_usage(const std::string& subject, const std::string& msg) {
   throw Error(ExitCode::usage, subject, msg);
 }

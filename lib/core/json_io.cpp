@@ -21,6 +21,10 @@ json read_json_file(const std::string& path) {
   }
 }
 
+void throw_malformed(const std::string& path, const char* what, const char* detail) {
+  fail_input(path, std::string("malformed ") + what + ": " + detail);
+}
+
 std::string dump_json(const json& j) { return j.dump(1) + "\n"; }
 
 void write_json_atomic(const std::string& path, const json& j) { write_file_atomic(path, dump_json(j)); }
@@ -63,6 +67,13 @@ int require_version(const json& j, const std::string& what, int newest, const st
     fail_unsupported(file, what + " format version " + std::to_string(v.get<long long>()) + " is newer than this tool (" +
                                std::to_string(newest) + ")");
   return int(v.get<long long>());
+}
+
+void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file) {
+  if (!has_format(j, format))
+    fail_input(file, "is not a " + what + " file (expected \"format\": \"" + format + "\")");
+  require_version(j, what, newest, file);
+  require_string(j, "generator", file);
 }
 
 bool has_format(const json& j, const char* format) {

@@ -8,6 +8,18 @@ namespace spx {
 using json = nlohmann::json;
 
 json read_json_file(const std::string& path);
+[[noreturn]] void throw_malformed(const std::string& path, const char* what, const char* detail);
+// parse(read_json_file(path)), with the JSON library's own errors named as `what` in `path`.
+template <class Parse>
+auto read_json_document(const std::string& path, const char* what, Parse&& parse) -> decltype(parse(json())) {
+  const json j = read_json_file(path);
+  try {
+    return parse(j);
+  } catch (const json::exception& e) {
+    throw_malformed(path, what, e.what());
+  }
+}
+
 // Deterministic text (keys sorted by nlohmann's std::map, shortest round-trip doubles).
 std::string dump_json(const json& j);
 void write_json_atomic(const std::string& path, const json& j);
@@ -24,6 +36,9 @@ std::string require_string(const json& j, const char* key, const std::string& fi
 // The "version" field: an integer >= 1; newer than `newest` is exit 3 (unsupported), anything
 // else that is not a version this format ever had is exit 2.
 int require_version(const json& j, const std::string& what, int newest, const std::string& file);
+// The header every file between tools has: "format" (this one), "version" (up to `newest`)
+// and "generator".
+void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file);
 // Whether j is an object whose "format" is the string `format`.
 bool has_format(const json& j, const char* format);
 

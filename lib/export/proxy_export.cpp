@@ -5,10 +5,10 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/subject.hpp"
-#include "export/spx_writer.hpp"
-#include "export/sphere_mesh.hpp"
+#include "io/spx_writer.hpp"
+#include "io/scene.hpp"
 #include "metrics/proxy_eval_tool.hpp"
-#include "posemap/proxy.hpp"
+#include "io/proxy_file.hpp"
 
 namespace spx {
 
@@ -18,10 +18,10 @@ namespace {
 std::string colored_preview(const ProxyModel& proxy, const std::string& input, const std::string& ext,
                             const ExportOptions& options, Log& log) {
   const std::vector<TriMesh> meshes = load_pose_meshes(options.rest, options.poses, proxy, input, log);
-  std::vector<PoseEvaluation> evals;
+  std::vector<PoseError> evals;
   double scale = 0;
   for (size_t i = 0; i < meshes.size(); ++i) {
-    PoseEvaluation e{proxy.poses[i].name, meshes[i], proxy.poses[i].spheres, {}};
+    PoseError e{proxy.poses[i].name, meshes[i], proxy.poses[i].spheres, {}};
     e.vertex_error = union_signed_distance(e.mesh.vertices, e.spheres);
     for (double d : e.vertex_error) scale = std::max(scale, std::abs(d));
     evals.push_back(std::move(e));
@@ -32,7 +32,7 @@ std::string colored_preview(const ProxyModel& proxy, const std::string& input, c
 
 }  // namespace
 
-void proxy_export(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
+void proxy_export_files(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
                   json& report) {
   std::string ext = std::filesystem::path(output).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));

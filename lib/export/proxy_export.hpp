@@ -16,7 +16,7 @@ struct ExportOptions {
 };
 
 // proxy-export IN.proxy.json -o OUT.spx | OUT.json | OUT.glb | OUT.ply
-void proxy_export(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
+void proxy_export_files(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
                   json& report);
 
 }  // namespace spx

@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pose_match.hpp"
 
@@ -74,12 +75,10 @@ struct PositionKey {
 };
 struct PositionHash {
   size_t operator()(const PositionKey& k) const {
-    uint64_t h = 1469598103934665603ull;
+    uint64_t h = kFnvOffset;
     for (double d : {k.x, k.y, k.z}) {
-      uint64_t b;
       d = d == 0.0 ? 0.0 : d;  // -0 and +0 weld together
-      std::memcpy(&b, &d, sizeof b);
-      h = (h ^ b) * 1099511628211ull;
+      h = fnv1a(h, &d, sizeof d);
     }
     return static_cast<size_t>(h);
   }

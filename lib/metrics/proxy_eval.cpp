@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
-#include "export/spx_writer.hpp"
+#include "io/spx_writer.hpp"
 #include "mesh/winding_number.hpp"
 #include "runtime/spx_runtime.h"
 
@@ -86,7 +86,7 @@ std::vector<std::vector<float>> blend_weights(size_t poses, int count, unsigned 
 
 namespace {
 
-nlohmann::json evaluate_one(const PoseEvaluation& p, int coverage_samples) {
+nlohmann::json evaluate_one(const PoseError& p, int coverage_samples) {
   nlohmann::json j = surface_error(p.vertex_error).to_json();
   j["name"] = p.name;
   j["coverage"] = union_coverage(p.mesh, p.spheres, coverage_samples);
@@ -100,13 +100,13 @@ nlohmann::json evaluate_one(const PoseEvaluation& p, int coverage_samples) {
 
 EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& meshes, const EvalOptions& opt, Log& log) {
   if (meshes.size() != proxy.poses.size())
-    fail_usage("--pose", "the proxy has " + std::to_string(proxy.poses.size() - 1) + " example poses, " +
+    fail_option("poses", "the proxy has " + std::to_string(proxy.poses.size() - 1) + " example poses, " +
                              std::to_string(meshes.size() - 1) + " were given");
-  if (opt.blends < 0) fail_usage("--blends", "must not be negative");
+  if (opt.blends < 0) fail_option("blends", "must not be negative");
   EvalResult result;
   nlohmann::json poses = nlohmann::json::array();
   for (size_t i = 0; i < meshes.size(); ++i) {
-    PoseEvaluation p{proxy.poses[i].name, meshes[i], proxy.poses[i].spheres, {}};
+    PoseError p{proxy.poses[i].name, meshes[i], proxy.poses[i].spheres, {}};
     p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
     nlohmann::json j = evaluate_one(p, opt.coverage_samples);
     j["outside"] = proxy.poses[i].outside.size();
@@ -127,7 +127,7 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
   for (const auto& w : blend_weights(meshes.size(), opt.blends, opt.seed)) {
     if (blend_global(runtime, w.data(), uint32_t(w.size()), centers.data(), radii.data()) != SPX_OK)
       fail_input("", "blend failed");
-    PoseEvaluation p;
+    PoseError p;
     p.mesh = meshes[0];
     for (size_t v = 0; v < p.mesh.vertices.size(); ++v) {
       Eigen::Vector3d x = Eigen::Vector3d::Zero();

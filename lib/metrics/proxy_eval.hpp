@@ -7,8 +7,8 @@
 
 #include "core/log.hpp"
 #include "mesh/mesh.hpp"
-#include "metrics/union_error.hpp"
-#include "posemap/proxy.hpp"
+#include "mesh/union_distance.hpp"
+#include "io/proxy_file.hpp"
 
 namespace spx {
 
@@ -30,16 +30,9 @@ struct EvalOptions {
   int coverage_samples = 48;
 };
 
-struct PoseEvaluation {
-  std::string name;
-  TriMesh mesh;
-  SphereSet spheres;
-  std::vector<double> vertex_error;  // signed, per vertex
-};
-
 struct EvalResult {
-  std::vector<PoseEvaluation> poses;   // rest first, then the examples
-  std::vector<PoseEvaluation> blends;  // the blended meshes and spheres
+  std::vector<PoseError> poses;   // rest first, then the examples
+  std::vector<PoseError> blends;  // the blended meshes and spheres
   nlohmann::json report;
 };
 

@@ -6,15 +6,15 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/subject.hpp"
-#include "export/sphere_mesh.hpp"
+#include "io/scene.hpp"
 
 namespace spx {
 
 std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::vector<std::string>& pose_paths,
                                       const ProxyModel& proxy, const std::string& proxy_path, Log& log) {
   if (pose_paths.size() + 1 != proxy.poses.size())
-    fail_usage("--pose", proxy_path + " has " + std::to_string(proxy.poses.size() - 1) + " example poses; " +
-                             std::to_string(pose_paths.size()) + " --pose files were given");
+    fail_option("poses", proxy_path + " has " + std::to_string(proxy.poses.size() - 1) + " example poses; " +
+                             std::to_string(pose_paths.size()) + " pose files were given");
   const LoadedMesh rest = load_mesh(rest_path);
   std::vector<TriMesh> meshes{rest.mesh};
   for (size_t i = 0; i < pose_paths.size(); ++i) {
@@ -24,25 +24,6 @@ std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::v
                "'; poses are matched by order");
   }
   return meshes;
-}
-
-std::string encode_error_scene(const std::vector<PoseEvaluation>& evals, const std::string& ext, int pose, double scale,
-                               double step) {
-  std::vector<SceneNode> nodes;
-  const bool gltf = ext == ".glb";
-  if (!gltf && (pose < 0 || pose >= int(evals.size()))) fail_usage("--color-pose", "no pose " + std::to_string(pose));
-  for (size_t k = 0; k < evals.size(); ++k) {
-    if (!gltf && int(k) != pose) continue;
-    const PoseEvaluation& e = evals[k];
-    SceneNode mesh{e.name + "-error", e.mesh, error_colors(e.vertex_error, scale)};
-    SceneNode spheres{e.name + "-spheres", sphere_union_mesh(e.spheres, 1), {}};
-    if (gltf)
-      for (auto* n : {&mesh, &spheres})
-        for (auto& v : n->mesh.vertices) v.x() += step * double(k);
-    nodes.push_back(std::move(mesh));
-    if (gltf) nodes.push_back(std::move(spheres));
-  }
-  return encode_scene(nodes, ext);
 }
 
 void proxy_eval_files(const std::string& proxy_path, const std::string& rest_path, const std::vector<std::string>& pose_paths,
@@ -79,7 +60,7 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
     double scale = opt.color_scale;
     if (!(scale > 0))
       for (const auto& p : r.report["poses"]) scale = std::max(scale, p["max"].get<double>());
-    std::vector<PoseEvaluation> shown = r.poses;
+    std::vector<PoseError> shown = r.poses;
     write_file_atomic(opt.colors, encode_error_scene(shown, ext, opt.color_pose, scale, 1.25 * meshes[0].bounds().sizes().x()));
     report["colors"] = {{"file", opt.colors}, {"scale", scale}};
   }

@@ -19,10 +19,6 @@ struct EvalToolOptions {
 std::vector<TriMesh> load_pose_meshes(const std::string& rest, const std::vector<std::string>& poses, const ProxyModel& proxy,
                                       const std::string& proxy_path, Log& log);
 
-// The error-coloured meshes (and their sphere unions) of `evaluations`, side by side for .glb.
-std::string encode_error_scene(const std::vector<PoseEvaluation>& evaluations, const std::string& ext, int pose,
-                               double scale, double step);
-
 // proxy-eval IN.proxy.json --rest REST --pose P... [--blends N] [--colors OUT] --report R.json
 void proxy_eval_files(const std::string& proxy_path, const std::string& rest, const std::vector<std::string>& poses,
                       const EvalToolOptions& options, Log& log, json& report);

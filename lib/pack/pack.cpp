@@ -4,7 +4,7 @@
 #include <queue>
 
 #include "core/error.hpp"
-#include "metrics/union_error.hpp"
+#include "mesh/union_distance.hpp"
 
 namespace spx {
 
@@ -15,12 +15,12 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
   const double h = shape.voxel_size;
   PackResult result;
   PackStats& stats = result.stats;
-  if (opt.min_radius < 0 || std::isnan(opt.min_radius)) fail_usage("--min-radius", "must be a positive number");
+  if (opt.min_radius < 0 || std::isnan(opt.min_radius)) fail_option("min_radius", "must be a positive number");
   stats.min_radius = opt.min_radius > 0 ? opt.min_radius : 1.5 * h;
   stats.max_radius = opt.max_radius;
-  if (!(stats.min_radius > 0) || !std::isfinite(stats.min_radius)) fail_usage("--min-radius", "must be a positive number");
-  if (!(opt.max_radius > 0) || std::isnan(opt.max_radius)) fail_usage("--max-radius", "must be a positive number");
-  if (opt.max_radius < stats.min_radius) fail_usage("--max-radius", "is smaller than the min radius");
+  if (!(stats.min_radius > 0) || !std::isfinite(stats.min_radius)) fail_option("min_radius", "must be a positive number");
+  if (!(opt.max_radius > 0) || std::isnan(opt.max_radius)) fail_option("max_radius", "must be a positive number");
+  if (opt.max_radius < stats.min_radius) fail_option("max_radius", "is smaller than the min radius");
   stats.radius_source = mesh ? "mesh" : "field";
 
   // Deepest first; ties by voxel index so the result does not depend on the heap's history.

@@ -9,7 +9,7 @@
 #include "core/log.hpp"
 #include "core/sphere.hpp"
 #include "mesh/mesh_query.hpp"
-#include "sdf/dense_field.hpp"
+#include "io/dense_field.hpp"
 
 namespace spx {
 

@@ -8,8 +8,8 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/subject.hpp"
-#include "pack/spheres_file.hpp"
-#include "sdf/vdb_io.hpp"
+#include "io/spheres_file.hpp"
+#include "io/vdb_io.hpp"
 
 namespace spx {
 
@@ -56,10 +56,10 @@ void check_mesh_matches_field(const TriMesh& mesh, const std::string& mesh_path,
 
 }  // namespace
 
-void sphere_pack(const std::string& input, const std::string& mesh_path, const std::string& output,
+void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
                  const PackOptions& user_options, const Tolerance& tolerance, Log& log, json& report) {
   if (tolerance.set() && mesh_path.empty())
-    fail_usage("--tolerance", "needs --mesh (the error is measured at the mesh's vertices)");
+    fail_option("tolerance", "needs the mesh (the error is measured at its vertices)");
   PackOptions options = user_options;
   LoadedSdf sdf;
   {
@@ -81,7 +81,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
       if (!(user_options.min_radius > 0)) options.min_radius = sdf.field.shape.voxel_size;
     }
   } else {
-    log.detail("no --mesh: radii come from the field (voxel accuracy)");
+    log.detail("no mesh: radii come from the field (voxel accuracy)");
   }
   PackResult packed;
   {
@@ -97,7 +97,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
     const double diagonal = mesh->mesh().diagonal();
     const double target = tolerance.length(diagonal);
     if (target >= 0.1 * diagonal)
-      log.warn("--tolerance " + num(tolerance.value) + (tolerance.percent ? "%" : "") + " is " +
+      log.warn("tolerance " + num(tolerance.value) + (tolerance.percent ? "%" : "") + " is " +
                num(100 * target / diagonal) + "% of the mesh's bounding-box diagonal (" + num(diagonal) + ")" +
                (tolerance.percent ? "" : "; did you mean " + num(tolerance.value) + "%?"));
     const ToleranceResult tr = fewest_spheres_within(mesh->mesh(), packed.spheres, target);
@@ -105,7 +105,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
     std::string limit = tr.met ? "met the tolerance" : "the packing sequence ended before the tolerance was met";
     if (user_options.max_spheres > 0 && user_options.max_spheres < keep) {
       keep = user_options.max_spheres;
-      limit = "--max-spheres (tighter than the tolerance)";
+      limit = "max_spheres (tighter than the tolerance)";
     }
     packed.spheres.resize(keep);
     packed.stats.stop_reason = limit;  // the prefix, not the packing that made the sequence, decides
@@ -115,7 +115,7 @@ void sphere_pack(const std::string& input, const std::string& mesh_path, const s
       char msg[400];
       std::snprintf(msg, sizeof msg,
                     "tolerance %.4g not met: max error %.4g with all %zu spheres down to radius %.4g at voxel size "
-                    "%.4g; use a finer --resolution or a smaller --min-radius",
+                    "%.4g; use a finer resolution or a smaller min radius",
                     target, reached, keep, options.min_radius, sdf.field.shape.voxel_size);
       log.warn(msg);
     }

@@ -8,7 +8,7 @@ namespace spx {
 
 
 // sphere-pack IN.vdb -o OUT.spheres.json [--mesh REST] [--tolerance T]
-void sphere_pack(const std::string& input, const std::string& mesh_path, const std::string& output,
+void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
                  const PackOptions& options, const Tolerance& tolerance, Log& log, json& report);
 
 }  // namespace spx

@@ -121,7 +121,7 @@ HarmonicMap::HarmonicMap(const TetMesh& tets, const TriMesh& rest, Log& log)
   }
   if (dropped_ > 0)
     log.warn(std::to_string(dropped_) + " rest surface points lie outside the tet mesh by more than two tet edges "
-             "(features thinner than --tet-size); they do not constrain the map");
+             "(features thinner than the tet size); they do not constrain the map");
 
   // Normal equations of the least-squares problem.
   using Triplet = Eigen::Triplet<double>;

@@ -12,7 +12,7 @@ namespace spx {
 void pose_map_files(const std::string& rest_path, const std::vector<std::string>& pose_paths,
                     const std::string& spheres_path, const std::string& output, const PoseMapOptions& options,
                     Log& log, json& report) {
-  if (pose_paths.empty()) fail_usage("--pose", "give at least one example pose");
+  if (pose_paths.empty()) fail_option("poses", "give at least one example pose");
   LoadedMesh rest;
   std::vector<PoseInput> poses;
   SpheresFile spheres;

@@ -10,7 +10,7 @@
 #include "core/format.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/defects.hpp"
-#include "metrics/union_error.hpp"
+#include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "sdf/sdf.hpp"
@@ -64,234 +64,286 @@ void clear_covered(DenseField& field, const SphereSet& spheres) {
     if (s.radius > 0) clear_inside(field.values, field.shape, s.center, s.radius);
 }
 
-}  // namespace
+// pose-map's steps, in the order pose_map() takes them, and the state they share: the tets and
+// the map f, each pose's tet vertices and solid, and the proxy as it grows.
+class PoseMapper {
+ public:
+  PoseMapper(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
+             const SpheresFile& spheres, const PoseMapOptions& opt, ProxyModel& proxy, Log& log)
+      : rest_(rest), rest_source_(rest_source), poses_(poses), spheres_(spheres), opt_(opt), proxy_(proxy), log_(log) {}
 
-PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
-                       const SpheresFile& spheres, const PoseMapOptions& opt, Log& log) {
-  PoseMapResult result;
-  ProxyModel& proxy = result.proxy;
-  if (std::isnan(opt.max_radius) || opt.max_radius < 0) fail_usage("--max-radius", "must be a positive number");
-  if (std::isnan(opt.fill_min_radius) || opt.fill_min_radius < 0) fail_usage("--fill-min-radius", "must be a positive number");
-  proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
-
-  TetMesh tets;
-  {
-    StageTimer t(log, "tetrahedralize");
-    tets = opt.tet_file.empty() ? tetrahedralize(rest, opt.tets, log) : read_medit_tets(opt.tet_file);
+  // The paper's tet mesh of M_0: CGAL Mesh_3, or the user's.
+  void make_tets() {
+    StageTimer t(log_, "tetrahedralize");
+    tets_ = opt_.tet_file.empty() ? tetrahedralize(rest_, opt_.tets, log_) : read_medit_tets(opt_.tet_file);
+    log_.detail(std::to_string(tets_.tets.size()) + " tets, " + std::to_string(tets_.vertices.size()) + " vertices");
   }
-  log.detail(std::to_string(tets.tets.size()) + " tets, " + std::to_string(tets.vertices.size()) + " vertices");
 
-  StageTimer harmonic_timer(log, "harmonic");
-  const HarmonicMap f(tets, rest, log);
-  std::vector<std::vector<Eigen::Vector3d>> deformed;
-  for (const PoseInput& input : poses) deformed.push_back(f.deform(input.mesh));
-  harmonic_timer.stop();
-
-  std::vector<std::unique_ptr<MeshQuery>> queries;
-  queries.push_back(std::make_unique<MeshQuery>(rest));
-  for (const PoseInput& input : poses) queries.push_back(std::make_unique<MeshQuery>(input.mesh));
-  std::vector<const TriMesh*> meshes{&rest};
-  for (const PoseInput& input : poses) meshes.push_back(&input.mesh);
-
-  // Open meshes: a solid also ends across its holes, where the mesh has no triangles. Every
-  // pose, the rest included, gets its own field at the spheres' voxel size, so one rule sets
-  // every radius.
-  const bool open_solid = !find_defects(rest).watertight();
-  std::vector<DenseField> hole_fields;
-  if (open_solid) {
-    StageTimer t(log, "open-fields");
-    SdfOptions o;
-    o.voxel_size = spheres.voxel_size > 0 ? spheres.voxel_size : rest.diagonal() / 128;
-    for (const TriMesh* mesh : meshes) hole_fields.push_back(build_sdf(*mesh, o).field);
+  // f: the surface motion of every pose carried to the tet vertices.
+  void solve_map() {
+    StageTimer t(log_, "harmonic");
+    f_ = std::make_unique<HarmonicMap>(tets_, rest_, log_);
+    for (const PoseInput& input : poses_) deformed_.push_back(f_->deform(input.mesh));
   }
-  std::vector<PoseSolid> solids;
-  for (size_t i = 0; i < meshes.size(); ++i)
-    solids.push_back({queries[i].get(), open_solid ? &hole_fields[i] : nullptr, proxy.max_radius});
+
+  // Each pose's solid, the rest's included: exact distances and, for open meshes (whose solid
+  // also ends across the holes, where there are no triangles), the pose's own field at the
+  // spheres' voxel size. One rule then sets every radius.
+  void build_solids() {
+    meshes_.push_back(&rest_);
+    for (const PoseInput& input : poses_) meshes_.push_back(&input.mesh);
+    for (const TriMesh* mesh : meshes_) queries_.push_back(std::make_unique<MeshQuery>(*mesh));
+    open_solid_ = !find_defects(rest_).watertight();
+    if (open_solid_) {
+      StageTimer t(log_, "open-fields");
+      for (const TriMesh* mesh : meshes_) hole_fields_.push_back(build_sdf(*mesh, field_options()).field);
+    }
+    for (size_t i = 0; i < meshes_.size(); ++i)
+      solids_.push_back({queries_[i].get(), open_solid_ ? &hole_fields_[i] : nullptr, proxy_.max_radius});
+  }
 
   // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
-  {
-    const double slack = 1e-4 * rest.diagonal();
+  void check_rest_spheres_fit() const {
+    const double slack = 1e-4 * rest_.diagonal();
     size_t misfits = 0;
-    for (const auto& s : spheres.spheres)
-      if (!queries[0]->inside(s.center) || queries[0]->distance(s.center) < s.radius - slack) ++misfits;
+    for (const auto& s : spheres_.spheres)
+      if (!queries_[0]->inside(s.center) || queries_[0]->distance(s.center) < s.radius - slack) ++misfits;
     if (misfits > 0)
-      fail_input(rest_source, std::to_string(misfits) + " of " + std::to_string(spheres.spheres.size()) +
-                                  " spheres do not fit inside this rest mesh (packed from another mesh, or are --rest "
-                                  "and a --pose swapped?)");
+      fail_input(rest_source_, std::to_string(misfits) + " of " + std::to_string(spheres_.spheres.size()) +
+                                   " spheres do not fit inside this rest mesh (packed from another mesh, or are the "
+                                   "rest mesh and a pose swapped?)");
   }
-  proxy.poses.push_back({stem_of(rest_source), rest_source, {}, {}});
-  for (const PoseInput& input : poses) proxy.poses.push_back({input.name, input.source, {}, {}});
-  std::vector<Eigen::Vector3d> rest_centers;  // for the blend sites
 
-  // Appends rest spheres to every pose: centers through f, and in every pose (the rest too)
-  // the radius by the one rule of PoseSolid.
-  std::vector<std::array<size_t, 3>> zero_radius(proxy.poses.size(), {0, 0, 0});  // by cause
-  auto add_spheres = [&](const SphereSet& rest_spheres) {
-    const size_t first = rest_centers.size(), n = rest_spheres.size();
-    for (auto& pose : proxy.poses) pose.spheres.resize(first + n);
-    std::vector<std::vector<char>> cause(proxy.poses.size(), std::vector<char>(n, 0));
+  // S_1..S_e: appends rest spheres to every pose, centers through f, and in every pose (the
+  // rest too) the radius by the one rule of PoseSolid.
+  void map_spheres(const SphereSet& rest_spheres) {
+    if (proxy_.poses.empty()) {
+      proxy_.poses.push_back({stem_of(rest_source_), rest_source_, {}, {}});
+      for (const PoseInput& input : poses_) proxy_.poses.push_back({input.name, input.source, {}, {}});
+      zero_radius_.assign(proxy_.poses.size(), {0, 0, 0});
+    }
+    const size_t first = rest_centers_.size(), n = rest_spheres.size();
+    for (auto& pose : proxy_.poses) pose.spheres.resize(first + n);
+    std::vector<std::vector<char>> cause(proxy_.poses.size(), std::vector<char>(n, 0));
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t s = r.begin(); s != r.end(); ++s) {
         const Eigen::Vector3d& c = rest_spheres[s].center;
-        const TetLocator::Location at = f.locator().locate(c);
-        for (size_t i = 0; i < proxy.poses.size(); ++i) {
-          Sphere& sphere = proxy.poses[i].spheres[first + s];
-          sphere.center = i == 0 ? c : f.map(c, at, deformed[i - 1]);
-          const PoseSolid::Radius radius = solids[i].radius(sphere.center);
+        const TetLocator::Location at = f_->locator().locate(c);
+        for (size_t i = 0; i < proxy_.poses.size(); ++i) {
+          Sphere& sphere = proxy_.poses[i].spheres[first + s];
+          sphere.center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
+          const PoseSolid::Radius radius = solids_[i].radius(sphere.center);
           sphere.radius = radius.value;
           cause[i][s] = char(radius.zero);
         }
       }
     });
-    for (const auto& s : rest_spheres) rest_centers.push_back(s.center);
-    for (size_t i = 0; i < proxy.poses.size(); ++i)
+    for (const auto& s : rest_spheres) rest_centers_.push_back(s.center);
+    for (size_t i = 0; i < proxy_.poses.size(); ++i)
       for (size_t s = 0; s < n; ++s) {
         if (cause[i][s] == char(PoseSolid::Zero::none)) continue;
-        ++zero_radius[i][size_t(cause[i][s]) - 1];
-        if (cause[i][s] == char(PoseSolid::Zero::outside)) proxy.poses[i].outside.push_back(int(first + s));
+        ++zero_radius_[i][size_t(cause[i][s]) - 1];
+        if (cause[i][s] == char(PoseSolid::Zero::outside)) proxy_.poses[i].outside.push_back(int(first + s));
       }
-  };
-  {
-    StageTimer t(log, "map");
-    add_spheres(spheres.spheres);
   }
 
-  auto pose_errors = [&] {
-    nlohmann::json out = nlohmann::json::array();
-    for (size_t i = 0; i < proxy.poses.size(); ++i)
-      out.push_back(vertex_error(*meshes[i], proxy.poses[i].spheres).to_json());
-    return out;
-  };
-  const size_t mapped_count = rest_centers.size();
-  nlohmann::json errors_before_fill;
-  nlohmann::json fill_report = nullptr;
-
-  if (opt.fill_gaps) {
-    StageTimer t(log, "fill-gaps");
-    errors_before_fill = pose_errors();
-    SdfOptions field_options;
-    field_options.voxel_size = spheres.voxel_size > 0 ? spheres.voxel_size : rest.diagonal() / 128;
-    const double min_radius = opt.fill_min_radius > 0 ? opt.fill_min_radius : 0.75 * field_options.voxel_size;
-    double target = opt.fill_tolerance.set() ? opt.fill_tolerance.length(rest.diagonal()) : spheres.tolerance;
-    if (!(target > 0)) target = errors_before_fill[0]["max"].get<double>();
+  // The paper's future work: pack what each pose's mapped spheres leave uncovered, and map the
+  // new spheres back to the rest pose through the inverse map. Returns the report's part.
+  nlohmann::json fill_gaps() {
+    StageTimer t(log_, "fill-gaps");
+    const size_t mapped_count = rest_centers_.size();
+    const nlohmann::json errors_before = pose_errors();
+    const double min_radius = opt_.fill_min_radius > 0 ? opt_.fill_min_radius : 0.75 * field_options().voxel_size;
+    double target = opt_.fill_tolerance.set() ? opt_.fill_tolerance.length(rest_.diagonal()) : spheres_.tolerance;
+    if (!(target > 0)) target = errors_before[0]["max"].get<double>();
     nlohmann::json per_pose = nlohmann::json::array();
-    for (size_t i = 0; i < poses.size(); ++i) {
-      // The pose's own interior, minus what its spheres already cover.
-      SdfResult sdf = build_sdf(poses[i].mesh, field_options);
-      clear_covered(sdf.field, proxy.poses[i + 1].spheres);
-      PackOptions pack;
-      pack.min_radius = min_radius;
-      pack.max_radius = proxy.max_radius;
-      pack.field_bounds_radius = open_solid;
-      PackResult found = pack_spheres(sdf.field, pack, queries[i + 1].get());
-      // The fewest of them that bring this pose within the target (as sphere-pack --tolerance).
-      ToleranceResult enough = fewest_spheres_within(poses[i].mesh, found.spheres, target, proxy.poses[i + 1].spheres);
-      if (!enough.met) {
-        // Out of reach at this voxel size: keep only the spheres that lower the max error.
-        const ToleranceResult best = fewest_spheres_within(poses[i].mesh, found.spheres, enough.max_error * (1 + 1e-9),
-                                                           proxy.poses[i + 1].spheres);
-        enough.count = best.count;
-      }
-      size_t keep = enough.count;
-      if (opt.fill_max_per_pose > 0) keep = std::min(keep, opt.fill_max_per_pose);
-      found.spheres.resize(keep);
-      if (!enough.met)
-        log.warn(poses[i].source + ": gap filling reaches max error " + num(enough.max_error) +
-                 ", not the target " + num(target) + " (try a finer sdf-build --resolution)");
-
-      // Back to the rest pose through the inverse map: barycentric in the deformed tets.
-      TetMesh posed = tets;
-      posed.vertices = deformed[i];
-      const TetLocator inverse(posed);
-      SphereSet back;
+    for (size_t i = 0; i < poses_.size(); ++i) {
       size_t lost = 0;
-      for (const Sphere& s : found.spheres) {
-        const TetLocator::Location at = inverse.locate(s.center);
-        Eigen::Vector3d x = Eigen::Vector3d::Zero();
-        for (int k = 0; k < 4; ++k) x += at.weights[k] * tets.vertices[size_t(tets.tets[size_t(at.tet)][k])];
-        if (at.outside > 0 || !queries[0]->inside(x)) {
-          ++lost;
-          continue;
-        }
-        back.push_back({x, std::min(proxy.max_radius, queries[0]->distance(x))});
-      }
-      add_spheres(back);
-      per_pose.push_back({{"pose", poses[i].name}, {"added", back.size()}, {"lost_outside_rest", lost},
-                          {"target_met", enough.met}, {"max_error_reached", enough.max_error}});
-      log.detail(poses[i].name + ": " + std::to_string(back.size()) + " spheres fill its gaps");
+      bool met = false;
+      double reached = 0;
+      const SphereSet back = gap_spheres_of_pose(i, min_radius, target, lost, met, reached);
+      map_spheres(back);
+      per_pose.push_back({{"pose", poses_[i].name}, {"added", back.size()}, {"lost_outside_rest", lost},
+                          {"target_met", met}, {"max_error_reached", reached}});
+      log_.detail(poses_[i].name + ": " + std::to_string(back.size()) + " spheres fill its gaps");
     }
-    fill_report = {{"min_radius", min_radius}, {"target", target}, {"poses", per_pose}, {"spheres_before", mapped_count},
-                   {"spheres_after", rest_centers.size()}, {"errors_before", errors_before_fill}};
+    return {{"min_radius", min_radius}, {"target", target}, {"poses", per_pose}, {"spheres_before", mapped_count},
+            {"spheres_after", rest_centers_.size()}, {"errors_before", errors_before}};
   }
 
   // Blend sites: the nearest rest tet vertex of each sphere (the paper's local blend).
-  const size_t n = rest_centers.size();
-  std::vector<int> nearest(n, -1);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t s = r.begin(); s != r.end(); ++s) {
-      double best = std::numeric_limits<double>::infinity();
-      for (size_t v = 0; v < tets.vertices.size(); ++v) {
-        const double d = (tets.vertices[v] - rest_centers[s]).squaredNorm();
-        if (d < best) {
-          best = d;
-          nearest[s] = int(v);
+  void assign_blend_sites() {
+    const size_t n = rest_centers_.size();
+    std::vector<int> nearest(n, -1);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t s = r.begin(); s != r.end(); ++s) {
+        double best = std::numeric_limits<double>::infinity();
+        for (size_t v = 0; v < tets_.vertices.size(); ++v) {
+          const double d = (tets_.vertices[v] - rest_centers_[s]).squaredNorm();
+          if (d < best) {
+            best = d;
+            nearest[s] = int(v);
+          }
         }
       }
+    });
+    std::vector<int> site_of_vertex(tets_.vertices.size(), -1);
+    std::vector<int> used(nearest);
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    for (int v : used) {
+      site_of_vertex[size_t(v)] = int(proxy_.sites.size());
+      proxy_.sites.push_back(tets_.vertices[size_t(v)]);
     }
-  });
-  std::vector<int> site_of_vertex(tets.vertices.size(), -1);
-  std::vector<int> used(nearest);
-  std::sort(used.begin(), used.end());
-  used.erase(std::unique(used.begin(), used.end()), used.end());
-  for (int v : used) {
-    site_of_vertex[size_t(v)] = int(proxy.sites.size());
-    proxy.sites.push_back(tets.vertices[size_t(v)]);
-  }
-  for (size_t s = 0; s < n; ++s) proxy.sphere_sites.push_back(site_of_vertex[size_t(nearest[s])]);
-
-  for (size_t i = 0; i < proxy.poses.size(); ++i) {
-    const auto& [outside, holes, other] = zero_radius[i];
-    if (outside > 0)
-      log.warn(proxy.poses[i].source + ": " + std::to_string(outside) +
-               " sphere centers land outside this pose; those spheres get radius 0 in it");
-    if (holes + other > 0)
-      log.warn(proxy.poses[i].source + ": " + std::to_string(holes + other) + " spheres get radius 0 in this pose (" +
-               std::to_string(holes) + " bounded by its holes, " + std::to_string(other) + " on its surface)");
+    for (size_t s = 0; s < n; ++s) proxy_.sphere_sites.push_back(site_of_vertex[size_t(nearest[s])]);
   }
 
-  const nlohmann::json errors = pose_errors();
-  nlohmann::json pose_reports = nlohmann::json::array();
-  for (size_t i = 0; i < proxy.poses.size(); ++i)
-    pose_reports.push_back({{"name", proxy.poses[i].name},
-                            {"source", proxy.poses[i].source},
-                            {"outside", proxy.poses[i].outside},
-                            {"zero_radius",
-                             {{"total", zero_radius[i][0] + zero_radius[i][1] + zero_radius[i][2]},
-                              {"center_outside", zero_radius[i][0]},
-                              {"hole_bound", zero_radius[i][1]},
-                              {"other", zero_radius[i][2]}}},
-                            {"error", errors[i]}});
-  size_t outside_points = 0;
-  for (const auto& c : rest_centers) outside_points += f.locator().locate(c).outside > 0;
-  result.report = {{"tets",
-                    {{"method", opt.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},
-                     {"source", opt.tet_file},
-                     {"vertices", tets.vertices.size()},
-                     {"tetrahedra", tets.tets.size()},
-                     {"boundary_faces", tets.boundary_faces.size()}}},
-                   {"map",
-                    {{"method", "harmonic extension of the surface motion (least squares), barycentric in tets"},
-                     {"data_points", f.data_points()},
-                     {"dropped_points", f.dropped_points()},
-                     {"centers_outside_tets", outside_points}}},
-                   {"open_solid", open_solid},
-                   {"radius_source", open_solid ? "exact distance to each pose's mesh, bounded across its holes by "
-                                                  "that pose's own field"
-                                                : "exact distance to each pose's mesh"},
-                   {"sphere_count", n},
-                   {"site_count", proxy.sites.size()},
-                   {"poses", pose_reports},
-                   {"fill_gaps", fill_report}};
+  // Warnings for every radius 0, and the report: tets, map, per-pose errors and zero radii.
+  nlohmann::json report(const nlohmann::json& fill_report) const {
+    for (size_t i = 0; i < proxy_.poses.size(); ++i) {
+      const auto& [outside, holes, other] = zero_radius_[i];
+      if (outside > 0)
+        log_.warn(proxy_.poses[i].source + ": " + std::to_string(outside) +
+                  " sphere centers land outside this pose; those spheres get radius 0 in it");
+      if (holes + other > 0)
+        log_.warn(proxy_.poses[i].source + ": " + std::to_string(holes + other) + " spheres get radius 0 in this pose (" +
+                  std::to_string(holes) + " bounded by its holes, " + std::to_string(other) + " on its surface)");
+    }
+    const nlohmann::json errors = pose_errors();
+    nlohmann::json pose_reports = nlohmann::json::array();
+    for (size_t i = 0; i < proxy_.poses.size(); ++i)
+      pose_reports.push_back({{"name", proxy_.poses[i].name},
+                              {"source", proxy_.poses[i].source},
+                              {"outside", proxy_.poses[i].outside},
+                              {"zero_radius",
+                               {{"total", zero_radius_[i][0] + zero_radius_[i][1] + zero_radius_[i][2]},
+                                {"center_outside", zero_radius_[i][0]},
+                                {"hole_bound", zero_radius_[i][1]},
+                                {"other", zero_radius_[i][2]}}},
+                              {"error", errors[i]}});
+    size_t outside_points = 0;
+    for (const auto& c : rest_centers_) outside_points += f_->locator().locate(c).outside > 0;
+    return {{"tets",
+             {{"method", opt_.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},
+              {"source", opt_.tet_file},
+              {"vertices", tets_.vertices.size()},
+              {"tetrahedra", tets_.tets.size()},
+              {"boundary_faces", tets_.boundary_faces.size()}}},
+            {"map",
+             {{"method", "harmonic extension of the surface motion (least squares), barycentric in tets"},
+              {"data_points", f_->data_points()},
+              {"dropped_points", f_->dropped_points()},
+              {"centers_outside_tets", outside_points}}},
+            {"open_solid", open_solid_},
+            {"radius_source", open_solid_ ? "exact distance to each pose's mesh, bounded across its holes by "
+                                            "that pose's own field"
+                                          : "exact distance to each pose's mesh"},
+            {"sphere_count", rest_centers_.size()},
+            {"site_count", proxy_.sites.size()},
+            {"poses", pose_reports},
+            {"fill_gaps", fill_report}};
+  }
+
+ private:
+  SdfOptions field_options() const {
+    SdfOptions o;
+    o.voxel_size = spheres_.voxel_size > 0 ? spheres_.voxel_size : rest_.diagonal() / 128;
+    return o;
+  }
+
+  nlohmann::json pose_errors() const {
+    nlohmann::json out = nlohmann::json::array();
+    for (size_t i = 0; i < proxy_.poses.size(); ++i) out.push_back(vertex_error(*meshes_[i], proxy_.poses[i].spheres).to_json());
+    return out;
+  }
+
+  // Pose i's own interior less what its spheres cover, packed greedily; the fewest of those
+  // that bring it within `target` (as sphere-pack's tolerance), mapped back to rest.
+  SphereSet gap_spheres_of_pose(size_t i, double min_radius, double target, size_t& lost, bool& met, double& reached) {
+    SdfResult sdf = build_sdf(poses_[i].mesh, field_options());
+    clear_covered(sdf.field, proxy_.poses[i + 1].spheres);
+    PackOptions pack;
+    pack.min_radius = min_radius;
+    pack.max_radius = proxy_.max_radius;
+    pack.field_bounds_radius = open_solid_;
+    PackResult found = pack_spheres(sdf.field, pack, queries_[i + 1].get());
+    ToleranceResult enough = fewest_spheres_within(poses_[i].mesh, found.spheres, target, proxy_.poses[i + 1].spheres);
+    if (!enough.met) {
+      // Out of reach at this voxel size: keep only the spheres that lower the max error.
+      const ToleranceResult best = fewest_spheres_within(poses_[i].mesh, found.spheres, enough.max_error * (1 + 1e-9),
+                                                         proxy_.poses[i + 1].spheres);
+      enough.count = best.count;
+    }
+    size_t keep = enough.count;
+    if (opt_.fill_max_per_pose > 0) keep = std::min(keep, opt_.fill_max_per_pose);
+    found.spheres.resize(keep);
+    if (!enough.met)
+      log_.warn(poses_[i].source + ": gap filling reaches max error " + num(enough.max_error) + ", not the target " +
+                num(target) + " (try a finer resolution for the spheres' field)");
+    met = enough.met;
+    reached = enough.max_error;
+    return map_back_to_rest(i, found.spheres, lost);
+  }
+
+  // Through the inverse map: barycentric in pose i's deformed tets.
+  SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t& lost) const {
+    TetMesh posed = tets_;
+    posed.vertices = deformed_[i];
+    const TetLocator inverse(posed);
+    SphereSet back;
+    lost = 0;
+    for (const Sphere& s : in_pose) {
+      const TetLocator::Location at = inverse.locate(s.center);
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 4; ++k) x += at.weights[k] * tets_.vertices[size_t(tets_.tets[size_t(at.tet)][k])];
+      if (at.outside > 0 || !queries_[0]->inside(x)) {
+        ++lost;
+        continue;
+      }
+      back.push_back({x, std::min(proxy_.max_radius, queries_[0]->distance(x))});
+    }
+    return back;
+  }
+
+  const TriMesh& rest_;
+  const std::string& rest_source_;
+  const std::vector<PoseInput>& poses_;
+  const SpheresFile& spheres_;
+  const PoseMapOptions& opt_;
+  ProxyModel& proxy_;
+  Log& log_;
+  TetMesh tets_;
+  std::unique_ptr<HarmonicMap> f_;
+  std::vector<std::vector<Eigen::Vector3d>> deformed_;  // per pose: tet vertices
+  std::vector<const TriMesh*> meshes_;                  // rest, then the poses
+  std::vector<std::unique_ptr<MeshQuery>> queries_;
+  bool open_solid_ = false;
+  std::vector<DenseField> hole_fields_;
+  std::vector<PoseSolid> solids_;
+  std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
+  std::vector<std::array<size_t, 3>> zero_radius_;       // per pose, by cause
+};
+
+}  // namespace
+
+PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
+                       const SpheresFile& spheres, const PoseMapOptions& opt, Log& log) {
+  if (std::isnan(opt.max_radius) || opt.max_radius < 0) fail_option("max_radius", "must be a positive number");
+  if (std::isnan(opt.fill_min_radius) || opt.fill_min_radius < 0) fail_option("fill_min_radius", "must be a positive number");
+  PoseMapResult result;
+  result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
+  PoseMapper mapper(rest, rest_source, poses, spheres, opt, result.proxy, log);
+  mapper.make_tets();
+  mapper.solve_map();
+  mapper.build_solids();
+  mapper.check_rest_spheres_fit();
+  {
+    StageTimer t(log, "map");
+    mapper.map_spheres(spheres.spheres);
+  }
+  const nlohmann::json fill = opt.fill_gaps ? mapper.fill_gaps() : nlohmann::json(nullptr);
+  mapper.assign_blend_sites();
+  result.report = mapper.report(fill);
   return result;
 }
 

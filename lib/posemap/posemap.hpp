@@ -9,8 +9,8 @@
 #include "core/log.hpp"
 #include "core/tolerance.hpp"
 #include "mesh/mesh.hpp"
-#include "pack/spheres_file.hpp"
-#include "posemap/proxy.hpp"
+#include "io/spheres_file.hpp"
+#include "io/proxy_file.hpp"
 #include "posemap/tet_mesh.hpp"
 
 namespace spx {

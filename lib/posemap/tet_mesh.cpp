@@ -124,7 +124,7 @@ void check_every_body_meshed(const TetMesh& tets, const TriMesh& surface, const 
     const Eigen::Vector3d c = box.center();
     fail_input("", "body " + std::to_string(solid) + " of " + std::to_string(solids) + " (" +
                        std::to_string(triangles) + " triangles around " + num(c.x()) + ", " + num(c.y()) + ", " +
-                       num(c.z()) + ") produced no tetrahedra; is it thinner than --tet-size " + num(size) + "?");
+                       num(c.z()) + ") produced no tetrahedra; is it thinner than the tet size " + num(size) + "?");
   }
 }
 
@@ -168,8 +168,8 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
   const Eigen::AlignedBox3d box = surface.bounds();
   const double diag = box.diagonal().norm();
   const double size = opt.size > 0 ? opt.size : diag / 30.0;
-  if (!(size > 0) || !std::isfinite(size)) fail_usage("--tet-size", "must be a positive number");
-  if (diag / size > 400) fail_usage("--tet-size", "is too small for this mesh (over 400 tets across)");
+  if (!(size > 0) || !std::isfinite(size)) fail_option("tet_size", "must be a positive number");
+  if (diag / size > 400) fail_option("tet_size", "is too small for this mesh (over 400 tets across)");
 
   const WindingNumber wn(surface);
   std::function<double(const K::Point_3&)> level = [&wn](const K::Point_3& p) {
@@ -208,7 +208,7 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
     out.tets.push_back(t);
   }
   if (out.tets.empty())
-    fail_input("", "the rest shape produced no tetrahedra (is it closed, or thinner than --tet-size?)");
+    fail_input("", "the rest shape produced no tetrahedra (is it closed, or thinner than the tet size?)");
   orient(out);
   find_tet_boundary(out);
   check_every_body_meshed(out, surface, parts, bodies, size);

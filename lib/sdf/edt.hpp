@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sdf/dense_field.hpp"
+#include "io/dense_field.hpp"
 
 namespace spx {
 

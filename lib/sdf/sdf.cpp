@@ -20,10 +20,10 @@ namespace {
 // distance, the layer index (touched at surface voxels only).
 constexpr double kBytesPerVoxel = 4 + 4 + 1 + 4 + 4 + 4;
 
-char fmt_buf[64];
-const char* gib(double v) {
-  std::snprintf(fmt_buf, sizeof fmt_buf, "%.1f GiB", v);
-  return fmt_buf;
+std::string gib(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.1f GiB", v);
+  return text;
 }
 
 // The triangles laid out for the distance loops: corners side by side (two cache lines per
@@ -194,9 +194,9 @@ void fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list, 
 
 GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimated_gib) {
   if (opt.voxel_size < 0 || !std::isfinite(opt.voxel_size))
-    fail_usage("--voxel-size", "must be a positive number");
-  if (opt.voxel_size == 0 && opt.resolution < 1) fail_usage("--resolution", "must be at least 1");
-  if (opt.band < 1 || opt.band > 64) fail_usage("--band", "must be between 1 and 64 voxels");
+    fail_option("voxel_size", "must be a positive number");
+  if (opt.voxel_size == 0 && opt.resolution < 1) fail_option("resolution", "must be at least 1");
+  if (opt.band < 1 || opt.band > 64) fail_option("band", "must be between 1 and 64 voxels");
   const Eigen::AlignedBox3d box = mesh.bounds();
   const double longest = box.sizes().maxCoeff();
   if (!(longest > 0) || !std::isfinite(longest)) {
@@ -218,13 +218,13 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
   if (estimated_gib) *estimated_gib = need;
   const double index_limit = 2.0e9;
   if (!(lo.cwiseAbs().maxCoeff() < index_limit && hi.cwiseAbs().maxCoeff() < index_limit))
-    fail_usage("--voxel-size", "is too small for the mesh's coordinates (index space overflows)");
+    fail_option("voxel_size", "is too small for the mesh's coordinates (index space overflows)");
   if (need > opt.memory_limit_gib || voxels >= 2.0e9) {
     char msg[400];
     std::snprintf(msg, sizeof msg,
                   "a %.0f x %.0f x %.0f grid needs about %s of memory, over the %.0f GiB limit; use a coarser "
-                  "--resolution (or raise --memory-limit on a larger machine)",
-                  dims.x(), dims.y(), dims.z(), gib(need), opt.memory_limit_gib);
+                  "resolution (or a higher memory limit on a larger machine)",
+                  dims.x(), dims.y(), dims.z(), gib(need).c_str(), opt.memory_limit_gib);
     fail_unsupported("", msg);
   }
   // OpenVDB's transforms need voxel_size^3 >= 3e-15 (math::Tolerance<double> in ScaleMap).
@@ -237,6 +237,289 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
   return shape;
 }
 
+namespace {
+
+// What the SDF's stages share: the mesh in spatial order, the grid, each voxel's distance
+// (unsigned until the sign is applied), closest triangle and flags, and the surface layer.
+struct SdfWork {
+  const TriMesh& mesh;
+  const GridShape& shape;
+  DenseField& field;
+  SdfStats& stats;
+  GridVector<int32_t> tri;
+  GridVector<uint8_t> flags;
+  std::vector<size_t> layer_list;
+  SdfWork(const TriMesh& m, const GridShape& g, DenseField& f, SdfStats& st)
+      : mesh(m), shape(g), field(f), stats(st), tri(g.count()), flags(g.count()) {}
+};
+
+// 1. The surface layer: every voxel within one voxel of the surface, with its exact distance
+//    and closest triangle (each triangle visits the voxels of its box grown by a voxel). Any
+//    surface crossing between two face-adjacent voxel centres lies within half a voxel of one
+//    of them, so the layer separates inside from outside.
+void rasterize_layer(SdfWork& w) {
+  const TriMesh& mesh = w.mesh;
+  const GridShape& shape = w.shape;
+  const size_t total = shape.count();
+  DenseField& field = w.field;
+  auto& tri = w.tri;
+  auto& flags = w.flags;
+  field.values.assign(total, field.background);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(tri.begin() + ptrdiff_t(r.begin()), tri.begin() + ptrdiff_t(r.end()), -1);
+    std::fill(flags.begin() + ptrdiff_t(r.begin()), flags.begin() + ptrdiff_t(r.end()), 0);
+  });
+  rasterize_surface_layer(mesh, shape, field.values, tri);
+  w.layer_list = indices_where(total, [&](size_t idx) { return tri[idx] >= 0; });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, w.layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t n = r.begin(); n != r.end(); ++n) flags[w.layer_list[n]] = kLayer;
+  });
+  w.stats.surface_voxels = w.layer_list.size();
+}
+
+// 2a. Sign of a closed, manifold, consistently oriented single surface: the angle-weighted
+//     pseudo-normal of each layer voxel's closest feature (Baerentzen & Aanaes 2005), then one
+//     generalized winding number per region the layer encloses.
+void sign_closed_surface(SdfWork& w) {
+  const TriMesh& mesh = w.mesh;
+  const GridShape& shape = w.shape;
+  SdfStats& stats = w.stats;
+  const auto& tri = w.tri;
+  auto& flags = w.flags;
+  const std::vector<size_t>& layer_list = w.layer_list;
+  stats.sign_method = "pseudo-normals in the surface layer, one winding number per enclosed region (closed surface)";
+  const PseudoNormals normals(mesh);
+  std::vector<uint8_t> tangent(layer_list.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t n = r.begin(); n != r.end(); ++n) {
+      const size_t idx = layer_list[n];
+      const int side = normals.side(mesh, tri[idx], shape.world(idx));
+      if (side < 0) flags[idx] |= kInside;
+      tangent[n] = side == 0;
+    }
+  });
+  // Winding numbers for a batch of points, in parallel: a handful cost less summed exactly
+  // than a tree costs to build.
+  auto winding_inside = [&](const std::vector<Eigen::Vector3d>& points) {
+    std::vector<uint8_t> in(points.size());
+    std::unique_ptr<WindingNumber> tree;
+    if (points.size() > 32) tree = std::make_unique<WindingNumber>(mesh);
+    tbb::parallel_for(size_t(0), points.size(), [&](size_t n) {
+      in[n] = tree ? tree->inside(points[n]) : winding_number_exact(mesh, points[n]) > 0.5;
+    });
+    stats.winding_evaluations += points.size();
+    return in;
+  };
+  std::vector<Eigen::Vector3d> tangent_points;
+  for (size_t n = 0; n < layer_list.size(); ++n)
+    if (tangent[n]) tangent_points.push_back(shape.world(layer_list[n]));
+  const std::vector<uint8_t> tangent_inside = winding_inside(tangent_points);
+  for (size_t n = 0, m = 0; n < layer_list.size(); ++n)
+    if (tangent[n]) {
+      const size_t idx = layer_list[n];
+      set_flag(flags[idx], kInside, tangent_inside[m++]);
+    }
+  fill_inside(shape, layer_list, winding_inside, flags);
+}
+
+// 2b. Anything else (holes, flipped faces, several pieces that may overlap): the winding
+//     number at every voxel.
+void sign_by_winding_numbers(SdfWork& w) {
+  const TriMesh& mesh = w.mesh;
+  const GridShape& shape = w.shape;
+  const size_t total = shape.count();
+  SdfStats& stats = w.stats;
+  auto& flags = w.flags;
+  stats.sign_method = "winding number at every voxel (not a single closed surface)";
+  const WindingNumber wn(mesh);
+  // Outside the bounding box |w| <= 1/2 (a plane separates the query from the mesh).
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  std::atomic<size_t> evaluations{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    size_t local = 0;
+    for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+      const Eigen::Vector3d p = shape.world(idx);
+      if (!box.contains(p)) continue;
+      if (wn.inside(p)) flags[idx] |= kInside;
+      ++local;
+    }
+    evaluations += local;
+  });
+  stats.winding_evaluations = evaluations;
+}
+
+// 3a. The voxels that get an interior distance: every inside voxel off the layer, and outside
+//     the band of `band` voxels (the rest stays background).
+std::vector<size_t> mark_wanted(SdfWork& w, const GridVector<int32_t>& nearest, int band) {
+  const GridShape& shape = w.shape;
+  const size_t total = shape.count();
+  const double h = shape.voxel_size;
+  auto& flags = w.flags;
+  const double band_reach = (band + 1) * h;
+  const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
+  const size_t sy = size_t(nz);
+  tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int l = r.begin(); l != r.end(); ++l) {
+      const int i = l / ny, j = l % ny;
+      const size_t base = size_t(l) * sy;
+      for (int k = 0; k < nz; ++k) {
+        const size_t idx = base + size_t(k);
+        const int32_t seed = nearest[idx];
+        if ((flags[idx] & kLayer) || seed < 0) continue;
+        if (!(flags[idx] & kInside)) {
+          // Outside: only the band is stored. The seed's k is cheap to get; most far voxels fail
+          // on it before the full test.
+          const int seed_k = int(uint32_t(seed) % uint32_t(sy));  // indices fit 32 bits (plan_grid)
+          if (std::abs(seed_k - k) * h > band_reach) continue;
+          if ((shape.world(i, j, k) - shape.world(size_t(seed))).squaredNorm() > band_reach * band_reach) continue;
+        }
+        flags[idx] |= kWanted;
+      }
+    }
+  });
+  return indices_where(total, [&](size_t idx) { return flags[idx] & kWanted; });
+}
+
+// 3b. Each wanted voxel's triangle: the best candidate around its nearest surface voxel.
+void closest_triangles(SdfWork& w, const TriangleTable& triangles, const GridVector<int32_t>& nearest,
+                       const std::vector<size_t>& wanted_list) {
+  const GridShape& shape = w.shape;
+  const size_t total = shape.count();
+  const std::vector<size_t>& layer_list = w.layer_list;
+  DenseField& field = w.field;
+  auto& tri = w.tri;
+  const auto& flags = w.flags;
+  // Grouped by nearest surface voxel: the voxels of a group share its candidate triangles,
+  // which then stay in cache while each voxel picks its closest (a counting sort).
+  std::vector<size_t> group_start(layer_list.size() + 1, 0), by_seed(wanted_list.size());
+  {
+    std::unique_ptr<int32_t[]> layer_id(new int32_t[total]);  // read at layer voxels only
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n != r.end(); ++n) layer_id[layer_list[n]] = int32_t(n);
+    });
+    std::vector<int32_t> group(wanted_list.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n != r.end(); ++n) group[n] = layer_id[size_t(nearest[wanted_list[n]])];
+    });
+    for (int32_t g : group) ++group_start[size_t(g) + 1];
+    for (size_t g = 0; g < layer_list.size(); ++g) group_start[g + 1] += group_start[g];
+    std::vector<size_t> fill(group_start.begin(), group_start.end() - 1);
+    for (size_t n = 0; n < wanted_list.size(); ++n) by_seed[fill[size_t(group[n])]++] = wanted_list[n];
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t g = r.begin(); g != r.end(); ++g) {
+      if (group_start[g] == group_start[g + 1]) continue;
+      const Candidates candidates(shape, tri, flags, layer_list[g]);
+      for (size_t n = group_start[g]; n != group_start[g + 1]; ++n) {
+        const size_t idx = by_seed[n];
+        double e;
+        tri[idx] = candidates.closest_to(triangles, shape.world(idx), &e);
+        field.values[idx] = float(e);
+      }
+    }
+  });
+}
+
+// 3c. Two sweeps in which each voxel also tries its six neighbours' triangles (vector
+//     propagation): fixes voxels whose nearest surface voxel slid along the surface away from
+//     the foot point.
+void refine_by_neighbours(SdfWork& w, const TriangleTable& triangles, const std::vector<size_t>& wanted_list) {
+  const GridShape& shape = w.shape;
+  DenseField& field = w.field;
+  auto& tri = w.tri;
+  auto& flags = w.flags;
+  // A voxel none of whose face neighbours nor itself changed in the last sweep would repeat
+  // the same tests, so it is skipped.
+  std::vector<int32_t> next_tri(wanted_list.size());
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n != r.end(); ++n) {
+        const size_t idx = wanted_list[n];
+        const Eigen::Vector3i c = shape.coords(idx);
+        int32_t own = tri[idx];
+        next_tri[n] = own;
+        int32_t seen[6];
+        int count = 0;
+        bool stale = sweep == 0 || (flags[idx] & kChanged);
+        shape.for_each_face_neighbour(idx, c, [&](size_t m) {
+          stale = stale || (flags[m] & kChanged);
+          if (tri[m] >= 0 && tri[m] != own && std::find(seen, seen + count, tri[m]) == seen + count) seen[count++] = tri[m];
+        });
+        if (!stale) continue;
+        const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
+        float& value = field.values[idx];  // this voxel's own slot only
+        double best = double(value) * double(value);
+        for (int q = 0; q < count; ++q) {
+          const double e = triangles.distance2(seen[q], p, best);
+          if (e < best) {
+            best = e;
+            own = seen[q];
+          }
+        }
+        next_tri[n] = own;
+        if (own != tri[idx]) value = float(std::sqrt(best));
+      }
+    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n != r.end(); ++n) {
+        const size_t idx = wanted_list[n];
+        set_flag(flags[idx], kChanged, next_tri[n] != tri[idx]);
+        tri[idx] = next_tri[n];
+      }
+    });
+  }
+}
+
+// 4. An open mesh's solid is also bounded across its holes, where there are no triangles:
+//    there, bound interior distances by the distance to the solid's outside (every point of
+//    the solid's boundary lies within half a voxel diagonal of an outside voxel center).
+void bound_across_holes(SdfWork& w) {
+  const GridShape& shape = w.shape;
+  const size_t total = shape.count();
+  const double h = shape.voxel_size;
+  DenseField& field = w.field;
+  auto& tri = w.tri;
+  const auto& flags = w.flags;
+  std::vector<uint8_t> outside(total);
+  for (size_t idx = 0; idx < total; ++idx) outside[idx] = !(flags[idx] & kInside);
+  const GridVector<int32_t> out_nearest = nearest_seed_transform(shape, outside);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+      if (!(flags[idx] & kInside) || out_nearest[idx] < 0) continue;
+      const double hole = (shape.world(idx) - shape.world(size_t(out_nearest[idx]))).norm() - 0.5 * std::sqrt(3.0) * h;
+      // An inside voxel far from any triangle still gets a value.
+      if (tri[idx] < 0 || hole < field.values[idx]) field.values[idx] = float(std::max(hole, 0.0));
+      if (tri[idx] < 0) tri[idx] = 0;
+    }
+  });
+  w.stats.bounded_by_holes = true;
+}
+
+// 5. Distances become signed (negative inside); outside voxels past the band get the background.
+void apply_sign(SdfWork& w) {
+  const size_t total = w.shape.count();
+  DenseField& field = w.field;
+  const auto& tri = w.tri;
+  const auto& flags = w.flags;
+  std::atomic<size_t> interior{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    size_t local = 0;
+    for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+      if (tri[idx] < 0) continue;  // far outside: background
+      if (flags[idx] & kInside) {
+        field.values[idx] = -field.values[idx];
+        ++local;
+      } else {
+        field.values[idx] = std::min(field.values[idx], field.background);
+      }
+    }
+    interior += local;
+  });
+  w.stats.interior_voxels = interior;
+}
+
+}  // namespace
+
 SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   SdfResult result;
   SdfStats& stats = result.stats;
@@ -245,241 +528,42 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   const GridShape shape = plan_grid(input, opt, &stats.estimated_memory_gib);
   const TriMesh mesh = in_spatial_order(input, shape);
   prepare.stop();
-  const double h = shape.voxel_size;
-  const size_t total = shape.count();
   log.detail("grid " + std::to_string(shape.dims.x()) + "x" + std::to_string(shape.dims.y()) + "x" +
-             std::to_string(shape.dims.z()) + ", voxel size " + num(h));
-
-  // 1. The surface layer: every voxel within one voxel of the surface, with its exact distance
-  //    and closest triangle (each triangle visits the voxels of its box grown by a voxel).
-  //    Any surface crossing between two face-adjacent voxel centres lies within half a voxel
-  //    of one of them, so the layer separates inside from outside. `field.values` holds
-  //    unsigned distances until the sign is applied at the end; `tri` each voxel's triangle.
-  DenseField& field = result.field;
-  field.shape = shape;
-  field.background = float(opt.band * h);
-  StageTimer layer_stage(log, "surface-layer");
-  field.values.assign(total, field.background);
-  GridVector<int32_t> tri(total);
-  GridVector<uint8_t> flags(total);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
-    std::fill(tri.begin() + ptrdiff_t(r.begin()), tri.begin() + ptrdiff_t(r.end()), -1);
-    std::fill(flags.begin() + ptrdiff_t(r.begin()), flags.begin() + ptrdiff_t(r.end()), 0);
-  });
-  rasterize_surface_layer(mesh, shape, field.values, tri);
-  const std::vector<size_t> layer_list = indices_where(total, [&](size_t idx) { return tri[idx] >= 0; });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t n = r.begin(); n != r.end(); ++n) flags[layer_list[n]] = kLayer;
-  });
-  layer_stage.stop();
-  stats.surface_voxels = layer_list.size();
-
-  // 2. Sign. A closed, manifold, consistently oriented single surface: the angle-weighted
-  //    pseudo-normal of each layer voxel's closest feature (Baerentzen & Aanaes 2005), then one
-  //    generalized winding number per region the layer encloses. Anything else (holes,
-  //    flipped faces, several pieces that may overlap): the winding number at every voxel.
+             std::to_string(shape.dims.z()) + ", voxel size " + num(shape.voxel_size));
+  result.field.shape = shape;
+  result.field.background = float(opt.band * shape.voxel_size);
+  SdfWork work(mesh, shape, result.field, stats);
+  {
+    StageTimer t(log, "surface-layer");
+    rasterize_layer(work);
+  }
   {
     StageTimer t(log, "sign");
-    const bool single_closed_surface = stats.defects.watertight() && stats.defects.components == 1;
-    if (single_closed_surface) {
-      stats.sign_method = "pseudo-normals in the surface layer, one winding number per enclosed region (closed surface)";
-      const PseudoNormals normals(mesh);
-      std::vector<uint8_t> tangent(layer_list.size(), 0);
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t n = r.begin(); n != r.end(); ++n) {
-          const size_t idx = layer_list[n];
-          const int side = normals.side(mesh, tri[idx], shape.world(idx));
-          if (side < 0) flags[idx] |= kInside;
-          tangent[n] = side == 0;
-        }
-      });
-      // Winding numbers for a batch of points, in parallel: a handful cost less summed exactly
-      // than a tree costs to build.
-      auto winding_inside = [&](const std::vector<Eigen::Vector3d>& points) {
-        std::vector<uint8_t> in(points.size());
-        std::unique_ptr<WindingNumber> tree;
-        if (points.size() > 32) tree = std::make_unique<WindingNumber>(mesh);
-        tbb::parallel_for(size_t(0), points.size(), [&](size_t n) {
-          in[n] = tree ? tree->inside(points[n]) : winding_number_exact(mesh, points[n]) > 0.5;
-        });
-        stats.winding_evaluations += points.size();
-        return in;
-      };
-      std::vector<Eigen::Vector3d> tangent_points;
-      for (size_t n = 0; n < layer_list.size(); ++n)
-        if (tangent[n]) tangent_points.push_back(shape.world(layer_list[n]));
-      const std::vector<uint8_t> tangent_inside = winding_inside(tangent_points);
-      for (size_t n = 0, m = 0; n < layer_list.size(); ++n)
-        if (tangent[n]) {
-          const size_t idx = layer_list[n];
-          set_flag(flags[idx], kInside, tangent_inside[m++]);
-        }
-      fill_inside(shape, layer_list, winding_inside, flags);
-    } else {
-      stats.sign_method = "winding number at every voxel (not a single closed surface)";
-      const WindingNumber wn(mesh);
-      // Outside the bounding box |w| <= 1/2 (a plane separates the query from the mesh).
-      const Eigen::AlignedBox3d box = mesh.bounds();
-      std::atomic<size_t> evaluations{0};
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
-        size_t local = 0;
-        for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-          const Eigen::Vector3d p = shape.world(idx);
-          if (!box.contains(p)) continue;
-          if (wn.inside(p)) flags[idx] |= kInside;
-          ++local;
-        }
-        evaluations += local;
-      });
-      stats.winding_evaluations = evaluations;
-    }
+    if (stats.defects.watertight() && stats.defects.components == 1) sign_closed_surface(work);
+    else sign_by_winding_numbers(work);
   }
-
-  // 3. Interior distances: nearest surface voxel by an exact feature transform, then the exact
-  //    distance to the closest of the triangles around it.
+  // Interior distances: nearest surface voxel by an exact feature transform, then the exact
+  // distance to the closest of the triangles around it.
+  const TriangleTable triangles(mesh);
+  StageTimer edt(log, "feature-transform");
+  const GridVector<int32_t> nearest = nearest_seed_transform(shape, work.flags.data(), kLayer);
+  edt.stop();
   {
-    const TriangleTable triangles(mesh);
-    StageTimer edt(log, "feature-transform");
-    const GridVector<int32_t> nearest = nearest_seed_transform(shape, flags.data(), kLayer);
-    edt.stop();
-    StageTimer closest_stage(log, "closest-triangles");
-    // Each voxel's triangle: the best candidate around its nearest surface voxel, then two
-    // sweeps in which it also tries its six neighbours' triangles (vector propagation), which
-    // fixes voxels whose nearest surface voxel slid along the surface away from the foot point.
-    // Outside, only the band of opt.band voxels is stored (the rest is background).
-    const double band_reach = (opt.band + 1) * h;
-    const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
-    const size_t sy = size_t(nz);
-    tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 16), [&](const tbb::blocked_range<int>& r) {
-      for (int l = r.begin(); l != r.end(); ++l) {
-        const int i = l / ny, j = l % ny;
-        const size_t base = size_t(l) * sy;
-        for (int k = 0; k < nz; ++k) {
-          const size_t idx = base + size_t(k);
-          const int32_t seed = nearest[idx];
-          if ((flags[idx] & kLayer) || seed < 0) continue;
-          if (!(flags[idx] & kInside)) {
-            // Outside: only the band is stored. The seed's k is cheap to get; most far voxels fail
-            // on it before the full test.
-            const int seed_k = int(uint32_t(seed) % uint32_t(sy));  // indices fit 32 bits (plan_grid)
-            if (std::abs(seed_k - k) * h > band_reach) continue;
-            if ((shape.world(i, j, k) - shape.world(size_t(seed))).squaredNorm() > band_reach * band_reach) continue;
-          }
-          flags[idx] |= kWanted;
-        }
-      }
-    });
-    const std::vector<size_t> wanted_list = indices_where(total, [&](size_t idx) { return flags[idx] & kWanted; });
-    // Grouped by nearest surface voxel: the voxels of a group share its candidate triangles,
-    // which then stay in cache while each voxel picks its closest (a counting sort).
-    std::vector<size_t> group_start(layer_list.size() + 1, 0), by_seed(wanted_list.size());
-    {
-      std::unique_ptr<int32_t[]> layer_id(new int32_t[total]);  // read at layer voxels only
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t n = r.begin(); n != r.end(); ++n) layer_id[layer_list[n]] = int32_t(n);
-      });
-      std::vector<int32_t> group(wanted_list.size());
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t n = r.begin(); n != r.end(); ++n) group[n] = layer_id[size_t(nearest[wanted_list[n]])];
-      });
-      for (int32_t g : group) ++group_start[size_t(g) + 1];
-      for (size_t g = 0; g < layer_list.size(); ++g) group_start[g + 1] += group_start[g];
-      std::vector<size_t> fill(group_start.begin(), group_start.end() - 1);
-      for (size_t n = 0; n < wanted_list.size(); ++n) by_seed[fill[size_t(group[n])]++] = wanted_list[n];
-    }
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t g = r.begin(); g != r.end(); ++g) {
-        if (group_start[g] == group_start[g + 1]) continue;
-        const Candidates candidates(shape, tri, flags, layer_list[g]);
-        for (size_t n = group_start[g]; n != group_start[g + 1]; ++n) {
-          const size_t idx = by_seed[n];
-          double e;
-          tri[idx] = candidates.closest_to(triangles, shape.world(idx), &e);
-          field.values[idx] = float(e);
-        }
-      }
-    });
-    closest_stage.stop();
-    StageTimer refine(log, "refine");
-    // A voxel none of whose face neighbours nor itself changed in the last sweep would repeat
-    // the same tests, so it is skipped.
-    std::vector<int32_t> next_tri(wanted_list.size());
-    for (int sweep = 0; sweep < 2; ++sweep) {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t n = r.begin(); n != r.end(); ++n) {
-          const size_t idx = wanted_list[n];
-          const Eigen::Vector3i c = shape.coords(idx);
-          int32_t own = tri[idx];
-          next_tri[n] = own;
-          int32_t seen[6];
-          int count = 0;
-          bool stale = sweep == 0 || (flags[idx] & kChanged);
-          shape.for_each_face_neighbour(idx, c, [&](size_t m) {
-            stale = stale || (flags[m] & kChanged);
-            if (tri[m] >= 0 && tri[m] != own && std::find(seen, seen + count, tri[m]) == seen + count) seen[count++] = tri[m];
-          });
-          if (!stale) continue;
-          const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
-          float& value = field.values[idx];  // this voxel's own slot only
-          double best = double(value) * double(value);
-          for (int q = 0; q < count; ++q) {
-            const double e = triangles.distance2(seen[q], p, best);
-            if (e < best) {
-              best = e;
-              own = seen[q];
-            }
-          }
-          next_tri[n] = own;
-          if (own != tri[idx]) value = float(std::sqrt(best));
-        }
-      });
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t n = r.begin(); n != r.end(); ++n) {
-          const size_t idx = wanted_list[n];
-          set_flag(flags[idx], kChanged, next_tri[n] != tri[idx]);
-          tri[idx] = next_tri[n];
-        }
-      });
-    }
-    refine.stop();
-    StageTimer finish(log, "values");
-    // An open mesh's solid is also bounded across its holes, where there are no triangles:
-    // there, bound interior distances by the distance to the solid's outside: every point of
-    // the solid's boundary lies within half a voxel diagonal of an outside voxel center.
-    if (!stats.defects.watertight()) {
-      std::vector<uint8_t> outside(total);
-      for (size_t idx = 0; idx < total; ++idx) outside[idx] = !(flags[idx] & kInside);
-      const GridVector<int32_t> out_nearest = nearest_seed_transform(shape, outside);
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-          if (!(flags[idx] & kInside) || out_nearest[idx] < 0) continue;
-          const double hole = (shape.world(idx) - shape.world(size_t(out_nearest[idx]))).norm() - 0.5 * std::sqrt(3.0) * h;
-          // An inside voxel far from any triangle still gets a value.
-          if (tri[idx] < 0 || hole < field.values[idx]) field.values[idx] = float(std::max(hole, 0.0));
-          if (tri[idx] < 0) tri[idx] = 0;
-        }
-      });
-      stats.bounded_by_holes = true;
-    }
-    std::atomic<size_t> interior{0};
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
-      size_t local = 0;
-      for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-        if (tri[idx] < 0) continue;  // far outside: background
-        if (flags[idx] & kInside) {
-          field.values[idx] = -field.values[idx];
-          ++local;
-        } else {
-          field.values[idx] = std::min(field.values[idx], field.background);
-        }
-      }
-      interior += local;
-    });
-    stats.interior_voxels = interior;
+    StageTimer t(log, "closest-triangles");
+    const std::vector<size_t> wanted = mark_wanted(work, nearest, opt.band);
+    closest_triangles(work, triangles, nearest, wanted);
+    t.stop();
+    StageTimer r(log, "refine");
+    refine_by_neighbours(work, triangles, wanted);
+  }
+  {
+    StageTimer t(log, "values");
+    if (!stats.defects.watertight()) bound_across_holes(work);
+    apply_sign(work);
   }
   if (stats.interior_voxels == 0)
     fail_input("", "encloses no volume at this resolution (flat, open with no inside, or thinner than a voxel of " +
-                       num(h) + "); try a finer --resolution");
+                       num(shape.voxel_size) + "); try a finer resolution");
   return result;
 }
 

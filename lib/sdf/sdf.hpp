@@ -6,7 +6,7 @@
 #include "core/log.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/mesh.hpp"
-#include "sdf/dense_field.hpp"
+#include "io/dense_field.hpp"
 
 namespace spx {
 

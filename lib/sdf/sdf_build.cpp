@@ -3,12 +3,13 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "core/version.hpp"
 #include "core/subject.hpp"
-#include "sdf/vdb_io.hpp"
+#include "io/vdb_io.hpp"
 
 namespace spx {
 
-void sdf_build(const std::string& input, const std::string& output, const SdfOptions& options, Log& log, json& report) {
+void sdf_build_files(const std::string& input, const std::string& output, const SdfOptions& options, Log& log, json& report) {
   LoadedMesh loaded;
   {
     StageTimer t(log, "load");
@@ -33,7 +34,7 @@ void sdf_build(const std::string& input, const std::string& output, const SdfOpt
                    {"spx_source_bounds", box},
                    {"spx_open_solid", sdf.stats.bounded_by_holes ? "yes" : "no"},
                    {"spx_sign_method", sdf.stats.sign_method},
-                   {"spx_generator", std::string("sdf-build (spx) ") + SPX_VERSION}});
+                   {"spx_generator", std::string("sdf-build (spx) ") + version_string()}});
   }
   const GridShape& s = sdf.field.shape;
   char line[256];

@@ -6,6 +6,6 @@
 namespace spx {
 
 // sdf-build INPUT -o OUT.vdb: load, report defects, build the field, write it.
-void sdf_build(const std::string& input, const std::string& output, const SdfOptions& options, Log& log, json& report);
+void sdf_build_files(const std::string& input, const std::string& output, const SdfOptions& options, Log& log, json& report);
 
 }  // namespace spx

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "mesh/mesh.hpp"
-#include "sdf/dense_field.hpp"
+#include "io/dense_field.hpp"
 
 namespace spx {
 

@@ -16,7 +16,8 @@
 
 #include "core/error.hpp"
 #include "core/format.hpp"
-#include "core/tool.hpp"
+#include "core/version.hpp"
+#include "tool/tool.hpp"
 #include "crash_host.hpp"
 #include "mesh/mesh.hpp"
 
@@ -245,7 +246,7 @@ int main(int argc, char** argv) {
           }
     }
 
-    json result = {{"generator", std::string("crash-bench (spx) ") + SPX_VERSION},
+    json result = {{"generator", std::string("crash-bench (spx) ") + spx::version_string()},
                    {"scene",
                     {{"cars", scene.cars},
                      {"seconds", scene.seconds},

@@ -12,8 +12,9 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "mesh/winding_number.hpp"
-#include "metrics/union_error.hpp"
+#include "mesh/union_distance.hpp"
 #include "sphere_contacts.hpp"
 
 namespace spx::crash {
@@ -64,12 +65,6 @@ Dent dent_of(const TriMesh& rest, const TriMesh& pose) {
   if (total > 0) dent.center /= total;
   if (dent.direction.norm() > 0) dent.direction.normalize();
   return dent;
-}
-
-uint64_t fnv(uint64_t h, const void* data, size_t n) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
-  return h;
 }
 
 // The ground: Bullet's plane test (GImpact has a fast path for it), over a finite slab (10 km
@@ -150,13 +145,13 @@ class World {
       if (opt_.monitor) monitor(step, stats, tunnelled);
     }
     stats.steps = steps;
-    uint64_t hash = 0xcbf29ce484222325ull;
+    uint64_t hash = spx::kFnvOffset;
     for (const auto& car : cars_) {
       const btTransform& t = car.body->getWorldTransform();
       btScalar m[16];
       t.getOpenGLMatrix(m);
-      hash = fnv(hash, m, sizeof m);
-      hash = fnv(hash, car.weights.data(), car.weights.size() * sizeof(float));
+      hash = spx::fnv1a(hash, m, sizeof m);
+      hash = spx::fnv1a(hash, car.weights.data(), car.weights.size() * sizeof(float));
       const size_t p = asset_.poses.size();
       for (size_t s = 0; s * p < car.weights.size(); ++s) {
         stats.max_weight_moved = std::max(stats.max_weight_moved, 1.0 - car.weights[s * p]);

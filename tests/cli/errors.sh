@@ -51,13 +51,13 @@ expect 1 "min-radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$o
 # --tolerance and --max-spheres combine: the tighter wins, and the report says which.
 "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 0.5% --max-spheres 5 -o "$out/t.json" -q \
   --report "$out/t.report.json"
-if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['sphere_count']==5 and 'max-spheres' in r['tolerance']['limited_by'] else 1)" "$out/t.report.json"; then
+if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['sphere_count']==5 and 'max_spheres' in r['tolerance']['limited_by'] else 1)" "$out/t.report.json"; then
   passed=$((passed + 1)); else echo "FAIL: --max-spheres did not win over --tolerance"; fail=$((fail + 1)); fi
 "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 3% --max-spheres 500 -o "$out/t.json" -q \
   --report "$out/t.report.json"
 if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['tolerance']; sys.exit(0 if r['met'] and r['max_error']<=r['target'] and r['spheres']<500 else 1)" "$out/t.report.json"; then
   passed=$((passed + 1)); else echo "FAIL: --tolerance did not win over a loose --max-spheres"; fail=$((fail + 1)); fi
-expect 1 "needs --mesh" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --tolerance 1% -o "$out/u.json"
+expect 1 "tolerance: needs the mesh" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --tolerance 1% -o "$out/u.json"
 expect 1 "tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance abc -o "$out/u.json"
 
 # --mesh must be the mesh the field was built from: a pose or another model is refused, naming both.
@@ -105,7 +105,7 @@ expect 1 "fill-tolerance: 'abc'" "$out/n.json" -- "$bin/pose-map" --rest "$out/i
   --spheres "$out/s.json" -o "$out/n.json" --fill-gaps --fill-tolerance abc
 "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 2 -o "$out/big.json" --report "$out/big.report.json" \
   2>"$out/big.err"
-if grep -q "warning: --tolerance 2 is .* of the mesh's bounding-box diagonal .*did you mean 2%" "$out/big.err" &&
+if grep -q "warning: tolerance 2 is .* of the mesh's bounding-box diagonal .*did you mean 2%" "$out/big.err" &&
    /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['pack']['stop_reason']==r['tolerance']['limited_by'] else 1)" "$out/big.report.json"; then
   passed=$((passed + 1)); else echo "FAIL: --tolerance 2 (no %): $(cat "$out/big.err")"; fail=$((fail + 1)); fi
 "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/ft.json" -q \

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "pack/spheres_file.hpp"
-#include "posemap/proxy.hpp"
+#include "io/spheres_file.hpp"
+#include "io/proxy_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   spx::json j;

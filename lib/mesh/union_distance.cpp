@@ -1,4 +1,4 @@
-#include "metrics/union_error.hpp"
+#include "mesh/union_distance.hpp"
 
 #include <algorithm>
 #include <cmath>

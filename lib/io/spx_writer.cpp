@@ -1,4 +1,4 @@
-#include "export/spx_writer.hpp"
+#include "io/spx_writer.hpp"
 
 #include <cstring>
 

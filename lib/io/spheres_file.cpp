@@ -1,9 +1,9 @@
-#include "pack/spheres_file.hpp"
+#include "io/spheres_file.hpp"
 
 #include <cmath>
 
 #include "core/error.hpp"
-#include "core/tool.hpp"
+#include "core/version.hpp"
 
 namespace spx {
 
@@ -48,19 +48,12 @@ json spheres_to_json(const SpheresFile& f) {
 }
 
 SpheresFile read_spheres_file(const std::string& path) {
-  try {
-    return spheres_from_json(read_json_file(path), path);
-  } catch (const json::exception& e) {
-    fail_input(path, std::string("malformed spheres file: ") + e.what());
-  }
+  return read_json_document(path, "spheres file", [&](const json& j) { return spheres_from_json(j, path); });
 }
 
 SpheresFile spheres_from_json(const json& j, const std::string& path) {
-  if (!has_format(j, "spx-spheres"))
-    fail_input(path, "is not a spheres file (expected \"format\": \"spx-spheres\")");
   // The same rules as schemas/spheres.schema.json (tests/data/json holds documents both judge).
-  require_version(j, "spheres", 1, path);
-  require_string(j, "generator", path);
+  require_header(j, "spx-spheres", "spheres", 1, path);
   SpheresFile f;
   auto positive = [&](const char* key) {
     const double v = require_number(j, key, path);

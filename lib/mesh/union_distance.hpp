@@ -2,6 +2,7 @@
 // Accuracy as the paper measures it: distance from mesh vertices to the surface of the union
 // of spheres (negative where the vertex is inside the union).
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "core/sphere.hpp"
@@ -21,6 +22,15 @@ struct ErrorStats {
 
 // Statistics of |values|.
 ErrorStats summarize_abs(const std::vector<double>& values);
+
+// A pose's mesh with its spheres and each vertex's signed distance to their union: what the
+// error pictures colour and the metrics summarise.
+struct PoseError {
+  std::string name;
+  TriMesh mesh;
+  SphereSet spheres;
+  std::vector<double> vertex_error;  // signed, per vertex
+};
 
 inline ErrorStats vertex_error(const TriMesh& mesh, const SphereSet& spheres) {
   return summarize_abs(union_signed_distance(mesh.vertices, spheres));

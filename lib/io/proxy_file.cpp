@@ -1,10 +1,10 @@
-#include "posemap/proxy.hpp"
+#include "io/proxy_file.hpp"
 
 #include <cmath>
 
 #include "core/error.hpp"
-#include "core/tool.hpp"
-#include "pack/spheres_file.hpp"
+#include "core/version.hpp"
+#include "io/spheres_file.hpp"
 
 namespace spx {
 
@@ -30,11 +30,8 @@ json proxy_to_json(const ProxyModel& p) {
 }
 
 ProxyModel proxy_from_json(const json& j, const std::string& path) {
-  if (!has_format(j, "spx-proxy"))
-    fail_input(path, "is not a proxy file (expected \"format\": \"spx-proxy\")");
   // The same rules as schemas/proxy.schema.json (tests/data/json holds documents both judge).
-  require_version(j, "proxy", 1, path);
-  require_string(j, "generator", path);
+  require_header(j, "spx-proxy", "proxy", 1, path);
   ProxyModel p;
   const json& max_r = require(j, "max_radius", path);
   if (!max_r.is_null()) p.max_radius = as_finite_number(max_r, "field 'max_radius'", path);
@@ -82,11 +79,7 @@ ProxyModel proxy_from_json(const json& j, const std::string& path) {
 }
 
 ProxyModel read_proxy_file(const std::string& path) {
-  try {
-    return proxy_from_json(read_json_file(path), path);
-  } catch (const json::exception& e) {
-    fail_input(path, std::string("malformed proxy: ") + e.what());
-  }
+  return read_json_document(path, "proxy", [&](const json& j) { return proxy_from_json(j, path); });
 }
 
 }  // namespace spx

@@ -1,10 +1,12 @@
 #pragma once
-// Sample assets the project generates itself: closed meshes with smooth analytic example
+// Synthetic assets the project generates itself (sample-gen; samples/ runs the chain on them): closed meshes with smooth analytic example
 // deformations, so the true map f from rest to each pose is known everywhere (tests use it).
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "core/json_io.hpp"
+#include "core/log.hpp"
 #include "mesh/mesh.hpp"
 
 namespace spx {
@@ -26,5 +28,8 @@ SampleAsset make_car();
 SampleAsset make_barrel();
 
 SampleAsset make_sample(const std::string& name);  // "car" or "barrel"
+
+// sample-gen NAME -o DIR: rest.obj and one OBJ per pose.
+void sample_gen_files(const std::string& name, const std::string& dir, Log& log, json& report);
 
 }  // namespace spx

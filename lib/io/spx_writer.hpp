@@ -2,7 +2,7 @@
 // proxy-export: the runtime .spx binary (layout documented in lib/runtime/spx_runtime.h).
 #include <string>
 
-#include "posemap/proxy.hpp"
+#include "io/proxy_file.hpp"
 
 namespace spx {
 

@@ -3,7 +3,7 @@
 #include <map>
 #include <string>
 
-#include "sdf/dense_field.hpp"
+#include "io/dense_field.hpp"
 
 namespace spx {
 

@@ -1,8 +1,10 @@
-#include "samples/samples.hpp"
+#include "synthetic/synthetic.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <map>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace spx {
@@ -179,6 +181,21 @@ SampleAsset make_sample(const std::string& name) {
   if (name == "car") return make_car();
   if (name == "barrel") return make_barrel();
   fail_usage(name, "unknown sample (use car or barrel)");
+}
+
+void sample_gen_files(const std::string& name, const std::string& dir, Log& log, json& report) {
+  const SampleAsset asset = make_sample(name);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) fail_write(dir, "cannot create folder: " + ec.message());
+  const std::string tag = "spx sample " + name;
+  write_file_atomic(dir + "/rest.obj", to_obj(asset.rest, tag + " rest pose"));
+  for (size_t i = 0; i < asset.pose_names.size(); ++i)
+    write_file_atomic(dir + "/" + asset.pose_names[i] + ".obj", to_obj(asset.pose(i), tag + " pose " + asset.pose_names[i]));
+  log.info(dir + ": rest + " + std::to_string(asset.pose_names.size()) + " poses, " +
+           std::to_string(asset.rest.triangles.size()) + " triangles");
+  report["triangles"] = asset.rest.triangles.size();
+  report["poses"] = asset.pose_names;
 }
 
 }  // namespace spx

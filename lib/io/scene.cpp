@@ -1,4 +1,4 @@
-#include "export/sphere_mesh.hpp"
+#include "io/scene.hpp"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/material.h>
@@ -9,6 +9,7 @@
 #include <map>
 
 #include "core/error.hpp"
+#include "core/version.hpp"
 
 namespace spx {
 namespace {
@@ -92,7 +93,7 @@ std::string encode_ply(const std::vector<SceneNode>& nodes) {
     nf += n.mesh.triangles.size();
     colors = colors || !n.colors.empty();
   }
-  std::string out = "ply\nformat binary_little_endian 1.0\ncomment spx " + std::string(SPX_VERSION) +
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment spx " + std::string(version_string()) +
                     "\nelement vertex " + std::to_string(nv) + "\nproperty float x\nproperty float y\nproperty float z\n";
   if (colors) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out += "element face " + std::to_string(nf) + "\nproperty list uchar int vertex_indices\nend_header\n";
@@ -170,7 +171,7 @@ std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int 
   const bool gltf = ext == ".glb";
   if (!gltf && ext != ".ply") fail_unsupported("", "no preview format for '" + ext + "'");
   if (pose < 0 || pose >= int(proxy.poses.size()))
-    fail_usage("--ply-pose", "no pose " + std::to_string(pose) + " (the proxy has poses 0.." +
+    fail_option("pose", "no pose " + std::to_string(pose) + " (the proxy has poses 0.." +
                                  std::to_string(proxy.poses.size() - 1) + ")");
   std::vector<int> shown;
   if (gltf)
@@ -195,6 +196,26 @@ double side_by_side_step(const ProxyModel& proxy) {
   for (const auto& s : proxy.poses.front().spheres)
     if (s.radius > 0) box.extend(s.center + Eigen::Vector3d::Constant(s.radius)).extend(s.center - Eigen::Vector3d::Constant(s.radius));
   return box.isEmpty() ? 0.0 : 1.25 * box.sizes().x();
+}
+
+std::string encode_error_scene(const std::vector<PoseError>& evals, const std::string& ext, int pose, double scale,
+                               double step) {
+  std::vector<SceneNode> nodes;
+  const bool gltf = ext == ".glb";
+  if (!gltf && (pose < 0 || pose >= int(evals.size())))
+    fail_option("pose", "no pose " + std::to_string(pose) + " (there are poses 0.." + std::to_string(evals.size() - 1) + ")");
+  for (size_t k = 0; k < evals.size(); ++k) {
+    if (!gltf && int(k) != pose) continue;
+    const PoseError& e = evals[k];
+    SceneNode mesh{e.name + "-error", e.mesh, error_colors(e.vertex_error, scale)};
+    SceneNode spheres{e.name + "-spheres", sphere_union_mesh(e.spheres, 1), {}};
+    if (gltf)
+      for (auto* n : {&mesh, &spheres})
+        for (auto& v : n->mesh.vertices) v.x() += step * double(k);
+    nodes.push_back(std::move(mesh));
+    if (gltf) nodes.push_back(std::move(spheres));
+  }
+  return encode_scene(nodes, ext);
 }
 
 }  // namespace spx

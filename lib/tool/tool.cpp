@@ -1,5 +1,6 @@
-#include "core/tool.hpp"
+#include "tool/tool.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <new>
 
@@ -7,14 +8,21 @@
 
 namespace spx {
 
-const char* version_string() { return SPX_VERSION; }
-
 Tool::Tool(std::string name, const std::string& description)
     : app(description, name), log(name, 0), name_(std::move(name)) {
-  app.set_version_flag("--version", std::string(name_) + " (spx) " + SPX_VERSION);
+  app.set_version_flag("--version", std::string(name_) + " (spx) " + version_string());
   app.add_option("--report", report_path_, "Write a machine-readable JSON report to this file");
   app.add_flag("-q,--quiet", quiet_, "Print errors only");
   app.add_flag("-v,--verbose", verbose_, "Print stage timings and details");
+}
+
+std::string Tool::flag_for(const std::string& option) const {
+  const auto named = flags_.find(option);
+  if (named != flags_.end()) return named->second;
+  std::string flag = "--" + option;
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return app.get_option_no_throw(flag) ? flag : option;
 }
 
 int Tool::run(int argc, char** argv, const std::function<void()>& body) {
@@ -39,7 +47,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     total.stop();
     if (!report_path_.empty()) {
       json r = report;
-      r["generator"] = name_ + " (spx) " + SPX_VERSION;
+      r["generator"] = name_ + " (spx) " + version_string();
       r["status"] = "ok";
       r["warnings"] = log.warnings();
       json t = json::object();
@@ -48,6 +56,10 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
       write_json_atomic(report_path_, r);
     }
     return 0;
+  } catch (const OptionError& e) {
+    Log::clear_transient();
+    std::fprintf(stderr, "Error: %s: %s\n", flag_for(e.option()).c_str(), e.message().c_str());
+    code = e.code();
   } catch (const Error& e) {
     Log::clear_transient();
     std::fprintf(stderr, "Error: %s\n", e.what());
@@ -63,6 +75,25 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     code = ExitCode::internal;
   }
   return static_cast<int>(code);
+}
+
+Tolerance parse_tolerance(const std::string& text, const std::string& flag) {
+  Tolerance t;
+  if (text.empty()) return t;
+  std::string number = text;
+  if (number.back() == '%') {
+    t.percent = true;
+    number.pop_back();
+  }
+  size_t used = 0;
+  try {
+    t.value = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != number.size() || number.empty() || !(t.value > 0) || !std::isfinite(t.value))
+    fail_usage(flag, "'" + text + "' is not a positive length or percentage (e.g. 0.05 or 1%)");
+  return t;
 }
 
 }  // namespace spx

@@ -1,4 +1,4 @@
-#include "sdf/vdb_io.hpp"
+#include "io/vdb_io.hpp"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/hash.hpp"
 
 namespace spx {
 namespace {
@@ -25,11 +26,13 @@ openvdb::CoordBBox bbox_of(const GridShape& s) {
 void make_uuid_deterministic(std::string& bytes) {
   constexpr size_t kAt = 21, kLen = 36;
   if (bytes.size() < kAt + kLen || bytes[kAt + 8] != '-') return;
-  uint64_t h1 = 1469598103934665603ull, h2 = 0x9E3779B97F4A7C15ull;
+  // The seed is not FNV's own offset basis, but every .vdb written so far used it: keep it.
+  constexpr uint64_t kSeed = 1469598103934665603ull;
+  const uint64_t h1 = fnv1a(fnv1a(kSeed, bytes.data(), kAt), bytes.data() + kAt + kLen, bytes.size() - kAt - kLen);
+  uint64_t h2 = 0x9E3779B97F4A7C15ull;  // a second, independent mix for the other half of the id
   for (size_t i = 0; i < bytes.size(); ++i) {
     if (i >= kAt && i < kAt + kLen) continue;
     const auto c = static_cast<unsigned char>(bytes[i]);
-    h1 = (h1 ^ c) * 1099511628211ull;
     h2 = (h2 + c) * 0xBF58476D1CE4E5B9ull;
     h2 ^= h2 >> 31;
   }

@@ -3,7 +3,8 @@
 #include <string>
 
 #include "mesh/mesh.hpp"
-#include "posemap/proxy.hpp"
+#include "mesh/union_distance.hpp"
+#include "io/proxy_file.hpp"
 
 namespace spx {
 
@@ -28,6 +29,11 @@ TriMesh sphere_union_mesh(const SphereSet& spheres, int subdivisions = 2);
 // `spread` is set; or binary PLY of one pose. The format comes from the extension.
 // How far apart poses are laid along x when shown side by side.
 double side_by_side_step(const ProxyModel& proxy);
+
+// The error-coloured meshes (and their sphere unions) of `poses`: every pose for .glb, laid
+// `step` apart along x; pose number `pose` alone for .ply.
+std::string encode_error_scene(const std::vector<PoseError>& poses, const std::string& extension, int pose,
+                               double scale, double step);
 
 std::string encode_preview(const ProxyModel& proxy, const std::string& extension, int pose, bool spread);
 

@@ -1,0 +1,17 @@
+#pragma once
+// FNV-1a, 64 bit: the one hash for weld keys, deterministic file ids and state digests.
+#include <cstddef>
+#include <cstdint>
+
+namespace spx {
+
+constexpr uint64_t kFnvOffset = 14695981039346656037ull;
+constexpr uint64_t kFnvPrime = 1099511628211ull;
+
+inline uint64_t fnv1a(uint64_t h, const void* data, size_t size) {
+  const unsigned char* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < size; ++i) h = (h ^ p[i]) * kFnvPrime;
+  return h;
+}
+
+}  // namespace spx

@@ -1,0 +1,47 @@
+#pragma once
+// The shell every command-line tool shares: CLI11 parsing, --version, -q/-v, --report, and
+// the mapping from failures to one stderr line and a documented exit code. Only apps/ use it:
+// the library takes typed options and throws typed errors, and this layer names them as the
+// command line spells them.
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "core/json_io.hpp"
+#include "core/log.hpp"
+#include "core/tolerance.hpp"
+#include "core/version.hpp"
+
+namespace spx {
+
+class Tool {
+ public:
+  Tool(std::string name, const std::string& description);
+
+  CLI::App app;
+  Log log;
+  json report = json::object();  // tool-specific fields; generator/status/timings added by run()
+
+  // Parses argv, runs `body`, writes --report on success. Returns the process exit code.
+  int run(int argc, char** argv, const std::function<void()>& body);
+
+  const std::string& name() const { return name_; }
+
+  // The flag that sets the library option `option` when it is not "--" + the option with
+  // '_' as '-' (proxy-export's "pose" is --ply-pose).
+  void name_option(const std::string& option, const std::string& flag) { flags_[option] = flag; }
+  std::string flag_for(const std::string& option) const;
+
+ private:
+  std::map<std::string, std::string> flags_;
+  std::string name_;
+  std::string report_path_;
+  int quiet_ = 0;
+  int verbose_ = 0;
+};
+
+// "0.05" (mesh units) or "1%" (of the diagonal); empty: not set. A usage error naming `flag`.
+Tolerance parse_tolerance(const std::string& text, const std::string& flag);
+
+}  // namespace spx
