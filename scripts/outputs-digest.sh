@@ -17,7 +17,7 @@ run() {  # NAME REST POSES... : the whole chain, with and without --mesh, every 
   for p in "$@"; do poses+=(--pose "$p"); done
   "$bin/sdf-build" "$rest" -o "$d/rest.vdb" --resolution 64 -q --report "$d/sdf.r.json"
   "$bin/sphere-pack" "$d/rest.vdb" --mesh "$rest" -o "$d/mesh.spheres.json" -q --report "$d/pack.r.json"
-  "$bin/sphere-pack" "$d/rest.vdb" -o "$d/field.spheres.json" --max-spheres 40 -q --report "$d/packf.r.json"
+  "$bin/sphere-pack" "$d/rest.vdb" -o "$d/field.spheres.json" --method greedy --max-spheres 40 -q --report "$d/packf.r.json"
   "$bin/sphere-pack" "$d/rest.vdb" --mesh "$rest" --tolerance 2% -o "$d/tol.spheres.json" -q --report "$d/packt.r.json"
   if [ $# -gt 0 ]; then
     "$bin/pose-map" --rest "$rest" "${poses[@]}" --spheres "$d/mesh.spheres.json" -o "$d/p.proxy.json" -q --report "$d/map.r.json"

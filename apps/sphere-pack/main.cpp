@@ -1,25 +1,35 @@
-#include "tool/tool.hpp"
 #include "pack/sphere_pack.hpp"
+#include "tool/tool.hpp"
 
 int main(int argc, char** argv) {
-  spx::Tool tool("sphere-pack", "Greedy sphere packing inside a signed distance field (S_0 of the proxy).");
-  std::string input, output, mesh;
-  spx::PackOptions opt;
+  spx::Tool tool("sphere-pack", "Choose the rest-pose spheres S_0 inside a signed distance field: by coverage "
+                                "(the fewest inscribed spheres within a tolerance, or the least error for a "
+                                "budget), or by the paper's greedy packing.");
+  std::string input, output, mesh, tolerance, method = "cover";
+  spx::SpherePackOptions opt;
   tool.app.add_option("input", input, "Signed distance field (.vdb from sdf-build)")->required();
   tool.app.add_option("-o,--output", output, "Output .spheres.json")->required();
-  tool.app.add_option("--mesh", mesh, "The mesh the field was built from: radii become exact distances to it");
-  tool.app.add_option("--min-radius", opt.min_radius, "Stop when the next sphere would be smaller (default 1.5 voxels)");
-  tool.app.add_option("--max-radius", opt.max_radius, "Largest radius a sphere may have (default unlimited)");
-  tool.app.add_option("--max-spheres", opt.max_spheres, "Stop after this many spheres (default unlimited)")
-      ->check(CLI::PositiveNumber);
-  std::string tolerance;
+  tool.app.add_option("--mesh", mesh, "The mesh the field was built from: exact radii, and the error is measured "
+                                      "at its vertices (needed by the cover method)");
+  tool.app.add_option("--method", method, "cover (default): inscribed spheres chosen by a set cover of the surface; "
+                                          "greedy: the paper's packing (deepest first)")
+      ->check(CLI::IsMember({"cover", "greedy"}));
   tool.app.add_option("--tolerance", tolerance,
-                      "Fewest spheres whose rest max vertex error is at most T (length, or T% of the diagonal); "
-                      "needs --mesh");
+                      "Fewest spheres whose max vertex error is at most T (length, or T% of the diagonal). Default "
+                      "with the cover method and no --max-spheres: 2%");
+  tool.app.add_option("--max-spheres", opt.pack.max_spheres,
+                      "At most N spheres; the cover method picks the N with the least max error")
+      ->check(CLI::PositiveNumber);
+  tool.app.add_option("--min-radius", opt.pack.min_radius, "No sphere smaller (greedy default: 1.5 voxels)");
+  tool.app.add_option("--max-radius", opt.pack.max_radius, "No sphere larger (default unlimited)");
+  tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")->capture_default_str();
+  tool.app.add_option("--seed", opt.seed, "Cover: seed of the surface samples")->capture_default_str();
   bool grid_centers = false;
-  tool.app.add_flag("--grid-centers", grid_centers, "Keep centers on voxel centers (the paper's plain greedy)");
+  tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {
-    opt.refine_centers = !grid_centers;
-    spx::sphere_pack_files(input, mesh, output, opt, spx::parse_tolerance(tolerance, "--tolerance"), tool.log, tool.report);
+    opt.method = method == "greedy" ? spx::PackMethod::greedy : spx::PackMethod::cover;
+    opt.pack.refine_centers = !grid_centers;
+    opt.tolerance = spx::parse_tolerance(tolerance, "--tolerance");
+    spx::sphere_pack_files(input, mesh, output, opt, tool.log, tool.report);
   });
 }

@@ -10,17 +10,21 @@ namespace spx {
 
 constexpr double kFieldMargin = 0.1;  // voxels
 
+void check_radius_limits(const PackOptions& opt, double default_min_radius) {
+  if (opt.min_radius < 0 || !std::isfinite(opt.min_radius)) fail_option("min_radius", "must be a positive number");
+  if (!(opt.max_radius > 0) || std::isnan(opt.max_radius)) fail_option("max_radius", "must be a positive number");
+  const double min_radius = opt.min_radius > 0 ? opt.min_radius : default_min_radius;
+  if (opt.max_radius < min_radius) fail_option("max_radius", "is smaller than the min radius");
+}
+
 PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const MeshQuery* mesh, Log& log) {
   const GridShape& shape = field.shape;
   const double h = shape.voxel_size;
   PackResult result;
   PackStats& stats = result.stats;
-  if (opt.min_radius < 0 || std::isnan(opt.min_radius)) fail_option("min_radius", "must be a positive number");
+  check_radius_limits(opt, 1.5 * h);
   stats.min_radius = opt.min_radius > 0 ? opt.min_radius : 1.5 * h;
   stats.max_radius = opt.max_radius;
-  if (!(stats.min_radius > 0) || !std::isfinite(stats.min_radius)) fail_option("min_radius", "must be a positive number");
-  if (!(opt.max_radius > 0) || std::isnan(opt.max_radius)) fail_option("max_radius", "must be a positive number");
-  if (opt.max_radius < stats.min_radius) fail_option("max_radius", "is smaller than the min radius");
   stats.radius_source = mesh ? "mesh" : "field";
 
   // Deepest first; ties by voxel index so the result does not depend on the heap's history.

@@ -46,6 +46,10 @@ struct PackResult {
   PackStats stats;
 };
 
+// Usage errors for a negative or non-finite min radius, a max radius that is not positive or
+// below the min radius (`default_min_radius` where none is given).
+void check_radius_limits(const PackOptions& options, double default_min_radius);
+
 // `mesh` (optional) gives exact radii and a robust inside test; without it the field's own
 // values are the radii.
 PackResult pack_spheres(const DenseField& field, const PackOptions& options, const MeshQuery* mesh,

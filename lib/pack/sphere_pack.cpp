@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/subject.hpp"
+#include "mesh/union_distance.hpp"
 #include "io/spheres_file.hpp"
 #include "io/vdb_io.hpp"
 
@@ -56,60 +57,47 @@ void check_mesh_matches_field(const TriMesh& mesh, const std::string& mesh_path,
 
 }  // namespace
 
-void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
-                 const PackOptions& user_options, const Tolerance& tolerance, Log& log, json& report) {
-  if (tolerance.set() && mesh_path.empty())
-    fail_option("tolerance", "needs the mesh (the error is measured at its vertices)");
-  PackOptions options = user_options;
-  LoadedSdf sdf;
-  {
-    StageTimer t(log, "load");
-    sdf = read_sdf_vdb(input);
-  }
-  auto open = sdf.metadata.find("spx_open_solid");
-  options.field_bounds_radius = open != sdf.metadata.end() && open->second == "yes";
-  if (options.field_bounds_radius) log.detail("open mesh: radii are also bounded by the field across its holes");
-  std::unique_ptr<MeshQuery> mesh;
-  if (!mesh_path.empty()) {
-    StageTimer t(log, "mesh");
-    const LoadedMesh loaded = load_mesh(mesh_path);
-    check_mesh_matches_field(loaded.mesh, mesh_path, sdf, input);
-    mesh = about_file(mesh_path, [&] { return std::make_unique<MeshQuery>(loaded.mesh); });
-    if (tolerance.set()) {
-      // Pack the whole greedy sequence down to a fine floor, then keep the shortest prefix.
-      options.max_spheres = 0;
-      if (!(user_options.min_radius > 0)) options.min_radius = sdf.field.shape.voxel_size;
-    }
-  } else {
-    log.detail("no mesh: radii come from the field (voxel accuracy)");
+namespace {
+
+void warn_if_tolerance_is_huge(const Tolerance& tolerance, double diagonal, Log& log) {
+  const double target = tolerance.length(diagonal);
+  if (target >= 0.1 * diagonal)
+    log.warn("tolerance " + num(tolerance.value) + (tolerance.percent ? "%" : "") + " is " +
+             num(100 * target / diagonal) + "% of the mesh's bounding-box diagonal (" + num(diagonal) + ")" +
+             (tolerance.percent ? "" : "; did you mean " + num(tolerance.value) + "%?"));
+}
+
+// The paper's greedy packing; with a tolerance, the shortest prefix of the whole sequence
+// that meets it.
+SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const MeshQuery* mesh,
+                        const SpherePackOptions& opt, PackStats& stats, double& target, Log& log, json& report) {
+  PackOptions options = opt.pack;
+  const Tolerance& tolerance = opt.tolerance;
+  if (tolerance.set()) {
+    // Pack the whole greedy sequence down to a fine floor, then keep the shortest prefix.
+    options.max_spheres = 0;
+    if (!(opt.pack.min_radius > 0)) options.min_radius = sdf.field.shape.voxel_size;
   }
   PackResult packed;
   {
     StageTimer t(log, "pack");
-    packed = about_file(input, [&] { return pack_spheres(sdf.field, options, mesh.get(), log); });
+    packed = about_file(input, [&] { return pack_spheres(sdf.field, options, mesh, log); });
   }
   if (packed.spheres.empty())
     fail_input(input, "no sphere fits: the largest interior distance is below the min radius " +
                           num(packed.stats.min_radius));
-  double tolerance_target = 0;
   if (tolerance.set()) {
     StageTimer t(log, "tolerance");
-    const double diagonal = mesh->mesh().diagonal();
-    const double target = tolerance.length(diagonal);
-    if (target >= 0.1 * diagonal)
-      log.warn("tolerance " + num(tolerance.value) + (tolerance.percent ? "%" : "") + " is " +
-               num(100 * target / diagonal) + "% of the mesh's bounding-box diagonal (" + num(diagonal) + ")" +
-               (tolerance.percent ? "" : "; did you mean " + num(tolerance.value) + "%?"));
+    target = tolerance.length(mesh->mesh().diagonal());
     const ToleranceResult tr = fewest_spheres_within(mesh->mesh(), packed.spheres, target);
     size_t keep = tr.count;
     std::string limit = tr.met ? "met the tolerance" : "the packing sequence ended before the tolerance was met";
-    if (user_options.max_spheres > 0 && user_options.max_spheres < keep) {
-      keep = user_options.max_spheres;
+    if (opt.pack.max_spheres > 0 && opt.pack.max_spheres < keep) {
+      keep = opt.pack.max_spheres;
       limit = "max_spheres (tighter than the tolerance)";
     }
     packed.spheres.resize(keep);
     packed.stats.stop_reason = limit;  // the prefix, not the packing that made the sequence, decides
-    tolerance_target = target;
     const double reached = tr.max_error_by_count.empty() ? 0 : tr.max_error_by_count[keep - 1];
     if (!tr.met) {
       char msg[400];
@@ -124,26 +112,151 @@ void sphere_pack_files(const std::string& input, const std::string& mesh_path, c
                            {"max_error", reached},         {"spheres", keep},
                            {"limited_by", limit},          {"sequence_length", tr.max_error_by_count.size()}};
   }
-  packed.stats.set_radius_range(packed.spheres);  // after the tolerance prefix
+  stats = packed.stats;
+  return packed.spheres;
+}
+
+// Cells along the longest side of the field's grid.
+double field_resolution(const GridShape& g) { return double(g.dims.maxCoeff()); }
+
+// Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
+// tolerance or the budget.
+SphereSet select_by_cover(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt, PackStats& stats,
+                          double& target, Log& log, json& report) {
+  const double diagonal = mesh.mesh().diagonal();
+  const double h = sdf.field.shape.voxel_size;
+  CoverProblem problem;
+  {
+    StageTimer t(log, "candidates");
+    CandidateOptions c;
+    c.min_radius = opt.pack.min_radius;
+    c.max_radius = opt.pack.max_radius;
+    c.max_candidates = opt.max_candidates;
+    c.field_bounds_radius = opt.pack.field_bounds_radius;
+    problem.spheres.push_back(inscribed_candidates(sdf.field, mesh, c));
+    problem.samples.push_back(surface_samples(mesh.mesh(), opt.area_samples, opt.seed));
+    problem.weighted.push_back(mesh.mesh().vertices.size());
+  }
+  const SphereSet& candidates = problem.spheres[0];
+  if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
+  const size_t budget = opt.pack.max_spheres;
+  const Tolerance tolerance = opt.tolerance.set() || budget > 0 ? opt.tolerance : Tolerance{kDefaultTolerancePercent, true};
+  CoverResult cover;
+  std::string limit;
+  {
+    StageTimer t(log, "cover");
+    if (tolerance.set()) {
+      target = tolerance.length(diagonal);
+      cover = cover_within(problem, target, log);
+      limit = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
+      if (opt.tolerance.set() == false) limit = "met the default tolerance";
+    }
+    if (budget > 0 && (!tolerance.set() || cover.chosen.size() > budget)) {
+      cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log);
+      limit = tolerance.set() ? "max_spheres (tighter than the tolerance)" : "max_spheres";
+    }
+  }
+  SphereSet spheres;
+  for (int c : cover.chosen) spheres.push_back(candidates[size_t(c)]);
+  // Largest first (what a host culls by), ties in candidate order.
+  std::stable_sort(spheres.begin(), spheres.end(), [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+
+  // The error as proxy-eval measures it, at the vertices.
+  const ErrorStats error = vertex_error(mesh.mesh(), spheres);
+  const bool met = !tolerance.set() || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
+  if (tolerance.set() && cover.uncoverable > 0) {
+    // Thin parts with no voxel center deep enough inside: their gap shrinks with the voxel.
+    const double resolution = field_resolution(sdf.field.shape);
+    const double needed = std::ceil(resolution * std::max(1.0, cover.least_reachable / target) * 1.25 / 16) * 16;
+    log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
+             num(h) + "): " + std::to_string(cover.uncoverable) +
+             " surface samples are farther than it from every inscribed sphere (the farthest " +
+             num(cover.least_reachable) + "); a field of about " + num(needed) + " cells (sdf-build --resolution " +
+             num(needed) + ") would reach them");
+    report["resolution_needed"] = needed;
+  }
+  stats.radius_source = "mesh";
+  stats.stop_reason = limit;
+  stats.min_radius = opt.pack.min_radius;
+  stats.max_radius = opt.pack.max_radius;
+  report["cover"] = {{"method", "inscribed candidates at near-medial voxels, greedy set cover with redundant spheres "
+                                "removed"},
+                     {"candidates", candidates.size()},
+                     {"samples", problem.sample_count()},
+                     {"vertices", mesh.mesh().vertices.size()},
+                     {"delta", cover.delta},
+                     {"least_max_delta", cover.least_max_delta > 0 ? json(cover.least_max_delta) : json(nullptr)},
+                     {"lower_bound", cover.lower_bound},
+                     {"uncoverable_samples", cover.uncoverable},
+                     {"least_reachable_delta", cover.least_reachable},
+                     {"covers_solved", cover.evaluations},
+                     {"max_error", error.max},
+                     {"median_error", error.median},
+                     {"limited_by", limit}};
+  if (tolerance.set())
+    report["tolerance"] = {{"target", target},         {"given", tolerance.value},
+                           {"percent", tolerance.percent}, {"default", !opt.tolerance.set() && budget == 0},
+                           {"met", met},               {"max_error", error.max},
+                           {"spheres", spheres.size()}, {"limited_by", limit}};
+  return spheres;
+}
+
+}  // namespace
+
+void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
+                       const SpherePackOptions& user, Log& log, json& report) {
+  if (user.tolerance.set() && mesh_path.empty())
+    fail_option("tolerance", "needs the mesh (the error is measured at its vertices)");
+  check_radius_limits(user.pack, 0);
+  SpherePackOptions opt = user;
+  LoadedSdf sdf;
+  {
+    StageTimer t(log, "load");
+    sdf = read_sdf_vdb(input);
+  }
+  if (user.method == PackMethod::cover && mesh_path.empty())
+    fail_option("mesh", "is needed by the cover method (inscribed spheres take exact distances to it); or use the "
+                        "greedy method");
+  auto open = sdf.metadata.find("spx_open_solid");
+  opt.pack.field_bounds_radius = open != sdf.metadata.end() && open->second == "yes";
+  if (opt.pack.field_bounds_radius) log.detail("open mesh: radii are also bounded by the field across its holes");
+  std::unique_ptr<MeshQuery> mesh;
+  if (!mesh_path.empty()) {
+    StageTimer t(log, "mesh");
+    const LoadedMesh loaded = load_mesh(mesh_path);
+    check_mesh_matches_field(loaded.mesh, mesh_path, sdf, input);
+    mesh = about_file(mesh_path, [&] { return std::make_unique<MeshQuery>(loaded.mesh); });
+    if (opt.tolerance.set()) warn_if_tolerance_is_huge(opt.tolerance, loaded.mesh.diagonal(), log);
+  } else {
+    log.detail("no mesh: radii come from the field (voxel accuracy)");
+  }
+  PackStats stats;
+  double target = 0;
+  const SphereSet spheres =
+      opt.method == PackMethod::greedy
+          ? select_greedy(sdf, input, mesh.get(), opt, stats, target, log, report)
+          : about_file(input, [&] { return select_by_cover(sdf, *mesh, opt, stats, target, log, report); });
+  stats.set_radius_range(spheres);
   SpheresFile file;
-  file.spheres = packed.spheres;
+  file.spheres = spheres;
   file.voxel_size = sdf.field.shape.voxel_size;
-  file.min_radius = packed.stats.min_radius;
-  file.max_radius = packed.stats.max_radius;
-  file.radius_source = packed.stats.radius_source;
-  file.tolerance = tolerance_target;
+  file.min_radius = stats.min_radius > 0 ? stats.min_radius : stats.smallest;
+  file.max_radius = stats.max_radius;
+  file.radius_source = stats.radius_source;
+  file.tolerance = target;
   file.sdf = input;
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));
 
   char line[256];
-  std::snprintf(line, sizeof line, "%s: %zu spheres, radii %.4g..%.4g (%s)", output.c_str(), packed.spheres.size(),
-                packed.stats.smallest, packed.stats.largest, packed.stats.stop_reason.c_str());
+  std::snprintf(line, sizeof line, "%s: %zu spheres, radii %.4g..%.4g (%s)", output.c_str(), spheres.size(),
+                stats.smallest, stats.largest, stats.stop_reason.c_str());
   log.info(line);
   report["input"] = input;
   report["output"] = output;
-  report["sphere_count"] = packed.spheres.size();
-  report["pack"] = packed.stats.to_json();
+  report["method"] = opt.method == PackMethod::cover ? "cover" : "greedy";
+  report["sphere_count"] = spheres.size();
+  report["pack"] = stats.to_json();
 }
 
 }  // namespace spx

@@ -1,14 +1,31 @@
 #pragma once
+// sphere-pack: the rest-pose spheres S_0 from a signed distance field, by coverage (default) or
+// by the paper's greedy packing.
 #include "core/json_io.hpp"
 #include "core/log.hpp"
 #include "core/tolerance.hpp"
+#include "pack/cover.hpp"
 #include "pack/pack.hpp"
 
 namespace spx {
 
+enum class PackMethod { cover, greedy };
 
-// sphere-pack IN.vdb -o OUT.spheres.json [--mesh REST] [--tolerance T]
+// With neither a tolerance nor a sphere budget, the cover gives the fewest spheres within this
+// share of the mesh's bounding-box diagonal ("model no more than a scene needs").
+constexpr double kDefaultTolerancePercent = 2.0;
+
+struct SpherePackOptions {
+  PackMethod method = PackMethod::cover;
+  PackOptions pack;         // radius limits and the budget (pack.max_spheres) for both methods
+  Tolerance tolerance;      // the max vertex error asked for (both methods)
+  size_t area_samples = 4000;   // cover: surface samples besides every vertex
+  size_t max_candidates = 12000;
+  uint64_t seed = 1;
+};
+
+// sphere-pack IN.vdb -o OUT.spheres.json [--mesh REST] [--tolerance T] [--max-spheres N] [--method M]
 void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
-                 const PackOptions& options, const Tolerance& tolerance, Log& log, json& report);
+                       const SpherePackOptions& options, Log& log, json& report);
 
 }  // namespace spx

@@ -8,7 +8,7 @@ rm -rf "$out" && mkdir -p "$out"
 fail=0 passed=0
 "$bin/sample-gen" barrel -o "$out/in" -q
 "$bin/sdf-build" "$out/in/rest.obj" -o "$out/rest.vdb" --resolution 32 -q
-"$bin/sphere-pack" "$out/rest.vdb" -o "$out/s.json" -q
+"$bin/sphere-pack" "$out/rest.vdb" -o "$out/s.json" --method greedy -q
 
 # expect CODE PATTERN OUTPUT -- command...: exit code, one stderr line matching, no OUTPUT file.
 expect() {

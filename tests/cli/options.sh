@@ -29,9 +29,10 @@ check "--memory-limit 0.00001 did not refuse (exit 3)" '[ "$code" = 3 ] && grep 
 "$bin/sdf-build" "$rest" -o "$out/m.vdb" --resolution 64 --memory-limit 1 -q
 check "--memory-limit 1 refused a small grid" '[ -s "$out/m.vdb" ]'
 
-# sphere-pack: --grid-centers keeps centers on voxel centers
-"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/s.json" -q --report "$out/s.report.json"
-"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/g.json" --grid-centers -q --report "$out/g.report.json"
+# sphere-pack: --grid-centers keeps the greedy method's centers on voxel centers
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/s.json" -q --report "$out/s.report.json" --method greedy
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/g.json" --grid-centers -q --report "$out/g.report.json" \
+  --method greedy
 check "--grid-centers still refined centers" '[ "$(field "$out/g.report.json" "r[\"pack\"][\"centers_refined\"]")" = 0 ] &&
    [ "$(field "$out/s.report.json" "r[\"pack\"][\"centers_refined\"]")" -gt 0 ]'
 check "--grid-centers centers are not on voxel centers" '[ "$(py "

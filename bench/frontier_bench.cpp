@@ -1,0 +1,146 @@
+// Error against sphere count: the cover selection (sphere-pack's default) and the paper's greedy
+// packing side by side, on the shared meshes and the car sample, at sphere budgets and at
+// tolerances. Each row: median and max vertex-to-union error and overshoot (in % of the mesh's
+// bounding-box diagonal), sphere count, lower bound and seconds. Prints JSON (scripts/frontier.sh
+// draws the chart).
+#include <chrono>
+#include <cstdio>
+
+#include "core/atomic_file.hpp"
+#include "core/json_io.hpp"
+#include "core/version.hpp"
+#include "mesh/mesh_query.hpp"
+#include "mesh/union_distance.hpp"
+#include "pack/cover.hpp"
+#include "pack/pack.hpp"
+#include "pack/sphere_pack.hpp"
+#include "sdf/sdf.hpp"
+#include "synthetic/synthetic.hpp"
+#include "tool/tool.hpp"
+
+using namespace spx;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// How far the union pokes out of the surface: the most any sphere's radius exceeds the exact
+// distance from its center to the mesh (or its whole radius, for a center outside).
+double overshoot(const MeshQuery& mesh, const SphereSet& spheres) {
+  double worst = 0;
+  for (const Sphere& s : spheres) {
+    if (!(s.radius > 0)) continue;
+    const double room = mesh.inside(s.center) ? mesh.distance(s.center) : -mesh.distance(s.center);
+    worst = std::max(worst, s.radius - room);
+  }
+  return worst;
+}
+
+json row(const std::string& method, const std::string& mode, double asked, const SphereSet& spheres, const MeshQuery& mesh,
+         double seconds, size_t lower_bound) {
+  const double diag = mesh.mesh().diagonal();
+  const ErrorStats e = vertex_error(mesh.mesh(), spheres);
+  return {{"method", method},
+          {"mode", mode},
+          {"asked", asked},
+          {"spheres", spheres.size()},
+          {"median_pct", 100 * e.median / diag},
+          {"max_pct", 100 * e.max / diag},
+          {"overshoot_pct", 100 * overshoot(mesh, spheres) / diag},
+          {"lower_bound", lower_bound},
+          {"seconds", seconds}};
+}
+
+json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, const std::vector<size_t>& budgets,
+                const std::vector<double>& tolerances, Log& log) {
+  SdfOptions o;
+  o.resolution = resolution;
+  const SdfResult sdf = build_sdf(mesh, o);
+  const MeshQuery query(mesh);
+  const double diag = mesh.diagonal();
+  json rows = json::array();
+  // The cover's candidates and samples, as sphere-pack builds them.
+  auto cover_problem = [&] {
+    CoverProblem p;
+    CandidateOptions c;
+    c.field_bounds_radius = sdf.stats.bounded_by_holes;
+    p.spheres.push_back(inscribed_candidates(sdf.field, query, c));
+    p.samples.push_back(surface_samples(mesh, 4000, 1));
+    p.weighted.push_back(mesh.vertices.size());
+    return p;
+  };
+  auto picked = [](const CoverProblem& p, const CoverResult& r) {
+    SphereSet s;
+    for (int c : r.chosen) s.push_back(p.spheres[0][size_t(c)]);
+    return s;
+  };
+  PackOptions greedy;
+  greedy.field_bounds_radius = sdf.stats.bounded_by_holes;
+  for (size_t n : budgets) {
+    auto t0 = std::chrono::steady_clock::now();
+    const CoverProblem p = cover_problem();
+    const CoverResult r = cover_with_budget(p, n);
+    rows.push_back(row("cover", "budget", double(n), picked(p, r), query, seconds_since(t0), r.lower_bound));
+    t0 = std::chrono::steady_clock::now();
+    PackOptions g = greedy;
+    g.max_spheres = n;
+    g.min_radius = sdf.field.shape.voxel_size * 0.5;
+    const PackResult packed = pack_spheres(sdf.field, g, &query);
+    rows.push_back(row("greedy", "budget", double(n), packed.spheres, query, seconds_since(t0), 0));
+    log.progress(name.c_str(), rows.size(), 2 * (budgets.size() + tolerances.size()));
+  }
+  for (double t : tolerances) {
+    const double target = t / 100 * diag;
+    auto t0 = std::chrono::steady_clock::now();
+    const CoverProblem p = cover_problem();
+    const CoverResult r = cover_within(p, target);
+    rows.push_back(row("cover", "tolerance", t, picked(p, r), query, seconds_since(t0), r.lower_bound));
+    t0 = std::chrono::steady_clock::now();
+    PackOptions g = greedy;
+    g.min_radius = sdf.field.shape.voxel_size;
+    PackResult packed = pack_spheres(sdf.field, g, &query);
+    const ToleranceResult prefix = fewest_spheres_within(mesh, packed.spheres, target);
+    packed.spheres.resize(prefix.count);
+    json gr = row("greedy", "tolerance", t, packed.spheres, query, seconds_since(t0), 0);
+    gr["met"] = prefix.met;
+    rows.push_back(gr);
+    log.progress(name.c_str(), rows.size(), 2 * (budgets.size() + tolerances.size()));
+  }
+  return {{"mesh", name}, {"triangles", mesh.triangles.size()}, {"resolution", resolution}, {"rows", rows}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spx::Tool tool("frontier-bench", "Error against sphere count: cover selection against the greedy packing");
+  std::string data = "../shared/data", out;
+  int resolution = 128;
+  std::vector<size_t> budgets = {16, 32, 64, 128, 256};
+  std::vector<double> tolerances = {1, 2, 5};
+  std::vector<std::string> only;
+  tool.app.add_option("--data", data, "The shared data folder");
+  tool.app.add_option("--json", out, "Write the results here")->required();
+  tool.app.add_option("--resolution", resolution, "Field cells along the longest side")->capture_default_str();
+  tool.app.add_option("--budgets", budgets, "Sphere budgets")->capture_default_str();
+  tool.app.add_option("--tolerances", tolerances, "Tolerances in % of the diagonal")->capture_default_str();
+  tool.app.add_option("--mesh", only, "Only these meshes (bunny, knight, fertility, elephant, armadillo, car, cube)");
+  return tool.run(argc, argv, [&] {
+    struct Case { std::string name, path; };
+    const std::vector<Case> cases = {{"bunny", "static/bunny.off"},         {"knight", "static/decimated-knight.off"},
+                                     {"fertility", "static/fertility.off"}, {"elephant", "elephant/rest.obj"},
+                                     {"cube", "cube/rest.obj"},             {"armadillo", "static/armadillo.obj"},
+                                     {"car", ""}};
+    json meshes = json::array();
+    for (const Case& c : cases) {
+      if (!only.empty() && std::find(only.begin(), only.end(), c.name) == only.end()) continue;
+      const TriMesh mesh = c.path.empty() ? make_car().rest : load_mesh(data + "/" + c.path).mesh;
+      meshes.push_back(bench_mesh(c.name, mesh, resolution, budgets, tolerances, tool.log));
+      tool.log.info(c.name + " done");
+    }
+    write_json_atomic(out, {{"generator", std::string("frontier-bench (spx) ") + version_string()},
+                            {"resolution", resolution},
+                            {"meshes", meshes}});
+  });
+}

@@ -1,0 +1,537 @@
+#include "pack/cover.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <queue>
+
+#include "core/format.hpp"
+
+namespace spx {
+namespace {
+
+// Deterministic on every platform (std's distributions are not).
+struct SplitMix {
+  uint64_t state;
+  uint64_t next() {
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+};
+
+// Samples of one pose bucketed on a uniform grid, for ball queries.
+class SampleGrid {
+ public:
+  explicit SampleGrid(const std::vector<Eigen::Vector3d>& points) : points_(points) {
+    for (const auto& p : points) box_.extend(p);
+    const double diag = std::max(box_.diagonal().norm(), 1e-30);
+    cell_ = diag / 40;
+    dims_ = ((box_.sizes() / cell_).array().floor() + 1).cast<int>().cwiseMax(1);
+    std::vector<uint32_t> count(cells() + 1, 0);
+    for (const auto& p : points) ++count[cell_of(p) + 1];
+    std::partial_sum(count.begin(), count.end(), count.begin());
+    start_ = count;
+    order_.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) order_[count[cell_of(points[i])]++] = uint32_t(i);
+  }
+  // Calls visit(i) for every sample within `reach` of c (and some a little farther).
+  template <class Visit>
+  void near(const Eigen::Vector3d& c, double reach, Visit&& visit) const {
+    const Eigen::Vector3i lo = index(c - Eigen::Vector3d::Constant(reach)), hi = index(c + Eigen::Vector3d::Constant(reach));
+    for (int i = lo.x(); i <= hi.x(); ++i)
+      for (int j = lo.y(); j <= hi.y(); ++j)
+        for (int k = lo.z(); k <= hi.z(); ++k) {
+          const size_t cell = size_t(i) + size_t(dims_.x()) * (size_t(j) + size_t(dims_.y()) * size_t(k));
+          for (uint32_t n = start_[cell]; n < start_[cell + 1]; ++n) visit(order_[n]);
+        }
+  }
+
+ private:
+  size_t cells() const { return size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z()); }
+  Eigen::Vector3i index(const Eigen::Vector3d& p) const {
+    return ((p - box_.min()) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1);
+  }
+  size_t cell_of(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3i c = index(p);
+    return size_t(c.x()) + size_t(dims_.x()) * (size_t(c.y()) + size_t(dims_.y()) * size_t(c.z()));
+  }
+  const std::vector<Eigen::Vector3d>& points_;
+  Eigen::AlignedBox3d box_;
+  double cell_ = 1;
+  Eigen::Vector3i dims_;
+  std::vector<uint32_t> start_, order_;
+};
+
+// Keeps the deepest voxel of each cell of `stride` voxels (ties to the lower index).
+std::vector<size_t> thin_on_grid(const std::vector<size_t>& voxels, const DenseField& field, int stride) {
+  std::vector<std::pair<uint64_t, size_t>> keyed;
+  keyed.reserve(voxels.size());
+  const GridShape& g = field.shape;
+  const uint64_t ny = uint64_t(g.dims.y() / stride + 1), nz = uint64_t(g.dims.z() / stride + 1);
+  for (size_t idx : voxels) {
+    const Eigen::Vector3i c = g.coords(idx) / stride;
+    keyed.emplace_back((uint64_t(c.x()) * ny + uint64_t(c.y())) * nz + uint64_t(c.z()), idx);
+  }
+  std::sort(keyed.begin(), keyed.end(), [&](const auto& a, const auto& b) {
+    if (a.first != b.first) return a.first < b.first;
+    if (field.values[a.second] != field.values[b.second]) return field.values[a.second] < field.values[b.second];
+    return a.second < b.second;
+  });
+  std::vector<size_t> out;
+  for (size_t n = 0; n < keyed.size(); ++n)
+    if (n == 0 || keyed[n].first != keyed[n - 1].first) out.push_back(keyed[n].second);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& opt) {
+  const GridShape& g = field.shape;
+  const double h = g.voxel_size;
+  // Near-medial: off the medial axis, the distance grows by about h/sqrt(3) or more towards
+  // some face neighbour; on it (and across a part a few voxels thin) no neighbour is deeper.
+  std::vector<char> medial(g.count(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, g.count(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+      const float v = field.values[idx];
+      if (!(v < 0)) continue;
+      bool deeper = false;
+      g.for_each_face_neighbour(idx, g.coords(idx), [&](size_t m) { deeper = deeper || field.values[m] <= v - 0.5f * float(h); });
+      medial[idx] = !deeper;
+    }
+  });
+  std::vector<size_t> voxels;
+  for (size_t idx = 0; idx < g.count(); ++idx)
+    if (medial[idx]) voxels.push_back(idx);
+  for (int stride = 2; voxels.size() > opt.max_candidates && stride < 64; ++stride) voxels = thin_on_grid(voxels, field, stride);
+
+  SphereSet out(voxels.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t n = r.begin(); n != r.end(); ++n) {
+      const Eigen::Vector3d c = g.world(voxels[n]);
+      double radius = mesh.inside(c) ? std::min(opt.max_radius, mesh.distance(c)) : 0.0;
+      if (opt.field_bounds_radius) radius = std::min(radius, -double(field.values[voxels[n]]) - 0.1 * h);
+      out[n] = {c, std::max(radius, 0.0)};
+    }
+  });
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const Sphere& s) { return !(s.radius > 0) || s.radius < opt.min_radius; }),
+            out.end());
+  return out;
+}
+
+std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed) {
+  std::vector<Eigen::Vector3d> out = mesh.vertices;
+  std::vector<double> cumulative(mesh.triangles.size());
+  double total = 0;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    total += 0.5 * (mesh.vertices[size_t(f[1])] - mesh.vertices[size_t(f[0])])
+                       .cross(mesh.vertices[size_t(f[2])] - mesh.vertices[size_t(f[0])])
+                       .norm();
+    cumulative[t] = total;
+  }
+  if (!(total > 0)) return out;
+  SplitMix rng{seed};
+  for (size_t n = 0; n < area_samples; ++n) {
+    const double pick = rng.uniform() * total;
+    const size_t t = std::min(size_t(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin()),
+                              cumulative.size() - 1);
+    const double a = std::sqrt(rng.uniform()), b = rng.uniform();
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    out.push_back((1 - a) * mesh.vertices[size_t(f[0])] + a * (1 - b) * mesh.vertices[size_t(f[1])] +
+                  a * b * mesh.vertices[size_t(f[2])]);
+  }
+  return out;
+}
+
+size_t CoverProblem::sample_count() const {
+  size_t n = 0;
+  for (const auto& s : samples) n += s.size();
+  return n;
+}
+
+Coverage coverage_at(const CoverProblem& problem, double delta) {
+  const size_t candidates = problem.candidate_count();
+  std::vector<SampleGrid> grids;
+  std::vector<uint32_t> offset{0};
+  for (const auto& s : problem.samples) {
+    grids.emplace_back(s);
+    offset.push_back(offset.back() + uint32_t(s.size()));
+  }
+  std::vector<std::vector<uint32_t>> rows(candidates);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t c = r.begin(); c != r.end(); ++c)
+      for (size_t k = 0; k < problem.samples.size(); ++k) {
+        const Sphere& s = problem.spheres[k][c];
+        if (!(s.radius > 0)) continue;
+        const auto& points = problem.samples[k];
+        grids[k].near(s.center, s.radius + delta, [&](uint32_t i) {
+          if ((points[i] - s.center).norm() - s.radius <= delta) rows[c].push_back(offset[k] + i);
+        });
+      }
+  });
+  Coverage cov;
+  cov.sample_count = offset.back();
+  cov.start.assign(candidates + 1, 0);
+  for (size_t c = 0; c < candidates; ++c) cov.start[c + 1] = cov.start[c] + uint32_t(rows[c].size());
+  cov.samples.resize(cov.start.back());
+  tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
+    std::sort(rows[c].begin(), rows[c].end());
+    std::copy(rows[c].begin(), rows[c].end(), cov.samples.begin() + cov.start[c]);
+  });
+  return cov;
+}
+
+std::vector<double> least_gaps(const CoverProblem& problem) {
+  std::vector<double> out;
+  for (size_t k = 0; k < problem.samples.size(); ++k) {
+    const auto& points = problem.samples[k];
+    const SphereSet& spheres = problem.spheres[k];
+    std::vector<double> gaps(points.size(), std::numeric_limits<double>::infinity());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i)
+        for (const Sphere& s : spheres)
+          if (s.radius > 0) gaps[i] = std::min(gaps[i], (points[i] - s.center).norm() - s.radius);
+    });
+    out.insert(out.end(), gaps.begin(), gaps.end());
+  }
+  return out;
+}
+
+std::vector<int> greedy_cover(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  std::vector<char> covered(cov.sample_count, 0);
+  // Lazy greedy: a popped gain is recounted, and the candidate taken only if it still leads.
+  std::priority_queue<std::pair<uint32_t, int>> queue;  // (gain, -index)
+  for (size_t c = 0; c < candidates; ++c)
+    if (cov.row_size(c) > 0) queue.emplace(uint32_t(cov.row_size(c)), -int(c));
+  std::vector<int> chosen;
+  while (!queue.empty()) {
+    const auto [gain, neg] = queue.top();
+    queue.pop();
+    const size_t c = size_t(-neg);
+    uint32_t now = 0;
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) now += !covered[cov.samples[n]];
+    if (now == 0) continue;
+    if (now < gain) {
+      queue.emplace(now, neg);
+      continue;
+    }
+    chosen.push_back(int(c));
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) covered[cov.samples[n]] = 1;
+  }
+  // Redundant spheres, smallest first: every sample also covered by another chosen sphere.
+  std::vector<uint32_t> times(cov.sample_count, 0);
+  for (int c : chosen)
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) ++times[cov.samples[n]];
+  std::vector<int> order(chosen);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cov.row_size(size_t(a)) < cov.row_size(size_t(b)); });
+  std::vector<char> dropped(candidates, 0);
+  for (int c : order) {
+    bool redundant = true;
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1] && redundant; ++n)
+      redundant = times[cov.samples[n]] >= 2;
+    if (!redundant) continue;
+    dropped[size_t(c)] = 1;
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) --times[cov.samples[n]];
+  }
+  chosen.erase(std::remove_if(chosen.begin(), chosen.end(), [&](int c) { return dropped[size_t(c)]; }), chosen.end());
+  return chosen;
+}
+
+size_t cover_lower_bound(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  // Sample -> candidates that cover it.
+  std::vector<uint32_t> start(cov.sample_count + 1, 0), by(cov.samples.size());
+  for (uint32_t s : cov.samples) ++start[s + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (size_t c = 0; c < candidates; ++c)
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) by[fill[cov.samples[n]]++] = uint32_t(c);
+  // Most constrained samples first; a pick blocks every sample a candidate of it covers.
+  std::vector<uint32_t> order(cov.sample_count);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return start[a + 1] - start[a] < start[b + 1] - start[b];
+  });
+  std::vector<char> blocked(cov.sample_count, 0), used(candidates, 0);
+  size_t picked = 0;
+  for (uint32_t s : order) {
+    if (blocked[s] || start[s] == start[s + 1]) continue;
+    ++picked;
+    for (uint32_t n = start[s]; n < start[s + 1]; ++n) {
+      const uint32_t c = by[n];
+      if (used[c]) continue;
+      used[c] = 1;
+      for (uint32_t m = cov.start[c]; m < cov.start[c + 1]; ++m) blocked[cov.samples[m]] = 1;
+    }
+  }
+  return picked;
+}
+
+namespace {
+
+size_t uncovered_samples(const Coverage& cov) {
+  std::vector<char> any(cov.sample_count, 0);
+  for (uint32_t s : cov.samples) any[s] = 1;
+  return size_t(std::count(any.begin(), any.end(), 0));
+}
+
+double largest_finite(const std::vector<double>& values) {
+  double out = 0;
+  for (double v : values)
+    if (std::isfinite(v)) out = std::max(out, v);
+  return out;
+}
+
+}  // namespace
+
+CoverResult cover_within(const CoverProblem& problem, double delta, Log& log) {
+  CoverResult r;
+  r.delta = delta;
+  r.least_reachable = largest_finite(least_gaps(problem));
+  const Coverage cov = coverage_at(problem, delta);
+  r.chosen = greedy_cover(cov);
+  improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
+  r.lower_bound = cover_lower_bound(cov);
+  r.uncoverable = uncovered_samples(cov);
+  r.evaluations = 1;
+  log.detail("cover at " + num(delta) + ": " + std::to_string(r.chosen.size()) + " spheres (at least " +
+             std::to_string(r.lower_bound) + "), " + std::to_string(cov.samples.size()) + " pairs");
+  return r;
+}
+
+CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack, double precision,
+                              Log& log) {
+  CoverResult best;
+  const std::vector<double> gaps = least_gaps(problem);
+  const double lo_start = largest_finite(gaps);
+  best.least_reachable = lo_start;
+  auto solve = [&](double delta) {
+    const Coverage cov = coverage_at(problem, delta);
+    ++best.evaluations;
+    return std::make_pair(greedy_cover(cov), cov);
+  };
+  // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
+  double lo = lo_start, hi = std::max(lo_start, 1e-12) * 1.25;
+  auto [cover, cov] = solve(hi);
+  while (cover.size() > max_spheres && best.evaluations < 60) {
+    lo = hi;
+    hi *= 2;
+    std::tie(cover, cov) = solve(hi);
+  }
+  best.chosen = cover;
+  best.delta = hi;
+  Coverage best_cov = std::move(cov);
+  while (hi - lo > precision * hi && best.evaluations < 60) {
+    const double mid = 0.5 * (lo + hi);
+    auto [c, v] = solve(mid);
+    if (c.size() <= max_spheres) {
+      hi = mid;
+      best.chosen = std::move(c);
+      best.delta = mid;
+      best_cov = std::move(v);
+    } else {
+      lo = mid;
+    }
+  }
+  best.least_max_delta = best.delta;
+  if (slack > 0) {
+    // A little more max error buys a lower median: the cover at the relaxed delta is smaller,
+    // and improve_cover spends the budget it leaves on the total error.
+    best.delta *= 1 + slack;
+    auto [c, v] = solve(best.delta);
+    best.chosen = std::move(c);
+    best_cov = std::move(v);
+  }
+  if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
+  improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log);
+  best.lower_bound = cover_lower_bound(best_cov);
+  best.uncoverable = uncovered_samples(best_cov);
+  log.detail("budget " + std::to_string(max_spheres) + ": delta " + num(best.delta) + " with " +
+             std::to_string(best.chosen.size()) + " spheres after " + std::to_string(best.evaluations) + " covers");
+  return best;
+}
+
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// Gaps between samples (stacked over poses) and candidates, and each sample's two nearest
+// chosen spheres among those that cover it at delta.
+class CoverState {
+ public:
+  CoverState(const CoverProblem& problem, const Coverage& cov, double delta)
+      : problem_(problem), cov_(cov), delta_(delta) {
+    for (size_t k = 0; k < problem.samples.size(); ++k)
+      for (size_t i = 0; i < problem.samples[k].size(); ++i) {
+        where_.emplace_back(uint32_t(k), uint32_t(i));
+        weight_.push_back(problem.weighted.empty() || i < problem.weighted[k] ? 1.0 : 0.0);
+      }
+    // Sample -> candidates covering it.
+    by_start_.assign(cov.sample_count + 1, 0);
+    for (uint32_t s : cov.samples) ++by_start_[s + 1];
+    std::partial_sum(by_start_.begin(), by_start_.end(), by_start_.begin());
+    by_.resize(cov.samples.size());
+    std::vector<uint32_t> fill(by_start_.begin(), by_start_.end() - 1);
+    for (size_t c = 0; c + 1 < cov.start.size(); ++c)
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) by_[fill[cov.samples[n]]++] = uint32_t(c);
+    in_.assign(cov.start.size() - 1, 0);
+    first_.assign(cov.sample_count, -1);
+    second_.assign(cov.sample_count, -1);
+  }
+
+  double weight(uint32_t s) const { return weight_[s]; }
+  double gap(uint32_t s, int c) const {
+    const auto [k, i] = where_[s];
+    const Sphere& sphere = problem_.spheres[k][size_t(c)];
+    return (problem_.samples[k][i] - sphere.center).norm() - sphere.radius;
+  }
+  // The sample's error with the chosen set: its gap to the nearest chosen sphere covering it
+  // (delta's worth past delta where none does: such a sample only arises from uncoverable ones).
+  double error(uint32_t s) const { return first_[s] < 0 ? 2 * delta_ : gap(s, first_[s]); }
+  double error_without(uint32_t s, int c) const {
+    const int best = first_[s] == c ? second_[s] : first_[s];
+    return best < 0 ? 2 * delta_ : gap(s, best);
+  }
+
+  void set(const std::vector<int>& chosen) {
+    std::fill(in_.begin(), in_.end(), 0);
+    for (int c : chosen) in_[size_t(c)] = 1;
+    for (uint32_t s = 0; s < cov_.sample_count; ++s) update(s);
+  }
+  void swap(int out, int in) {
+    in_[size_t(out)] = 0;
+    in_[size_t(in)] = 1;
+    for (int c : {out, in})
+      for (uint32_t n = cov_.start[size_t(c)]; n < cov_.start[size_t(c) + 1]; ++n) update(cov_.samples[n]);
+  }
+  void add(int c) {
+    in_[size_t(c)] = 1;
+    for (uint32_t n = cov_.start[size_t(c)]; n < cov_.start[size_t(c) + 1]; ++n) update(cov_.samples[n]);
+  }
+  bool chosen(int c) const { return in_[size_t(c)] != 0; }
+  int first(uint32_t s) const { return first_[s]; }
+  int second(uint32_t s) const { return second_[s]; }
+  const uint32_t* covering_begin(uint32_t s) const { return by_.data() + by_start_[s]; }
+  const uint32_t* covering_end(uint32_t s) const { return by_.data() + by_start_[s + 1]; }
+
+ private:
+  void update(uint32_t s) {
+    int a = -1, b = -1;
+    double ga = 0, gb = 0;
+    for (uint32_t n = by_start_[s]; n < by_start_[s + 1]; ++n) {
+      const int c = int(by_[n]);
+      if (!in_[size_t(c)]) continue;
+      const double g = gap(s, c);
+      if (a < 0 || g < ga) {
+        b = a, gb = ga;
+        a = c, ga = g;
+      } else if (b < 0 || g < gb) {
+        b = c, gb = g;
+      }
+    }
+    first_[s] = a;
+    second_[s] = b;
+  }
+
+  const CoverProblem& problem_;
+  const Coverage& cov_;
+  double delta_;
+  std::vector<std::pair<uint32_t, uint32_t>> where_;  // sample -> (pose, index)
+  std::vector<double> weight_;
+  std::vector<uint32_t> by_start_, by_;
+  std::vector<char> in_;
+  std::vector<int> first_, second_;
+};
+
+}  // namespace
+
+void improve_cover(const CoverProblem& problem, const Coverage& cov, double delta, size_t max_spheres,
+                   std::vector<int>& chosen, Log& log) {
+  if (chosen.empty()) return;
+  CoverState state(problem, cov, delta);
+  state.set(chosen);
+  const size_t candidates = cov.start.size() - 1;
+  // Spare budget: the candidate that cuts the total error most, while one does.
+  size_t added = 0;
+  while (chosen.size() < max_spheres) {
+    std::vector<double> cut(candidates, 0);
+    tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
+      if (state.chosen(int(c))) return;
+      double sum = 0;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+        sum += state.weight(cov.samples[n]) * std::max(0.0, state.error(cov.samples[n]) - state.gap(cov.samples[n], int(c)));
+      cut[c] = sum;
+    });
+    const size_t best = size_t(std::max_element(cut.begin(), cut.end()) - cut.begin());
+    if (!(cut[best] > 0)) break;
+    state.add(int(best));
+    chosen.push_back(int(best));
+    ++added;
+  }
+  // Swaps: a sphere for one that covers every sample only it covers, cutting the sum most.
+  size_t swaps = 0;
+  for (int round = 0; round < 4; ++round) {
+    size_t this_round = 0;
+    for (size_t slot = 0; slot < chosen.size(); ++slot) {
+      const int out = chosen[slot];
+      // Samples only `out` covers: a replacement must cover them all.
+      std::vector<uint32_t> critical;
+      for (uint32_t n = cov.start[size_t(out)]; n < cov.start[size_t(out) + 1]; ++n) {
+        const uint32_t s = cov.samples[n];
+        if (state.first(s) == out && state.second(s) < 0) critical.push_back(s);
+      }
+      // Candidates: those covering the first critical sample (every sample of `out` if none).
+      const uint32_t anchor = critical.empty() ? cov.samples[cov.start[size_t(out)]] : critical.front();
+      std::vector<int> options;
+      for (const uint32_t* c = state.covering_begin(anchor); c != state.covering_end(anchor); ++c)
+        if (!state.chosen(int(*c))) options.push_back(int(*c));
+      std::vector<double> change(options.size(), std::numeric_limits<double>::infinity());
+      tbb::parallel_for(size_t(0), options.size(), [&](size_t o) {
+        const int in = options[o];
+        for (uint32_t s : critical)
+          if (state.gap(s, in) > delta) return;
+        double sum = 0;
+        // Samples losing `out` fall back to their second sphere or to `in`.
+        for (uint32_t n = cov.start[size_t(out)]; n < cov.start[size_t(out) + 1]; ++n) {
+          const uint32_t s = cov.samples[n];
+          if (state.first(s) != out) continue;
+          const double g = state.gap(s, in);
+          sum += state.weight(s) *
+                 (std::min(state.error_without(s, out), g <= delta ? g : std::numeric_limits<double>::infinity()) -
+                  state.error(s));
+        }
+        // Samples `in` brings closer (those whose nearest is `out` are counted above).
+        for (uint32_t n = cov.start[size_t(in)]; n < cov.start[size_t(in) + 1]; ++n) {
+          const uint32_t s = cov.samples[n];
+          if (state.first(s) == out) continue;
+          sum += state.weight(s) * std::min(0.0, state.gap(s, in) - state.error(s));
+        }
+        change[o] = sum;
+      });
+      size_t best = options.size();
+      for (size_t o = 0; o < options.size(); ++o)
+        if (change[o] < -1e-12 * delta && (best == options.size() || change[o] < change[best])) best = o;
+      if (best == options.size()) continue;
+      state.swap(out, options[best]);
+      chosen[slot] = options[best];
+      ++this_round;
+    }
+    swaps += this_round;
+    if (this_round == 0) break;
+  }
+  log.detail("cover improved: " + std::to_string(added) + " spheres added, " + std::to_string(swaps) + " swaps");
+}
+
+}  // namespace spx

@@ -1,0 +1,101 @@
+#pragma once
+// Sphere selection by coverage (sphere-pack's default method). Candidates are inscribed
+// spheres: centers at the field's near-medial interior voxels, radius the exact distance to the
+// surface, so every candidate lies inside the mesh. Samples are every mesh vertex plus
+// area-weighted surface points. A candidate covers a sample within delta of its sphere; since
+// no sample lies inside an inscribed sphere, "every vertex covered at delta" is exactly
+// "max vertex-to-union error <= delta". A set cover then picks the spheres:
+//   tolerance T: the fewest spheres that cover every sample at delta = T;
+//   budget N:    the smallest delta whose cover fits in N spheres (least max error at N).
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/log.hpp"
+#include "core/sphere.hpp"
+#include "io/dense_field.hpp"
+#include "mesh/mesh_query.hpp"
+
+namespace spx {
+
+struct CandidateOptions {
+  double min_radius = 0;
+  double max_radius = 1e300;
+  size_t max_candidates = 12000;  // thinned on a coarser grid past this, deepest kept per cell
+  bool field_bounds_radius = false;  // open meshes: the field bounds radii across the holes too
+};
+
+// Inscribed candidate spheres from the interior voxels of `field` that lie near its medial
+// axis (no face neighbour deeper by half a voxel or more), radii from `mesh`.
+SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& options);
+
+// Every vertex of `mesh`, then `area_samples` points drawn uniformly by area (seeded).
+std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed);
+
+// Which samples each candidate covers at `delta`: gap(sample, sphere) = |p - c| - r <= delta.
+// Compressed rows, one per candidate.
+struct Coverage {
+  std::vector<uint32_t> start;    // candidates + 1 offsets into `samples`
+  std::vector<uint32_t> samples;  // ascending within a row
+  size_t sample_count = 0;
+  size_t row_size(size_t c) const { return start[c + 1] - start[c]; }
+};
+
+// The geometry of one cover problem: the points to cover, in one or several poses, and each
+// candidate's sphere in those poses. Rows of several poses are stacked: a candidate covers a
+// sample of pose k with its sphere in pose k.
+struct CoverProblem {
+  std::vector<std::vector<Eigen::Vector3d>> samples;  // per pose
+  // Per pose: the first `weighted[k]` samples count in the total error that local improvement
+  // cuts (the mesh's vertices, where the error is measured); the rest (area samples) only have
+  // to stay within delta. Empty: every sample counts.
+  std::vector<size_t> weighted;
+  std::vector<SphereSet> spheres;                     // per pose, one per candidate (radius 0: absent)
+  size_t candidate_count() const { return spheres.empty() ? 0 : spheres.front().size(); }
+  size_t sample_count() const;
+};
+
+Coverage coverage_at(const CoverProblem& problem, double delta);
+
+// For each sample, the smallest gap over every candidate: the least delta at which it can be
+// covered at all (infinite where no candidate exists).
+std::vector<double> least_gaps(const CoverProblem& problem);
+
+// Greedy set cover (most newly covered first, ties to the lower index), then removal of
+// spheres every one of whose samples another chosen sphere also covers. Samples no candidate
+// covers are skipped (the caller counts them). Returns candidate indices.
+std::vector<int> greedy_cover(const Coverage& coverage);
+
+// A lower bound on any cover's size: samples no two of which one candidate covers together.
+size_t cover_lower_bound(const Coverage& coverage);
+
+// Local improvement of a cover at `delta` towards the least total error (the sum over samples
+// of the gap to the nearest chosen sphere, which drives the median): spare budget (up to
+// `max_spheres`) goes to the candidates that cut the sum most, then each chosen sphere is
+// swapped for the candidate that keeps every sample within `delta` and cuts the sum most,
+// while any does. The max error never rises above `delta`.
+void improve_cover(const CoverProblem& problem, const Coverage& coverage, double delta, size_t max_spheres,
+                   std::vector<int>& chosen, Log& log = Log::silent());
+
+struct CoverResult {
+  std::vector<int> chosen;     // candidate indices
+  double delta = 0;            // the coverage distance the cover meets
+  double least_max_delta = 0;  // budget mode: the least delta any cover of the budget met
+  size_t lower_bound = 0;      // no cover at `delta` has fewer spheres
+  size_t uncoverable = 0;      // samples no candidate covers at `delta` (then the tolerance is out of reach)
+  double least_reachable = 0;  // the smallest delta at which every sample can be covered
+  int evaluations = 0;         // covers solved
+};
+
+// Tolerance mode: the fewest candidates that cover every sample at `delta`.
+CoverResult cover_within(const CoverProblem& problem, double delta, Log& log = Log::silent());
+
+// Budget mode: the smallest delta (to a relative `precision`) whose cover has at most
+// `max_spheres` candidates; then the cover at (1 + slack) times it, improved with the budget
+// that leaves (a little more max error for a lower median).
+constexpr double kBudgetSlack = 0.15;
+CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack = kBudgetSlack,
+                              double precision = 2e-3, Log& log = Log::silent());
+
+}  // namespace spx

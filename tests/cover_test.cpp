@@ -1,0 +1,198 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/atomic_file.hpp"
+#include "io/spheres_file.hpp"
+#include "io/vdb_io.hpp"
+#include "mesh/union_distance.hpp"
+#include "pack/cover.hpp"
+#include "pack/sphere_pack.hpp"
+#include "sdf/sdf.hpp"
+#include "synthetic/synthetic.hpp"
+#include "test_util.hpp"
+
+namespace spx {
+namespace {
+
+// A cover problem as rows: candidate -> samples.
+Coverage coverage_of(const std::vector<std::vector<uint32_t>>& rows, size_t samples) {
+  Coverage c;
+  c.sample_count = samples;
+  c.start.push_back(0);
+  for (const auto& r : rows) {
+    c.samples.insert(c.samples.end(), r.begin(), r.end());
+    c.start.push_back(uint32_t(c.samples.size()));
+  }
+  return c;
+}
+
+bool covers_all(const Coverage& c, const std::vector<int>& chosen) {
+  std::vector<char> hit(c.sample_count, 0);
+  for (int k : chosen)
+    for (uint32_t n = c.start[size_t(k)]; n < c.start[size_t(k) + 1]; ++n) hit[c.samples[n]] = 1;
+  std::vector<char> coverable(c.sample_count, 0);
+  for (uint32_t s : c.samples) coverable[s] = 1;
+  for (size_t s = 0; s < c.sample_count; ++s)
+    if (coverable[s] && !hit[s]) return false;
+  return true;
+}
+
+// The brute-force optimum: the smallest subset of candidates that covers every sample.
+size_t optimum(const Coverage& c) {
+  const size_t n = c.start.size() - 1;
+  size_t best = n;
+  for (uint32_t mask = 0; mask < (1u << n); ++mask) {
+    std::vector<int> chosen;
+    for (size_t k = 0; k < n; ++k)
+      if (mask & (1u << k)) chosen.push_back(int(k));
+    if (chosen.size() < best && covers_all(c, chosen)) best = chosen.size();
+  }
+  return best;
+}
+
+// Small random instances against the brute-force optimum: the greedy cover is a cover, no
+// chosen sphere is redundant, and lower bound <= optimum <= greedy <= optimum * H(samples).
+TEST(Cover, GreedyAndLowerBoundAgainstBruteForce) {
+  std::mt19937 rng(3);
+  size_t exact = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const size_t candidates = 4 + rng() % 9, samples = 3 + rng() % 14;
+    std::vector<std::vector<uint32_t>> rows(candidates);
+    for (auto& r : rows)
+      for (uint32_t s = 0; s < samples; ++s)
+        if (rng() % 4 == 0) r.push_back(s);
+    const Coverage c = coverage_of(rows, samples);
+    const std::vector<int> chosen = greedy_cover(c);
+    ASSERT_TRUE(covers_all(c, chosen)) << "trial " << trial;
+    for (size_t drop = 0; drop < chosen.size(); ++drop) {
+      std::vector<int> fewer = chosen;
+      fewer.erase(fewer.begin() + std::ptrdiff_t(drop));
+      EXPECT_FALSE(covers_all(c, fewer)) << "trial " << trial << ": a redundant sphere was kept";
+    }
+    const size_t best = optimum(c), bound = cover_lower_bound(c);
+    double harmonic = 0;
+    for (size_t k = 1; k <= samples; ++k) harmonic += 1.0 / double(k);
+    EXPECT_LE(bound, best) << "trial " << trial;
+    EXPECT_GE(chosen.size(), best) << "trial " << trial;
+    EXPECT_LE(double(chosen.size()), double(best) * harmonic) << "trial " << trial;
+    exact += chosen.size() == best;
+  }
+  EXPECT_GT(exact, 200u) << "greedy with redundancy removal should usually be optimal on tiny cases";
+}
+
+// The coverage rows against a brute-force scan of every (candidate, sample) pair.
+TEST(Cover, CoverageRowsMatchBruteForce) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  CoverProblem p;
+  p.samples.resize(2);
+  p.spheres.resize(2);
+  for (int k = 0; k < 2; ++k) {
+    for (int i = 0; i < 300; ++i) p.samples[size_t(k)].emplace_back(u(rng), u(rng), u(rng));
+    for (int c = 0; c < 40; ++c) p.spheres[size_t(k)].push_back({Eigen::Vector3d(u(rng), u(rng), u(rng)), c % 7 == 0 ? 0.0 : 0.3 * (u(rng) + 1)});
+  }
+  const double delta = 0.15;
+  const Coverage cov = coverage_at(p, delta);
+  const std::vector<double> least = least_gaps(p);
+  for (size_t c = 0; c < 40; ++c) {
+    std::vector<uint32_t> want;
+    for (size_t k = 0; k < 2; ++k)
+      for (size_t i = 0; i < 300; ++i) {
+        const Sphere& s = p.spheres[k][c];
+        if (s.radius > 0 && (p.samples[k][i] - s.center).norm() - s.radius <= delta) want.push_back(uint32_t(k * 300 + i));
+      }
+    const std::vector<uint32_t> got(cov.samples.begin() + cov.start[c], cov.samples.begin() + cov.start[c + 1]);
+    EXPECT_EQ(got, want) << "candidate " << c;
+  }
+  for (size_t k = 0; k < 2; ++k)
+    for (size_t i = 0; i < 300; ++i) {
+      double best = std::numeric_limits<double>::infinity();
+      for (const Sphere& s : p.spheres[k])
+        if (s.radius > 0) best = std::min(best, (p.samples[k][i] - s.center).norm() - s.radius);
+      EXPECT_DOUBLE_EQ(least[k * 300 + i], best);
+    }
+}
+
+CoverProblem problem_of(const TriMesh& mesh, int resolution, std::unique_ptr<MeshQuery>& query) {
+  SdfOptions o;
+  o.resolution = resolution;
+  const SdfResult sdf = build_sdf(mesh, o);
+  query = std::make_unique<MeshQuery>(mesh);
+  CoverProblem p;
+  p.spheres.push_back(inscribed_candidates(sdf.field, *query, {}));
+  p.samples.push_back(surface_samples(mesh, 500, 1));
+  p.weighted.push_back(mesh.vertices.size());
+  return p;
+}
+
+// Candidates are inscribed (center inside, radius the exact distance), budgets are never
+// exceeded, the lower bound never passes the count, and the cover meets its delta at every
+// sample: the max vertex error measured independently is at most delta.
+TEST(Cover, BudgetsAreKeptAndDeltaIsMet) {
+  const SampleAsset barrel = make_barrel();
+  std::unique_ptr<MeshQuery> query;
+  const CoverProblem p = problem_of(barrel.rest, 48, query);
+  ASSERT_GT(p.candidate_count(), 50u);
+  for (const Sphere& s : p.spheres[0]) {
+    EXPECT_TRUE(query->inside(s.center));
+    EXPECT_LE(s.radius, query->distance(s.center));
+  }
+  double last = std::numeric_limits<double>::infinity();
+  for (size_t budget : {1, 2, 3, 5, 8, 16, 40}) {
+    const CoverResult r = cover_with_budget(p, budget);
+    EXPECT_LE(r.chosen.size(), budget);
+    EXPECT_GE(r.chosen.size(), 1u);
+    EXPECT_LE(r.lower_bound, r.chosen.size());
+    EXPECT_EQ(r.uncoverable, 0u);
+    SphereSet spheres;
+    for (int c : r.chosen) spheres.push_back(p.spheres[0][size_t(c)]);
+    const std::vector<double> d = union_signed_distance(p.samples[0], spheres);
+    for (double v : d) {
+      EXPECT_LE(v, r.delta * (1 + 1e-12)) << "budget " << budget;
+      EXPECT_GE(v, -1e-9) << "a sample inside an inscribed sphere";
+    }
+    EXPECT_LE(r.least_max_delta, last * (1 + 1e-9)) << "a larger budget gave a larger least max error";
+    last = r.least_max_delta;
+  }
+  const CoverResult t = cover_within(p, 0.01);
+  SphereSet spheres;
+  for (int c : t.chosen) spheres.push_back(p.spheres[0][size_t(c)]);
+  EXPECT_LE(vertex_error(barrel.rest, spheres).max, 0.01 * (1 + 1e-12));
+  EXPECT_LE(t.lower_bound, t.chosen.size());
+}
+
+// sphere-pack's report says what an independent measurement of its spheres file finds, and
+// the budget is never exceeded.
+TEST(Cover, SpherePackReportsTheErrorItsFileHas) {
+  const std::string dir = test::temp_dir("cover");
+  const SampleAsset car = make_car();
+  write_file_atomic(dir + "/car.obj", to_obj(car.rest));
+  const LoadedMesh mesh = load_mesh(dir + "/car.obj");
+  SdfOptions o;
+  o.resolution = 64;
+  const SdfResult sdf = build_sdf(mesh.mesh, o);
+  write_sdf_vdb(dir + "/car.vdb", sdf.field, {{"spx_source_mesh", dir + "/car.obj"}});
+  for (size_t budget : {size_t(0), size_t(24)}) {
+    SpherePackOptions opt;
+    opt.pack.max_spheres = budget;
+    json report;
+    sphere_pack_files(dir + "/car.vdb", dir + "/car.obj", dir + "/car.spheres.json", opt, Log::silent(), report);
+    const SpheresFile file = read_spheres_file(dir + "/car.spheres.json");
+    const ErrorStats measured = vertex_error(mesh.mesh, file.spheres);
+    EXPECT_NEAR(report["cover"]["max_error"].get<double>(), measured.max, 1e-12);
+    EXPECT_NEAR(report["cover"]["median_error"].get<double>(), measured.median, 1e-12);
+    EXPECT_EQ(report["sphere_count"].get<size_t>(), file.spheres.size());
+    EXPECT_LE(report["cover"]["lower_bound"].get<size_t>(), file.spheres.size());
+    if (budget > 0) EXPECT_LE(file.spheres.size(), budget);
+    if (budget == 0) {  // the default tolerance, met
+      EXPECT_TRUE(report["tolerance"]["met"].get<bool>());
+      EXPECT_LE(measured.max, kDefaultTolerancePercent / 100 * mesh.mesh.diagonal() * (1 + 1e-12));
+    }
+    const MeshQuery q(mesh.mesh);
+    for (const Sphere& s : file.spheres) EXPECT_LE(s.radius, q.distance(s.center) + 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace spx
