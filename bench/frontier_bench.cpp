@@ -61,28 +61,20 @@ json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, co
   const MeshQuery query(mesh);
   const double diag = mesh.diagonal();
   json rows = json::array();
-  // The cover's candidates and samples, as sphere-pack builds them.
-  auto cover_problem = [&] {
-    CoverProblem p;
-    CandidateOptions c;
-    c.field_bounds_radius = sdf.stats.bounded_by_holes;
-    p.spheres.push_back(inscribed_candidates(sdf.field, query, c));
-    p.samples.push_back(surface_samples(mesh, 4000, 1));
-    p.weighted.push_back(mesh.vertices.size());
-    return p;
-  };
-  auto picked = [](const CoverProblem& p, const CoverResult& r) {
-    SphereSet s;
-    for (int c : r.chosen) s.push_back(p.spheres[0][size_t(c)]);
-    return s;
+  // The cover exactly as sphere-pack runs it.
+  auto cover = [&](size_t budget, double tolerance_pct) {
+    SpherePackOptions opt;
+    opt.pack.max_spheres = budget;
+    opt.pack.field_bounds_radius = sdf.stats.bounded_by_holes;
+    if (tolerance_pct > 0) opt.tolerance = {tolerance_pct, true};
+    return select_by_cover(sdf.field, query, opt);
   };
   PackOptions greedy;
   greedy.field_bounds_radius = sdf.stats.bounded_by_holes;
   for (size_t n : budgets) {
     auto t0 = std::chrono::steady_clock::now();
-    const CoverProblem p = cover_problem();
-    const CoverResult r = cover_with_budget(p, n);
-    rows.push_back(row("cover", "budget", double(n), picked(p, r), query, seconds_since(t0), r.lower_bound));
+    const CoverSelection r = cover(n, 0);
+    rows.push_back(row("cover", "budget", double(n), r.spheres, query, seconds_since(t0), r.cover.lower_bound));
     t0 = std::chrono::steady_clock::now();
     PackOptions g = greedy;
     g.max_spheres = n;
@@ -94,9 +86,8 @@ json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, co
   for (double t : tolerances) {
     const double target = t / 100 * diag;
     auto t0 = std::chrono::steady_clock::now();
-    const CoverProblem p = cover_problem();
-    const CoverResult r = cover_within(p, target);
-    rows.push_back(row("cover", "tolerance", t, picked(p, r), query, seconds_since(t0), r.lower_bound));
+    const CoverSelection r = cover(0, t);
+    rows.push_back(row("cover", "tolerance", t, r.spheres, query, seconds_since(t0), r.cover.lower_bound));
     t0 = std::chrono::steady_clock::now();
     PackOptions g = greedy;
     g.min_radius = sdf.field.shape.voxel_size;

@@ -534,4 +534,82 @@ void improve_cover(const CoverProblem& problem, const Coverage& cov, double delt
   log.detail("cover improved: " + std::to_string(added) + " spheres added, " + std::to_string(swaps) + " swaps");
 }
 
+size_t refine_centers(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
+                      const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
+                      Log& log) {
+  if (spheres.empty() || samples.empty()) return 0;
+  const SampleGrid grid(samples);
+  // Each sample's nearest and second-nearest sphere.
+  std::vector<int> first(samples.size(), -1), second(samples.size(), -1);
+  auto gap = [&](size_t i, const Sphere& s) { return (samples[i] - s.center).norm() - s.radius; };
+  auto rank = [&](size_t i) {
+    int a = -1, b = -1;
+    double ga = 0, gb = 0;
+    for (size_t j = 0; j < spheres.size(); ++j) {
+      const double g = gap(i, spheres[j]);
+      if (a < 0 || g < ga) {
+        b = a, gb = ga;
+        a = int(j), ga = g;
+      } else if (b < 0 || g < gb) {
+        b = int(j), gb = g;
+      }
+    }
+    first[i] = a;
+    second[i] = b;
+  };
+  tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) { rank(i); });
+  auto error_without = [&](size_t i, size_t j) {
+    const int k = first[i] == int(j) ? second[i] : first[i];
+    return k < 0 ? std::numeric_limits<double>::infinity() : gap(i, spheres[size_t(k)]);
+  };
+  size_t moves = 0;
+  for (double s = step; s >= step / 4; s /= 2)
+    for (int round = 0; round < 3; ++round) {
+      size_t this_round = 0;
+      for (size_t j = 0; j < spheres.size(); ++j) {
+        const Sphere old = spheres[j];
+        Sphere best_sphere = old;
+        double best_change = -1e-12 * delta;
+        for (int d = 0; d < 6; ++d) {
+          Eigen::Vector3d c = old.center;
+          c[d / 2] += d % 2 ? s : -s;
+          const double r = radius_at(c);
+          if (!(r > 0)) continue;
+          const Sphere moved{c, r};
+          // Samples whose error can change: near the old sphere or the new one.
+          double change = 0;
+          bool feasible = true;
+          auto visit = [&](uint32_t i) {
+            if (!feasible) return;
+            const double before = gap(i, spheres[size_t(first[i])]);
+            const double after = std::min(error_without(i, j), gap(i, moved));
+            if (after > delta && after > before) feasible = false;
+            if (i < weighted) change += after - before;
+          };
+          std::vector<uint32_t> seen;
+          grid.near(old.center, old.radius + delta, [&](uint32_t i) { seen.push_back(i); });
+          grid.near(c, r + delta, [&](uint32_t i) { seen.push_back(i); });
+          std::sort(seen.begin(), seen.end());
+          seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+          for (uint32_t i : seen) visit(i);
+          if (feasible && change < best_change) {
+            best_change = change;
+            best_sphere = moved;
+          }
+        }
+        if (best_sphere.center == old.center) continue;
+        spheres[j] = best_sphere;
+        ++this_round;
+        std::vector<uint32_t> seen;
+        grid.near(old.center, old.radius + delta, [&](uint32_t i) { seen.push_back(i); });
+        grid.near(best_sphere.center, best_sphere.radius + delta, [&](uint32_t i) { seen.push_back(i); });
+        for (uint32_t i : seen) rank(i);
+      }
+      moves += this_round;
+      if (this_round == 0) break;
+    }
+  log.detail("refined centers: " + std::to_string(moves) + " moves");
+  return moves;
+}
+
 }  // namespace spx

@@ -78,6 +78,14 @@ size_t cover_lower_bound(const Coverage& coverage);
 void improve_cover(const CoverProblem& problem, const Coverage& coverage, double delta, size_t max_spheres,
                    std::vector<int>& chosen, Log& log = Log::silent());
 
+// Refinement off the voxel grid: each sphere's center moves by `step` (then step/2, step/4)
+// along the axes where that cuts the total error of the weighted samples (vertices), its radius
+// staying `radius_at(center)` (the exact distance: the sphere stays inside by construction),
+// and no sample leaving `delta`. One pose (the rest). Returns the moves made.
+size_t refine_centers(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
+                      const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
+                      Log& log = Log::silent());
+
 struct CoverResult {
   std::vector<int> chosen;     // candidate indices
   double delta = 0;            // the coverage distance the cover meets

@@ -119,12 +119,13 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
 // Cells along the longest side of the field's grid.
 double field_resolution(const GridShape& g) { return double(g.dims.maxCoeff()); }
 
+}  // namespace
+
 // Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
-// tolerance or the budget.
-SphereSet select_by_cover(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt, PackStats& stats,
-                          double& target, Log& log, json& report) {
+// tolerance or the budget, then the centers refined off the grid.
+CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt, Log& log) {
   const double diagonal = mesh.mesh().diagonal();
-  const double h = sdf.field.shape.voxel_size;
+  CoverSelection out;
   CoverProblem problem;
   {
     StageTimer t(log, "candidates");
@@ -133,34 +134,59 @@ SphereSet select_by_cover(const LoadedSdf& sdf, const MeshQuery& mesh, const Sph
     c.max_radius = opt.pack.max_radius;
     c.max_candidates = opt.max_candidates;
     c.field_bounds_radius = opt.pack.field_bounds_radius;
-    problem.spheres.push_back(inscribed_candidates(sdf.field, mesh, c));
+    problem.spheres.push_back(inscribed_candidates(field, mesh, c));
     problem.samples.push_back(surface_samples(mesh.mesh(), opt.area_samples, opt.seed));
     problem.weighted.push_back(mesh.mesh().vertices.size());
   }
   const SphereSet& candidates = problem.spheres[0];
   if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
+  out.candidates = candidates.size();
+  out.samples = problem.sample_count();
   const size_t budget = opt.pack.max_spheres;
-  const Tolerance tolerance = opt.tolerance.set() || budget > 0 ? opt.tolerance : Tolerance{kDefaultTolerancePercent, true};
-  CoverResult cover;
-  std::string limit;
+  out.tolerance = opt.tolerance.set() || budget > 0 ? opt.tolerance : Tolerance{kDefaultTolerancePercent, true};
   {
     StageTimer t(log, "cover");
-    if (tolerance.set()) {
-      target = tolerance.length(diagonal);
-      cover = cover_within(problem, target, log);
-      limit = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
-      if (opt.tolerance.set() == false) limit = "met the default tolerance";
+    if (out.tolerance.set()) {
+      out.target = out.tolerance.length(diagonal);
+      out.cover = cover_within(problem, out.target, log);
+      out.limited_by = out.cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)"
+                       : opt.tolerance.set()     ? "met the tolerance"
+                                                 : "met the default tolerance";
     }
-    if (budget > 0 && (!tolerance.set() || cover.chosen.size() > budget)) {
-      cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log);
-      limit = tolerance.set() ? "max_spheres (tighter than the tolerance)" : "max_spheres";
+    if (budget > 0 && (!out.tolerance.set() || out.cover.chosen.size() > budget)) {
+      out.cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log);
+      out.limited_by = out.tolerance.set() ? "max_spheres (tighter than the tolerance)" : "max_spheres";
     }
   }
-  SphereSet spheres;
-  for (int c : cover.chosen) spheres.push_back(candidates[size_t(c)]);
+  for (int c : out.cover.chosen) out.spheres.push_back(candidates[size_t(c)]);
+  if (!opt.pack.field_bounds_radius) {
+    // Off the voxel grid: the radius stays the exact distance, so spheres stay inside. (An
+    // open mesh's radii also depend on the field across its holes: its centers stay put.)
+    StageTimer t(log, "refine");
+    const double max_radius = opt.pack.max_radius;
+    refine_centers(problem.samples[0], problem.weighted[0], out.spheres,
+                   [&](const Eigen::Vector3d& c) { return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0; },
+                   out.cover.delta, 0.5 * field.shape.voxel_size, log);
+  }
   // Largest first (what a host culls by), ties in candidate order.
-  std::stable_sort(spheres.begin(), spheres.end(), [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+  std::stable_sort(out.spheres.begin(), out.spheres.end(),
+                   [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+  return out;
+}
 
+namespace {
+
+// select_by_cover, with its warnings and report.
+SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
+                                   PackStats& stats, double& target, Log& log, json& report) {
+  const double h = sdf.field.shape.voxel_size;
+  const CoverSelection sel = select_by_cover(sdf.field, mesh, opt, log);
+  const SphereSet& spheres = sel.spheres;
+  const CoverResult& cover = sel.cover;
+  const Tolerance& tolerance = sel.tolerance;
+  const std::string& limit = sel.limited_by;
+  const size_t budget = opt.pack.max_spheres;
+  target = sel.target;
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.mesh(), spheres);
   const bool met = !tolerance.set() || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
@@ -181,8 +207,8 @@ SphereSet select_by_cover(const LoadedSdf& sdf, const MeshQuery& mesh, const Sph
   stats.max_radius = opt.pack.max_radius;
   report["cover"] = {{"method", "inscribed candidates at near-medial voxels, greedy set cover with redundant spheres "
                                 "removed"},
-                     {"candidates", candidates.size()},
-                     {"samples", problem.sample_count()},
+                     {"candidates", sel.candidates},
+                     {"samples", sel.samples},
                      {"vertices", mesh.mesh().vertices.size()},
                      {"delta", cover.delta},
                      {"least_max_delta", cover.least_max_delta > 0 ? json(cover.least_max_delta) : json(nullptr)},
@@ -235,7 +261,7 @@ void sphere_pack_files(const std::string& input, const std::string& mesh_path, c
   const SphereSet spheres =
       opt.method == PackMethod::greedy
           ? select_greedy(sdf, input, mesh.get(), opt, stats, target, log, report)
-          : about_file(input, [&] { return select_by_cover(sdf, *mesh, opt, stats, target, log, report); });
+          : about_file(input, [&] { return select_by_cover_reported(sdf, *mesh, opt, stats, target, log, report); });
   stats.set_radius_range(spheres);
   SpheresFile file;
   file.spheres = spheres;

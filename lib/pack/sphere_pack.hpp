@@ -24,6 +24,18 @@ struct SpherePackOptions {
   uint64_t seed = 1;
 };
 
+// The cover method on a field and its mesh: the spheres, and how the cover went.
+struct CoverSelection {
+  SphereSet spheres;           // largest first
+  CoverResult cover;
+  Tolerance tolerance;         // the one in force (the default when no size was asked)
+  double target = 0;           // the tolerance as a length (0: budget alone)
+  std::string limited_by;
+  size_t candidates = 0, samples = 0;
+};
+CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& options,
+                               Log& log = Log::silent());
+
 // sphere-pack IN.vdb -o OUT.spheres.json [--mesh REST] [--tolerance T] [--max-spheres N] [--method M]
 void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
                        const SpherePackOptions& options, Log& log, json& report);
