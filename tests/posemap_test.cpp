@@ -5,8 +5,10 @@
 
 #include "core/error.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
+#include "pack/sphere_pack.hpp"
 #include "posemap/posemap.hpp"
 #include "synthetic/synthetic.hpp"
 #include "sdf/sdf.hpp"
@@ -355,6 +357,83 @@ TEST(PoseMap, RestRadiiComeFromTheSameSourceAsPoseRadii) {
   }
   EXPECT_GT(changed, 0u);
   EXPECT_EQ(r.report["radius_source"].get<std::string>(), "exact distance to each pose's mesh");
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// Joint selection: one sphere set from the rest's candidates, chosen over the rest and every
+// pose. Every pose meets the tolerance, every sphere stays inside every pose, a budget is kept,
+// and the set stays near the size the rest alone needs.
+void expect_joint_selection(const TriMesh& rest, const std::vector<PoseInput>& poses, const std::string& what) {
+  SdfOptions o;
+  o.resolution = 96;
+  const SdfResult sdf = build_sdf(rest, o);
+  const MeshQuery query(rest);
+  SpherePackOptions pack;
+  pack.tolerance = {2, true};
+  const CoverSelection alone = select_by_cover(sdf.field, query, pack);
+  SpheresFile file;
+  file.spheres = alone.spheres;
+  file.candidates = alone.pool;
+  file.voxel_size = sdf.field.shape.voxel_size;
+  PoseMapOptions opt;
+  opt.tolerance = {2, true};
+  const PoseMapResult r = pose_map(rest, what, poses, file, opt);
+  const double target = 0.02 * rest.diagonal();
+  const size_t n = r.proxy.sphere_count();
+  for (size_t i = 0; i < r.proxy.poses.size(); ++i) {
+    const TriMesh& mesh = i == 0 ? rest : poses[i - 1].mesh;
+    const MeshQuery q(mesh);
+    EXPECT_LE(vertex_error(mesh, r.proxy.poses[i].spheres).max, target * (1 + 1e-9)) << what << " pose " << i;
+    for (const Sphere& s : r.proxy.poses[i].spheres) {
+      if (s.radius == 0) continue;
+      EXPECT_TRUE(q.inside(s.center)) << what << " pose " << i;
+      EXPECT_LE(s.radius, q.distance(s.center) + 1e-9) << what << " pose " << i;
+    }
+  }
+  EXPECT_EQ(r.report["selection"]["uncoverable_samples"].get<size_t>(), 0u) << what;
+  EXPECT_LE(r.report["selection"]["lower_bound"].get<size_t>(), n) << what;
+  EXPECT_LE(double(n), 1.6 * double(alone.spheres.size())) << what << ": " << n << " jointly, " << alone.spheres.size()
+                                                          << " for the rest alone";
+  PoseMapOptions budget;
+  budget.max_spheres = 40;
+  EXPECT_LE(pose_map(rest, what, poses, file, budget).proxy.sphere_count(), 40u) << what;
+}
+
+TEST(PoseMap, JointSelectionOnTheCarSample) {
+  const SampleAsset car = make_car();
+  std::vector<PoseInput> poses;
+  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  expect_joint_selection(car.rest, poses, "car");
+}
+
+TEST(PoseMap, JointSelectionOnSharedPoseSets) {
+  SPX_REQUIRE_SHARED_DATA();
+  for (const std::string set : {"cube", "elephant"}) {
+    const std::string d = test::shared_data() + "/" + set + "/";
+    const LoadedMesh rest = load_mesh(d + "rest.obj");
+    std::vector<PoseInput> poses;
+    for (const auto& entry : std::filesystem::directory_iterator(d)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("pose-", 0) == 0 && entry.path().extension() == ".obj")
+        poses.push_back({stem_of(name), entry.path().string(), load_pose(entry.path().string(), rest)});
+    }
+    std::sort(poses.begin(), poses.end(), [](const PoseInput& a, const PoseInput& b) { return a.name < b.name; });
+    ASSERT_EQ(poses.size(), 4u) << set;
+    expect_joint_selection(rest.mesh, poses, set);
+  }
+}
+
+TEST(PoseMap, JointSelectionNeedsCandidates) {
+  const SampleAsset barrel = make_barrel();
+  const SpheresFile greedy = test::pack_file(barrel.rest, 32);  // no candidate pool
+  PoseMapOptions opt;
+  opt.tolerance = {2, true};
+  EXPECT_THROW(pose_map(barrel.rest, "rest", {{"copy", "", barrel.rest}}, greedy, opt), OptionError);
 }
 
 }  // namespace

@@ -21,11 +21,24 @@ int main(int argc, char** argv) {
                       "Fill each pose until its max vertex error is at most this (default: the spheres file's "
                       "--tolerance, else the rest pose's max error)");
   tool.app.add_option("--fill-min-radius", opt.fill_min_radius, "Smallest gap-filling sphere (default: 3/4 voxel)");
+  std::string tolerance;
+  tool.app.add_option("--tolerance", tolerance,
+                      "Select one sphere set from the spheres file's candidates so that the rest and every pose "
+                      "are within T (length, or T% of the rest diagonal). Default: the spheres file's tolerance");
+  tool.app.add_option("--max-spheres", opt.max_spheres,
+                      "Select at most N spheres with the least max error over the rest and every pose")
+      ->check(CLI::PositiveNumber);
+  tool.app.add_flag("--map-given", opt.map_given,
+                    "Map the spheres file's spheres as they are (the paper's S_1..S_e) instead of selecting");
+  tool.app.add_option("--samples", opt.area_samples, "Selection: surface samples per pose besides every vertex")
+      ->capture_default_str();
+  tool.app.add_option("--seed", opt.seed, "Selection: seed of the surface samples")->capture_default_str();
   tool.app.add_option("--fill-max", opt.fill_max_per_pose, "At most this many gap-filling spheres per pose")
       ->check(CLI::PositiveNumber);
   tool.name_option("poses", "--pose");
   return tool.run(argc, argv, [&] {
     opt.fill_tolerance = spx::parse_tolerance(fill_tolerance, "--fill-tolerance");
+    opt.tolerance = spx::parse_tolerance(tolerance, "--tolerance");
     spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report);
   });
 }

@@ -43,7 +43,9 @@ json spheres_to_json(const SpheresFile& f) {
   j["max_radius"] = std::isfinite(f.max_radius) ? json(f.max_radius) : json(nullptr);
   j["radius_source"] = f.radius_source;
   j["tolerance"] = f.tolerance > 0 ? json(f.tolerance) : json(nullptr);
+  if (f.max_spheres > 0) j["max_spheres"] = f.max_spheres;
   j["spheres"] = sphere_array_to_json(f.spheres);
+  if (!f.candidates.empty()) j["candidates"] = sphere_array_to_json(f.candidates);
   return j;
 }
 
@@ -72,12 +74,18 @@ SpheresFile spheres_from_json(const json& j, const std::string& path) {
     f.tolerance = as_finite_number(j["tolerance"], "field 'tolerance'", path);
     if (!(f.tolerance > 0)) fail_input(path, "field 'tolerance' is not positive");
   }
+  if (j.contains("max_spheres") && !j["max_spheres"].is_null()) {
+    const json& m = j["max_spheres"];
+    if (!m.is_number_integer() || m.get<long long>() < 1) fail_input(path, "field 'max_spheres' is not a positive integer");
+    f.max_spheres = size_t(m.get<long long>());
+  }
   const json& source = require(j, "source", path);
   f.sdf = require_string(source, "sdf", path);
   const json& mesh = require(source, "mesh", path);
   if (!mesh.is_null() && !mesh.is_string()) fail_input(path, "field 'source.mesh' is neither a string nor null");
   if (mesh.is_string()) f.mesh = mesh.get<std::string>();
   f.spheres = sphere_array_from_json(require(j, "spheres", path), "spheres", path, false);
+  if (j.contains("candidates")) f.candidates = sphere_array_from_json(j["candidates"], "candidates", path, false);
   if (f.spheres.empty()) fail_input(path, "holds no sphere");
   return f;
 }

@@ -15,7 +15,11 @@ struct SpheresFile {
   double max_radius = std::numeric_limits<double>::infinity();
   std::string radius_source;  // "mesh" or "field"
   double tolerance = 0;       // the rest-pose max error sphere-pack was asked for (0: none)
+  size_t max_spheres = 0;     // the sphere budget it was given (0: none)
   std::string sdf, mesh;      // inputs, as named on the command line
+  // The cover method's inscribed candidates (rest pose): pose-map selects from them jointly
+  // over every pose. Empty for the greedy method.
+  SphereSet candidates;
 };
 
 json spheres_to_json(const SpheresFile& file);

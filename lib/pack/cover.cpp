@@ -210,18 +210,29 @@ std::vector<double> least_gaps(const CoverProblem& problem) {
 std::vector<int> greedy_cover(const Coverage& cov) {
   const size_t candidates = cov.start.size() - 1;
   std::vector<char> covered(cov.sample_count, 0);
+  // Samples few candidates cover weigh more: a sphere that takes the only cover of a hard
+  // sample early saves the spheres that would chase it late.
+  std::vector<uint32_t> degree(cov.sample_count, 0);
+  for (uint32_t s : cov.samples) ++degree[s];
+  std::vector<double> weight(cov.sample_count, 0);
+  for (size_t s = 0; s < weight.size(); ++s) weight[s] = degree[s] ? 1.0 / degree[s] : 0;
   // Lazy greedy: a popped gain is recounted, and the candidate taken only if it still leads.
-  std::priority_queue<std::pair<uint32_t, int>> queue;  // (gain, -index)
+  std::priority_queue<std::pair<double, int>> queue;  // (gain, -index)
+  auto gain_of = [&](size_t c) {
+    double g = 0;
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      if (!covered[cov.samples[n]]) g += weight[cov.samples[n]];
+    return g;
+  };
   for (size_t c = 0; c < candidates; ++c)
-    if (cov.row_size(c) > 0) queue.emplace(uint32_t(cov.row_size(c)), -int(c));
+    if (cov.row_size(c) > 0) queue.emplace(gain_of(c), -int(c));
   std::vector<int> chosen;
   while (!queue.empty()) {
     const auto [gain, neg] = queue.top();
     queue.pop();
     const size_t c = size_t(-neg);
-    uint32_t now = 0;
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) now += !covered[cov.samples[n]];
-    if (now == 0) continue;
+    const double now = gain_of(c);
+    if (!(now > 0)) continue;
     if (now < gain) {
       queue.emplace(now, neg);
       continue;
@@ -246,6 +257,88 @@ std::vector<int> greedy_cover(const Coverage& cov) {
   }
   chosen.erase(std::remove_if(chosen.begin(), chosen.end(), [&](int c) { return dropped[size_t(c)]; }), chosen.end());
   return chosen;
+}
+
+size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
+  const size_t candidates = cov.start.size() - 1;
+  std::vector<char> in(candidates, 0);
+  std::vector<uint32_t> times(cov.sample_count, 0);
+  for (int c : chosen) {
+    in[size_t(c)] = 1;
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) ++times[cov.samples[n]];
+  }
+  auto account = [&](uint32_t c, int by) {
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) times[cov.samples[n]] = uint32_t(int(times[cov.samples[n]]) + by);
+  };
+  auto redundant = [&](uint32_t c) {
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      if (times[cov.samples[n]] < 2) return false;
+    return true;
+  };
+  // The chosen sphere that alone covers each sample (-1: none or several), and how many such
+  // samples each sphere has: a candidate makes sphere k redundant only if it covers all of k's.
+  std::vector<int> owner(cov.sample_count, -1);
+  std::vector<uint32_t> critical(candidates, 0);
+  auto find_owners = [&] {
+    std::fill(owner.begin(), owner.end(), -1);
+    std::fill(critical.begin(), critical.end(), 0);
+    for (size_t c = 0; c < candidates; ++c)
+      if (in[c])
+        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+          if (times[cov.samples[n]] == 1) {
+            owner[cov.samples[n]] = int(c);
+            ++critical[c];
+          }
+  };
+  find_owners();
+  // Add one candidate, drop the spheres it makes redundant; keep the move when two or more go.
+  size_t shrunk = 0;
+  std::vector<uint32_t> hits(candidates, 0);
+  for (int pass = 0; pass < 3; ++pass) {
+    size_t this_pass = 0;
+    for (uint32_t c = 0; c < candidates; ++c) {
+      if (in[c] || cov.row_size(c) == 0) continue;
+      std::vector<uint32_t> touched;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) {
+        const int k = owner[cov.samples[n]];
+        if (k < 0) continue;
+        if (hits[size_t(k)]++ == 0) touched.push_back(uint32_t(k));
+      }
+      std::vector<uint32_t> could;
+      for (uint32_t k : touched) {
+        if (hits[k] == critical[k]) could.push_back(k);
+        hits[k] = 0;
+      }
+      if (could.size() < 2) continue;
+      account(c, +1);
+      std::vector<uint32_t> dropped;
+      for (uint32_t k : could)
+        if (redundant(k)) {
+          account(k, -1);
+          in[k] = 0;
+          dropped.push_back(k);
+        }
+      if (dropped.size() >= 2) {
+        in[c] = 1;
+        ++this_pass;
+        find_owners();
+        continue;
+      }
+      for (uint32_t k : dropped) {
+        account(k, +1);
+        in[k] = 1;
+      }
+      account(c, -1);
+    }
+    shrunk += this_pass;
+    if (this_pass == 0) break;
+  }
+  if (shrunk > 0) {
+    chosen.clear();
+    for (size_t c = 0; c < candidates; ++c)
+      if (in[c]) chosen.push_back(int(c));
+  }
+  return shrunk;
 }
 
 size_t cover_lower_bound(const Coverage& cov) {
@@ -298,12 +391,14 @@ double largest_finite(const std::vector<double>& values) {
 CoverResult cover_within(const CoverProblem& problem, double delta, Log& log) {
   CoverResult r;
   r.delta = delta;
-  r.least_reachable = largest_finite(least_gaps(problem));
   const Coverage cov = coverage_at(problem, delta);
   r.chosen = greedy_cover(cov);
+  shrink_cover(cov, r.chosen);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
   r.lower_bound = cover_lower_bound(cov);
   r.uncoverable = uncovered_samples(cov);
+  // Only a tolerance out of reach needs the least delta that would do (a full scan).
+  r.least_reachable = r.uncoverable > 0 ? largest_finite(least_gaps(problem)) : delta;
   r.evaluations = 1;
   log.detail("cover at " + num(delta) + ": " + std::to_string(r.chosen.size()) + " spheres (at least " +
              std::to_string(r.lower_bound) + "), " + std::to_string(cov.samples.size()) + " pairs");

@@ -67,6 +67,10 @@ std::vector<double> least_gaps(const CoverProblem& problem);
 // covers are skipped (the caller counts them). Returns candidate indices.
 std::vector<int> greedy_cover(const Coverage& coverage);
 
+// Local search on a cover: add a candidate, drop every sphere it makes redundant, keep the move
+// when that removes two or more. Returns the spheres saved.
+size_t shrink_cover(const Coverage& coverage, std::vector<int>& chosen);
+
 // A lower bound on any cover's size: samples no two of which one candidate covers together.
 size_t cover_lower_bound(const Coverage& coverage);
 

@@ -141,6 +141,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   const SphereSet& candidates = problem.spheres[0];
   if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
   out.candidates = candidates.size();
+  out.pool = candidates;
   out.samples = problem.sample_count();
   const size_t budget = opt.pack.max_spheres;
   out.tolerance = opt.tolerance.set() || budget > 0 ? opt.tolerance : Tolerance{kDefaultTolerancePercent, true};
@@ -178,7 +179,7 @@ namespace {
 
 // select_by_cover, with its warnings and report.
 SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
-                                   PackStats& stats, double& target, Log& log, json& report) {
+                                   PackStats& stats, double& target, SphereSet& pool, Log& log, json& report) {
   const double h = sdf.field.shape.voxel_size;
   const CoverSelection sel = select_by_cover(sdf.field, mesh, opt, log);
   const SphereSet& spheres = sel.spheres;
@@ -187,6 +188,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const std::string& limit = sel.limited_by;
   const size_t budget = opt.pack.max_spheres;
   target = sel.target;
+  pool = sel.pool;
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.mesh(), spheres);
   const bool met = !tolerance.set() || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
@@ -258,18 +260,21 @@ void sphere_pack_files(const std::string& input, const std::string& mesh_path, c
   }
   PackStats stats;
   double target = 0;
+  SphereSet pool;
   const SphereSet spheres =
       opt.method == PackMethod::greedy
           ? select_greedy(sdf, input, mesh.get(), opt, stats, target, log, report)
-          : about_file(input, [&] { return select_by_cover_reported(sdf, *mesh, opt, stats, target, log, report); });
+          : about_file(input, [&] { return select_by_cover_reported(sdf, *mesh, opt, stats, target, pool, log, report); });
   stats.set_radius_range(spheres);
   SpheresFile file;
   file.spheres = spheres;
+  file.candidates = pool;
   file.voxel_size = sdf.field.shape.voxel_size;
   file.min_radius = stats.min_radius > 0 ? stats.min_radius : stats.smallest;
   file.max_radius = stats.max_radius;
   file.radius_source = stats.radius_source;
   file.tolerance = target;
+  file.max_spheres = opt.pack.max_spheres;
   file.sdf = input;
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));

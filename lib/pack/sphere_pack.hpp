@@ -32,6 +32,7 @@ struct CoverSelection {
   double target = 0;           // the tolerance as a length (0: budget alone)
   std::string limited_by;
   size_t candidates = 0, samples = 0;
+  SphereSet pool;              // every candidate (pose-map selects from them over every pose)
 };
 CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& options,
                                Log& log = Log::silent());

@@ -11,7 +11,9 @@
 #include "mesh/mesh_query.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/union_distance.hpp"
+#include "pack/cover.hpp"
 #include "pack/pack.hpp"
+#include "pack/sphere_pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "sdf/sdf.hpp"
 
@@ -114,6 +116,99 @@ class PoseMapper {
                                    "rest mesh and a pose swapped?)");
   }
 
+  // One sphere set for the rest and every pose: every candidate mapped into each pose (radius
+  // by the same rule), each pose's vertices and area samples to cover, one set cover. Returns
+  // the chosen candidates (rest pose) and the report's part.
+  SphereSet select_jointly(const SphereSet& file_candidates, nlohmann::json& report) {
+    const size_t poses = meshes_.size();
+    SphereSet candidates = file_candidates;
+    CoverProblem problem;
+    problem.spheres.assign(poses, SphereSet());
+    auto map_candidates = [&](size_t from) {  // candidates[from..] into every pose
+      const size_t n = candidates.size();
+      for (auto& set : problem.spheres) set.resize(n);
+      tbb::parallel_for(tbb::blocked_range<size_t>(from, n, 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t s = r.begin(); s != r.end(); ++s) {
+          const Eigen::Vector3d& c = candidates[s].center;
+          const TetLocator::Location at = f_->locator().locate(c);
+          for (size_t i = 0; i < poses; ++i) {
+            const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
+            problem.spheres[i][s] = {center, solids_[i].radius(center).value};
+          }
+        }
+      });
+    };
+    map_candidates(0);
+    for (const TriMesh* mesh : meshes_) {
+      problem.samples.push_back(surface_samples(*mesh, opt_.area_samples, opt_.seed));
+      problem.weighted.push_back(mesh->vertices.size());
+    }
+    // Asked here, or else what sphere-pack was asked (its tolerance, its budget), or else 2%.
+    double target = 0;
+    size_t budget = opt_.max_spheres;
+    if (opt_.tolerance.set()) {
+      target = opt_.tolerance.length(rest_.diagonal());
+    } else if (budget == 0) {
+      target = spheres_.tolerance;
+      budget = spheres_.max_spheres;
+      if (target == 0 && budget == 0) target = kDefaultTolerancePercent / 100 * rest_.diagonal();
+    }
+    // Where a pose stretches, no rest candidate may reach its surface: add that pose's own
+    // inscribed spheres near the samples out of reach, mapped back to rest (the inverse map).
+    size_t added = 0;
+    const double reach = target > 0 ? target : 0.02 * rest_.diagonal();
+    {
+      const std::vector<double> gaps = least_gaps(problem);
+      size_t offset = problem.samples[0].size();
+      for (size_t i = 1; i < poses; ++i) {
+        std::vector<Eigen::Vector3d> far;
+        for (size_t s = 0; s < problem.samples[i].size(); ++s)
+          if (gaps[offset + s] > reach) far.push_back(problem.samples[i][s]);
+        offset += problem.samples[i].size();
+        if (far.empty()) continue;
+        const SphereSet own = pose_candidates_near(i - 1, far, reach);
+        size_t lost = 0;
+        const SphereSet back = map_back_to_rest(i - 1, own, lost);
+        const size_t from = candidates.size();
+        candidates.insert(candidates.end(), back.begin(), back.end());
+        map_candidates(from);
+        added += back.size();
+      }
+    }
+    const size_t n = candidates.size();
+    CoverResult cover;
+    std::string limit;
+    if (target > 0) {
+      cover = cover_within(problem, target, log_);
+      limit = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
+    }
+    if (budget > 0 && (target == 0 || cover.chosen.size() > budget)) {
+      cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log_);
+      limit = target > 0 ? "max_spheres (tighter than the tolerance)" : "max_spheres";
+    }
+    if (cover.uncoverable > 0)
+      log_.warn(std::to_string(cover.uncoverable) + " surface samples over the poses are farther than " +
+                num(cover.delta) + " from every candidate sphere mapped there (thin parts at the field's "
+                "resolution; a finer sdf-build resolution gives candidates closer to them)");
+    SphereSet chosen;
+    for (int c : cover.chosen) chosen.push_back(candidates[size_t(c)]);
+    std::stable_sort(chosen.begin(), chosen.end(), [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+    report = {{"method", "one set cover over the rest and every pose of the spheres file's candidates, each mapped "
+                         "into every pose"},
+              {"candidates", n},
+              {"candidates_from_poses", added},
+              {"samples", problem.sample_count()},
+              {"target", target > 0 ? nlohmann::json(target) : nlohmann::json(nullptr)},
+              {"delta", cover.delta},
+              {"lower_bound", cover.lower_bound},
+              {"uncoverable_samples", cover.uncoverable},
+              {"spheres", chosen.size()},
+              {"limited_by", limit}};
+    log_.detail("joint selection: " + std::to_string(chosen.size()) + " of " + std::to_string(n) +
+                " candidates, delta " + num(cover.delta));
+    return chosen;
+  }
+
   // S_1..S_e: appends rest spheres to every pose, centers through f, and in every pose (the
   // rest too) the radius by the one rule of PoseSolid.
   void map_spheres(const SphereSet& rest_spheres) {
@@ -199,7 +294,7 @@ class PoseMapper {
   }
 
   // Warnings for every radius 0, and the report: tets, map, per-pose errors and zero radii.
-  nlohmann::json report(const nlohmann::json& fill_report) const {
+  nlohmann::json report(const nlohmann::json& fill_report, const nlohmann::json& selection) const {
     for (size_t i = 0; i < proxy_.poses.size(); ++i) {
       const auto& [outside, holes, other] = zero_radius_[i];
       if (outside > 0)
@@ -241,7 +336,8 @@ class PoseMapper {
             {"sphere_count", rest_centers_.size()},
             {"site_count", proxy_.sites.size()},
             {"poses", pose_reports},
-            {"fill_gaps", fill_report}};
+            {"fill_gaps", fill_report},
+            {"selection", selection}};
   }
 
  private:
@@ -283,6 +379,28 @@ class PoseMapper {
     met = enough.met;
     reached = enough.max_error;
     return map_back_to_rest(i, found.spheres, lost);
+  }
+
+  // Pose i's own inscribed candidates (from its own field) that come within `reach` of any of
+  // `points` (samples of that pose no mapped candidate reaches), in pose coordinates.
+  SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) const {
+    const SdfResult sdf = build_sdf(poses_[i].mesh, field_options());
+    CandidateOptions c;
+    c.max_radius = proxy_.max_radius;
+    c.field_bounds_radius = open_solid_;
+    const SphereSet all = inscribed_candidates(sdf.field, *queries_[i + 1], c);
+    std::vector<char> keep(all.size(), 0);
+    tbb::parallel_for(size_t(0), all.size(), [&](size_t s) {
+      for (const auto& p : points)
+        if ((p - all[s].center).norm() - all[s].radius <= reach) {
+          keep[s] = 1;
+          break;
+        }
+    });
+    SphereSet out;
+    for (size_t s = 0; s < all.size(); ++s)
+      if (keep[s]) out.push_back(all[s]);
+    return out;
   }
 
   // Through the inverse map: barycentric in pose i's deformed tets.
@@ -337,13 +455,23 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   mapper.solve_map();
   mapper.build_solids();
   mapper.check_rest_spheres_fit();
+  nlohmann::json selection = nullptr;
+  const bool joint = !opt.map_given && (opt.tolerance.set() || opt.max_spheres > 0 || !spheres.candidates.empty());
+  if (joint && spheres.candidates.empty())
+    fail_option(opt.max_spheres > 0 ? "max_spheres" : "tolerance",
+                "needs a spheres file with candidates (sphere-pack's cover method)");
   {
     StageTimer t(log, "map");
-    mapper.map_spheres(spheres.spheres);
+    SphereSet rest_spheres = spheres.spheres;
+    if (joint) {
+      StageTimer s(log, "select");
+      rest_spheres = mapper.select_jointly(spheres.candidates, selection);
+    }
+    mapper.map_spheres(rest_spheres);
   }
   const nlohmann::json fill = opt.fill_gaps ? mapper.fill_gaps() : nlohmann::json(nullptr);
   mapper.assign_blend_sites();
-  result.report = mapper.report(fill);
+  result.report = mapper.report(fill, selection);
   return result;
 }
 

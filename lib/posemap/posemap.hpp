@@ -32,6 +32,15 @@ struct PoseMapOptions {
   // tolerance, or else the rest pose's own max error.
   Tolerance fill_tolerance;
   size_t fill_max_per_pose = 0; // 0: no limit
+  // Joint selection: one sphere set chosen from the spheres file's candidates so that the rest
+  // and every pose meet a tolerance (or the least max error over all of them for a budget).
+  // With neither, and a file that has candidates, the file's own tolerance (or 2%) is used;
+  // `map_given` maps the file's spheres as they are instead (the paper's S_1..S_e).
+  Tolerance tolerance;
+  size_t max_spheres = 0;
+  bool map_given = false;
+  size_t area_samples = 4000;
+  uint64_t seed = 1;
 };
 
 struct PoseMapResult {

@@ -62,7 +62,7 @@ for ext in spx json glb ply; do v proxy-export-report.schema.json "$out/a/export
 v proxy-plain.schema.json "$out/a/broken.json" --expect-invalid
 
 # The runtime demo loads the file and prints one line per sphere in the rest pose.
-count=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['sphere_count'])" "$out/a/pack.report.json")
+count=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['sphere_count'])" "$out/a/posemap.report.json")
 lines=$("$build/samples/runtime-demo" "$out/a/proxy.spx" | grep -vc '^#')
 [ "$lines" = "$count" ] || { echo "FAIL: runtime-demo printed $lines spheres, expected $count"; fail=1; }
 
