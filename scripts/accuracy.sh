@@ -18,7 +18,7 @@ run() {  # name resolution rest poses...
   local args=()
   for p in "$@"; do args+=(--pose "$p"); done
   "$bin/sdf-build" "$rest" -o "$out/$name.vdb" --resolution "$res" -q
-  "$bin/sphere-pack" "$out/$name.vdb" --mesh "$rest" --tolerance "$tol" -o "$out/$name.spheres.json" -q \
+  "$bin/sphere-pack" "$out/$name.vdb" --mesh "$rest" --method greedy --tolerance "$tol" -o "$out/$name.spheres.json" -q \
     --report "$out/$name.pack.json"
   for mode in plain fill; do
     local flag=()

@@ -51,7 +51,7 @@ set output "$out/frontier.$term"
 set logscale x 2
 set xlabel "spheres"
 set ylabel "max vertex error (% of the bounding-box diagonal)"
-set title "Error against sphere count: cover selection (solid) and greedy packing (dashed), 128-cell fields"
+set title "Max error against sphere count: cover (solid), greedy (dashed)"
 set key outside right
 set grid
 plot $plot

@@ -24,7 +24,7 @@ for pct in 8 6 4.5 3.5 2.7 2 1.5 1.1 0.8; do
   r=$(python3 -c "print($diag * $pct / 100)")
   tag=r$pct
   echo "sweep: $asset min radius $pct% of the diagonal" >&2
-  "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --min-radius "$r" -o "$out/$tag.spheres.json" -q \
+  "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --method greedy --min-radius "$r" -o "$out/$tag.spheres.json" -q \
     --report "$out/$tag.pack.json"
   # shellcheck disable=SC2086
   "$bin/pose-map" --rest "$out/in/rest.obj" $pose_args --spheres "$out/$tag.spheres.json" -o "$out/$tag.proxy.json" -q \
