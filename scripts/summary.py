@@ -28,7 +28,8 @@ def main(folder):
     grid = sdf["grid"]["dims"]
     print(f"\n== {os.path.basename(folder)}: {sdf['sdf']['defects']['triangles']} triangles, "
           f"{len(pose['poses']) - 1} poses, grid {grid[0]}x{grid[1]}x{grid[2]}")
-    print(f"spheres: {pack['sphere_count']} (radii {pack['pack']['smallest_radius']:.4g}..{pack['pack']['largest_radius']:.4g}), "
+    chosen = "every pose jointly" if pose.get("selection") else "the rest pose's, mapped"
+    print(f"spheres: {pose['sphere_count']} ({chosen}; the rest alone: {pack['sphere_count']}), "
           f"blend sites: {pose['site_count']}, tets: {pose['tets']['tetrahedra']}")
     print(f"{'pose':>12}  {'median err':>10}  {'max err':>8}  outside")
     for p in pose["poses"]:
