@@ -341,15 +341,25 @@ size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
   return shrunk;
 }
 
+Coverage covering_candidates(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  Coverage t;
+  t.sample_count = candidates;
+  t.start.assign(cov.sample_count + 1, 0);
+  for (uint32_t s : cov.samples) ++t.start[s + 1];
+  std::partial_sum(t.start.begin(), t.start.end(), t.start.begin());
+  t.samples.resize(cov.samples.size());
+  std::vector<uint32_t> fill(t.start.begin(), t.start.end() - 1);
+  for (size_t c = 0; c < candidates; ++c)
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) t.samples[fill[cov.samples[n]]++] = uint32_t(c);
+  return t;
+}
+
 size_t cover_lower_bound(const Coverage& cov) {
   const size_t candidates = cov.start.size() - 1;
-  // Sample -> candidates that cover it.
-  std::vector<uint32_t> start(cov.sample_count + 1, 0), by(cov.samples.size());
-  for (uint32_t s : cov.samples) ++start[s + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-  for (size_t c = 0; c < candidates; ++c)
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) by[fill[cov.samples[n]]++] = uint32_t(c);
+  const Coverage covering = covering_candidates(cov);
+  const std::vector<uint32_t>& start = covering.start;
+  const std::vector<uint32_t>& by = covering.samples;
   // Most constrained samples first; a pick blocks every sample a candidate of it covers.
   std::vector<uint32_t> order(cov.sample_count);
   std::iota(order.begin(), order.end(), 0u);
@@ -457,9 +467,6 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   return best;
 }
 
-}  // namespace spx
-
-namespace spx {
 namespace {
 
 // Gaps between samples (stacked over poses) and candidates, and each sample's two nearest
@@ -473,14 +480,9 @@ class CoverState {
         where_.emplace_back(uint32_t(k), uint32_t(i));
         weight_.push_back(problem.weighted.empty() || i < problem.weighted[k] ? 1.0 : 0.0);
       }
-    // Sample -> candidates covering it.
-    by_start_.assign(cov.sample_count + 1, 0);
-    for (uint32_t s : cov.samples) ++by_start_[s + 1];
-    std::partial_sum(by_start_.begin(), by_start_.end(), by_start_.begin());
-    by_.resize(cov.samples.size());
-    std::vector<uint32_t> fill(by_start_.begin(), by_start_.end() - 1);
-    for (size_t c = 0; c + 1 < cov.start.size(); ++c)
-      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) by_[fill[cov.samples[n]]++] = uint32_t(c);
+    const Coverage covering = covering_candidates(cov);
+    by_start_ = covering.start;
+    by_ = covering.samples;
     in_.assign(cov.start.size() - 1, 0);
     first_.assign(cov.sample_count, -1);
     second_.assign(cov.sample_count, -1);

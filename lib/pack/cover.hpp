@@ -58,6 +58,9 @@ struct CoverProblem {
 
 Coverage coverage_at(const CoverProblem& problem, double delta);
 
+// The same pairs the other way round: for each sample, the candidates that cover it.
+Coverage covering_candidates(const Coverage& coverage);
+
 // For each sample, the smallest gap over every candidate: the least delta at which it can be
 // covered at all (infinite where no candidate exists).
 std::vector<double> least_gaps(const CoverProblem& problem);
