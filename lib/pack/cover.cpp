@@ -415,6 +415,19 @@ CoverResult cover_within(const CoverProblem& problem, double delta, Log& log) {
   return r;
 }
 
+CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, std::string& limited_by, Log& log) {
+  CoverResult cover;
+  if (target > 0) {
+    cover = cover_within(problem, target, log);
+    limited_by = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
+  }
+  if (budget > 0 && (!(target > 0) || cover.chosen.size() > budget)) {
+    cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log);
+    limited_by = target > 0 ? "max_spheres (tighter than the tolerance)" : "max_spheres";
+  }
+  return cover;
+}
+
 CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack, double precision,
                               Log& log) {
   CoverResult best;

@@ -106,6 +106,12 @@ struct CoverResult {
 // Tolerance mode: the fewest candidates that cover every sample at `delta`.
 CoverResult cover_within(const CoverProblem& problem, double delta, Log& log = Log::silent());
 
+// Both modes as the tools combine them: the fewest spheres within `target` (when > 0), unless
+// that exceeds `budget` (when > 0), then the least error for the budget. `limited_by` says
+// which decided: "met the tolerance", "the field's resolution (...)", "max_spheres (...)".
+CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, std::string& limited_by,
+                      Log& log = Log::silent());
+
 // Budget mode: the smallest delta (to a relative `precision`) whose cover has at most
 // `max_spheres` candidates; then the cover at (1 + slack) times it, improved with the budget
 // that leaves (a little more max error for a lower median).

@@ -147,17 +147,9 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   out.tolerance = opt.tolerance.set() || budget > 0 ? opt.tolerance : Tolerance{kDefaultTolerancePercent, true};
   {
     StageTimer t(log, "cover");
-    if (out.tolerance.set()) {
-      out.target = out.tolerance.length(diagonal);
-      out.cover = cover_within(problem, out.target, log);
-      out.limited_by = out.cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)"
-                       : opt.tolerance.set()     ? "met the tolerance"
-                                                 : "met the default tolerance";
-    }
-    if (budget > 0 && (!out.tolerance.set() || out.cover.chosen.size() > budget)) {
-      out.cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log);
-      out.limited_by = out.tolerance.set() ? "max_spheres (tighter than the tolerance)" : "max_spheres";
-    }
+    if (out.tolerance.set()) out.target = out.tolerance.length(diagonal);
+    out.cover = cover_for(problem, out.target, budget, out.limited_by, log);
+    if (out.limited_by == "met the tolerance" && !opt.tolerance.set()) out.limited_by = "met the default tolerance";
   }
   for (int c : out.cover.chosen) out.spheres.push_back(candidates[size_t(c)]);
   if (!opt.pack.field_bounds_radius) {

@@ -131,10 +131,7 @@ class PoseMapper {
         for (size_t s = r.begin(); s != r.end(); ++s) {
           const Eigen::Vector3d& c = candidates[s].center;
           const TetLocator::Location at = f_->locator().locate(c);
-          for (size_t i = 0; i < poses; ++i) {
-            const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
-            problem.spheres[i][s] = {center, solids_[i].radius(center).value};
-          }
+          for (size_t i = 0; i < poses; ++i) problem.spheres[i][s] = in_pose(i, c, at).first;
         }
       });
     };
@@ -176,16 +173,8 @@ class PoseMapper {
       }
     }
     const size_t n = candidates.size();
-    CoverResult cover;
     std::string limit;
-    if (target > 0) {
-      cover = cover_within(problem, target, log_);
-      limit = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
-    }
-    if (budget > 0 && (target == 0 || cover.chosen.size() > budget)) {
-      cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log_);
-      limit = target > 0 ? "max_spheres (tighter than the tolerance)" : "max_spheres";
-    }
+    const CoverResult cover = cover_for(problem, target, budget, limit, log_);
     if (cover.uncoverable > 0)
       log_.warn(std::to_string(cover.uncoverable) + " surface samples over the poses are farther than " +
                 num(cover.delta) + " from every candidate sphere mapped there (thin parts at the field's "
@@ -225,11 +214,9 @@ class PoseMapper {
         const Eigen::Vector3d& c = rest_spheres[s].center;
         const TetLocator::Location at = f_->locator().locate(c);
         for (size_t i = 0; i < proxy_.poses.size(); ++i) {
-          Sphere& sphere = proxy_.poses[i].spheres[first + s];
-          sphere.center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
-          const PoseSolid::Radius radius = solids_[i].radius(sphere.center);
-          sphere.radius = radius.value;
-          cause[i][s] = char(radius.zero);
+          const auto [sphere, zero] = in_pose(i, c, at);
+          proxy_.poses[i].spheres[first + s] = sphere;
+          cause[i][s] = char(zero);
         }
       }
     });
@@ -341,6 +328,14 @@ class PoseMapper {
   }
 
  private:
+  // The sphere a rest center c (at `at` in the tets) becomes in pose i (0: the rest): its center
+  // through f, its radius by the pose's rule, and why that radius is 0 if it is.
+  std::pair<Sphere, PoseSolid::Zero> in_pose(size_t i, const Eigen::Vector3d& c, const TetLocator::Location& at) const {
+    const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
+    const PoseSolid::Radius radius = solids_[i].radius(center);
+    return {{center, radius.value}, radius.zero};
+  }
+
   SdfOptions field_options() const {
     SdfOptions o;
     o.voxel_size = spheres_.voxel_size > 0 ? spheres_.voxel_size : rest_.diagonal() / 128;
