@@ -20,7 +20,8 @@ ALLOWED = {
     "posemap": {"core", "mesh", "io", "sdf", "pack"},
     "metrics": {"core", "mesh", "io", "runtime"},
     "export": {"core", "mesh", "io", "metrics", "runtime"},
-    "synthetic": {"core", "mesh"},
+    "extract": {"core", "mesh", "io"},
+    "synthetic": {"core", "mesh", "io"},
     "tool": {"core"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]')

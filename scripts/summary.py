@@ -36,6 +36,11 @@ def main(folder):
         e = p["error"]
         print(f"{p['name']:>12}  {e['median']:10.4f}  {e['max']:8.4f}  {len(p['outside'])}")
     times = [("sdf-build", sdf), ("sphere-pack", pack), ("pose-map", pose)] + [(n[7:-12], load(n)) for n in exports]
+    if os.path.exists(os.path.join(folder, "extract.report.json")):
+        ex = load("extract.report.json")
+        targets = ", ".join(p["name"] for p in ex["poses"])
+        print(f"poses from the asset by pose-extract: {targets}")
+        times.insert(0, ("pose-extract", ex))
     print("time: " + ", ".join(f"{name} {r['timings_s']['total']:.2f} s" for name, r in times)
           + f"; total {sum(r['timings_s']['total'] for _, r in times):.2f} s")
     print(f"outputs: {folder}")

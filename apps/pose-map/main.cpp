@@ -1,4 +1,5 @@
 #include "tool/tool.hpp"
+#include "io/pose_manifest.hpp"
 #include "posemap/pose_map_tool.hpp"
 
 int main(int argc, char** argv) {
@@ -7,8 +8,11 @@ int main(int argc, char** argv) {
   std::string rest, spheres, output;
   std::vector<std::string> poses;
   spx::PoseMapOptions opt;
-  tool.app.add_option("--rest", rest, "Rest mesh M_0")->required();
-  tool.app.add_option("--pose", poses, "Example pose M_i (same topology as the rest mesh); repeat")->required();
+  auto* rest_opt = tool.app.add_option("--rest", rest, "Rest mesh M_0");
+  auto* pose_opt = tool.app.add_option("--pose", poses, "Example pose M_i (same topology as the rest mesh); repeat");
+  std::string manifest;
+  tool.app.add_option("--manifest", manifest, "Rest and poses from pose-extract's poses.json (instead of --rest/--pose)")
+      ->excludes(rest_opt)->excludes(pose_opt);
   tool.app.add_option("--spheres", spheres, "Rest spheres from sphere-pack")->required();
   tool.app.add_option("-o,--output", output, "Output .proxy.json")->required();
   tool.app.add_option("--tet-size", opt.tets.size, "Tet edge length (default: bounding-box diagonal / 30)");
@@ -39,6 +43,7 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     opt.fill_tolerance = spx::parse_tolerance(fill_tolerance, "--fill-tolerance");
     opt.tolerance = spx::parse_tolerance(tolerance, "--tolerance");
+    spx::rest_and_poses(manifest, rest, poses);
     spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report);
   });
 }

@@ -92,9 +92,6 @@ Eigen::AlignedBox3d TriMesh::bounds() const {
   return box;
 }
 
-namespace {
-
-// Coincident positions become one vertex, numbered in order of first appearance.
 std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& welded) {
   std::vector<int> weld(positions.size());
   std::unordered_map<PositionKey, int, PositionHash> seen;
@@ -107,8 +104,6 @@ std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions,
   }
   return weld;
 }
-
-}  // namespace
 
 LoadedMesh load_mesh(const std::string& path) {
   RawMesh raw = read_raw(path);

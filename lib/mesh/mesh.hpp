@@ -35,6 +35,10 @@ LoadedMesh load_mesh(const std::string& path);
 // the triangle list or vertex count differs from the rest mesh.
 TriMesh load_pose(const std::string& path, const LoadedMesh& rest);
 
+// Coincident positions become one vertex of `welded` (appended), numbered in order of first
+// appearance; returns the vertex each position became. -0 and +0 weld together.
+std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& welded);
+
 // Deterministic Wavefront OBJ text.
 std::string to_obj(const TriMesh& mesh, const std::string& comment = {});
 

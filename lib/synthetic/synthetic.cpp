@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "io/gltf_morph.hpp"
 
 namespace spx {
 namespace {
@@ -183,19 +184,37 @@ SampleAsset make_sample(const std::string& name) {
   fail_usage(name, "unknown sample (use car or barrel)");
 }
 
+MorphAsset morph_asset(const SampleAsset& asset) {
+  MorphAsset m;
+  m.name = asset.name;
+  m.base = asset.rest;
+  m.target_names = asset.pose_names;
+  for (size_t i = 0; i < asset.pose_names.size(); ++i) m.targets.push_back(asset.pose(i).vertices);
+  return m;
+}
+
 void sample_gen_files(const std::string& name, const std::string& dir, Log& log, json& report) {
   const SampleAsset asset = make_sample(name);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) fail_write(dir, "cannot create folder: " + ec.message());
+  // The OBJ files hold exactly what the glTF holds (single precision), so the chain run on the
+  // OBJ poses and on pose-extract's reading of the glTF sees the same numbers.
+  const MorphAsset morph = morph_asset(asset);
   const std::string tag = "spx sample " + name;
-  write_file_atomic(dir + "/rest.obj", to_obj(asset.rest, tag + " rest pose"));
-  for (size_t i = 0; i < asset.pose_names.size(); ++i)
-    write_file_atomic(dir + "/" + asset.pose_names[i] + ".obj", to_obj(asset.pose(i), tag + " pose " + asset.pose_names[i]));
-  log.info(dir + ": rest + " + std::to_string(asset.pose_names.size()) + " poses, " +
-           std::to_string(asset.rest.triangles.size()) + " triangles");
+  TriMesh mesh = asset.rest;
+  mesh.vertices = stored_base(morph);
+  write_file_atomic(dir + "/rest.obj", to_obj(mesh, tag + " rest pose"));
+  for (size_t i = 0; i < asset.pose_names.size(); ++i) {
+    mesh.vertices = stored_target(morph, i);
+    write_file_atomic(dir + "/" + asset.pose_names[i] + ".obj", to_obj(mesh, tag + " pose " + asset.pose_names[i]));
+  }
+  write_file_atomic(dir + "/" + name + "-morph.glb", encode_morph_glb(morph));
+  log.info(dir + ": rest + " + std::to_string(asset.pose_names.size()) + " poses (OBJ, and " + name +
+           "-morph.glb with them as morph targets), " + std::to_string(asset.rest.triangles.size()) + " triangles");
   report["triangles"] = asset.rest.triangles.size();
   report["poses"] = asset.pose_names;
+  report["morph_asset"] = name + "-morph.glb";
 }
 
 }  // namespace spx

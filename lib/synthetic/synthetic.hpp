@@ -7,6 +7,7 @@
 
 #include "core/json_io.hpp"
 #include "core/log.hpp"
+#include "io/gltf_morph.hpp"
 #include "mesh/mesh.hpp"
 
 namespace spx {
@@ -29,7 +30,11 @@ SampleAsset make_barrel();
 
 SampleAsset make_sample(const std::string& name);  // "car" or "barrel"
 
-// sample-gen NAME -o DIR: rest.obj and one OBJ per pose.
+// The sample as one mesh with its poses as morph targets (named after them).
+MorphAsset morph_asset(const SampleAsset& asset);
+
+// sample-gen NAME -o DIR: rest.obj, one OBJ per pose and NAME-morph.glb with the poses as morph
+// targets and a clip that reaches each in turn.
 void sample_gen_files(const std::string& name, const std::string& dir, Log& log, json& report);
 
 }  // namespace spx

@@ -130,6 +130,24 @@ expect 2 "huge.mesh: section Vertices claims 100000000000 entries" "$out/o.json"
 if "$1/samples/runtime-demo" --help | grep -q "usage: runtime-demo"; then passed=$((passed + 1)); else
   echo "FAIL: runtime-demo --help"; fail=$((fail + 1)); fi
 
+# pose-extract: what the asset lacks, and clip/mesh/frame choices it does not have. No manifest.
+glb=$out/in/barrel-morph.glb px=$out/px
+expect 2 "rest.obj: has no morph targets" "$px/poses.json" -- "$bin/pose-extract" "$out/in/rest.obj" -o "$px" --morph-targets
+expect 2 "rest.obj: has no animation clips" "$px/poses.json" -- "$bin/pose-extract" "$out/in/rest.obj" -o "$px" --animation 0
+printf '{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"empty"}]}' >"$out/empty.gltf"
+expect 2 "empty.gltf: contains no triangle mesh" "$px/poses.json" -- "$bin/pose-extract" "$out/empty.gltf" -o "$px" --morph-targets
+expect 1 "\-\-animation: no clip named 'Walk'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation Walk
+expect 1 "\-\-animation: no clip 4 " "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 4
+expect 1 "\-\-mesh: no mesh or node named 'lid'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --mesh lid --morph-targets
+expect 1 "\-\-frames: frame 9 is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1,9
+expect 1 "\-\-times: 3.5 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation barrel --times 3.5
+expect 1 "\-\-times: -1 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times=-1
+expect 1 "give \-\-morph-targets or \-\-animation" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px"
+expect 1 "\-\-select" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --select 0
+expect 1 "\-\-manifest" "$out/o.json" -- "$bin/pose-map" --manifest "$out/in/rest.obj" --rest "$out/in/rest.obj" \
+  --spheres "$out/s.json" -o "$out/o.json"
+expect 2 "rest.obj" "$out/o.json" -- "$bin/pose-map" --manifest "$out/in/rest.obj" --spheres "$out/s.json" -o "$out/o.json"
+
 # A failed run keeps the previous output intact.
 "$bin/sdf-build" "$out/in/rest.obj" -o "$out/keep.vdb" --resolution 16 -q
 before=$(md5sum <"$out/keep.vdb")
@@ -138,7 +156,7 @@ after=$(md5sum <"$out/keep.vdb")
 if [ "$before" = "$after" ]; then passed=$((passed + 1)); else echo "FAIL: failed run changed keep.vdb"; fail=$((fail + 1)); fi
 
 # --help and --version succeed on every tool.
-for t in sdf-build sphere-pack pose-map proxy-export sample-gen; do
+for t in pose-extract sdf-build sphere-pack pose-map proxy-export proxy-eval sample-gen; do
   if "$bin/$t" --help >/dev/null && "$bin/$t" --version | grep -q "(spx) "; then passed=$((passed + 1)); else
     echo "FAIL: $t --help/--version"; fail=$((fail + 1)); fi
 done

@@ -1,0 +1,338 @@
+#include "extract/asset.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "core/error.hpp"
+
+namespace spx {
+
+struct Asset::Instance {
+  const aiNode* node = nullptr;
+  const aiMesh* mesh = nullptr;
+  size_t offset = 0;                // first vertex in the body's layout
+  std::vector<size_t> target_of;    // anim mesh -> index into targets_
+  // Skin: per vertex, (bone, weight) pairs; bones as (node, inverse bind matrix).
+  std::vector<std::vector<std::pair<int, double>>> weights;
+  std::vector<std::pair<const aiNode*, Eigen::Matrix4d>> bones;
+};
+
+// What to evaluate: node transforms at rest or in a clip, and the morph weights.
+struct Asset::Pose {
+  const aiAnimation* clip = nullptr;
+  double ticks = 0;
+  int target = -1;  // a morph target at weight 1 (rest and clips: -1)
+};
+
+namespace {
+
+Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) e(r, c) = m[r][c];
+  return e;
+}
+Eigen::Vector3d to_eigen(const aiVector3D& v) { return {v.x, v.y, v.z}; }
+Eigen::Quaterniond to_eigen(const aiQuaternion& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z); }
+
+double ticks_per_second(const aiAnimation* a) { return a->mTicksPerSecond > 0 ? a->mTicksPerSecond : 25.0; }
+
+// The key value at `t`: held before the first and after the last key, interpolated between.
+template <class Key, class Lerp>
+auto sample(const Key* keys, unsigned n, double t, Lerp lerp) -> decltype(lerp(keys[0], keys[0], 0.0)) {
+  if (n == 1 || t <= keys[0].mTime) return lerp(keys[0], keys[0], 0.0);
+  if (t >= keys[n - 1].mTime) return lerp(keys[n - 1], keys[n - 1], 0.0);
+  const Key* hi = std::upper_bound(keys, keys + n, t, [](double x, const Key& k) { return x < k.mTime; });
+  const Key* lo = hi - 1;
+  const double span = hi->mTime - lo->mTime;
+  return lerp(*lo, *hi, span > 0 ? (t - lo->mTime) / span : 0.0);
+}
+
+Eigen::Matrix4d local_at(const aiNodeAnim* ch, const aiNode* node, double t) {
+  aiVector3D s0, p0;
+  aiQuaternion r0;
+  node->mTransformation.Decompose(s0, r0, p0);
+  auto vec = [](const aiVectorKey& a, const aiVectorKey& b, double f) -> Eigen::Vector3d {
+    return (1 - f) * to_eigen(a.mValue) + f * to_eigen(b.mValue);
+  };
+  auto quat = [](const aiQuatKey& a, const aiQuatKey& b, double f) -> Eigen::Quaterniond {
+    return to_eigen(a.mValue).normalized().slerp(f, to_eigen(b.mValue).normalized());
+  };
+  const Eigen::Vector3d p = ch->mNumPositionKeys ? sample(ch->mPositionKeys, ch->mNumPositionKeys, t, vec) : to_eigen(p0);
+  const Eigen::Quaterniond r =
+      ch->mNumRotationKeys ? sample(ch->mRotationKeys, ch->mNumRotationKeys, t, quat) : to_eigen(r0).normalized();
+  const Eigen::Vector3d s = ch->mNumScalingKeys ? sample(ch->mScalingKeys, ch->mNumScalingKeys, t, vec) : to_eigen(s0);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.topLeftCorner<3, 3>() = r.toRotationMatrix() * s.asDiagonal();
+  m.topRightCorner<3, 1>() = p;
+  return m;
+}
+
+// Every node's global transform, with the clip's channels (if any) replacing local transforms.
+void node_globals(const aiNode* node, const Eigen::Matrix4d& parent, const std::map<std::string, const aiNodeAnim*>& channels,
+                  double t, std::map<const aiNode*, Eigen::Matrix4d>& out) {
+  const auto ch = channels.find(node->mName.C_Str());
+  const Eigen::Matrix4d local = ch == channels.end() ? to_eigen(node->mTransformation) : local_at(ch->second, node, t);
+  const Eigen::Matrix4d global = parent * local;
+  out[node] = global;
+  for (unsigned i = 0; i < node->mNumChildren; ++i) node_globals(node->mChildren[i], global, channels, t, out);
+}
+
+void collect_instances(const aiNode* node, std::vector<std::pair<const aiNode*, unsigned>>& out) {
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) out.emplace_back(node, node->mMeshes[i]);
+  for (unsigned i = 0; i < node->mNumChildren; ++i) collect_instances(node->mChildren[i], out);
+}
+
+std::string mesh_name(const aiScene* scene, unsigned index) {
+  const std::string name = scene->mMeshes[index]->mName.C_Str();
+  return name.empty() ? "mesh-" + std::to_string(index) : name;
+}
+
+std::string target_name(const aiMesh* mesh, unsigned k) {
+  const std::string name = mesh->mAnimMeshes[k]->mName.C_Str();
+  return name.empty() ? "target-" + std::to_string(k) : name;
+}
+
+std::string list_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+  return out.empty() ? "none" : out;
+}
+
+// The clip's morph weights for one mesh instance at `t`, one per anim mesh (zero when the
+// clip does not drive them).
+std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, const aiMesh* mesh, double t) {
+  std::vector<double> w(mesh->mNumAnimMeshes, 0.0);
+  for (unsigned c = 0; clip && c < clip->mNumMorphMeshChannels; ++c) {
+    const aiMeshMorphAnim* ch = clip->mMorphMeshChannels[c];
+    const std::string name = ch->mName.C_Str();
+    if ((name != node->mName.C_Str() && name != mesh->mName.C_Str()) || ch->mNumKeys == 0) continue;
+    // Weights of the two keys around t, by target index.
+    auto weights_of = [&](const aiMeshMorphKey& key) {
+      std::vector<double> v(w.size(), 0.0);
+      for (unsigned j = 0; j < key.mNumValuesAndWeights; ++j)
+        if (key.mValues[j] < v.size()) v[key.mValues[j]] = key.mWeights[j];
+      return v;
+    };
+    auto lerp = [&](const aiMeshMorphKey& a, const aiMeshMorphKey& b, double f) {
+      std::vector<double> va = weights_of(a), vb = weights_of(b);
+      for (size_t k = 0; k < va.size(); ++k) va[k] = f == 0 ? va[k] : (1 - f) * va[k] + f * vb[k];
+      return va;
+    };
+    w = sample(ch->mKeys, ch->mNumKeys, t, lerp);
+  }
+  return w;
+}
+
+}  // namespace
+
+Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), importer_(new Assimp::Importer) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail_input(path, "cannot open: no such file");
+  if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not an asset file");
+  if (std::filesystem::file_size(path, ec) == 0) fail_input(path, "file is empty");
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext.empty() || !importer_->IsExtensionSupported(ext))
+    fail_unsupported(path, "unknown asset format '" + ext + "' (use glTF/GLB, FBX or COLLADA)");
+  // Triangulate only: vertices, skins and morph targets stay as the file has them.
+  scene_ = importer_->ReadFile(path, aiProcess_Triangulate);
+  if (!scene_ || !scene_->mRootNode) fail_input(path, std::string("cannot read asset: ") + importer_->GetErrorString());
+
+  std::vector<std::pair<const aiNode*, unsigned>> placed;
+  collect_instances(scene_->mRootNode, placed);
+  std::vector<std::string> names;
+  for (const auto& [node, index] : placed) {
+    const aiMesh* m = scene_->mMeshes[index];
+    AssetMesh info;
+    info.name = mesh_name(scene_, index);
+    info.node = node->mName.C_Str();
+    info.vertices = m->mNumVertices;
+    for (unsigned f = 0; f < m->mNumFaces; ++f) (m->mFaces[f].mNumIndices == 3 ? info.triangles : info.other_faces)++;
+    info.joints = m->mNumBones;
+    for (unsigned k = 0; k < m->mNumAnimMeshes; ++k) info.morph_targets.push_back(target_name(m, k));
+    info.used = info.triangles > 0 && (wanted.empty() || wanted == info.name || wanted == info.node);
+    meshes_.push_back(info);
+    if (info.triangles) names.push_back(info.name);
+  }
+  if (names.empty()) fail_input(path, "contains no triangle mesh");
+  if (std::none_of(meshes_.begin(), meshes_.end(), [](const AssetMesh& m) { return m.used; }))
+    fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path + " (its meshes: " + list_names(names) + ")");
+
+  for (size_t i = 0; i < placed.size(); ++i) {
+    if (!meshes_[i].used) continue;
+    Instance inst;
+    inst.node = placed[i].first;
+    inst.mesh = scene_->mMeshes[placed[i].second];
+    inst.offset = vertex_count_;
+    for (const auto& t : meshes_[i].morph_targets) {
+      auto it = std::find(targets_.begin(), targets_.end(), t);
+      inst.target_of.push_back(size_t(it - targets_.begin()));
+      if (it == targets_.end()) targets_.push_back(t);
+    }
+    const aiMesh* m = inst.mesh;
+    for (unsigned f = 0; f < m->mNumFaces; ++f) {
+      const aiFace& face = m->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      triangles_.emplace_back(int(inst.offset + face.mIndices[0]), int(inst.offset + face.mIndices[1]),
+                              int(inst.offset + face.mIndices[2]));
+    }
+    if (m->mNumBones) {
+      inst.weights.resize(m->mNumVertices);
+      for (unsigned b = 0; b < m->mNumBones; ++b) {
+        const aiBone* bone = m->mBones[b];
+        const aiNode* joint = scene_->mRootNode->FindNode(bone->mName);
+        if (!joint) fail_input(path, "mesh '" + meshes_[i].name + "': joint '" + bone->mName.C_Str() + "' is not a node");
+        inst.bones.emplace_back(joint, to_eigen(bone->mOffsetMatrix));
+        for (unsigned w = 0; w < bone->mNumWeights; ++w) {
+          const aiVertexWeight& vw = bone->mWeights[w];
+          if (vw.mVertexId < m->mNumVertices && vw.mWeight > 0) inst.weights[vw.mVertexId].emplace_back(int(b), vw.mWeight);
+        }
+      }
+      for (const auto& w : inst.weights) unweighted_ += w.empty();
+    }
+    vertex_count_ += m->mNumVertices;
+    instances_.push_back(std::move(inst));
+  }
+
+  for (unsigned a = 0; a < scene_->mNumAnimations; ++a) {
+    const aiAnimation* anim = scene_->mAnimations[a];
+    AssetClip clip;
+    clip.name = anim->mName.C_Str();
+    clip.ticks_per_second = ticks_per_second(anim);
+    std::set<double> times;
+    for (unsigned c = 0; c < anim->mNumChannels; ++c) {
+      const aiNodeAnim* ch = anim->mChannels[c];
+      for (unsigned k = 0; k < ch->mNumPositionKeys; ++k) times.insert(ch->mPositionKeys[k].mTime);
+      for (unsigned k = 0; k < ch->mNumRotationKeys; ++k) times.insert(ch->mRotationKeys[k].mTime);
+      for (unsigned k = 0; k < ch->mNumScalingKeys; ++k) times.insert(ch->mScalingKeys[k].mTime);
+      clip.keys += ch->mNumPositionKeys + ch->mNumRotationKeys + ch->mNumScalingKeys;
+    }
+    for (unsigned c = 0; c < anim->mNumMorphMeshChannels; ++c) {
+      const aiMeshMorphAnim* ch = anim->mMorphMeshChannels[c];
+      for (unsigned k = 0; k < ch->mNumKeys; ++k) times.insert(ch->mKeys[k].mTime);
+      clip.keys += ch->mNumKeys;
+    }
+    clip.node_channels = anim->mNumChannels;
+    clip.morph_channels = anim->mNumMorphMeshChannels;
+    // Key times of separate channels that differ by rounding are one frame.
+    for (double t : times) {
+      const double s = t / clip.ticks_per_second;
+      if (clip.frames.empty() || s - clip.frames.back() > 1e-9 * std::max(1.0, std::abs(s))) clip.frames.push_back(s);
+    }
+    clip.end = clip.frames.empty() ? 0.0 : clip.frames.back();
+    clips_.push_back(clip);
+  }
+}
+
+Asset::~Asset() = default;
+
+size_t Asset::find_clip(const std::string& which) const {
+  if (clips_.empty()) fail_input(path_, "has no animation clips (--animation needs one)");
+  std::vector<std::string> names;
+  for (size_t i = 0; i < clips_.size(); ++i) {
+    if (clips_[i].name == which) return i;
+    names.push_back(clips_[i].name.empty() ? std::to_string(i) + " (unnamed)" : clips_[i].name);
+  }
+  if (!which.empty() && std::all_of(which.begin(), which.end(), ::isdigit)) {
+    const size_t i = std::stoul(which);
+    if (i < clips_.size()) return i;
+    fail_option("animation", "no clip " + which + " in " + path_ + " (it has clips 0.." + std::to_string(clips_.size() - 1) + ")");
+  }
+  fail_option("animation", "no clip named '" + which + "' in " + path_ + " (its clips: " + list_names(names) + ")");
+}
+
+std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
+  std::map<std::string, const aiNodeAnim*> channels;
+  for (unsigned c = 0; pose.clip && c < pose.clip->mNumChannels; ++c)
+    channels[pose.clip->mChannels[c]->mNodeName.C_Str()] = pose.clip->mChannels[c];
+  std::map<const aiNode*, Eigen::Matrix4d> globals;
+  node_globals(scene_->mRootNode, Eigen::Matrix4d::Identity(), channels, pose.ticks, globals);
+
+  std::vector<Eigen::Vector3d> out(vertex_count_);
+  for (const Instance& inst : instances_) {
+    const aiMesh* m = inst.mesh;
+    std::vector<double> w = clip_weights(pose.clip, inst.node, m, pose.ticks);
+    for (size_t k = 0; k < inst.target_of.size(); ++k)
+      if (pose.target >= 0) w[k] = inst.target_of[k] == size_t(pose.target) ? 1.0 : 0.0;
+    // Morph targets first (glTF applies them before the skin). One target alone takes its
+    // stored positions exactly, so a target written from an OBJ pose reads back bit for bit.
+    int alone = -1;
+    if (std::count(w.begin(), w.end(), 0.0) + 1 == std::ptrdiff_t(w.size()))
+      for (size_t k = 0; k < w.size(); ++k)
+        if (w[k] == 1.0) alone = int(k);
+    std::vector<Eigen::Vector3d> p(m->mNumVertices);
+    for (unsigned v = 0; v < m->mNumVertices; ++v) {
+      if (alone >= 0) {
+        p[v] = to_eigen(m->mAnimMeshes[alone]->mVertices[v]);
+        continue;
+      }
+      p[v] = to_eigen(m->mVertices[v]);
+      for (size_t k = 0; k < w.size(); ++k)
+        if (w[k] != 0.0) p[v] += w[k] * (to_eigen(m->mAnimMeshes[k]->mVertices[v]) - to_eigen(m->mVertices[v]));
+    }
+    if (!inst.bones.empty()) {
+      std::vector<Eigen::Matrix4d> joint;
+      for (const auto& [node, inverse_bind] : inst.bones) joint.push_back(globals.at(node) * inverse_bind);
+      for (unsigned v = 0; v < m->mNumVertices; ++v) {
+        const auto& vw = inst.weights[v];
+        if (vw.empty()) continue;
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        double total = 0;
+        for (const auto& [b, weight] : vw) {
+          sum += weight * (joint[size_t(b)] * p[v].homogeneous()).head<3>();
+          total += weight;
+        }
+        p[v] = sum / total;
+      }
+    } else {
+      const Eigen::Matrix4d& g = globals.at(inst.node);
+      if (!g.isIdentity(0.0))
+        for (auto& q : p) q = (g * q.homogeneous()).head<3>();
+    }
+    std::copy(p.begin(), p.end(), out.begin() + std::ptrdiff_t(inst.offset));
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> Asset::rest() const { return evaluate(Pose{}); }
+
+std::vector<Eigen::Vector3d> Asset::morph_target(size_t target) const {
+  Pose pose;
+  pose.target = int(target);
+  return evaluate(pose);
+}
+
+std::vector<Eigen::Vector3d> Asset::at_time(size_t clip, double seconds) const {
+  Pose pose;
+  pose.clip = scene_->mAnimations[clip];
+  pose.ticks = seconds * clips_[clip].ticks_per_second;
+  return evaluate(pose);
+}
+
+json Asset::inventory() const {
+  json meshes = json::array(), clips = json::array();
+  size_t skinned = 0;
+  for (const auto& m : meshes_) {
+    meshes.push_back({{"name", m.name}, {"node", m.node}, {"vertices", m.vertices}, {"triangles", m.triangles},
+                      {"other_faces", m.other_faces}, {"joints", m.joints}, {"morph_targets", m.morph_targets},
+                      {"used", m.used}});
+    skinned += m.joints > 0;
+  }
+  for (size_t i = 0; i < clips_.size(); ++i) {
+    const auto& c = clips_[i];
+    clips.push_back({{"index", i}, {"name", c.name}, {"duration", c.end}, {"frames", c.frames.size()},
+                     {"keys", c.keys}, {"node_channels", c.node_channels}, {"morph_channels", c.morph_channels},
+                     {"ticks_per_second", c.ticks_per_second}});
+  }
+  return {{"meshes", meshes}, {"skins", skinned}, {"clips", clips}, {"morph_targets", targets_},
+          {"unweighted_vertices", unweighted_}};
+}
+
+}  // namespace spx

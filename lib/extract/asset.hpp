@@ -1,0 +1,92 @@
+#pragma once
+// A rigged or morph-target asset (glTF/GLB, FBX, COLLADA, ... through assimp) evaluated into
+// vertex positions: the bind pose, one morph target, or a clip at a time. Positions come in the
+// file's own vertex layout (every mesh instance's vertices in turn); welding is the caller's.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/json_io.hpp"
+#include "mesh/mesh.hpp"
+
+struct aiScene;
+namespace Assimp {
+class Importer;
+}
+
+namespace spx {
+
+// One mesh placed by one node of the file's hierarchy.
+struct AssetMesh {
+  std::string name;  // the mesh's own name ("mesh-<i>" when it has none)
+  std::string node;  // the node that places it
+  size_t vertices = 0, triangles = 0;
+  size_t other_faces = 0;                  // points and lines, not part of the surface
+  size_t joints = 0;                       // bones of its skin (0: not skinned)
+  std::vector<std::string> morph_targets;  // "target-<i>" when unnamed
+  bool used = false;                       // part of the body (--mesh, or every mesh)
+};
+
+// An animation clip; times in seconds from the clip's start.
+struct AssetClip {
+  std::string name;
+  double ticks_per_second = 0;
+  double end = 0;              // the last key
+  std::vector<double> frames;  // every distinct key time, ascending
+  size_t node_channels = 0, morph_channels = 0, keys = 0;
+};
+
+class Asset {
+ public:
+  // Reads `path`; `mesh_name` empty takes every mesh as one body, else the meshes (or the
+  // node's meshes) of that name. Errors name the file (exit 2/3) or the option (exit 1).
+  Asset(const std::string& path, const std::string& mesh_name);
+  ~Asset();
+  Asset(const Asset&) = delete;
+  Asset& operator=(const Asset&) = delete;
+
+  const std::string& path() const { return path_; }
+  const std::vector<AssetMesh>& meshes() const { return meshes_; }
+  const std::vector<AssetClip>& clips() const { return clips_; }
+  // A clip by name, or by index when `which` is a number. Exit 1 naming --animation otherwise.
+  size_t find_clip(const std::string& which) const;
+  // The used meshes' morph targets, one entry per distinct name in file order (the primitives
+  // of one glTF mesh share their targets).
+  const std::vector<std::string>& morph_targets() const { return targets_; }
+
+  // The body in the file's vertex layout.
+  const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
+  size_t vertex_count() const { return vertex_count_; }
+  // Skinned vertices no joint weighs (they keep their bind position).
+  size_t unweighted_vertices() const { return unweighted_; }
+
+  // The bind pose: skinned meshes as stored (glTF ignores a skinned mesh's node transform),
+  // the others placed by their node; morph weights zero.
+  std::vector<Eigen::Vector3d> rest() const;
+  // The rest with morph target `target` (an index into morph_targets()) at weight 1.
+  std::vector<Eigen::Vector3d> morph_target(size_t target) const;
+  // Clip `clip` at `seconds`: node keys interpolated (linear, rotations by slerp), morph weights
+  // the clip drives, then linear blend skinning with each joint's global transform times its
+  // inverse bind matrix.
+  std::vector<Eigen::Vector3d> at_time(size_t clip, double seconds) const;
+
+  // What the file holds, for the report.
+  json inventory() const;
+
+ private:
+  struct Instance;
+  struct Pose;
+  std::vector<Eigen::Vector3d> evaluate(const Pose& pose) const;
+
+  std::string path_;
+  std::unique_ptr<Assimp::Importer> importer_;
+  const aiScene* scene_ = nullptr;
+  std::vector<AssetMesh> meshes_;
+  std::vector<Instance> instances_;  // the used meshes, in file order
+  std::vector<AssetClip> clips_;
+  std::vector<std::string> targets_;
+  std::vector<Eigen::Vector3i> triangles_;
+  size_t vertex_count_ = 0, unweighted_ = 0;
+};
+
+}  // namespace spx

@@ -1,0 +1,276 @@
+#include "extract/pose_extract.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "extract/asset.hpp"
+#include "io/pose_manifest.hpp"
+
+namespace spx {
+namespace {
+
+// One pose to write: where it comes from and how to evaluate it.
+struct PoseRequest {
+  std::string name, file;
+  json source;
+  int target = -1;  // morph target, or
+  size_t clip = 0;  // clip and time
+  double time = 0;
+};
+
+// The welded body: file vertex -> welded vertex, and the triangles on welded vertices.
+struct WeldedBody {
+  std::vector<int> weld;
+  TriMesh rest;
+};
+
+WeldedBody weld_body(const Asset& asset) {
+  WeldedBody body;
+  body.weld = weld_by_position(asset.rest(), body.rest.vertices);
+  for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
+  return body;
+}
+
+// A pose on the welded vertices; `opened` counts rest-welded points that part in this pose.
+TriMesh welded_pose(const WeldedBody& body, const std::vector<Eigen::Vector3d>& file_positions, double tolerance,
+                    size_t& opened, const std::string& what, const std::string& input) {
+  TriMesh pose;
+  pose.triangles = body.rest.triangles;
+  pose.vertices.assign(body.rest.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
+  std::vector<char> set(pose.vertices.size(), 0);
+  opened = 0;
+  for (size_t i = 0; i < file_positions.size(); ++i) {
+    const Eigen::Vector3d& p = file_positions[i];
+    if (!p.allFinite()) fail_input(input, what + ": vertex " + std::to_string(i) + " is not finite (broken skin or keys)");
+    const size_t v = size_t(body.weld[i]);
+    if (!set[v]) {
+      pose.vertices[v] = p;
+      set[v] = 1;
+    } else if ((pose.vertices[v] - p).norm() > tolerance) {
+      ++opened;
+    }
+  }
+  return pose;
+}
+
+std::vector<Eigen::Vector3f> as_float(const std::vector<Eigen::Vector3d>& p) {
+  std::vector<Eigen::Vector3f> out(p.size());
+  for (size_t i = 0; i < p.size(); ++i) out[i] = p[i].cast<float>();
+  return out;
+}
+
+// A file name from a pose name: letters, digits, '-', '_' and '.' kept, the rest '_'.
+std::string file_stem(const std::string& name) {
+  std::string s;
+  for (char c : name) s += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ? c : '_';
+  while (!s.empty() && s.front() == '.') s.erase(s.begin());
+  return s.empty() ? "pose" : s;
+}
+
+std::string format_seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", s);
+  return buf;
+}
+
+std::vector<PoseRequest> morph_requests(const Asset& asset) {
+  if (asset.morph_targets().empty()) fail_input(asset.path(), "has no morph targets (--morph-targets needs them)");
+  std::vector<PoseRequest> out;
+  std::set<std::string> taken = {"rest"};
+  for (size_t k = 0; k < asset.morph_targets().size(); ++k) {
+    PoseRequest r;
+    r.name = asset.morph_targets()[k];
+    std::string stem = file_stem(r.name);
+    for (int n = 2; !taken.insert(stem).second; ++n) stem = file_stem(r.name) + "-" + std::to_string(n);
+    r.file = stem + ".obj";
+    r.target = int(k);
+    r.source = {{"kind", "morph-target"}, {"target", r.name}, {"index", k}};
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<PoseRequest> clip_requests(const Asset& asset, const PoseExtractOptions& opt) {
+  const size_t clip = asset.find_clip(opt.animation);
+  const AssetClip& c = asset.clips()[clip];
+  const std::string clip_name = c.name.empty() ? "clip" + std::to_string(clip) : c.name;
+  if (c.frames.empty()) fail_input(asset.path(), "clip '" + clip_name + "' has no keys");
+  const std::string range = " (the clip runs 0 .. " + format_seconds(c.end) + " s)";
+  std::vector<std::pair<double, int>> at;  // (time, frame or -1)
+  if (!opt.times.empty()) {
+    for (double t : opt.times)
+      if (!std::isfinite(t) || t < 0 || t > c.end * (1 + 1e-9) + 1e-12)
+        fail_option("times", format_seconds(t) + " s is outside the clip '" + clip_name + "'" + range);
+      else
+        at.emplace_back(t, -1);
+  } else if (!opt.frames.empty()) {
+    for (int f : opt.frames)
+      if (f < 0 || size_t(f) >= c.frames.size())
+        fail_option("frames", "frame " + std::to_string(f) + " is outside the clip '" + clip_name + "' (it has frames 0.." +
+                                  std::to_string(c.frames.size() - 1) + ")");
+      else
+        at.emplace_back(c.frames[size_t(f)], f);
+  } else {
+    if (opt.every < 0) fail_option("every", "must be at least 1");
+    const size_t step = size_t(std::max(opt.every, 1));
+    for (size_t f = 0; f < c.frames.size(); f += step) at.emplace_back(c.frames[f], int(f));
+  }
+  std::vector<PoseRequest> out;
+  const int width = at.size() > 100 ? int(std::to_string(at.size() - 1).size()) : 2;
+  for (size_t i = 0; i < at.size(); ++i) {
+    PoseRequest r;
+    r.clip = clip;
+    r.time = at[i].first;
+    r.name = clip_name + "@" + format_seconds(r.time) + "s";
+    char file[32];
+    std::snprintf(file, sizeof file, "pose-%0*zu.obj", width, i);
+    r.file = file;
+    r.source = {{"kind", "animation"}, {"clip", c.name}, {"clip_index", clip}, {"time", r.time}};
+    if (at[i].second >= 0) r.source["frame"] = at[i].second;
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> evaluate(const Asset& asset, const PoseRequest& r) {
+  return r.target >= 0 ? asset.morph_target(size_t(r.target)) : asset.at_time(r.clip, r.time);
+}
+
+}  // namespace
+
+double rms_distance(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
+  double sum = 0;
+  for (size_t i = 0; i < a.size(); ++i) sum += double((a[i] - b[i]).squaredNorm());
+  return a.empty() ? 0.0 : std::sqrt(sum / double(a.size()));
+}
+
+std::vector<size_t> farthest_poses(const std::vector<Eigen::Vector3d>& rest,
+                                   const std::vector<std::vector<Eigen::Vector3f>>& poses, size_t k) {
+  const std::vector<Eigen::Vector3f> r = as_float(rest);
+  std::vector<double> nearest(poses.size());
+  for (size_t i = 0; i < poses.size(); ++i) nearest[i] = rms_distance(r, poses[i]);
+  std::vector<size_t> chosen;
+  std::vector<char> taken(poses.size(), 0);
+  while (chosen.size() < std::min(k, poses.size())) {
+    size_t best = poses.size();
+    for (size_t i = 0; i < poses.size(); ++i)
+      if (!taken[i] && (best == poses.size() || nearest[i] > nearest[best])) best = i;
+    taken[best] = 1;
+    chosen.push_back(best);
+    for (size_t i = 0; i < poses.size(); ++i) nearest[i] = std::min(nearest[i], rms_distance(poses[best], poses[i]));
+  }
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+void pose_extract_files(const std::string& input, const std::string& dir, const PoseExtractOptions& opt, Log& log,
+                        json& report) {
+  if (opt.morph_targets == !opt.animation.empty())
+    fail_option("animation", "give --morph-targets or --animation (one of them)");
+  if (opt.animation.empty() && (!opt.frames.empty() || !opt.times.empty() || opt.every || opt.select))
+    fail_option("animation", "--frames, --times, --every and --select choose frames of a clip: give --animation");
+  if (opt.select < 0) fail_option("select", "must be at least 1");
+  if (opt.every < 0) fail_option("every", "must be at least 1");
+
+  StageTimer read_timer(log, "read");
+  const Asset asset(input, opt.mesh);
+  read_timer.stop();
+  report["asset"] = asset.inventory();
+  const WeldedBody body = weld_body(asset);
+  const double diagonal = body.rest.diagonal();
+  const double seam_tolerance = 1e-7 * std::max(diagonal, 1e-30);
+  size_t meshes_used = 0;
+  for (const auto& m : asset.meshes()) meshes_used += m.used;
+  log.info(input + ": " + std::to_string(meshes_used) + " mesh" + (meshes_used == 1 ? "" : "es") + ", " +
+           std::to_string(body.rest.vertices.size()) + " vertices (" +
+           std::to_string(asset.vertex_count() - body.rest.vertices.size()) + " welded), " +
+           std::to_string(body.rest.triangles.size()) + " triangles");
+  if (asset.unweighted_vertices())
+    log.warn(std::to_string(asset.unweighted_vertices()) + " skinned vertices have no joint weight; they keep their bind position");
+
+  std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt);
+
+  // --select: the K frames that best span the clip, by farthest-point sampling.
+  if (opt.select > 0) {
+    StageTimer timer(log, "select");
+    std::vector<std::vector<Eigen::Vector3f>> candidates;
+    for (size_t i = 0; i < requests.size(); ++i) {
+      log.progress("evaluating frames", i, requests.size());
+      TriMesh pose;
+      size_t opened = 0;
+      pose = welded_pose(body, evaluate(asset, requests[i]), seam_tolerance, opened, requests[i].name, input);
+      candidates.push_back(as_float(pose.vertices));
+    }
+    const std::vector<size_t> keep = farthest_poses(body.rest.vertices, candidates, size_t(opt.select));
+    // How far the farthest frame left out is from the rest or a kept frame: how well K spans the clip.
+    double spread = 0;
+    const std::vector<Eigen::Vector3f> rest_f = as_float(body.rest.vertices);
+    for (const auto& c : candidates) {
+      double nearest = rms_distance(rest_f, c);
+      for (size_t k : keep) nearest = std::min(nearest, rms_distance(candidates[k], c));
+      spread = std::max(spread, nearest);
+    }
+    json chosen = json::array();
+    for (size_t k : keep) chosen.push_back(requests[k].source.value("frame", int(k)));
+    report["selection"] = {{"candidates", requests.size()}, {"kept", keep.size()}, {"frames", chosen},
+                           {"farthest_left_out", spread}, {"farthest_left_out_percent", 100 * spread / diagonal}};
+    if (size_t(opt.select) > requests.size())
+      log.info("--select " + std::to_string(opt.select) + ": the clip has only " + std::to_string(requests.size()) +
+               " frames; all are kept");
+    log.info("kept " + std::to_string(keep.size()) + " of " + std::to_string(requests.size()) +
+             " frames; every frame is within " + format_seconds(100 * spread / diagonal) +
+             "% of the diagonal (RMS) of the rest or a kept frame");
+    std::vector<PoseRequest> kept;
+    for (size_t i = 0; i < keep.size(); ++i) {
+      kept.push_back(requests[keep[i]]);
+      char file[32];
+      std::snprintf(file, sizeof file, "pose-%02zu.obj", i);
+      kept.back().file = file;
+    }
+    requests = kept;
+  }
+
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) fail_write(dir, "cannot create folder: " + ec.message());
+  StageTimer write_timer(log, "write");
+  const std::string tag = "spx pose-extract " + std::filesystem::path(input).filename().string();
+  PoseManifest manifest;
+  write_file_atomic(dir + "/" + manifest.rest, to_obj(body.rest, tag + " rest (bind pose)"));
+  json poses = json::array();
+  size_t opened_total = 0;
+  for (size_t i = 0; i < requests.size(); ++i) {
+    const PoseRequest& r = requests[i];
+    log.progress("writing poses", i, requests.size());
+    size_t opened = 0;
+    const TriMesh pose = welded_pose(body, evaluate(asset, r), seam_tolerance, opened, r.name, input);
+    if (opened) {
+      log.warn(r.name + ": " + std::to_string(opened) + " vertices that coincide at rest part in this pose; the first "
+               "of each is written");
+      opened_total += opened;
+    }
+    write_file_atomic(dir + "/" + r.file, to_obj(pose, tag + " " + r.name));
+    manifest.poses.push_back({r.name, r.file, r.source});
+    poses.push_back({{"name", r.name}, {"file", r.file}, {"source", r.source}, {"opened_seams", opened},
+                     {"max_displacement", [&] {
+                        double d = 0;
+                        for (size_t v = 0; v < pose.vertices.size(); ++v)
+                          d = std::max(d, (pose.vertices[v] - body.rest.vertices[v]).norm());
+                        return d;
+                      }()}});
+  }
+  // The manifest last: its presence means every file it names is complete.
+  write_json_atomic(dir + "/poses.json", manifest_to_json(manifest));
+  report["output"] = {{"folder", dir}, {"manifest", "poses.json"}, {"rest", manifest.rest},
+                      {"vertices", body.rest.vertices.size()}, {"triangles", body.rest.triangles.size()},
+                      {"welded", asset.vertex_count() - body.rest.vertices.size()}, {"diagonal", diagonal}};
+  report["poses"] = poses;
+  report["opened_seams"] = opened_total;
+  log.info(dir + ": rest + " + std::to_string(requests.size()) + " poses");
+}
+
+}  // namespace spx

@@ -1,0 +1,53 @@
+#include "io/pose_manifest.hpp"
+
+#include <filesystem>
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+
+namespace spx {
+namespace {
+constexpr const char* kFormat = "spx.poses";
+constexpr int kVersion = 1;
+}  // namespace
+
+json manifest_to_json(const PoseManifest& m) {
+  json poses = json::array();
+  for (const auto& p : m.poses) poses.push_back({{"name", p.name}, {"file", p.file}, {"source", p.source}});
+  return {{"format", kFormat}, {"version", kVersion}, {"generator", std::string("spx ") + version_string()}, {"rest", m.rest}, {"poses", poses}};
+}
+
+PoseManifest read_pose_manifest(const std::string& path) {
+  return read_json_document(path, "pose manifest", [&](const json& j) {
+    require_header(j, kFormat, "pose manifest", kVersion, path);
+    PoseManifest m;
+    m.rest = require_string(j, "rest", path);
+    const json& poses = require(j, "poses", path);
+    if (!poses.is_array()) fail_input(path, "field 'poses' is not an array");
+    for (const json& p : poses) {
+      if (!p.is_object()) fail_input(path, "an entry of 'poses' is not an object");
+      m.poses.push_back({require_string(p, "name", path), require_string(p, "file", path), p.value("source", json())});
+    }
+    if (m.poses.empty()) fail_input(path, "lists no poses");
+    return m;
+  });
+}
+
+std::string manifest_file_path(const std::string& manifest_path, const std::string& file) {
+  const std::filesystem::path f(file);
+  if (f.is_absolute()) return file;
+  return (std::filesystem::path(manifest_path).parent_path() / f).lexically_normal().string();
+}
+
+void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<std::string>& poses) {
+  if (manifest.empty()) {
+    if (rest.empty()) fail_option("rest", "give --rest and --pose, or --manifest");
+    return;
+  }
+  const PoseManifest m = read_pose_manifest(manifest);
+  rest = manifest_file_path(manifest, m.rest);
+  poses.clear();
+  for (const auto& p : m.poses) poses.push_back(manifest_file_path(manifest, p.file));
+}
+
+}  // namespace spx

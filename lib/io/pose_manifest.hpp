@@ -1,0 +1,33 @@
+#pragma once
+// poses.json: the rest mesh and the example poses pose-extract wrote, in the asset's order.
+// {"rest": "rest.obj", "poses": [{"name", "file", "source"}, ...]}, files relative to the
+// manifest's folder; pose-map --manifest reads it.
+#include <string>
+#include <vector>
+
+#include "core/json_io.hpp"
+
+namespace spx {
+
+struct ManifestPose {
+  std::string name;
+  std::string file;  // relative to the manifest's folder
+  json source;       // where in the asset it came from
+};
+
+struct PoseManifest {
+  std::string rest = "rest.obj";
+  std::vector<ManifestPose> poses;
+};
+
+json manifest_to_json(const PoseManifest& manifest);
+// Exit 2 naming `path` and the field when the document is not a manifest.
+PoseManifest read_pose_manifest(const std::string& path);
+// `file` of a manifest at `manifest_path`, as a path usable from the working folder.
+std::string manifest_file_path(const std::string& manifest_path, const std::string& file);
+
+// The tools' --manifest: rest and pose paths from `manifest` when it is given, else `rest` and
+// `poses` as given (exit 1 when neither names a rest mesh).
+void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<std::string>& poses);
+
+}  // namespace spx

@@ -1,0 +1,318 @@
+// pose-extract: poses out of rigged and morph-target assets, and the chain run on them.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "export/proxy_export.hpp"
+#include "extract/asset.hpp"
+#include "extract/pose_extract.hpp"
+#include "io/pose_manifest.hpp"
+#include "io/scene.hpp"
+#include "io/proxy_file.hpp"
+#include "mesh/mesh_query.hpp"
+#include "pack/sphere_pack.hpp"
+#include "posemap/pose_map_tool.hpp"
+#include "sdf/sdf_build.hpp"
+#include "spx_runtime.h"
+#include "synthetic/synthetic.hpp"
+#include "test_util.hpp"
+
+namespace spx {
+namespace {
+
+double max_vertex_distance(const TriMesh& a, const TriMesh& b) {
+  double d = 0;
+  for (size_t v = 0; v < a.vertices.size(); ++v) d = std::max(d, (a.vertices[v] - b.vertices[v]).norm());
+  return d;
+}
+
+// The four tools on a rest mesh and its poses, in memory of files: returns the .spx path.
+std::string run_chain(const std::string& rest, const std::vector<std::string>& poses, const std::string& dir) {
+  json report;
+  SdfOptions sdf;
+  sdf.resolution = 64;
+  sdf_build_files(rest, dir + "/rest.vdb", sdf, Log::silent(), report);
+  sphere_pack_files(dir + "/rest.vdb", rest, dir + "/rest.spheres.json", SpherePackOptions{}, Log::silent(), report);
+  pose_map_files(rest, poses, dir + "/rest.spheres.json", dir + "/proxy.json", PoseMapOptions{}, Log::silent(), report);
+  proxy_export_files(dir + "/proxy.json", dir + "/proxy.spx", ExportOptions{}, Log::silent(), report);
+  return dir + "/proxy.spx";
+}
+
+// Every sphere of every pose of `proxy` lies inside that pose's mesh.
+void expect_spheres_inside(const std::string& proxy_path, const std::vector<TriMesh>& meshes, const std::string& what) {
+  const ProxyModel proxy = read_proxy_file(proxy_path);
+  ASSERT_EQ(proxy.poses.size(), meshes.size()) << what;
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const MeshQuery q(meshes[i]);
+    size_t outside = 0;
+    for (const Sphere& s : proxy.poses[i].spheres)
+      if (s.radius > 0 && (!q.inside(s.center) || s.radius > q.distance(s.center) + 1e-9 * meshes[i].diagonal())) ++outside;
+    EXPECT_EQ(outside, 0u) << what << " pose " << i << " of " << proxy.sphere_count() << " spheres";
+  }
+}
+
+// The acceptance test: the glTF skin evaluated as the spec says (joint matrix = the joint's global
+// transform x its inverse bind matrix; the mesh node's own transform ignored) at
+// t_k = 0.999 T k / 3 gives back the reference poses, every vertex within 1e-5 of the diagonal.
+TEST(PoseExtract, RiggedSimpleClipGivesTheReferencePoses) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string data = test::shared_data() + "/rigged-simple/";
+  const Asset asset(data + "RiggedSimple.glb", "");
+  ASSERT_EQ(asset.clips().size(), 1u);
+  const double end = asset.clips()[0].end;
+  EXPECT_NEAR(end, 2.083333, 1e-5);
+  PoseExtractOptions opt;
+  opt.animation = "0";
+  for (int k = 0; k < 4; ++k) opt.times.push_back(0.999 * end * k / 3);
+  const std::string dir = test::temp_dir("rigged");
+  json report;
+  pose_extract_files(data + "RiggedSimple.glb", dir, opt, Log::silent(), report);
+
+  const PoseManifest manifest = read_pose_manifest(dir + "/poses.json");
+  ASSERT_EQ(manifest.poses.size(), 4u);
+  const LoadedMesh rest = load_mesh(dir + "/" + manifest.rest);
+  const double tol = 1e-5 * rest.mesh.diagonal();
+  EXPECT_LE(max_vertex_distance(rest.mesh, load_pose(data + "rest.obj", rest)), tol) << "bind pose";
+  for (int k = 0; k < 4; ++k) {
+    char ref[32];
+    std::snprintf(ref, sizeof ref, "pose-%02d.obj", k);
+    const TriMesh mine = load_pose(dir + "/" + manifest.poses[size_t(k)].file, rest);
+    const TriMesh theirs = load_pose(data + ref, rest);
+    EXPECT_LE(max_vertex_distance(mine, theirs), tol) << ref;
+    EXPECT_EQ(manifest.poses[size_t(k)].source["time"].get<double>(), opt.times[size_t(k)]);
+  }
+  // The poses really move (the test would pass on the bind pose alone otherwise).
+  EXPECT_GT(max_vertex_distance(rest.mesh, load_pose(data + "pose-02.obj", rest)), 0.01 * rest.mesh.diagonal());
+  EXPECT_EQ(report["asset"]["skins"].get<int>(), 1);
+  EXPECT_EQ(report["asset"]["meshes"][0]["joints"].get<int>(), 2);
+}
+
+// The car's crumples as glTF morph targets: extracted, chained, and blended with the runtime at
+// the morph weights, they give the very spheres the OBJ poses give.
+TEST(PoseExtract, MorphTargetRoundTripBlendsAsTheObjPoses) {
+  const std::string dir = test::temp_dir("morph");
+  json report;
+  sample_gen_files("car", dir + "/in", Log::silent(), report);
+  PoseExtractOptions opt;
+  opt.morph_targets = true;
+  pose_extract_files(dir + "/in/car-morph.glb", dir + "/ex", opt, Log::silent(), report);
+
+  const PoseManifest manifest = read_pose_manifest(dir + "/ex/poses.json");
+  const std::vector<std::string> names = {"front", "rear", "side", "roof"};
+  ASSERT_EQ(manifest.poses.size(), names.size());
+  const LoadedMesh obj_rest = load_mesh(dir + "/in/rest.obj");
+  const LoadedMesh ex_rest = load_mesh(dir + "/ex/rest.obj");
+  const double tol = 1e-5 * obj_rest.mesh.diagonal();
+  EXPECT_LE(max_vertex_distance(obj_rest.mesh, load_pose(dir + "/ex/rest.obj", obj_rest)), tol);
+  std::vector<std::string> obj_poses, ex_poses;
+  for (size_t i = 0; i < names.size(); ++i) {
+    EXPECT_EQ(manifest.poses[i].name, names[i]);
+    obj_poses.push_back(dir + "/in/" + names[i] + ".obj");
+    ex_poses.push_back(manifest_file_path(dir + "/ex/poses.json", manifest.poses[i].file));
+    EXPECT_LE(max_vertex_distance(load_pose(obj_poses[i], obj_rest), load_pose(ex_poses[i], obj_rest)), tol) << names[i];
+  }
+
+  std::filesystem::create_directories(dir + "/chain-obj");
+  std::filesystem::create_directories(dir + "/chain-ex");
+  const std::string a = run_chain(dir + "/in/rest.obj", obj_poses, dir + "/chain-obj");
+  const std::string b = run_chain(dir + "/ex/rest.obj", ex_poses, dir + "/chain-ex");
+  Proxy pa, pb;
+  ASSERT_EQ(load_file(a.c_str(), &pa), SPX_OK);
+  ASSERT_EQ(load_file(b.c_str(), &pb), SPX_OK);
+  ASSERT_EQ(pa.sphere_count(), pb.sphere_count());
+  ASSERT_EQ(pb.pose_count(), 5u);
+  for (uint32_t i = 1; i < 5; ++i) EXPECT_STREQ(pb.pose_name(i), names[i - 1].c_str());
+  // The runtime's global blend at morph weights: the rest weight is what the targets leave.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  const size_t n = pa.sphere_count();
+  for (int trial = 0; trial < 8; ++trial) {
+    std::vector<float> morph(4, 0.0f);
+    for (int k = 0; k < 4; ++k) morph[size_t(k)] = trial < 4 ? float(k == trial) : 0.5f * u(rng);
+    float sum = 0;
+    for (float w : morph) sum += w;
+    std::vector<float> weights = {std::max(0.0f, 1 - sum)};
+    weights.insert(weights.end(), morph.begin(), morph.end());
+    std::vector<float> ca(3 * n), ra(n), cb(3 * n), rb(n);
+    ASSERT_EQ(blend_global(pa, weights.data(), 5, ca.data(), ra.data()), SPX_OK);
+    ASSERT_EQ(blend_global(pb, weights.data(), 5, cb.data(), rb.data()), SPX_OK);
+    EXPECT_EQ(std::memcmp(ca.data(), cb.data(), ca.size() * sizeof(float)), 0) << "trial " << trial;
+    EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(float)), 0) << "trial " << trial;
+  }
+  std::vector<TriMesh> meshes = {ex_rest.mesh};
+  for (const auto& p : ex_poses) meshes.push_back(load_pose(p, ex_rest));
+  expect_spheres_inside(dir + "/chain-ex/proxy.json", meshes, "car morph targets");
+}
+
+// The sample's clip drives the morph weights: weight 1 on target k alone at t = k + 1 s, halfway
+// between two targets at t = k + 1.5 s.
+TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
+  const std::string dir = test::temp_dir("morph-clip");
+  json report;
+  sample_gen_files("barrel", dir, Log::silent(), report);
+  const Asset asset(dir + "/barrel-morph.glb", "");
+  ASSERT_EQ(asset.clips().size(), 1u);
+  EXPECT_EQ(asset.clips()[0].morph_channels, 1u);
+  EXPECT_EQ(asset.clips()[0].frames.size(), 4u);
+  const auto rest = asset.rest();
+  for (size_t k = 0; k < asset.morph_targets().size(); ++k)
+    EXPECT_EQ(asset.at_time(0, double(k + 1)), asset.morph_target(k)) << k;
+  EXPECT_EQ(asset.at_time(0, 0.0), rest);
+  const auto half = asset.at_time(0, 1.5), t0 = asset.morph_target(0), t1 = asset.morph_target(1);
+  double worst = 0, moved = 0;
+  for (size_t v = 0; v < rest.size(); ++v) {
+    worst = std::max(worst, (half[v] - (rest[v] + 0.5 * (t0[v] - rest[v]) + 0.5 * (t1[v] - rest[v]))).norm());
+    moved = std::max(moved, (half[v] - rest[v]).norm());
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_GT(moved, 0.01);
+}
+
+// The whole chain on poses taken from a skinned clip with --select: every sphere inside every pose.
+TEST(PoseExtract, ChainOnSelectedClipFramesKeepsEverySphereInside) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("rigged-chain");
+  PoseExtractOptions opt;
+  opt.animation = "0";
+  opt.select = 2;
+  json report;
+  pose_extract_files(test::shared_data() + "/rigged-simple/RiggedSimple.glb", dir + "/ex", opt, Log::silent(), report);
+  EXPECT_EQ(report["selection"]["candidates"].get<int>(), 3);
+  EXPECT_EQ(report["selection"]["kept"].get<int>(), 2);
+  std::string rest;
+  std::vector<std::string> poses;
+  rest_and_poses(dir + "/ex/poses.json", rest, poses);
+  ASSERT_EQ(poses.size(), 2u);
+  std::filesystem::create_directories(dir + "/chain");
+  run_chain(rest, poses, dir + "/chain");
+  const LoadedMesh r = load_mesh(rest);
+  std::vector<TriMesh> meshes = {r.mesh};
+  for (const auto& p : poses) meshes.push_back(load_pose(p, r));
+  expect_spheres_inside(dir + "/chain/proxy.json", meshes, "RiggedSimple");
+}
+
+// Farthest-point selection against brute force: the greedy choice is a 2-approximation of the
+// best k frames (the k-centre bound, with the rest as a centre given in advance).
+TEST(PoseExtract, FarthestPosesIsWithinTwiceTheBestCover) {
+  std::mt19937 rng(11);
+  std::normal_distribution<float> g(0, 1);
+  const size_t verts = 5;
+  std::vector<Eigen::Vector3d> rest(verts, Eigen::Vector3d::Zero());
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<std::vector<Eigen::Vector3f>> poses(9, std::vector<Eigen::Vector3f>(verts));
+    for (auto& p : poses)
+      for (auto& v : p) v = Eigen::Vector3f(g(rng), g(rng), g(rng)) * float(1 + trial % 3);
+    const std::vector<Eigen::Vector3f> rest_f(verts, Eigen::Vector3f::Zero());
+    auto radius = [&](const std::vector<size_t>& centres) {
+      double r = 0;
+      for (const auto& p : poses) {
+        double d = rms_distance(rest_f, p);
+        for (size_t c : centres) d = std::min(d, rms_distance(poses[c], p));
+        r = std::max(r, d);
+      }
+      return r;
+    };
+    for (size_t k = 1; k <= 4; ++k) {
+      const std::vector<size_t> greedy = farthest_poses(rest, poses, k);
+      ASSERT_EQ(greedy.size(), k);
+      EXPECT_TRUE(std::is_sorted(greedy.begin(), greedy.end()));
+      double best = INFINITY;
+      for (unsigned mask = 0; mask < (1u << poses.size()); ++mask) {
+        if (size_t(__builtin_popcount(mask)) != k) continue;
+        std::vector<size_t> c;
+        for (size_t i = 0; i < poses.size(); ++i)
+          if (mask >> i & 1) c.push_back(i);
+        best = std::min(best, radius(c));
+      }
+      EXPECT_LE(radius(greedy), 2 * best + 1e-9) << "trial " << trial << " k " << k;
+    }
+    // The first pick is the frame farthest from the rest.
+    size_t far = 0;
+    for (size_t i = 1; i < poses.size(); ++i)
+      if (rms_distance(rest_f, poses[i]) > rms_distance(rest_f, poses[far])) far = i;
+    EXPECT_EQ(farthest_poses(rest, poses, 1), std::vector<size_t>{far});
+  }
+}
+
+// Several meshes: merged into one body by default (the report lists them), one by --mesh.
+TEST(PoseExtract, SeveralMeshesMergeOrOneIsPicked) {
+  const std::string dir = test::temp_dir("two-meshes");
+  const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  TriMesh ball = test::uv_sphere(0.5, 8, 16);
+  for (auto& v : ball.vertices) v += Eigen::Vector3d(3, 0, 0);
+  write_file_atomic(dir + "/pair.glb", encode_scene({{"box", box, {}}, {"ball", ball, {}}}, ".glb"));
+  const Asset merged(dir + "/pair.glb", "");
+  ASSERT_EQ(merged.meshes().size(), 2u);
+  const size_t file_vertices = merged.meshes()[0].vertices + merged.meshes()[1].vertices;
+  EXPECT_EQ(merged.rest().size(), file_vertices);
+  EXPECT_EQ(merged.triangles().size(), box.triangles.size() + ball.triangles.size());
+  const Asset one(dir + "/pair.glb", "ball");
+  EXPECT_FALSE(one.meshes()[0].used && one.meshes()[1].used);
+  std::vector<Eigen::Vector3d> welded;
+  weld_by_position(one.rest(), welded);
+  ASSERT_EQ(welded.size(), ball.vertices.size());
+  for (size_t v = 0; v < welded.size(); ++v) EXPECT_LT((welded[v] - ball.vertices[v]).norm(), 1e-6);
+  try {
+    Asset(dir + "/pair.glb", "wheel");
+    ADD_FAILURE() << "unknown mesh accepted";
+  } catch (const OptionError& e) {
+    EXPECT_EQ(e.option(), "mesh");
+    EXPECT_NE(std::string(e.what()).find("'box', 'ball'"), std::string::npos) << e.what();
+  }
+  // Neither poses from morph targets nor from a clip here: both requests are named errors.
+  PoseExtractOptions opt;
+  opt.morph_targets = true;
+  json report;
+  EXPECT_THROW(pose_extract_files(dir + "/pair.glb", dir + "/ex", opt, Log::silent(), report), Error);
+  opt.animation = "0";
+  EXPECT_THROW(pose_extract_files(dir + "/pair.glb", dir + "/ex", opt, Log::silent(), report), OptionError);
+}
+
+TEST(PoseExtract, MissingPartsAreClearErrors) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string glb = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
+  const std::string dir = test::temp_dir("extract-errors");
+  json report;
+  auto run = [&](PoseExtractOptions opt) { pose_extract_files(glb, dir + "/out", opt, Log::silent(), report); };
+  PoseExtractOptions morph;
+  morph.morph_targets = true;
+  try {
+    run(morph);
+    ADD_FAILURE() << "no morph targets accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input);
+    EXPECT_NE(std::string(e.what()).find("has no morph targets"), std::string::npos) << e.what();
+  }
+  PoseExtractOptions clip;
+  clip.animation = "Walk";
+  EXPECT_THROW(run(clip), OptionError);
+  clip.animation = "3";
+  EXPECT_THROW(run(clip), OptionError);
+  clip.animation = "0";
+  clip.frames = {3};
+  EXPECT_THROW(run(clip), OptionError);
+  clip.frames.clear();
+  clip.times = {2.5};
+  EXPECT_THROW(run(clip), OptionError);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out/poses.json"));
+  // A mesh without a clip.
+  MorphAsset still;
+  still.name = "still";
+  still.base = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  write_file_atomic(dir + "/still.glb", encode_morph_glb(still));
+  PoseExtractOptions any;
+  any.animation = "0";
+  try {
+    pose_extract_files(dir + "/still.glb", dir + "/out", any, Log::silent(), report);
+    ADD_FAILURE() << "no clip accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input);
+    EXPECT_NE(std::string(e.what()).find("has no animation clips"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace spx
