@@ -111,7 +111,7 @@ TEST(CrashHost, SphereProxiesCrashRepeatablyWithoutTunnelling) { expect_sane_cra
 TEST(CrashHost, SphereSetProxiesCrashRepeatablyWithoutTunnelling) { expect_sane_crash(true, true); }
 TEST(CrashHost, TriangleMeshesCrashRepeatablyWithoutTunnelling) { expect_sane_crash(false); }
 
-// SphereSetStaticAlgorithm against brute force and against Bullet's own compound algorithm:
+// spx::bullet's sphere set against brute force and against Bullet's own compound algorithm:
 // a random sphere set dropped into a tilted box and onto a plane, in many placements; the
 // deepest contact must be the deepest sphere, and a contact must exist exactly when a sphere
 // comes within reach.
@@ -120,7 +120,9 @@ TEST(CrashHost, TriangleMeshesCrashRepeatablyWithoutTunnelling) { expect_sane_cr
 
 #include <random>
 
-#include "sphere_contacts.hpp"
+#include "io/proxy_file.hpp"
+#include "io/spx_writer.hpp"
+#include "spx_bullet.hpp"
 
 namespace {
 
@@ -152,6 +154,15 @@ TEST(SphereSet, DeepestContactMatchesBruteForceAndBulletsCompound) {
     centers.emplace_back(u(rng), 0.5f * u(rng), 0.3f * u(rng));
     t.setOrigin(centers.back());
     compound.addChildShape(t, &balls.back());
+  }
+  spx::bullet::SphereSetShape set(40);
+  {
+    std::vector<float> c, r;
+    for (int i = 0; i < 40; ++i) {
+      for (int a = 0; a < 3; ++a) c.push_back(centers[size_t(i)][a]);
+      r.push_back(balls[size_t(i)].getRadius());
+    }
+    set.set_spheres(c.data(), r.data());
   }
   btBoxShape box(btVector3(2, 1.5f, 0.4f));
   btStaticPlaneShape plane(btVector3(0.1f, -0.2f, 1).normalized(), 0.3f);
@@ -194,11 +205,12 @@ TEST(SphereSet, DeepestContactMatchesBruteForceAndBulletsCompound) {
     for (int kind = 0; kind < 2; ++kind) {
       btDefaultCollisionConfiguration config;
       btCollisionDispatcher dispatcher(&config);
-      if (kind == 0) spx::crash::register_sphere_set_algorithms(dispatcher);
+      // Registered for both: the plain compound must still take Bullet's own path.
+      spx::bullet::register_sphere_set_algorithms(dispatcher);
       btDbvtBroadphase broadphase;
       btCollisionWorld world(&dispatcher, &broadphase, &config);
       btCollisionObject a, b;
-      a.setCollisionShape(&compound);
+      a.setCollisionShape(kind == 0 ? static_cast<btCollisionShape*>(&set) : &compound);
       a.setWorldTransform(where_set);
       b.setCollisionShape(other);
       b.setWorldTransform(where_other);
@@ -221,4 +233,205 @@ TEST(SphereSet, DeepestContactMatchesBruteForceAndBulletsCompound) {
   }
   EXPECT_GT(touching, 40);
   EXPECT_GT(compared, 40);
+}
+
+namespace {
+
+// A random sphere set: centres in a box of half sizes `extent`, radii 0.1..0.3.
+void random_set(std::mt19937& rng, int n, const btVector3& extent, std::vector<float>& c, std::vector<float>& r) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  c.clear();
+  r.clear();
+  for (int i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) c.push_back(extent[a] * u(rng));
+    r.push_back(0.1f + 0.2f * std::abs(u(rng)));
+  }
+}
+
+btTransform random_frame(std::mt19937& rng, float spread) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  btTransform t;
+  t.setIdentity();
+  t.setRotation(btQuaternion(btVector3(u(rng), u(rng), u(rng) + 0.01f).normalized(), 3 * u(rng)));
+  t.setOrigin(btVector3(spread * u(rng), spread * u(rng), spread * u(rng)));
+  return t;
+}
+
+// Every contact an algorithm reports before the manifold reduces them.
+struct AllContacts : btCollisionWorld::ContactResultCallback {
+  int count = 0;
+  double deepest = 1e9;
+  btScalar addSingleResult(btManifoldPoint& p, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper*,
+                           int, int) override {
+    ++count;
+    deepest = std::min(deepest, double(p.getDistance()));
+    return 0;
+  }
+};
+
+}  // namespace
+
+// Two deforming bodies: sphere set against sphere set. Before the manifold reduction every pair
+// within reach is reported (against brute force over all pairs); after it one manifold holds at
+// most 4 points and keeps the deepest; Bullet's compound-compound path agrees on the depth.
+TEST(SphereSet, PairContactsMatchBruteForceAndBulletsCompound) {
+  std::mt19937 rng(5);
+  int touching = 0, compared = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    std::vector<float> ca, ra, cb, rb;
+    random_set(rng, 30, btVector3(1.2f, 0.6f, 0.4f), ca, ra);
+    random_set(rng, 25, btVector3(1.0f, 0.5f, 0.5f), cb, rb);
+    spx::bullet::SphereSetShape sa(30), sb(25);
+    sa.set_spheres(ca.data(), ra.data());
+    sb.set_spheres(cb.data(), rb.data());
+    // The same spheres as plain compounds for Bullet's own algorithm.
+    std::vector<btSphereShape> balls;
+    balls.reserve(55);
+    btCompoundShape pa, pb;
+    for (int k = 0; k < 55; ++k) {
+      const bool first = k < 30;
+      const int i = first ? k : k - 30;
+      const float* c = first ? &ca[3 * size_t(i)] : &cb[3 * size_t(i)];
+      balls.emplace_back(first ? ra[size_t(i)] : rb[size_t(i)]);
+      btTransform t;
+      t.setIdentity();
+      t.setOrigin(btVector3(c[0], c[1], c[2]));
+      (first ? pa : pb).addChildShape(t, &balls.back());
+    }
+    const btTransform fa = random_frame(rng, 0.2f), fb = random_frame(rng, 1.4f);
+
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher(&config);
+    spx::bullet::register_sphere_set_algorithms(dispatcher);
+    btDbvtBroadphase broadphase;
+    btCollisionWorld world(&dispatcher, &broadphase, &config);
+    // A closest-point query reports pairs within its own distance; the simulation keeps contacts
+    // within the manifold's breaking threshold.
+    const btScalar query = 0.05f;
+    const btScalar reach = std::min(sa.getContactBreakingThreshold(gContactBreakingThreshold),
+                                    sb.getContactBreakingThreshold(gContactBreakingThreshold));
+    double brute = 1e9;
+    int within = 0;
+    for (int i = 0; i < 30; ++i)
+      for (int j = 0; j < 25; ++j) {
+        const btVector3 a = fa * btVector3(ca[3 * i], ca[3 * i + 1], ca[3 * i + 2]);
+        const btVector3 b = fb * btVector3(cb[3 * j], cb[3 * j + 1], cb[3 * j + 2]);
+        const double d = double((a - b).length() - ra[size_t(i)] - rb[size_t(j)]);
+        brute = std::min(brute, d);
+        within += d <= query;
+      }
+    btCollisionObject a, b;
+    a.setWorldTransform(fa);
+    b.setWorldTransform(fb);
+    auto run = [&](btCollisionShape* x, btCollisionShape* y) {
+      a.setCollisionShape(x);
+      b.setCollisionShape(y);
+      world.addCollisionObject(&a);
+      world.addCollisionObject(&b);
+      const double d = deepest(world);
+      int manifolds = 0, points = 0;
+      for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+        ++manifolds;
+        points = std::max(points, dispatcher.getManifoldByIndexInternal(m)->getNumContacts());
+      }
+      world.removeCollisionObject(&a);
+      world.removeCollisionObject(&b);
+      return std::make_tuple(d, manifolds, points);
+    };
+    const auto [ours, manifolds, points] = run(&sa, &sb);
+    EXPECT_LE(manifolds, 1) << "trial " << trial;
+    EXPECT_LE(points, 4) << "trial " << trial;
+    AllContacts all;
+    all.m_closestDistanceThreshold = query;
+    a.setCollisionShape(&sa);
+    b.setCollisionShape(&sb);
+    world.contactPairTest(&a, &b, all);
+    EXPECT_EQ(all.count, within) << "trial " << trial;
+    if (brute < -0.02) {
+      ++touching;
+      EXPECT_NEAR(ours, brute, 1e-5) << "trial " << trial;
+      EXPECT_NEAR(all.deepest, brute, 1e-5) << "trial " << trial;
+      const double bullets = std::get<0>(run(&pa, &pb));
+      if (bullets < 1e8) {
+        EXPECT_NEAR(ours, bullets, 2e-3) << "trial " << trial;
+        ++compared;
+      }
+    } else if (brute > reach) {
+      EXPECT_GT(ours, 1e8) << "no contact when every pair is clear, trial " << trial;
+    }
+  }
+  EXPECT_GT(touching, 40);
+  EXPECT_GT(compared, 40);
+}
+
+// Any other compound in the world keeps Bullet's algorithm: a compound holding a box (which the
+// sphere-set code would misread as spheres) still rests on the plane at the box's depth.
+TEST(SphereSet, OtherCompoundsFallBackToBullet) {
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher(&config);
+  spx::bullet::register_sphere_set_algorithms(dispatcher);
+  btDbvtBroadphase broadphase;
+  btCollisionWorld world(&dispatcher, &broadphase, &config);
+  btBoxShape child(btVector3(0.5f, 0.5f, 0.5f));
+  btCompoundShape compound;
+  btTransform t;
+  t.setIdentity();
+  compound.addChildShape(t, &child);
+  btStaticPlaneShape plane(btVector3(0, 0, 1), 0);
+  btCollisionObject a, b;
+  a.setCollisionShape(&compound);
+  t.setOrigin(btVector3(0, 0, 0.45f));  // 5 cm into the plane
+  a.setWorldTransform(t);
+  b.setCollisionShape(&plane);
+  world.addCollisionObject(&a);
+  world.addCollisionObject(&b);
+  EXPECT_NEAR(deepest(world), -0.05, 1e-3);
+  world.removeCollisionObject(&a);
+  world.removeCollisionObject(&b);
+  EXPECT_FALSE(spx::bullet::SphereSetShape::is_sphere_set(&compound));
+}
+
+// The body helper writes the runtime's blend into the shape: centres less the origin, radii, and
+// a sphere a blend leaves out (radius 0) parked and inactive.
+TEST(SphereSet, BlendWritesTheRuntimeResult) {
+  spx::ProxyModel model;
+  for (int pose = 0; pose < 2; ++pose) {
+    spx::ProxyPose p;
+    p.name = pose ? "dent" : "rest";
+    for (int s = 0; s < 5; ++s)
+      p.spheres.push_back({Eigen::Vector3d(s, 0.5 * pose, 1), s == 4 && pose == 1 ? 0.0 : 0.2 + 0.1 * s});
+    model.poses.push_back(p);
+  }
+  model.sites = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 0, 0)};
+  model.sphere_sites = {0, 0, 0, 1, 1};
+  const std::string bytes = spx::encode_spx(model);
+  spx::Proxy proxy;
+  ASSERT_EQ(spx::load_memory(bytes.data(), bytes.size(), &proxy), spx::SPX_OK);
+  spx::bullet::SphereSetShape shape(proxy.sphere_count());
+  const float w[2] = {0.25f, 0.75f};
+  const btVector3 origin(1, 0, 0);
+  ASSERT_EQ(spx::bullet::blend_global(shape, proxy, w, 2, origin), spx::SPX_OK);
+  std::vector<float> c(15), r(5);
+  ASSERT_EQ(spx::blend_global(proxy, w, 2, c.data(), r.data()), spx::SPX_OK);
+  for (int s = 0; s < 5; ++s) {
+    const btVector3 o = shape.getChildTransform(s).getOrigin();
+    if (r[size_t(s)] > 0) {
+      EXPECT_TRUE(shape.active(s));
+      EXPECT_EQ(o, btVector3(c[3 * size_t(s)], c[3 * size_t(s) + 1], c[3 * size_t(s) + 2]) - origin);
+      EXPECT_EQ(static_cast<const btSphereShape*>(shape.getChildShape(s))->getRadius(), r[size_t(s)]);
+    } else {
+      EXPECT_FALSE(shape.active(s));
+    }
+  }
+  // Local blend: site 1 entirely in the dent pose, which drops sphere 4.
+  const float local[4] = {1, 0, 0, 1};
+  ASSERT_EQ(spx::bullet::blend_local(shape, proxy, local, 4), spx::SPX_OK);
+  EXPECT_FALSE(shape.active(4));
+  EXPECT_TRUE(shape.active(3));
+  btVector3 lo, hi;
+  shape.getAabb(btTransform::getIdentity(), lo, hi);
+  EXPECT_NEAR(hi.x(), 3 + 0.5, 1e-5) << "the compound's box follows the spheres";
+  // A weight vector of the wrong length leaves the shape as it was.
+  EXPECT_EQ(spx::bullet::blend_global(shape, proxy, w, 1), spx::SPX_ERR_WEIGHT_COUNT);
+  EXPECT_FALSE(shape.active(4));
 }

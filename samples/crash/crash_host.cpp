@@ -15,7 +15,7 @@
 #include "core/hash.hpp"
 #include "mesh/winding_number.hpp"
 #include "mesh/union_distance.hpp"
-#include "sphere_contacts.hpp"
+#include "spx_bullet.hpp"
 
 namespace spx::crash {
 namespace {
@@ -108,7 +108,7 @@ class World {
   World(const CarAsset& asset, const SceneOptions& options) : asset_(asset), opt_(options) {
     dispatcher_ = std::make_unique<btCollisionDispatcher>(&config_);
     btGImpactCollisionAlgorithm::registerAlgorithm(dispatcher_.get());
-    if (asset.spheres && asset.sphere_set) register_sphere_set_algorithms(*dispatcher_);
+    if (asset.spheres && asset.sphere_set) bullet::register_sphere_set_algorithms(*dispatcher_);
     world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), &broadphase_, &solver_, &config_);
     world_->setGravity(btVector3(0, 0, btScalar(-gravity_)));
     for (const auto& t : asset.rest.triangles) indices_.insert(indices_.end(), {t[0], t[1], t[2]});
@@ -217,6 +217,12 @@ class World {
       const size_t n = asset_.proxy->sphere_count();
       car.centers.resize(3 * n);
       car.radii.resize(n);
+      if (asset_.sphere_set) {  // spx::bullet's shape and blend
+        car.shape = std::make_unique<bullet::SphereSetShape>(uint32_t(n));
+        update_shape(car);
+        add_body(index, car);
+        return;
+      }
       car.balls.reserve(n);  // children point into this vector: it must never reallocate
       auto compound = std::make_unique<btCompoundShape>(true, int(n));
       btTransform t;
@@ -235,7 +241,10 @@ class World {
       car.shape->setMargin(0.02f);
     }
     update_shape(car);
+    add_body(index, car);
+  }
 
+  void add_body(int index, Car& car) {
     // Lanes across y; even cars start on the -x side heading +x, odd ones face them from +x.
     const int lane = index / 2, lanes = (opt_.cars + 1) / 2;
     const int side = index % 2 == 0 ? -1 : 1;
@@ -282,6 +291,11 @@ class World {
       mesh->updateBound();  // refit the GImpact box tree
       return;
     }
+    if (asset_.sphere_set) {
+      bullet::blend_local(*static_cast<bullet::SphereSetShape*>(car.shape.get()), *asset_.proxy, car.weights.data(),
+                          car.weights.size(), bt(asset_.com));
+      return;
+    }
     blend_local(*asset_.proxy, car.weights.data(), car.weights.size(), car.centers.data(), car.radii.data());
     auto* compound = static_cast<btCompoundShape*>(car.shape.get());
     btTransform t;
@@ -298,6 +312,22 @@ class World {
       compound->updateChildTransform(int(j), t, false);
     }
     compound->recalculateLocalAabb();
+  }
+
+  // A car's spheres in its body frame, as its collision shape holds them.
+  SphereSet body_spheres(const Car& car) const {
+    SphereSet out;
+    if (asset_.sphere_set) {
+      const auto& shape = *static_cast<const bullet::SphereSetShape*>(car.shape.get());
+      for (int j = 0; j < int(shape.sphere_count()); ++j)
+        out.push_back({eig(shape.getChildTransform(j).getOrigin()),
+                       shape.active(j) ? double(static_cast<const btSphereShape*>(shape.getChildShape(j))->getRadius()) : 0.0});
+      return out;
+    }
+    for (size_t j = 0; j < car.balls.size(); ++j)
+      out.push_back({Eigen::Vector3d(car.centers[3 * j], car.centers[3 * j + 1], car.centers[3 * j + 2]) - asset_.com,
+                     double(car.radii[j])});
+    return out;
   }
 
   // The plastic rule: per car and per object it touched, the step's impulses are summed; above
@@ -423,12 +453,7 @@ class World {
     if (asset_.spheres) {
       for (size_t i = 0; i < cars_.size(); ++i) {
         const Car& car = cars_[i];
-        SphereSet union_of;
-        for (size_t j = 0; j < car.balls.size(); ++j)
-          union_of.push_back({Eigen::Vector3d(car.centers[3 * j], car.centers[3 * j + 1], car.centers[3 * j + 2]) -
-                                  asset_.com,
-                              double(car.radii[j])});
-        const ErrorStats err = vertex_error(meshes[i], union_of);
+        const ErrorStats err = vertex_error(meshes[i], body_spheres(car));
         stats.error[i].median.push_back(err.median);
         stats.error[i].max.push_back(err.max);
       }

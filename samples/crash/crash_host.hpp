@@ -33,8 +33,8 @@ int match_dent(const std::vector<Dent>& dents, const Eigen::Vector3d& point, con
 struct CarAsset {
   std::string name;               // configuration name ("compound-320", "triangle-mesh")
   bool spheres = true;            // collide with the proxy (else the triangle mesh)
-  bool sphere_set = false;        // proxies against the ground and ramps through
-                                  // SphereSetStaticAlgorithm instead of Bullet's compound one
+  bool sphere_set = false;        // proxies as spx::bullet sphere sets: their algorithms against
+                                  // the ground, the ramps and each other, not Bullet's compound ones
   const Proxy* proxy = nullptr;   // blend sites (and spheres when `spheres`)
   TriMesh rest;                   // M_0, mesh frame
   std::vector<TriMesh> poses;     // M_0..M_e, the proxy's pose order

@@ -1,0 +1,68 @@
+#pragma once
+// spx_bullet.hpp - sphere-union proxies as Bullet collision shapes.
+//
+// Depends on Bullet and spx_runtime.h only. A host:
+//   spx::bullet::register_sphere_set_algorithms(dispatcher);        // once per dispatcher
+//   spx::bullet::SphereSetShape shape(proxy.sphere_count());        // one per body
+//   spx::bullet::blend_global(shape, proxy, weights, n, com);       // whenever weights change
+//   spx::bullet::blend_local(shape, proxy, site_weights, count, com);
+//
+// SphereSetShape is a btCompoundShape of btSphereShape children that the registered
+// algorithms recognise by its name. Against static planes and boxes, and against another sphere
+// set, the compound's own AABB tree culls the spheres, each surviving pair is tested in closed
+// form and every contact goes into one manifold per body pair (Bullet keeps the 4 that span the
+// contact best, always keeping the deepest). Any other compound in the world, and any other
+// shape pair, goes through Bullet's own algorithms.
+//
+// Thread safety: the shape is written by the blend calls only; Bullet reads it during
+// stepSimulation. Do not blend a shape while its world steps.
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
+
+#include <vector>
+
+#include "spx_runtime.h"
+
+namespace spx {
+namespace bullet {
+
+class SphereSetShape : public btCompoundShape {
+ public:
+  // `sphere_count` unit spheres at the origin; blend_global/blend_local (or set_spheres) place them.
+  explicit SphereSetShape(uint32_t sphere_count);
+  SphereSetShape(const SphereSetShape&) = delete;
+  SphereSetShape& operator=(const SphereSetShape&) = delete;
+
+  const char* getName() const override { return kName; }
+  static bool is_sphere_set(const btCollisionShape* shape);
+
+  uint32_t sphere_count() const { return uint32_t(balls_.size()); }
+  // Whether sphere i takes part in contacts (a blend can give a sphere radius 0: absent).
+  bool active(int i) const { return active_[size_t(i)] != 0; }
+
+  // Centres (xyz per sphere) and radii in the proxy's frame; `origin` (the body's centre of
+  // mass in that frame) is subtracted. A radius <= 0 parks the sphere, inactive, at the origin.
+  // Refits the children's boxes, the tree and the compound's box.
+  void set_spheres(const float* centers, const float* radii, const btVector3& origin = btVector3(0, 0, 0));
+
+  static constexpr const char* kName = "spx::SphereSet";
+
+ private:
+  std::vector<btSphereShape> balls_;  // children point into it: sized once, never reallocated
+  std::vector<char> active_;
+};
+
+// The runtime's blends written into the shape (status SPX_OK, or the blend's own status with the
+// shape left as it was). `scratch` buffers live in the caller's thread.
+Status blend_global(SphereSetShape& shape, const Proxy& proxy, const float* weights, uint32_t weight_count,
+                    const btVector3& origin = btVector3(0, 0, 0));
+Status blend_local(SphereSetShape& shape, const Proxy& proxy, const float* site_weights, size_t weight_count,
+                   const btVector3& origin = btVector3(0, 0, 0));
+
+// Sphere set against static plane, box and sphere set, both orders. Pairs that are not sphere
+// sets fall back to the dispatcher's configuration (Bullet's own algorithms).
+void register_sphere_set_algorithms(btCollisionDispatcher& dispatcher);
+
+}  // namespace bullet
+}  // namespace spx
