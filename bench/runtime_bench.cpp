@@ -68,6 +68,35 @@ void BM_BlendLocal(benchmark::State& state) {
   report(state, n, e + 1);
 }
 
+// The xyzr layout (the loops vectorise): global, and local from weights normalised once.
+void BM_BlendGlobalXyzr(benchmark::State& state) {
+  const size_t n = size_t(state.range(0)), e = size_t(state.range(1));
+  const spx::Proxy proxy = make_proxy(n, e);
+  std::vector<float> weights(e + 1, 1.0f / float(e + 1)), xyzr(4 * n);
+  for (auto _ : state) {
+    spx::blend_global_xyzr(proxy, weights.data(), uint32_t(e + 1), xyzr.data());
+    benchmark::DoNotOptimize(xyzr.data());
+    benchmark::ClobberMemory();
+  }
+  report(state, n, e + 1);
+}
+
+void BM_BlendLocalNormalized(benchmark::State& state) {
+  const size_t n = size_t(state.range(0)), e = size_t(state.range(1));
+  const spx::Proxy proxy = make_proxy(n, e);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> weights(proxy.site_count() * (e + 1)), normalized(weights.size()), xyzr(4 * n);
+  for (auto& w : weights) w = u(rng);
+  if (spx::normalize_site_weights(proxy, weights.data(), weights.size(), normalized.data()) != spx::SPX_OK) std::abort();
+  for (auto _ : state) {
+    spx::blend_local_normalized(proxy, normalized.data(), normalized.size(), xyzr.data());
+    benchmark::DoNotOptimize(xyzr.data());
+    benchmark::ClobberMemory();
+  }
+  report(state, n, e + 1);
+}
+
 // The floor: copying the bytes a blend reads.
 void BM_Memcpy(benchmark::State& state) {
   const size_t n = size_t(state.range(0)), e = size_t(state.range(1));
@@ -92,4 +121,6 @@ void sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_Memcpy)->Apply(sizes);
 BENCHMARK(BM_BlendGlobal)->Apply(sizes);
 BENCHMARK(BM_BlendLocal)->Apply(sizes);
+BENCHMARK(BM_BlendGlobalXyzr)->Apply(sizes);
+BENCHMARK(BM_BlendLocalNormalized)->Apply(sizes);
 BENCHMARK_MAIN();

@@ -17,12 +17,12 @@ for b in json.load(open(sys.argv[1]))["benchmarks"]:
         continue
     kind = b["run_name"].split("/")[0].replace("BM_", "")
     rows.setdefault((int(b["spheres"]), int(b["examples"])), {})[kind] = b
-print(f"{'spheres':>8} {'examples':>8} {'global Msph/s':>14} {'local Msph/s':>13} {'memcpy GB/s':>12} "
-      f"{'global/copy':>12} {'local/copy':>11}")
+print(f"{'spheres':>8} {'examples':>8} {'memcpy GB/s':>12} {'global/copy':>12} {'local/copy':>11} "
+      f"{'xyzr global/copy':>17} {'normalized local/copy':>22}")
 for (n, e), r in sorted(rows.items()):
     copy = r["Memcpy"]["real_time"]
-    print(f"{n:>8} {e:>8} {r['BlendGlobal']['items_per_second'] / 1e6:>14.1f} {r['BlendLocal']['items_per_second'] / 1e6:>13.1f} "
-          f"{r['Memcpy']['bytes_per_second'] / 1e9:>12.1f} {r['BlendGlobal']['real_time'] / copy:>11.1f}x "
-          f"{r['BlendLocal']['real_time'] / copy:>10.1f}x")
+    ratio = lambda k: r[k]["real_time"] / copy
+    print(f"{n:>8} {e:>8} {r['Memcpy']['bytes_per_second'] / 1e9:>12.1f} {ratio('BlendGlobal'):>11.1f}x "
+          f"{ratio('BlendLocal'):>10.1f}x {ratio('BlendGlobalXyzr'):>16.2f}x {ratio('BlendLocalNormalized'):>21.2f}x")
 PY
 echo "raw: $out"

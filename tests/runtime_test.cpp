@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "io/spx_writer.hpp"
@@ -240,6 +241,64 @@ TEST(Runtime, RandomBytesNeverLoad) {
     Proxy proxy;
     EXPECT_NE(load(junk, &proxy), SPX_OK);
   }
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// The xyzr entry points give the split layout's numbers exactly: global for any weights, local
+// from weights normalised once; the sphere block is 16-byte aligned whatever the pose count.
+TEST(Runtime, XyzrBlendsEqualTheSplitLayout) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-0.3f, 1);
+  for (size_t poses : {1, 2, 3, 5, 8}) {
+    const ProxyModel model = small_proxy(37, poses, 6);
+    Proxy proxy;
+    ASSERT_EQ(load(encode_spx(model), &proxy), SPX_OK);
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(proxy.pose_spheres(0)) % 16, 0u) << poses << " poses";
+    const uint32_t n = proxy.sphere_count(), p = proxy.pose_count();
+    std::vector<float> c(3 * n), r(n), xyzr(4 * n);
+    for (int trial = 0; trial < 10; ++trial) {
+      std::vector<float> w(p);
+      for (auto& x : w) x = u(rng);  // some negative (clamped), some zero after clamping
+      w[size_t(trial) % p] = 0.5f;
+      ASSERT_EQ(blend_global(proxy, w.data(), p, c.data(), r.data()), SPX_OK);
+      ASSERT_EQ(blend_global_xyzr(proxy, w.data(), p, xyzr.data()), SPX_OK);
+      for (uint32_t j = 0; j < n; ++j) {
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(xyzr[4 * j + k], c[3 * j + k]) << "global, sphere " << j;
+        ASSERT_EQ(xyzr[4 * j + 3], r[j]) << "global radius, sphere " << j;
+      }
+      std::vector<float> sw(size_t(proxy.site_count()) * p), normalized(sw.size());
+      for (auto& x : sw) x = u(rng);
+      for (size_t site = 0; site < proxy.site_count(); ++site) sw[site * p] = 0.25f;  // every site has weight
+      ASSERT_EQ(blend_local(proxy, sw.data(), sw.size(), c.data(), r.data()), SPX_OK);
+      ASSERT_EQ(normalize_site_weights(proxy, sw.data(), sw.size(), normalized.data()), SPX_OK);
+      ASSERT_EQ(blend_local_normalized(proxy, normalized.data(), normalized.size(), xyzr.data()), SPX_OK);
+      for (uint32_t j = 0; j < n; ++j) {
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(xyzr[4 * j + k], c[3 * j + k]) << "local, sphere " << j;
+        ASSERT_EQ(xyzr[4 * j + 3], r[j]) << "local radius, sphere " << j;
+      }
+    }
+    std::vector<float> w(p, 0.0f), sw(size_t(proxy.site_count()) * p, 0.0f), normalized(sw.size());
+    EXPECT_EQ(blend_global_xyzr(proxy, w.data(), p, xyzr.data()), SPX_ERR_BAD_WEIGHTS) << "no positive weight";
+    EXPECT_EQ(blend_global_xyzr(proxy, w.data(), p + 1, xyzr.data()), SPX_ERR_WEIGHT_COUNT);
+    EXPECT_EQ(normalize_site_weights(proxy, sw.data(), sw.size(), normalized.data()), SPX_ERR_BAD_WEIGHTS);
+    EXPECT_EQ(normalize_site_weights(proxy, sw.data(), sw.size() - 1, normalized.data()), SPX_ERR_WEIGHT_COUNT);
+    EXPECT_EQ(blend_local_normalized(proxy, normalized.data(), sw.size() + 1, xyzr.data()), SPX_ERR_WEIGHT_COUNT);
+    EXPECT_EQ(blend_global_xyzr(Proxy(), w.data(), p, xyzr.data()), SPX_ERR_EMPTY);
+  }
+}
+
+TEST(Runtime, FiniteIsDecidedByTheBits) {
+  EXPECT_TRUE(detail::finite(0.0f));
+  EXPECT_TRUE(detail::finite(-3.4e38f));
+  EXPECT_TRUE(detail::finite(1e-45f));  // subnormal
+  EXPECT_FALSE(detail::finite(std::numeric_limits<float>::infinity()));
+  EXPECT_FALSE(detail::finite(-std::numeric_limits<float>::infinity()));
+  EXPECT_FALSE(detail::finite(std::numeric_limits<float>::quiet_NaN()));
 }
 
 }  // namespace

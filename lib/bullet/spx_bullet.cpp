@@ -108,10 +108,12 @@ Contact box_contact(const btBoxShape& box, const btTransform& frame, const btVec
 struct PendingContact {
   btVector3 normal, point;
   btScalar distance;
+  int order;  // ties keep the order found: the same contacts in the same order every run
 };
 void add_contacts(std::vector<PendingContact>& contacts, btManifoldResult* result) {
-  std::stable_sort(contacts.begin(), contacts.end(),
-                   [](const PendingContact& a, const PendingContact& b) { return a.distance > b.distance; });
+  std::sort(contacts.begin(), contacts.end(), [](const PendingContact& a, const PendingContact& b) {
+    return a.distance != b.distance ? a.distance > b.distance : a.order < b.order;
+  });
   for (const PendingContact& c : contacts) result->addContactPoint(c.normal, c.point, c.distance);
   result->refreshContactPoints();
 }
@@ -134,17 +136,18 @@ struct PairCull {
     const btVector3 e = abs_basis * v.Extents() + btVector3(reach, reach, reach);
     return btDbvtVolume::FromCE(b_to_a * v.Center(), e);
   }
-  void collide(const btDbvtNode* a, const btDbvtNode* b) const {
-    if (!Intersect(a->volume, in_a(b->volume))) return;
+  // `b_box` is b's volume in A's frame, carried down while A's side is the one descended.
+  void collide(const btDbvtNode* a, const btDbvtNode* b, const btDbvtVolume& b_box) const {
+    if (!Intersect(a->volume, b_box)) return;
     if (a->isleaf() && b->isleaf()) {
       pairs->push_back(a->dataAsInt);
       pairs->push_back(b->dataAsInt);
     } else if (b->isleaf() || (!a->isleaf() && a->volume.Lengths().length2() >= b->volume.Lengths().length2())) {
-      collide(a->childs[0], b);
-      collide(a->childs[1], b);
+      collide(a->childs[0], b, b_box);
+      collide(a->childs[1], b, b_box);
     } else {
-      collide(a, b->childs[0]);
-      collide(a, b->childs[1]);
+      collide(a, b->childs[0], in_a(b->childs[0]->volume));
+      collide(a, b->childs[1], in_a(b->childs[1]->volume));
     }
   }
 };
@@ -245,10 +248,11 @@ void StaticAlgorithm::processCollision(const btCollisionObjectWrapper* body0, co
                               : box_contact(*static_cast<const btBoxShape*>(shape), other_frame, c, r);
     if (hit.distance > reach) continue;
     // Bullet wants the normal on body 1 pointing toward body 0, and the point on body 1.
+    const int order = int(pending.size());
     if (!swapped_)
-      pending.push_back({hit.normal, hit.on_other, hit.distance});
+      pending.push_back({hit.normal, hit.on_other, hit.distance, order});
     else
-      pending.push_back({-hit.normal, c - hit.normal * r, hit.distance});
+      pending.push_back({-hit.normal, c - hit.normal * r, hit.distance, order});
   }
   add_contacts(pending, result);
 }
@@ -273,7 +277,8 @@ class PairAlgorithm : public SphereSetAlgorithm {
     cull.abs_basis = cull.b_to_a.getBasis().absolute();
     cull.reach = reach;
     cull.pairs = &pairs;
-    cull.collide(a->getDynamicAabbTree()->m_root, b->getDynamicAabbTree()->m_root);
+    const btDbvtNode* root_b = b->getDynamicAabbTree()->m_root;
+    cull.collide(a->getDynamicAabbTree()->m_root, root_b, cull.in_a(root_b->volume));
     pending.clear();
     for (int k = 0; k < pairs.size(); k += 2) {
       const int i = pairs[k], j = pairs[k + 1];
@@ -288,7 +293,7 @@ class PairAlgorithm : public SphereSetAlgorithm {
       if (distance > reach) continue;
       // Coincident centres: any direction separates them; Bullet's sphere-sphere picks +x.
       const btVector3 n = len > SIMD_EPSILON ? d / len : btVector3(1, 0, 0);
-      pending.push_back({n, cb + n * rb, distance});  // normal on body 1 toward body 0, point on body 1
+      pending.push_back({n, cb + n * rb, distance, int(pending.size())});  // normal on body 1 toward body 0, point on body 1
     }
     add_contacts(pending, result);
   }

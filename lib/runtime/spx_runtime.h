@@ -7,9 +7,24 @@
 //   if (spx::load_file("car.spx", &proxy) != spx::SPX_OK) ...
 //   spx::blend_global(proxy, weights, proxy.pose_count(), centers, radii);   // each frame
 //
+// Two output layouts: centers (x y z per sphere) + radii, or xyzr (x y z r per sphere, the
+// layout of pose_spheres(); the fastest: the loops vectorise). For the local blend at memory
+// speed, normalise the site weights once when they change (normalize_site_weights) and blend
+// from them every frame (blend_local_normalized).
+//
 // Configuration (define before including):
-//   SPX_MAX_POSES   largest pose count accepted (default 256; blends keep weights on the stack)
-//   SPX_MALLOC / SPX_FREE   the allocator used once per load (default std::malloc / std::free)
+//   SPX_MAX_POSES   largest pose count accepted (default 256). Files with more poses are
+//                   rejected (SPX_ERR_BAD_SIZES); blends keep SPX_MAX_POSES floats on the stack.
+//   SPX_MALLOC / SPX_FREE   the allocator used once per load (default std::malloc / std::free);
+//                   it must return memory aligned to 16 bytes, as malloc does on 64-bit systems
+//                   (the sphere block starts the allocation, so SIMD loads of x y z r align).
+//
+// Thread safety: a loaded Proxy is never modified by a blend. Blends are const, reentrant and
+// allocate nothing, so any number of threads may blend one proxy at once, each into its own
+// output. Loading into a Proxy, reset() and moving it need exclusive access.
+//
+// Checks do not depend on the compiler's floating-point mode: non-finite values are found by
+// their bits, so -ffast-math builds reject NaN and Inf as strict ones do.
 //
 // Weights policy (global and local blends alike): a weight vector must have exactly
 // pose_count() finite entries; negative entries are clamped to 0, and the rest are divided by
@@ -45,7 +60,6 @@
 #define SPX_FREE(ptr) std::free(ptr)
 #endif
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -177,7 +191,12 @@ inline float rdf32(const unsigned char* p) {
   std::memcpy(&f, &u, 4);
   return f;
 }
-inline bool finite(float f) { return std::isfinite(f); }
+// By the bits (exponent all ones: Inf or NaN), which -ffast-math cannot assume away.
+inline bool finite(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return (u & 0x7F800000u) != 0x7F800000u;
+}
 
 // Clamps negatives to 0 and divides by the sum; false when not finite or no positive weight.
 inline bool normalize(const float* w, uint32_t n, float* out) {
@@ -253,18 +272,18 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
     if (at != uint64_t(off_names) + names_size) return SPX_ERR_BAD_SIZES;
   }
 
-  // One block: name pointers first (the strictest alignment), then spheres, sites, sphere
-  // sites (all 4-byte types) and the name characters.
+  // One block: the spheres first (16-byte aligned, and a multiple of 16 bytes long), then the
+  // name pointers, sites, sphere sites (all 4-byte types) and the name characters.
   const uint64_t pointer_bytes = uint64_t(p) * sizeof(char*);
-  const uint64_t total = pointer_bytes + sphere_bytes + site_bytes + ss_bytes + name_chars;
+  const uint64_t total = sphere_bytes + pointer_bytes + site_bytes + ss_bytes + name_chars;
   if (total > SIZE_MAX) return SPX_ERR_OUT_OF_MEMORY;
   unsigned char* block = static_cast<unsigned char*>(SPX_MALLOC(size_t(total)));
   if (!block) return SPX_ERR_OUT_OF_MEMORY;
-  char** names = reinterpret_cast<char**>(block);
-  float* spheres = reinterpret_cast<float*>(block + pointer_bytes);
-  float* sites = reinterpret_cast<float*>(block + pointer_bytes + sphere_bytes);
-  uint32_t* ss = reinterpret_cast<uint32_t*>(block + pointer_bytes + sphere_bytes + site_bytes);
-  char* chars = reinterpret_cast<char*>(block + pointer_bytes + sphere_bytes + site_bytes + ss_bytes);
+  float* spheres = reinterpret_cast<float*>(block);
+  char** names = reinterpret_cast<char**>(block + sphere_bytes);
+  float* sites = reinterpret_cast<float*>(block + sphere_bytes + pointer_bytes);
+  uint32_t* ss = reinterpret_cast<uint32_t*>(block + sphere_bytes + pointer_bytes + site_bytes);
+  char* chars = reinterpret_cast<char*>(block + sphere_bytes + pointer_bytes + site_bytes + ss_bytes);
 
   Status status = SPX_OK;
   for (uint64_t i = 0; i < uint64_t(p) * n; ++i) {
@@ -389,6 +408,80 @@ inline Status blend_local(const Proxy& proxy, const float* site_weights, size_t 
     centers[3 * j + 1] = y;
     centers[3 * j + 2] = z;
     radii[j] = r > 0 ? r : 0.0f;
+  }
+  return SPX_OK;
+}
+
+#if defined(__GNUC__) || defined(_MSC_VER)
+#define SPX_RESTRICT __restrict
+#else
+#define SPX_RESTRICT
+#endif
+
+// The global blend into xyzr (4 floats per sphere: x, y, z, r). Same weights policy and result
+// as blend_global; `xyzr` must not overlap the proxy.
+inline Status blend_global_xyzr(const Proxy& proxy, const float* weights, uint32_t weight_count, float* xyzr) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!weights || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
+  const uint32_t p = proxy.pose_count();
+  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
+  float w[SPX_MAX_POSES];
+  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
+  const size_t m = size_t(proxy.sphere_count()) * 4;
+  float* SPX_RESTRICT out = xyzr;
+  {
+    const float* SPX_RESTRICT s = proxy.pose_spheres(0);
+    const float w0 = w[0];
+    for (size_t k = 0; k < m; ++k) out[k] = w0 * s[k];
+  }
+  for (uint32_t i = 1; i < p; ++i) {
+    const float wi = w[i];
+    if (wi == 0) continue;
+    const float* SPX_RESTRICT s = proxy.pose_spheres(i);
+    for (size_t k = 0; k < m; ++k) out[k] += wi * s[k];
+  }
+  for (size_t k = 3; k < m; k += 4) out[k] = out[k] > 0 ? out[k] : 0.0f;
+  return SPX_OK;
+}
+
+// Checks and normalises local-blend weights once (site-major, site_count() * pose_count() of
+// them, the weights policy applied per site) into `normalized`, for blend_local_normalized.
+// On failure `normalized` may be partly written and must not be used.
+inline Status normalize_site_weights(const Proxy& proxy, const float* site_weights, size_t weight_count,
+                                     float* normalized) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!site_weights || !normalized) return SPX_ERR_INVALID_ARGUMENT;
+  const uint32_t p = proxy.pose_count(), s = proxy.site_count();
+  if (weight_count != size_t(s) * p) return SPX_ERR_WEIGHT_COUNT;
+  for (uint32_t site = 0; site < s; ++site)
+    if (!detail::normalize(site_weights + size_t(site) * p, p, normalized + size_t(site) * p))
+      return SPX_ERR_BAD_WEIGHTS;
+  return SPX_OK;
+}
+
+// The local blend into xyzr from weights normalize_site_weights() produced (not checked again:
+// that is what makes it fast). Radii are clamped to 0 as always.
+inline Status blend_local_normalized(const Proxy& proxy, const float* normalized, size_t weight_count, float* xyzr) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!normalized || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
+  const uint32_t p = proxy.pose_count(), n = proxy.sphere_count();
+  if (weight_count != size_t(proxy.site_count()) * p) return SPX_ERR_WEIGHT_COUNT;
+  const uint32_t* sites = proxy.sphere_sites();
+  const float* SPX_RESTRICT spheres = proxy.pose_spheres(0);
+  const size_t stride = size_t(n) * 4;  // from one pose's sphere j to the next pose's
+  float* SPX_RESTRICT out = xyzr;
+  for (uint32_t j = 0; j < n; ++j) {
+    const float* SPX_RESTRICT w = normalized + size_t(sites[j]) * p;
+    const float* SPX_RESTRICT sp = spheres + size_t(j) * 4;
+    float v[4] = {w[0] * sp[0], w[0] * sp[1], w[0] * sp[2], w[0] * sp[3]};
+    for (uint32_t i = 1; i < p; ++i) {
+      const float* SPX_RESTRICT q = sp + i * stride;
+      for (int k = 0; k < 4; ++k) v[k] += w[i] * q[k];
+    }
+    out[4 * size_t(j)] = v[0];
+    out[4 * size_t(j) + 1] = v[1];
+    out[4 * size_t(j) + 2] = v[2];
+    out[4 * size_t(j) + 3] = v[3] > 0 ? v[3] : 0.0f;
   }
   return SPX_OK;
 }
