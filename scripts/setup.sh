@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libassimp-dev libopenvdb-dev
   libboost-iostreams-dev libcli11-dev nlohmann-json3-dev libtbb-dev libgtest-dev libbenchmark-dev
-  libbullet-dev python3 python3-jsonschema clang-14 libclang-rt-14-dev)
+  libbullet-dev python3 python3-jsonschema python3-dev python3-numpy pybind11-dev clang-14 libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

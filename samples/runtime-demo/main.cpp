@@ -41,6 +41,6 @@ int main(int argc, char** argv) {
   for (uint32_t i = 0; i < proxy.pose_count(); ++i) std::printf(" %s", proxy.pose_name(i));
   std::printf("\n# x y z r\n");
   for (uint32_t j = 0; j < proxy.sphere_count(); ++j)
-    std::printf("%.6g %.6g %.6g %.6g\n", centers[3 * j], centers[3 * j + 1], centers[3 * j + 2], radii[j]);
+    std::printf("%.9g %.9g %.9g %.9g\n", centers[3 * j], centers[3 * j + 1], centers[3 * j + 2], radii[j]);  // exact for floats
   return 0;
 }
