@@ -271,8 +271,8 @@ struct AllContacts : btCollisionWorld::ContactResultCallback {
 
 }  // namespace
 
-// Two deforming bodies: sphere set against sphere set. Before the manifold reduction every pair
-// within reach is reported (against brute force over all pairs); after it one manifold holds at
+// Two deforming bodies: sphere set against sphere set. A closest-point query reports every pair
+// within its distance (against brute force over all pairs); in simulation one manifold holds at
 // most 4 points and keeps the deepest; Bullet's compound-compound path agrees on the depth.
 TEST(SphereSet, PairContactsMatchBruteForceAndBulletsCompound) {
   std::mt19937 rng(5);

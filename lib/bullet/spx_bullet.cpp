@@ -102,55 +102,88 @@ Contact box_contact(const btBoxShape& box, const btTransform& frame, const btVec
   return {frame.getBasis() * n, frame * closest, -depth - r};
 }
 
-// The contacts of one pair, handed to the manifold shallowest first: a new point replaces a cached
-// one near it, so the deepest, added last, is always kept (as Bullet keeps it when it reduces
-// a manifold to 4 points).
+// The contacts of one body pair, reduced before the manifold sees them. Bullet keeps at most 4
+// points per manifold: the deepest, and those spanning the largest area. Handing it dozens
+// (a car on the ground touches with many spheres) costs a cache search and an area sort each;
+// so only the contacts that can matter go in: the extremes along two directions across the
+// deepest contact's normal, then the deepest itself, last, so that it always stays (a new
+// point replaces a cached one near it). Closest-point queries get every contact.
 struct PendingContact {
   btVector3 normal, point;
   btScalar distance;
-  int order;  // ties keep the order found: the same contacts in the same order every run
 };
-void add_contacts(std::vector<PendingContact>& contacts, btManifoldResult* result) {
-  std::sort(contacts.begin(), contacts.end(), [](const PendingContact& a, const PendingContact& b) {
-    return a.distance != b.distance ? a.distance > b.distance : a.order < b.order;
-  });
-  for (const PendingContact& c : contacts) result->addContactPoint(c.normal, c.point, c.distance);
+void add_contacts(const std::vector<PendingContact>& contacts, bool reduce, btManifoldResult* result) {
+  const int n = int(contacts.size());
+  if (!reduce) {  // a query (contactTest) sees every contact
+    for (const PendingContact& c : contacts) result->addContactPoint(c.normal, c.point, c.distance);
+  } else if (n > 0) {
+    int deepest = 0;
+    for (int i = 1; i < n; ++i)
+      if (contacts[size_t(i)].distance < contacts[size_t(deepest)].distance) deepest = i;
+    int chosen[5];
+    int count = 0;
+    if (n > 1) {
+      btVector3 u, v;
+      btPlaneSpace1(contacts[size_t(deepest)].normal, u, v);
+      int lo_u = 0, hi_u = 0, lo_v = 0, hi_v = 0;
+      for (int i = 1; i < n; ++i) {
+        const btScalar a = contacts[size_t(i)].point.dot(u), b = contacts[size_t(i)].point.dot(v);
+        if (a < contacts[size_t(lo_u)].point.dot(u)) lo_u = i;
+        if (a > contacts[size_t(hi_u)].point.dot(u)) hi_u = i;
+        if (b < contacts[size_t(lo_v)].point.dot(v)) lo_v = i;
+        if (b > contacts[size_t(hi_v)].point.dot(v)) hi_v = i;
+      }
+      for (int i : {lo_u, hi_u, lo_v, hi_v})
+        if (i != deepest && std::find(chosen, chosen + count, i) == chosen + count) chosen[count++] = i;
+    }
+    chosen[count++] = deepest;
+    for (int k = 0; k < count; ++k) {
+      const PendingContact& c = contacts[size_t(chosen[k])];
+      result->addContactPoint(c.normal, c.point, c.distance);
+    }
+  }
   result->refreshContactPoints();
 }
 thread_local std::vector<PendingContact> pending;
 
-struct Cull : btDbvt::ICollide {
-  btAlignedObjectArray<int>* hits;
-  void Process(const btDbvtNode* leaf) override { hits->push_back(leaf->dataAsInt); }
-};
+// The leaves of a tree whose boxes reach into every half-space n.x + d >= 0 (`faces` of them,
+// btDbvt::collideKDOP's convention): a plain recursion, where collideKDOP allocates its stack on
+// every call.
+struct FaceCull {
+  const btVector3* normals;
+  const btScalar* offsets;
+  int faces;
+  std::vector<int>* hits;
 
-// The pairs of leaves of two compounds' trees whose boxes (B's carried into A's frame, grown by
-// `reach`) overlap: descend the larger node first.
-struct PairCull {
-  btTransform b_to_a;
-  btMatrix3x3 abs_basis;
-  btScalar reach;
-  btAlignedObjectArray<int>* pairs;  // a, b, a, b, ...
-
-  btDbvtVolume in_a(const btDbvtVolume& v) const {
-    const btVector3 e = abs_basis * v.Extents() + btVector3(reach, reach, reach);
-    return btDbvtVolume::FromCE(b_to_a * v.Center(), e);
-  }
-  // `b_box` is b's volume in A's frame, carried down while A's side is the one descended.
-  void collide(const btDbvtNode* a, const btDbvtNode* b, const btDbvtVolume& b_box) const {
-    if (!Intersect(a->volume, b_box)) return;
-    if (a->isleaf() && b->isleaf()) {
-      pairs->push_back(a->dataAsInt);
-      pairs->push_back(b->dataAsInt);
-    } else if (b->isleaf() || (!a->isleaf() && a->volume.Lengths().length2() >= b->volume.Lengths().length2())) {
-      collide(a->childs[0], b, b_box);
-      collide(a->childs[1], b, b_box);
-    } else {
-      collide(a, b->childs[0], in_a(b->childs[0]->volume));
-      collide(a, b->childs[1], in_a(b->childs[1]->volume));
+  void collide(const btDbvtNode* node) const {
+    const btVector3 c = node->volume.Center(), e = node->volume.Extents();
+    for (int f = 0; f < faces; ++f)
+      if (normals[f].dot(c) + e.dot(normals[f].absolute()) + offsets[f] < 0) return;  // box wholly outside
+    if (node->isleaf()) {
+      hits->push_back(node->dataAsInt);
+      return;
     }
+    collide(node->childs[0]);
+    collide(node->childs[1]);
   }
 };
+
+// The leaves of a tree whose boxes overlap `box` (same frame).
+void leaves_in_box(const btDbvtNode* node, const btDbvtVolume& box, std::vector<int>& out) {
+  if (!Intersect(node->volume, box)) return;
+  if (node->isleaf()) {
+    out.push_back(node->dataAsInt);
+    return;
+  }
+  leaves_in_box(node->childs[0], box, out);
+  leaves_in_box(node->childs[1], box, out);
+}
+
+// A box carried through a rigid transform (the box around the moved box).
+btDbvtVolume moved_box(const btDbvtVolume& v, const btTransform& t, btScalar grow) {
+  const btVector3 e = t.getBasis().absolute() * v.Extents() + btVector3(grow, grow, grow);
+  return btDbvtVolume::FromCE(t * v.Center(), e);
+}
 
 // One persistent manifold per body pair.
 class SphereSetAlgorithm : public btActivatingCollisionAlgorithm {
@@ -196,9 +229,6 @@ class StaticAlgorithm : public SphereSetAlgorithm {
   bool swapped_;  // body0 is the static shape, body1 the sphere set
 };
 
-// Bullet's btDbvt::Classify switch leaves its corners unset on paths it never takes.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 void StaticAlgorithm::processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                                        const btDispatcherInfo&, btManifoldResult* result) {
   const btCollisionObjectWrapper* set = swapped_ ? body1 : body0;
@@ -232,15 +262,16 @@ void StaticAlgorithm::processCollision(const btCollisionObjectWrapper* body0, co
         offsets[faces++] = h[axis] + reach + side * u.dot(relative.getOrigin());
       }
   }
-  static thread_local btAlignedObjectArray<int> hits;
-  hits.resize(0);
-  Cull cull;
-  cull.hits = &hits;
-  btDbvt::collideKDOP(compound->getDynamicAabbTree()->m_root, normals, offsets, faces, cull);
-  pending.clear();
+  // Thread-local scratch, looked up once (each access to a thread_local costs a call in PIC code).
+  static thread_local std::vector<int> hits_storage;
+  std::vector<int>& hits = hits_storage;
+  std::vector<PendingContact>& contacts = pending;
+  hits.clear();
+  contacts.clear();
+  const FaceCull cull{normals, offsets, faces, &hits};
+  cull.collide(compound->getDynamicAabbTree()->m_root);
 
-  for (int k = 0; k < hits.size(); ++k) {
-    const int i = hits[k];
+  for (const int i : hits) {
     if (!compound->active(i)) continue;
     const btVector3 c = set_frame * compound->getChildTransform(i).getOrigin();
     const btScalar r = static_cast<const btSphereShape*>(compound->getChildShape(i))->getRadius();
@@ -248,15 +279,13 @@ void StaticAlgorithm::processCollision(const btCollisionObjectWrapper* body0, co
                               : box_contact(*static_cast<const btBoxShape*>(shape), other_frame, c, r);
     if (hit.distance > reach) continue;
     // Bullet wants the normal on body 1 pointing toward body 0, and the point on body 1.
-    const int order = int(pending.size());
     if (!swapped_)
-      pending.push_back({hit.normal, hit.on_other, hit.distance, order});
+      contacts.push_back({hit.normal, hit.on_other, hit.distance});
     else
-      pending.push_back({-hit.normal, c - hit.normal * r, hit.distance, order});
+      contacts.push_back({-hit.normal, c - hit.normal * r, hit.distance});
   }
-  add_contacts(pending, result);
+  add_contacts(contacts, !closest_, result);
 }
-#pragma GCC diagnostic pop
 
 // Two sphere sets (two deforming bodies).
 class PairAlgorithm : public SphereSetAlgorithm {
@@ -270,32 +299,37 @@ class PairAlgorithm : public SphereSetAlgorithm {
     const btTransform& fb = body1->getWorldTransform();
     result->setPersistentManifold(manifold_);
     const btScalar reach = this->reach(result);
-    static thread_local btAlignedObjectArray<int> pairs;
-    pairs.resize(0);
-    PairCull cull;
-    cull.b_to_a = fa.inverseTimes(fb);
-    cull.abs_basis = cull.b_to_a.getBasis().absolute();
-    cull.reach = reach;
-    cull.pairs = &pairs;
+    // Only B's spheres inside A's box (grown by the reach) can touch: a car meets another along
+    // a strip. Each of them, carried into A's frame, queries A's tree with its own box.
+    static thread_local std::vector<int> near_storage, hits_storage;
+    std::vector<int>& near_b = near_storage;
+    std::vector<int>& hits = hits_storage;
+    std::vector<PendingContact>& contacts = pending;
+    near_b.clear(), contacts.clear();
+    const btTransform b_to_a = fa.inverseTimes(fb);
+    const btDbvtNode* root_a = a->getDynamicAabbTree()->m_root;
     const btDbvtNode* root_b = b->getDynamicAabbTree()->m_root;
-    cull.collide(a->getDynamicAabbTree()->m_root, root_b, cull.in_a(root_b->volume));
-    pending.clear();
-    for (int k = 0; k < pairs.size(); k += 2) {
-      const int i = pairs[k], j = pairs[k + 1];
-      if (!a->active(i) || !b->active(j)) continue;
-      const btVector3 ca = fa * a->getChildTransform(i).getOrigin();
-      const btVector3 cb = fb * b->getChildTransform(j).getOrigin();
-      const btScalar ra = static_cast<const btSphereShape*>(a->getChildShape(i))->getRadius();
+    leaves_in_box(root_b, moved_box(root_a->volume, b_to_a.inverse(), reach), near_b);
+    for (const int j : near_b) {
+      if (!b->active(j)) continue;
+      const btVector3 cb = b_to_a * b->getChildTransform(j).getOrigin();  // in A's frame
       const btScalar rb = static_cast<const btSphereShape*>(b->getChildShape(j))->getRadius();
-      const btVector3 d = ca - cb;
-      const btScalar len = d.length();
-      const btScalar distance = len - ra - rb;
-      if (distance > reach) continue;
-      // Coincident centres: any direction separates them; Bullet's sphere-sphere picks +x.
-      const btVector3 n = len > SIMD_EPSILON ? d / len : btVector3(1, 0, 0);
-      pending.push_back({n, cb + n * rb, distance, int(pending.size())});  // normal on body 1 toward body 0, point on body 1
+      hits.clear();
+      leaves_in_box(root_a, btDbvtVolume::FromCR(cb, rb + reach), hits);
+      for (const int i : hits) {
+        if (!a->active(i)) continue;
+        const btVector3 ca = a->getChildTransform(i).getOrigin();
+        const btScalar ra = static_cast<const btSphereShape*>(a->getChildShape(i))->getRadius();
+        const btVector3 d = ca - cb;
+        const btScalar limit = ra + rb + reach;
+        if (d.length2() > limit * limit) continue;
+        const btScalar len = d.length();
+        // Coincident centres: any direction separates them; Bullet's sphere-sphere picks +x.
+        const btVector3 n = fa.getBasis() * (len > SIMD_EPSILON ? d / len : btVector3(1, 0, 0));
+        contacts.push_back({n, fa * cb + n * rb, len - ra - rb});  // normal on B toward A, point on B
+      }
     }
-    add_contacts(pending, result);
+    add_contacts(contacts, !closest_, result);
   }
 };
 

@@ -1,7 +1,8 @@
 // crash-bench: the paper's Table 1 in our own Bullet host. Every configuration runs the same
 // 8-car ramp scene side by side in one process:
 //   compound-N     the proxy as a btCompoundShape of btSphereShape (the paper's setup)
-//   sphereset-N    the same compound, with SphereSetStaticAlgorithm against ground and ramps
+//   sphereset-N    the same spheres as an spx::bullet sphere set: its algorithms against the ground,
+//                  the ramps and the other cars
 //   triangle-mesh  the car mesh in a btGImpactMeshShape (the paper's baseline)
 // The crash is chaotic (a different contact model gives a different pile-up), so every
 // configuration runs several seeds (each its own crash); a run's time is the mean over seeds,
