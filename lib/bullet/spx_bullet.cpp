@@ -17,8 +17,9 @@
 namespace spx {
 namespace bullet {
 
-SphereSetShape::SphereSetShape(uint32_t n) : btCompoundShape(true, int(n)), active_(n, 0) {
+SphereSetShape::SphereSetShape(uint32_t n) : btCompoundShape(true, int(n)), radii_(n, 0) {
   balls_.reserve(n);
+  centers_.resize(int(n), btVector3(0, 0, 0));
   btTransform t;
   t.setIdentity();
   for (uint32_t i = 0; i < n; ++i) {
@@ -40,10 +41,11 @@ void SphereSetShape::set_spheres(const float* centers, const float* radii, const
   t.setIdentity();
   for (size_t j = 0; j < balls_.size(); ++j) {
     const bool on = radii[j] > 0;
-    active_[j] = on;
+    radii_[j] = on ? radii[j] : 0;
     balls_[j].setUnscaledRadius(on ? radii[j] : kParked);
     t.setOrigin(on ? btVector3(centers[3 * j], centers[3 * j + 1], centers[3 * j + 2]) - origin : btVector3(0, 0, 0));
     updateChildTransform(int(j), t, false);
+    centers_[int(j)] = t.getOrigin();
   }
   recalculateLocalAabb();
 }
@@ -240,20 +242,31 @@ void StaticAlgorithm::processCollision(const btCollisionObjectWrapper* body0, co
   result->setPersistentManifold(manifold_);
   const btScalar reach = this->reach(result);
 
-  // Children whose boxes reach the static shape, culled by the compound's tree against the
-  // shape's own faces (half-spaces in the compound's frame, grown by the contact reach); an
-  // axis-aligned box around a tilted plane or box would keep nearly every sphere.
+  // Thread-local scratch, looked up once (each access to a thread_local costs a call in PIC code).
+  static thread_local std::vector<int> hits_storage;
+  std::vector<int>& hits = hits_storage;
+  std::vector<PendingContact>& contacts = pending;
+  hits.clear();
+  contacts.clear();
   const bool plane = shape->getShapeType() == STATIC_PLANE_PROXYTYPE;
   const btTransform relative = set_frame.inverseTimes(other_frame);
-  btVector3 normals[6];
-  btScalar offsets[6];
-  int faces = 0;
   if (plane) {
+    // Every sphere against the plane in the set's own frame: a flat pass over the compact copy
+    // costs less than a tree walk when a whole underside rests on the ground.
     const auto* p = static_cast<const btStaticPlaneShape*>(shape);
     const btVector3 n = relative.getBasis() * p->getPlaneNormal();
-    normals[faces] = -n;  // keep n.y <= c + reach, Bullet's form: normal.y + offset >= 0
-    offsets[faces++] = p->getPlaneConstant() + n.dot(relative.getOrigin()) + reach;
+    const btScalar offset = p->getPlaneConstant() + n.dot(relative.getOrigin());
+    for (int i = 0; i < int(compound->sphere_count()); ++i) {
+      const btScalar r = compound->radius(i);
+      if (r > 0 && n.dot(compound->center(i)) - offset - r <= reach) hits.push_back(i);
+    }
   } else {
+    // Children whose boxes reach the box, culled by the compound's tree against the box's faces
+    // (half-spaces in the compound's frame, grown by the reach); an axis-aligned box around a
+    // tilted box would keep nearly every sphere.
+    btVector3 normals[6];
+    btScalar offsets[6];
+    int faces = 0;
     const btVector3 h = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
     for (int axis = 0; axis < 3; ++axis)
       for (btScalar side : {btScalar(-1), btScalar(1)}) {
@@ -261,20 +274,14 @@ void StaticAlgorithm::processCollision(const btCollisionObjectWrapper* body0, co
         normals[faces] = -side * u;
         offsets[faces++] = h[axis] + reach + side * u.dot(relative.getOrigin());
       }
+    const FaceCull cull{normals, offsets, faces, &hits};
+    cull.collide(compound->getDynamicAabbTree()->m_root);
   }
-  // Thread-local scratch, looked up once (each access to a thread_local costs a call in PIC code).
-  static thread_local std::vector<int> hits_storage;
-  std::vector<int>& hits = hits_storage;
-  std::vector<PendingContact>& contacts = pending;
-  hits.clear();
-  contacts.clear();
-  const FaceCull cull{normals, offsets, faces, &hits};
-  cull.collide(compound->getDynamicAabbTree()->m_root);
 
   for (const int i : hits) {
-    if (!compound->active(i)) continue;
-    const btVector3 c = set_frame * compound->getChildTransform(i).getOrigin();
-    const btScalar r = static_cast<const btSphereShape*>(compound->getChildShape(i))->getRadius();
+    const btScalar r = compound->radius(i);
+    if (r <= 0) continue;
+    const btVector3 c = set_frame * compound->center(i);
     const Contact hit = plane ? plane_contact(*static_cast<const btStaticPlaneShape*>(shape), other_frame, c, r)
                               : box_contact(*static_cast<const btBoxShape*>(shape), other_frame, c, r);
     if (hit.distance > reach) continue;
@@ -311,15 +318,15 @@ class PairAlgorithm : public SphereSetAlgorithm {
     const btDbvtNode* root_b = b->getDynamicAabbTree()->m_root;
     leaves_in_box(root_b, moved_box(root_a->volume, b_to_a.inverse(), reach), near_b);
     for (const int j : near_b) {
-      if (!b->active(j)) continue;
-      const btVector3 cb = b_to_a * b->getChildTransform(j).getOrigin();  // in A's frame
-      const btScalar rb = static_cast<const btSphereShape*>(b->getChildShape(j))->getRadius();
+      const btScalar rb = b->radius(j);
+      if (rb <= 0) continue;
+      const btVector3 cb = b_to_a * b->center(j);  // in A's frame
       hits.clear();
       leaves_in_box(root_a, btDbvtVolume::FromCR(cb, rb + reach), hits);
       for (const int i : hits) {
-        if (!a->active(i)) continue;
-        const btVector3 ca = a->getChildTransform(i).getOrigin();
-        const btScalar ra = static_cast<const btSphereShape*>(a->getChildShape(i))->getRadius();
+        const btScalar ra = a->radius(i);
+        if (ra <= 0) continue;
+        const btVector3& ca = a->center(i);
         const btVector3 d = ca - cb;
         const btScalar limit = ra + rb + reach;
         if (d.length2() > limit * limit) continue;

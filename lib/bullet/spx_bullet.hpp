@@ -39,7 +39,10 @@ class SphereSetShape : public btCompoundShape {
 
   uint32_t sphere_count() const { return uint32_t(balls_.size()); }
   // Whether sphere i takes part in contacts (a blend can give a sphere radius 0: absent).
-  bool active(int i) const { return active_[size_t(i)] != 0; }
+  bool active(int i) const { return radii_[size_t(i)] > 0; }
+  // Sphere i in the shape's frame, in a compact copy the algorithms read (radius 0: inactive).
+  const btVector3& center(int i) const { return centers_[i]; }
+  btScalar radius(int i) const { return radii_[size_t(i)]; }
 
   // Centres (xyz per sphere) and radii in the proxy's frame; `origin` (the body's centre of
   // mass in that frame) is subtracted. A radius <= 0 parks the sphere, inactive, at the origin.
@@ -50,7 +53,8 @@ class SphereSetShape : public btCompoundShape {
 
  private:
   std::vector<btSphereShape> balls_;  // children point into it: sized once, never reallocated
-  std::vector<char> active_;
+  btAlignedObjectArray<btVector3> centers_;  // aligned: btVector3 may use SSE
+  std::vector<btScalar> radii_;
 };
 
 // The runtime's blends written into the shape (status SPX_OK, or the blend's own status with the
