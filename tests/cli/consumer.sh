@@ -32,5 +32,12 @@ check "SPX_RUNTIME_ONLY configure and build" bash -c "cmake -S '$src' -B '$out/r
   -DCMAKE_INSTALL_PREFIX='$out/rt-only' && cmake --build '$out/rt-only-build' && cmake --install '$out/rt-only-build'"
 check "SPX_RUNTIME_ONLY builds no tools" test ! -e "$out/rt-only-build/apps"
 check "consumer of the SPX_RUNTIME_ONLY install" consumer "$out/rt-only" rt-only-consumer
+# The header alone: an architecture-independent package.
+check "header-only package" bash -c "cmake -S '$src' -B '$out/hdr-build' -DSPX_RUNTIME_ONLY=ON -DSPX_WITH_BULLET=OFF \
+  -DSPX_BUILD_BINDINGS=OFF -DCMAKE_INSTALL_PREFIX='$out/hdr' && cmake --build '$out/hdr-build' && cmake --install '$out/hdr-build'"
+check "header-only package holds the header and the CMake files only" \
+  bash -c "[ \"\$(cd '$out/hdr' && find . -type f | grep -vc '^./lib/cmake/spx/')\" = 1 ]"
+check "header-only version file skips the architecture check" grep -q 'if("TRUE")' "$out/hdr/lib/cmake/spx/spxConfigVersion.cmake"
+check "consumer of the header-only package" consumer "$out/hdr" hdr-consumer -DWITH_BULLET=OFF
 echo "$passed passed, $fail failed"
 [ "$fail" = 0 ]
