@@ -52,10 +52,11 @@ size_t optimum(const Coverage& c) {
 }
 
 // Small random instances against the brute-force optimum: the greedy cover is a cover, no
-// chosen sphere is redundant, and lower bound <= optimum <= greedy <= optimum * H(samples).
+// chosen sphere is redundant, and lower bounds <= optimum <= greedy <= optimum * H(samples);
+// the Lagrangian bound is as strong as the combinatorial one overall.
 TEST(Cover, GreedyAndLowerBoundAgainstBruteForce) {
   std::mt19937 rng(3);
-  size_t exact = 0;
+  size_t exact = 0, combinatorial_total = 0, lagrangian_total = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const size_t candidates = 4 + rng() % 9, samples = 3 + rng() % 14;
     std::vector<std::vector<uint32_t>> rows(candidates);
@@ -74,11 +75,16 @@ TEST(Cover, GreedyAndLowerBoundAgainstBruteForce) {
     double harmonic = 0;
     for (size_t k = 1; k <= samples; ++k) harmonic += 1.0 / double(k);
     EXPECT_LE(bound, best) << "trial " << trial;
+    const size_t lagrangian = lagrangian_bound(c, chosen.size());
+    EXPECT_LE(lagrangian, best) << "trial " << trial;
+    combinatorial_total += bound;
+    lagrangian_total += lagrangian;
     EXPECT_GE(chosen.size(), best) << "trial " << trial;
     EXPECT_LE(double(chosen.size()), double(best) * harmonic) << "trial " << trial;
     exact += chosen.size() == best;
   }
   EXPECT_GT(exact, 200u) << "greedy with redundancy removal should usually be optimal on tiny cases";
+  EXPECT_GE(lagrangian_total, combinatorial_total);
 }
 
 // The coverage rows against a brute-force scan of every (candidate, sample) pair.

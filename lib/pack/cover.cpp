@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <queue>
+#include <tuple>
 
 #include "core/format.hpp"
 
@@ -381,6 +382,56 @@ size_t cover_lower_bound(const Coverage& cov) {
   return picked;
 }
 
+size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
+  const size_t candidates = cov.start.size() - 1, samples = cov.sample_count;
+  std::vector<char> coverable(samples, 0);
+  for (uint32_t s : cov.samples) coverable[s] = 1;
+  // Start: each sample's multiplier the best 1/|column| among the candidates covering it.
+  std::vector<double> u(samples, 0.0);
+  for (size_t c = 0; c < candidates; ++c)
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) {
+      const double share = 1.0 / double(cov.row_size(c));
+      if (u[cov.samples[n]] == 0 || share < u[cov.samples[n]]) u[cov.samples[n]] = share;
+    }
+  // Subgradient steps by Polyak's rule toward the best cover known (`upper`).
+  std::vector<int> hits(samples, 0);
+  double best = 0, lambda = 2.0;
+  int since_better = 0;
+  for (int step = 0; step < steps && lambda > 1e-3; ++step) {
+    double value = 0;
+    for (size_t s = 0; s < samples; ++s) value += u[s];
+    std::fill(hits.begin(), hits.end(), 0);
+    for (size_t c = 0; c < candidates; ++c) {
+      if (cov.row_size(c) == 0) continue;
+      double r = 1;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) r -= u[cov.samples[n]];
+      if (r < 0) {
+        value += r;
+        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) ++hits[cov.samples[n]];
+      }
+    }
+    if (value > best + 1e-9) {
+      best = value;
+      since_better = 0;
+    } else if (++since_better >= 15) {
+      lambda /= 2;
+      since_better = 0;
+    }
+    if (std::ceil(best - 1e-6) >= double(upper)) break;  // the cover is optimal
+    double norm = 0;
+    for (size_t s = 0; s < samples; ++s)
+      if (coverable[s]) {
+        const double g = 1.0 - hits[s];
+        if (g > 0 || u[s] > 0) norm += g * g;
+      }
+    if (norm == 0) break;
+    const double t = lambda * (1.05 * double(upper) - value) / norm;
+    for (size_t s = 0; s < samples; ++s)
+      if (coverable[s]) u[s] = std::max(0.0, u[s] + t * (1.0 - hits[s]));
+  }
+  return size_t(std::max(0.0, std::ceil(best - 1e-6)));
+}
+
 namespace {
 
 size_t uncovered_samples(const Coverage& cov) {
@@ -405,7 +456,7 @@ CoverResult cover_within(const CoverProblem& problem, double delta, Log& log) {
   r.chosen = greedy_cover(cov);
   shrink_cover(cov, r.chosen);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
-  r.lower_bound = cover_lower_bound(cov);
+  r.lower_bound = std::max(cover_lower_bound(cov), lagrangian_bound(cov, r.chosen.size()));
   r.uncoverable = uncovered_samples(cov);
   // Only a tolerance out of reach needs the least delta that would do (a full scan).
   r.least_reachable = r.uncoverable > 0 ? largest_finite(least_gaps(problem)) : delta;
@@ -473,7 +524,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   }
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
   improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log);
-  best.lower_bound = cover_lower_bound(best_cov);
+  best.lower_bound = std::max(cover_lower_bound(best_cov), lagrangian_bound(best_cov, best.chosen.size()));
   best.uncoverable = uncovered_samples(best_cov);
   log.detail("budget " + std::to_string(max_spheres) + ": delta " + num(best.delta) + " with " +
              std::to_string(best.chosen.size()) + " spheres after " + std::to_string(best.evaluations) + " covers");

@@ -77,6 +77,13 @@ size_t shrink_cover(const Coverage& coverage, std::vector<int>& chosen);
 // A lower bound on any cover's size: samples no two of which one candidate covers together.
 size_t cover_lower_bound(const Coverage& coverage);
 
+// The Lagrangian relaxation's lower bound on the number of spheres in any cover (subgradient
+// optimisation over the samples' multipliers, steps by Polyak's rule toward `upper`, the size of
+// a known cover; a fixed number of steps so the result is deterministic; rounded up, covers
+// being whole spheres). Never above the LP relaxation's optimum; usually well above
+// cover_lower_bound.
+size_t lagrangian_bound(const Coverage& coverage, size_t upper, int steps = 200);
+
 // Local improvement of a cover at `delta` towards the least total error (the sum over samples
 // of the gap to the nearest chosen sphere, which drives the median): spare budget (up to
 // `max_spheres`) goes to the candidates that cut the sum most, then each chosen sphere is
