@@ -8,11 +8,13 @@
 //   spx::bullet::blend_local(shape, proxy, site_weights, count, com);
 //
 // SphereSetShape is a btCompoundShape of btSphereShape children that the registered
-// algorithms recognise by its name. Against static planes and boxes, and against another sphere
-// set, the compound's own AABB tree culls the spheres, each surviving pair is tested in closed
-// form and every contact goes into one manifold per body pair (Bullet keeps the 4 that span the
-// contact best, always keeping the deepest). Any other compound in the world, and any other
-// shape pair, goes through Bullet's own algorithms.
+// algorithms recognise by its name. Against a static plane every sphere is tested in one flat
+// pass; against a static box the compound's AABB tree culls the spheres by the box's faces;
+// against another sphere set, the spheres inside the other's box query this one's tree. Each
+// surviving pair is tested in closed form, and the contacts go into one manifold per body pair,
+// reduced as Bullet reduces a manifold to 4 points: the deepest always kept, the others spanning
+// the contact. Any other compound in the world, and any other shape pair, goes through Bullet's
+// own algorithms.
 //
 // Thread safety: the shape is written by the blend calls only; Bullet reads it during
 // stepSimulation. Do not blend a shape while its world steps.
@@ -58,7 +60,7 @@ class SphereSetShape : public btCompoundShape {
 };
 
 // The runtime's blends written into the shape (status SPX_OK, or the blend's own status with the
-// shape left as it was). `scratch` buffers live in the caller's thread.
+// shape left as it was). The blend's scratch buffers are per thread.
 Status blend_global(SphereSetShape& shape, const Proxy& proxy, const float* weights, uint32_t weight_count,
                     const btVector3& origin = btVector3(0, 0, 0));
 Status blend_local(SphereSetShape& shape, const Proxy& proxy, const float* site_weights, size_t weight_count,
