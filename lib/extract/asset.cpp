@@ -5,7 +5,6 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <map>
 #include <set>
 
@@ -133,14 +132,7 @@ std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, co
 }  // namespace
 
 Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), importer_(new Assimp::Importer) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) fail_input(path, "cannot open: no such file");
-  if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not an asset file");
-  if (std::filesystem::file_size(path, ec) == 0) fail_input(path, "file is empty");
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext.empty() || !importer_->IsExtensionSupported(ext))
-    fail_unsupported(path, "unknown asset format '" + ext + "' (use glTF/GLB, FBX or COLLADA)");
+  check_importable(path, "an asset", "glTF/GLB, FBX or COLLADA");
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
   scene_ = importer_->ReadFile(path, aiProcess_Triangulate);
   if (!scene_ || !scene_->mRootNode) fail_input(path, std::string("cannot read asset: ") + importer_->GetErrorString());

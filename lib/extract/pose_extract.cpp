@@ -115,7 +115,6 @@ std::vector<PoseRequest> clip_requests(const Asset& asset, const PoseExtractOpti
       else
         at.emplace_back(c.frames[size_t(f)], f);
   } else {
-    if (opt.every < 0) fail_option("every", "must be at least 1");
     const size_t step = size_t(std::max(opt.every, 1));
     for (size_t f = 0; f < c.frames.size(); f += step) at.emplace_back(c.frames[f], int(f));
   }

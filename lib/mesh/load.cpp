@@ -29,16 +29,23 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-RawMesh read_raw(const std::string& path) {
+}  // namespace
+
+void check_importable(const std::string& path, const std::string& kind, const std::string& formats) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail_input(path, "cannot open: no such file");
-  if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not a mesh file");
+  if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not " + kind + " file");
   if (std::filesystem::file_size(path, ec) == 0) fail_input(path, "file is empty");
-
-  Assimp::Importer importer;
   const std::string ext = lower_extension(path);
-  if (ext.empty() || !importer.IsExtensionSupported(ext))
-    fail_unsupported(path, "unknown mesh format '" + ext + "' (use OBJ, PLY, STL, OFF, glTF/GLB or FBX)");
+  if (ext.empty() || !Assimp::Importer().IsExtensionSupported(ext))
+    fail_unsupported(path, "unknown " + kind.substr(kind.find(' ') + 1) + " format '" + ext + "' (use " + formats + ")");
+}
+
+namespace {
+
+RawMesh read_raw(const std::string& path) {
+  check_importable(path, "a mesh", "OBJ, PLY, STL, OFF, glTF/GLB or FBX");
+  Assimp::Importer importer;
   // Keep only triangles; never drop degenerate ones silently (the report lists them).
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(

@@ -31,6 +31,11 @@ struct LoadedMesh {
 // welded (seams in glTF, corners unrolled by the OBJ reader). Throws spx::Error naming `path`.
 LoadedMesh load_mesh(const std::string& path);
 
+// A file assimp can try: it exists, is not a folder, is not empty, and has an extension assimp
+// reads. `kind` names it in messages ("a mesh": "is a directory, not a mesh file", "unknown mesh
+// format"); `formats` lists what to use instead. Throws spx::Error naming `path` (exit 2 or 3).
+void check_importable(const std::string& path, const std::string& kind, const std::string& formats);
+
 // A pose of `rest`: same file layout, positions from `path`. Throws spx::Error (exit 2) when
 // the triangle list or vertex count differs from the rest mesh.
 TriMesh load_pose(const std::string& path, const LoadedMesh& rest);
