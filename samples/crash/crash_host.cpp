@@ -84,13 +84,11 @@ class GroundPlane : public btStaticPlaneShape {
 
 // One car in the world: its body, its collision shape and its plastic state.
 struct Car {
-  std::unique_ptr<btCollisionShape> shape;       // btCompoundShape or btGImpactMeshShape
-  std::vector<btSphereShape> balls;              // compound children
+  std::unique_ptr<btCollisionShape> shape;       // bullet::SphereSetShape or btGImpactMeshShape
   std::vector<btScalar> vertices;                // GImpact vertex buffer, body frame
   std::unique_ptr<btTriangleIndexVertexArray> mesh_array;
   std::unique_ptr<btRigidBody> body;
   std::vector<float> weights;                    // site-major, pose_count per site
-  std::vector<float> centers, radii;             // local blend output
   bool dirty = false;
 };
 
@@ -214,24 +212,9 @@ class World {
     car.weights.assign(sites * p, 0.0f);
     for (size_t s = 0; s < sites; ++s) car.weights[s * p] = 1;  // the rest pose everywhere
     if (asset_.spheres) {
-      const size_t n = asset_.proxy->sphere_count();
-      car.centers.resize(3 * n);
-      car.radii.resize(n);
-      if (asset_.sphere_set) {  // spx::bullet's shape and blend
-        car.shape = std::make_unique<bullet::SphereSetShape>(uint32_t(n));
-        update_shape(car);
-        add_body(index, car);
-        return;
-      }
-      car.balls.reserve(n);  // children point into this vector: it must never reallocate
-      auto compound = std::make_unique<btCompoundShape>(true, int(n));
-      btTransform t;
-      t.setIdentity();
-      for (size_t j = 0; j < n; ++j) {
-        car.balls.emplace_back(btScalar(1));
-        compound->addChildShape(t, &car.balls.back());
-      }
-      car.shape = std::move(compound);
+      // The same shape for both proxy configurations; only the sphere-set one registers
+      // spx::bullet's algorithms, so the other collides through Bullet's compound algorithms.
+      car.shape = std::make_unique<bullet::SphereSetShape>(asset_.proxy->sphere_count());
     } else {
       car.vertices.resize(3 * asset_.rest.vertices.size());
       car.mesh_array = std::make_unique<btTriangleIndexVertexArray>(
@@ -241,10 +224,7 @@ class World {
       car.shape->setMargin(0.02f);
     }
     update_shape(car);
-    add_body(index, car);
-  }
 
-  void add_body(int index, Car& car) {
     // Lanes across y; even cars start on the -x side heading +x, odd ones face them from +x.
     const int lane = index / 2, lanes = (opt_.cars + 1) / 2;
     const int side = index % 2 == 0 ? -1 : 1;
@@ -291,42 +271,16 @@ class World {
       mesh->updateBound();  // refit the GImpact box tree
       return;
     }
-    if (asset_.sphere_set) {
-      bullet::blend_local(*static_cast<bullet::SphereSetShape*>(car.shape.get()), *asset_.proxy, car.weights.data(),
-                          car.weights.size(), bt(asset_.com));
-      return;
-    }
-    blend_local(*asset_.proxy, car.weights.data(), car.weights.size(), car.centers.data(), car.radii.data());
-    auto* compound = static_cast<btCompoundShape*>(car.shape.get());
-    btTransform t;
-    t.setIdentity();
-    for (size_t j = 0; j < car.balls.size(); ++j) {
-      Eigen::Vector3d c(car.centers[3 * j], car.centers[3 * j + 1], car.centers[3 * j + 2]);
-      float r = car.radii[j];
-      if (r <= 0) {  // a sphere absent from this blend: parked as a point at the centre of mass
-        c = asset_.com;
-        r = 1e-4f;
-      }
-      car.balls[j].setUnscaledRadius(r);
-      t.setOrigin(bt(c - asset_.com));
-      compound->updateChildTransform(int(j), t, false);
-    }
-    compound->recalculateLocalAabb();
+    bullet::blend_local(*static_cast<bullet::SphereSetShape*>(car.shape.get()), *asset_.proxy, car.weights.data(),
+                        car.weights.size(), bt(asset_.com));
   }
 
   // A car's spheres in its body frame, as its collision shape holds them.
   SphereSet body_spheres(const Car& car) const {
     SphereSet out;
-    if (asset_.sphere_set) {
-      const auto& shape = *static_cast<const bullet::SphereSetShape*>(car.shape.get());
-      for (int j = 0; j < int(shape.sphere_count()); ++j)
-        out.push_back({eig(shape.getChildTransform(j).getOrigin()),
-                       shape.active(j) ? double(static_cast<const btSphereShape*>(shape.getChildShape(j))->getRadius()) : 0.0});
-      return out;
-    }
-    for (size_t j = 0; j < car.balls.size(); ++j)
-      out.push_back({Eigen::Vector3d(car.centers[3 * j], car.centers[3 * j + 1], car.centers[3 * j + 2]) - asset_.com,
-                     double(car.radii[j])});
+    const auto& shape = *static_cast<const bullet::SphereSetShape*>(car.shape.get());
+    for (int j = 0; j < int(shape.sphere_count()); ++j)
+      out.push_back({eig(shape.center(j)), double(shape.radius(j))});
     return out;
   }
 
