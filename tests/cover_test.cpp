@@ -38,6 +38,15 @@ bool covers_all(const Coverage& c, const std::vector<int>& chosen) {
   return true;
 }
 
+// A random tiny instance: each candidate covers each sample with probability 1/4.
+std::vector<std::vector<uint32_t>> random_rows(std::mt19937& rng, size_t candidates, size_t samples) {
+  std::vector<std::vector<uint32_t>> rows(candidates);
+  for (auto& r : rows)
+    for (uint32_t s = 0; s < samples; ++s)
+      if (rng() % 4 == 0) r.push_back(s);
+  return rows;
+}
+
 // The brute-force optimum: the smallest subset of candidates that covers every sample.
 size_t optimum(const Coverage& c) {
   const size_t n = c.start.size() - 1;
@@ -58,12 +67,8 @@ TEST(Cover, GreedyAndLowerBoundAgainstBruteForce) {
   std::mt19937 rng(3);
   size_t exact = 0, combinatorial_total = 0, lagrangian_total = 0;
   for (int trial = 0; trial < 300; ++trial) {
-    const size_t candidates = 4 + rng() % 9, samples = 3 + rng() % 14;
-    std::vector<std::vector<uint32_t>> rows(candidates);
-    for (auto& r : rows)
-      for (uint32_t s = 0; s < samples; ++s)
-        if (rng() % 4 == 0) r.push_back(s);
-    const Coverage c = coverage_of(rows, samples);
+    const size_t samples = 3 + rng() % 14;
+    const Coverage c = coverage_of(random_rows(rng, 4 + rng() % 9, samples), samples);
     const std::vector<int> chosen = greedy_cover(c);
     ASSERT_TRUE(covers_all(c, chosen)) << "trial " << trial;
     for (size_t drop = 0; drop < chosen.size(); ++drop) {
@@ -85,6 +90,44 @@ TEST(Cover, GreedyAndLowerBoundAgainstBruteForce) {
   }
   EXPECT_GT(exact, 200u) << "greedy with redundancy removal should usually be optimal on tiny cases";
   EXPECT_GE(lagrangian_total, combinatorial_total);
+}
+
+// Tiny random instances, some with repeated rows and columns: the reduction keeps the
+// optimum and a cover of the reduced problem covers the original; the row-weighting search
+// returns a cover no larger than its start and, on instances this small, the optimum.
+TEST(Cover, ReductionAndSearchAgainstBruteForce) {
+  std::mt19937 rng(5);
+  size_t reduced_smaller = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const size_t candidates = 4 + rng() % 11, samples = 3 + rng() % 16;
+    std::vector<std::vector<uint32_t>> rows = random_rows(rng, candidates, samples);
+    if (trial % 3 == 0) rows.back() = rows.front();  // a repeated candidate
+    const Coverage c = coverage_of(rows, samples);
+    const size_t best = optimum(c);
+
+    const ReducedCover r = reduce_cover(c);
+    ASSERT_EQ(r.candidate.size(), r.coverage.start.size() - 1);
+    ASSERT_EQ(r.sample.size(), r.coverage.sample_count);
+    EXPECT_EQ(optimum(r.coverage), best) << "trial " << trial;
+    reduced_smaller += r.candidate.size() < candidates;
+    std::vector<int> back = greedy_cover(r.coverage);
+    for (int& k : back) k = int(r.candidate[size_t(k)]);
+    EXPECT_TRUE(covers_all(c, back)) << "trial " << trial;
+
+    std::vector<int> searched = greedy_cover(c);
+    const size_t start = searched.size();
+    local_search_cover(c, searched, 2000);
+    EXPECT_TRUE(covers_all(c, searched)) << "trial " << trial;
+    EXPECT_LE(searched.size(), start) << "trial " << trial;
+    EXPECT_EQ(searched.size(), best) << "trial " << trial;
+
+    size_t bound = 0;
+    const std::vector<int> smallest = smallest_cover(c, 2000, bound);
+    EXPECT_TRUE(covers_all(c, smallest)) << "trial " << trial;
+    EXPECT_EQ(smallest.size(), best) << "trial " << trial;
+    EXPECT_LE(bound, best) << "trial " << trial;
+  }
+  EXPECT_GT(reduced_smaller, 100u) << "the reduction should drop dominated candidates";
 }
 
 // The coverage rows against a brute-force scan of every (candidate, sample) pair.

@@ -8,6 +8,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "mesh/defects.hpp"
+#include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
 #include "synthetic/synthetic.hpp"
@@ -261,6 +262,50 @@ TEST(MeshQuery, ClosestPointMatchesBruteForce) {
                                     c.barycentric[2] * mesh.vertices[f[2]];
     EXPECT_LT((rebuilt - c.point).norm(), 1e-12);
   }
+}
+
+// Inscribed spheres at random interior points of the barrel, grown: each grown sphere contains
+// the first, lies inside (its radius is the brute-force distance from its center), offsets
+// by at most the growth asked, keeps the cap; and many do grow. A hinted distance query gives
+// the plain one.
+TEST(Inscribed, GrownSpheresContainTheFirstAndStayInside) {
+  const TriMesh mesh = make_barrel().rest;
+  const MeshQuery query(mesh);
+  auto brute_distance = [&](const Eigen::Vector3d& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& t : mesh.triangles)
+      best = std::min(best, (closest_point_on_triangle(p, mesh.vertices[size_t(t[0])], mesh.vertices[size_t(t[1])],
+                                                       mesh.vertices[size_t(t[2])]) -
+                             p)
+                                .norm());
+    return best;
+  };
+  Eigen::AlignedBox3d box;
+  for (const auto& v : mesh.vertices) box.extend(v);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  size_t grown = 0, tried = 0;
+  for (int i = 0; tried < 300 && i < 5000; ++i) {
+    const Eigen::Vector3d c = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    if (!query.inside(c)) continue;
+    ++tried;
+    const double r = query.distance(c);
+    EXPECT_NEAR(query.distance(c, mesh.vertices[0]), r, 1e-12);
+    for (double cap : {1e300, 0.8 * r + 0.5 * r * u(rng)}) {
+      const Sphere first{c, std::min(r, cap)};
+      const Sphere g = grow_inscribed(query, first, cap, 1.0);
+      EXPECT_GE(g.radius, first.radius);
+      EXPECT_LE((g.center - c).norm() + first.radius, g.radius * (1 + 1e-6)) << "does not contain the first";
+      EXPECT_TRUE(query.inside(g.center));
+      EXPECT_NEAR(g.radius, std::min(cap, brute_distance(g.center)), 1e-9 * g.radius) << "not inscribed";
+      EXPECT_LE(g.radius, cap);
+      EXPECT_LE((g.center - c).norm(), first.radius * (1 + 1e-9)) << "moved more than the growth asked";
+      if (cap > 1e299) grown += g.radius > first.radius * 1.05;
+      if (cap < r) EXPECT_EQ(g.center, c) << "a capped sphere does not touch the surface: it stays";
+    }
+  }
+  EXPECT_EQ(tried, 300u);
+  EXPECT_GT(grown, 150u);
 }
 
 TEST(Samples, AreClosedOutwardAndSized) {

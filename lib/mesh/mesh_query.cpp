@@ -46,6 +46,10 @@ double MeshQuery::distance(const Eigen::Vector3d& p) const {
   return std::sqrt(tree_->tree.squared_distance(to_cgal(p)));
 }
 
+double MeshQuery::distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint) const {
+  return std::sqrt(tree_->tree.squared_distance(to_cgal(p), to_cgal(hint)));
+}
+
 ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
   const auto [point, primitive] = tree_->tree.closest_point_and_primitive(to_cgal(p));
   ClosestPoint out;

@@ -23,6 +23,8 @@ class MeshQuery {
 
   const TriMesh& mesh() const { return mesh_; }
   double distance(const Eigen::Vector3d& p) const;
+  // The same, faster when `hint` is a surface point near the closest one.
+  double distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint) const;
   ClosestPoint closest(const Eigen::Vector3d& p) const;
   double winding_number(const Eigen::Vector3d& p) const { return wn_(p); }
   bool inside(const Eigen::Vector3d& p) const { return wn_.inside(p); }

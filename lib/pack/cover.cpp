@@ -121,6 +121,7 @@ SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, c
       double radius = mesh.inside(c) ? std::min(opt.max_radius, mesh.distance(c)) : 0.0;
       if (opt.field_bounds_radius) radius = std::min(radius, -double(field.values[voxels[n]]) - 0.1 * h);
       out[n] = {c, std::max(radius, 0.0)};
+      if (!opt.field_bounds_radius) out[n] = grow_inscribed(mesh, out[n], opt.max_radius, opt.growth);
     }
   });
   out.erase(std::remove_if(out.begin(), out.end(),
@@ -342,6 +343,267 @@ size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
   return shrunk;
 }
 
+namespace {
+
+// The state of the row-weighting search: which candidates are in, how often each sample is
+// covered, the samples' weights, and each candidate's score (in: minus the weight it alone
+// covers, the loss of dropping it; out: the weight of bare samples it covers, the gain of
+// adding it).
+class WeightedCover {
+ public:
+  WeightedCover(const Coverage& cov, const Coverage& by) : cov_(cov), by_(by) {
+    const size_t n = cov.start.size() - 1, m = cov.sample_count;
+    count_.assign(m, 0);
+    weight_.assign(m, 1);
+    bare_at_.assign(m, -1);
+    score_.assign(n, 0);
+    stamp_.assign(n, 0);
+    in_.assign(n, 0);
+    can_add_.assign(n, 1);
+    for (uint32_t s = 0; s < m; ++s)
+      if (by.row_size(s) > 0) make_bare(s);
+    for (size_t c = 0; c < n; ++c)
+      for (uint32_t k = cov.start[c]; k < cov.start[c + 1]; ++k) score_[c] += weight_[cov.samples[k]];
+  }
+
+  void add(uint32_t c, uint64_t step) {
+    in_[c] = 1;
+    score_[c] = -score_[c];
+    stamp_[c] = step;
+    members_.push_back(c);
+    for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
+      const uint32_t s = cov_.samples[k];
+      const uint32_t before = count_[s]++;
+      if (before == 0) drop_bare(s);
+      if (before > 1) continue;  // no score changes
+      for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
+        const uint32_t o = by_.samples[n];
+        if (o == c) continue;
+        can_add_[o] = 1;
+        if (before == 0) score_[o] -= weight_[s];
+        else if (in_[o]) score_[o] += weight_[s];
+      }
+    }
+  }
+
+  void remove(uint32_t c, uint64_t step) {
+    in_[c] = 0;
+    score_[c] = -score_[c];
+    stamp_[c] = step;
+    can_add_[c] = 0;
+    members_.erase(std::find(members_.begin(), members_.end(), c));
+    for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
+      const uint32_t s = cov_.samples[k];
+      const uint32_t after = --count_[s];
+      if (after == 0) make_bare(s);
+      if (after > 1) continue;  // no score changes
+      for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
+        const uint32_t o = by_.samples[n];
+        if (o == c) continue;
+        can_add_[o] = 1;
+        if (after == 0) score_[o] += weight_[s];
+        else if (in_[o]) score_[o] -= weight_[s];
+      }
+    }
+  }
+
+  // Bare samples weigh one more, so the candidates covering them gain.
+  void raise_bare_weights() {
+    for (uint32_t s : bare_) {
+      ++weight_[s];
+      for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) ++score_[by_.samples[n]];
+    }
+  }
+
+  // The member whose removal loses least (ties to the longest unchanged), other than `keep`.
+  uint32_t cheapest_member(uint32_t keep) const {
+    uint32_t best = UINT32_MAX;
+    for (uint32_t c : members_)
+      if (c != keep && (best == UINT32_MAX || better(c, best))) best = c;
+    return best;
+  }
+  // The candidate covering sample s that gains most (ties to the longest unchanged), preferring
+  // those whose neighbourhood changed since they were dropped (configuration checking).
+  uint32_t best_adder(uint32_t s) const {
+    uint32_t best = UINT32_MAX, fallback = UINT32_MAX;
+    for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
+      const uint32_t c = by_.samples[n];
+      if (fallback == UINT32_MAX || better(c, fallback)) fallback = c;
+      if (can_add_[c] && (best == UINT32_MAX || better(c, best))) best = c;
+    }
+    return best == UINT32_MAX ? fallback : best;
+  }
+  // A member every sample of which another member also covers (UINT32_MAX: none).
+  uint32_t redundant_member() const {
+    for (uint32_t c : members_)
+      if (score_[c] == 0) return c;
+    return UINT32_MAX;
+  }
+
+  bool covers_all() const { return bare_.empty(); }
+  size_t bare_count() const { return bare_.size(); }
+  uint32_t bare(size_t i) const { return bare_[i]; }
+  const std::vector<uint32_t>& members() const { return members_; }
+  bool in(uint32_t c) const { return in_[c] != 0; }
+
+ private:
+  bool better(uint32_t a, uint32_t b) const {
+    return score_[a] > score_[b] || (score_[a] == score_[b] && (stamp_[a] < stamp_[b] || (stamp_[a] == stamp_[b] && a < b)));
+  }
+  void make_bare(uint32_t s) {
+    bare_at_[s] = int64_t(bare_.size());
+    bare_.push_back(s);
+  }
+  void drop_bare(uint32_t s) {
+    const int64_t at = bare_at_[s];
+    bare_[size_t(at)] = bare_.back();
+    bare_at_[bare_.back()] = at;
+    bare_.pop_back();
+    bare_at_[s] = -1;
+  }
+
+  const Coverage& cov_;
+  const Coverage& by_;
+  std::vector<uint32_t> count_;
+  std::vector<int64_t> weight_, score_, bare_at_;
+  std::vector<uint64_t> stamp_;
+  std::vector<char> in_, can_add_;
+  std::vector<uint32_t> bare_, members_;
+};
+
+}  // namespace
+
+ReducedCover reduce_cover(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  const Coverage by = covering_candidates(cov);
+  auto is_subset = [](const uint32_t* a, const uint32_t* a_end, const uint32_t* b, const uint32_t* b_end) {
+    for (; a != a_end; ++a) {
+      b = std::lower_bound(b, b_end, *a);
+      if (b == b_end || *b != *a) return false;
+    }
+    return true;
+  };
+  // Samples: b is implied when some a's candidates are all among b's (a cover of a covers b).
+  // Smallest first; a kept sample marks every larger one it implies (ties: the later index).
+  std::vector<uint32_t> order;
+  for (uint32_t s = 0; s < cov.sample_count; ++s)
+    if (by.row_size(s) > 0) order.push_back(s);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return by.row_size(a) < by.row_size(b); });
+  std::vector<char> implied(cov.sample_count, 0);
+  for (uint32_t a : order) {
+    if (implied[a]) continue;
+    // Every sample implied by a is covered by a's candidate that covers fewest samples.
+    uint32_t rare = by.samples[by.start[a]];
+    for (uint32_t n = by.start[a]; n < by.start[a + 1]; ++n)
+      if (cov.row_size(by.samples[n]) < cov.row_size(rare)) rare = by.samples[n];
+    for (uint32_t n = cov.start[rare]; n < cov.start[rare + 1]; ++n) {
+      const uint32_t b = cov.samples[n];
+      if (b == a || implied[b] || by.row_size(b) < by.row_size(a)) continue;
+      if (by.row_size(b) == by.row_size(a) && b < a) continue;  // identical rows: keep the earlier
+      if (is_subset(&by.samples[by.start[a]], &by.samples[by.start[a + 1]], &by.samples[by.start[b]],
+                    &by.samples[by.start[b + 1]]))
+        implied[b] = 1;
+    }
+  }
+  ReducedCover out;
+  std::vector<uint32_t> row_of(cov.sample_count, UINT32_MAX);
+  for (uint32_t s = 0; s < cov.sample_count; ++s)
+    if (by.row_size(s) > 0 && !implied[s]) row_of[s] = uint32_t(out.sample.size()), out.sample.push_back(s);
+  // Candidates over the kept samples; d is dominated when another covers all of its samples
+  // (ties: the later index).
+  std::vector<std::vector<uint32_t>> rows(candidates);
+  for (size_t c = 0; c < candidates; ++c)
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      if (row_of[cov.samples[n]] != UINT32_MAX) rows[c].push_back(row_of[cov.samples[n]]);
+  std::vector<uint32_t> holders_start(out.sample.size() + 1, 0), holders;
+  for (const auto& r : rows)
+    for (uint32_t s : r) ++holders_start[s + 1];
+  std::partial_sum(holders_start.begin(), holders_start.end(), holders_start.begin());
+  holders.resize(holders_start.back());
+  {
+    std::vector<uint32_t> fill(holders_start.begin(), holders_start.end() - 1);
+    for (size_t c = 0; c < candidates; ++c)
+      for (uint32_t s : rows[c]) holders[fill[s]++] = uint32_t(c);
+  }
+  std::vector<char> dominated(candidates, 0);
+  for (size_t d = 0; d < candidates; ++d) {
+    if (rows[d].empty()) {
+      dominated[d] = 1;
+      continue;
+    }
+    uint32_t rare = rows[d].front();
+    for (uint32_t s : rows[d])
+      if (holders_start[s + 1] - holders_start[s] < holders_start[rare + 1] - holders_start[rare]) rare = s;
+    for (uint32_t n = holders_start[rare]; n < holders_start[rare + 1] && !dominated[d]; ++n) {
+      const uint32_t e = holders[n];
+      if (e == d || dominated[e] || rows[e].size() < rows[d].size()) continue;
+      if (rows[e].size() == rows[d].size() && e > d) continue;  // identical: keep the earlier
+      dominated[d] = is_subset(rows[d].data(), rows[d].data() + rows[d].size(), rows[e].data(),
+                               rows[e].data() + rows[e].size());
+    }
+  }
+  out.coverage.sample_count = out.sample.size();
+  out.coverage.start.push_back(0);
+  for (size_t c = 0; c < candidates; ++c) {
+    if (dominated[c]) continue;
+    out.candidate.push_back(uint32_t(c));
+    out.coverage.samples.insert(out.coverage.samples.end(), rows[c].begin(), rows[c].end());
+    out.coverage.start.push_back(uint32_t(out.coverage.samples.size()));
+  }
+  return out;
+}
+
+size_t local_search_cover(const Coverage& cov, std::vector<int>& chosen, size_t steps, uint64_t seed) {
+  if (chosen.size() <= 1 || steps == 0) return 0;
+  const Coverage by = covering_candidates(cov);
+  WeightedCover state(cov, by);
+  for (int c : chosen) state.add(uint32_t(c), 0);
+  const size_t bare_start = state.bare_count();  // samples no candidate covers stay bare
+  std::vector<int> best = chosen;
+  SplitMix rng{seed};
+  uint32_t tabu = UINT32_MAX;
+  for (uint64_t step = 1; step <= steps; ++step) {
+    // A cover: keep it if smaller, then search one sphere below it.
+    while (state.bare_count() <= bare_start) {
+      if (state.members().size() < best.size()) best.assign(state.members().begin(), state.members().end());
+      if (state.members().size() <= 1) break;
+      state.remove(state.cheapest_member(UINT32_MAX), step);
+    }
+    if (state.members().size() <= 1) break;
+    state.remove(state.cheapest_member(tabu), step);
+    const uint32_t sample = state.bare(size_t(rng.next() % state.bare_count()));
+    tabu = state.best_adder(sample);
+    state.add(tabu, step);
+    state.raise_bare_weights();
+  }
+  if (state.bare_count() <= bare_start && state.members().size() < best.size())
+    best.assign(state.members().begin(), state.members().end());
+  const size_t saved = chosen.size() - std::min(chosen.size(), best.size());
+  if (best.size() < chosen.size()) {
+    std::sort(best.begin(), best.end());
+    chosen = best;
+  }
+  return saved;
+}
+
+std::vector<int> smallest_cover(const Coverage& cov, size_t steps, size_t& lower_bound, Log& log) {
+  const ReducedCover reduced = reduce_cover(cov);
+  std::vector<int> chosen = greedy_cover(reduced.coverage);
+  const size_t greedy = chosen.size();
+  shrink_cover(reduced.coverage, chosen);
+  const size_t shrunk = chosen.size();
+  local_search_cover(reduced.coverage, chosen, steps);
+  // The reduction keeps the optimum of the problem and of its LP relaxation: bounds carry over.
+  lower_bound = std::max(cover_lower_bound(reduced.coverage), lagrangian_bound(reduced.coverage, chosen.size()));
+  log.detail("cover of " + std::to_string(reduced.candidate.size()) + " candidates and " +
+             std::to_string(reduced.sample.size()) + " samples after reduction: greedy " + std::to_string(greedy) +
+             ", shrunk " + std::to_string(shrunk) + ", searched " + std::to_string(chosen.size()) + " (at least " +
+             std::to_string(lower_bound) + ")");
+  for (int& c : chosen) c = int(reduced.candidate[size_t(c)]);
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
 Coverage covering_candidates(const Coverage& cov) {
   const size_t candidates = cov.start.size() - 1;
   Coverage t;
@@ -449,14 +711,12 @@ double largest_finite(const std::vector<double>& values) {
 
 }  // namespace
 
-CoverResult cover_within(const CoverProblem& problem, double delta, Log& log) {
+CoverResult cover_within(const CoverProblem& problem, double delta, size_t search_steps, Log& log) {
   CoverResult r;
   r.delta = delta;
   const Coverage cov = coverage_at(problem, delta);
-  r.chosen = greedy_cover(cov);
-  shrink_cover(cov, r.chosen);
+  r.chosen = smallest_cover(cov, search_steps, r.lower_bound, log);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
-  r.lower_bound = std::max(cover_lower_bound(cov), lagrangian_bound(cov, r.chosen.size()));
   r.uncoverable = uncovered_samples(cov);
   // Only a tolerance out of reach needs the least delta that would do (a full scan).
   r.least_reachable = r.uncoverable > 0 ? largest_finite(least_gaps(problem)) : delta;
@@ -469,7 +729,7 @@ CoverResult cover_within(const CoverProblem& problem, double delta, Log& log) {
 CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, std::string& limited_by, Log& log) {
   CoverResult cover;
   if (target > 0) {
-    cover = cover_within(problem, target, log);
+    cover = cover_within(problem, target, kSearchSteps, log);
     limited_by = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
   }
   if (budget > 0 && (!(target > 0) || cover.chosen.size() > budget)) {

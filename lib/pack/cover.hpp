@@ -1,7 +1,8 @@
 #pragma once
 // Sphere selection by coverage (sphere-pack's default method). Candidates are inscribed
 // spheres: centers at the field's near-medial interior voxels, radius the exact distance to the
-// surface, so every candidate lies inside the mesh. Samples are every mesh vertex plus
+// surface (then grown along the normal to the largest such sphere containing it), so every
+// candidate lies inside the mesh. Samples are every mesh vertex plus
 // area-weighted surface points. A candidate covers a sample within delta of its sphere; since
 // no sample lies inside an inscribed sphere, "every vertex covered at delta" is exactly
 // "max vertex-to-union error <= delta". A set cover then picks the spheres:
@@ -15,6 +16,7 @@
 #include "core/log.hpp"
 #include "core/sphere.hpp"
 #include "io/dense_field.hpp"
+#include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
 
 namespace spx {
@@ -24,10 +26,15 @@ struct CandidateOptions {
   double max_radius = 1e300;
   size_t max_candidates = 12000;  // thinned on a coarser grid past this, deepest kept per cell
   bool field_bounds_radius = false;  // open meshes: the field bounds radii across the holes too
+  // Each candidate grown to the largest inscribed sphere containing it (grow_inscribed), so
+  // centers off the medial axis by a voxel reach it; closed meshes only (the field's bound
+  // across an open mesh's holes holds at voxel centers alone).
+  double growth = kDefaultGrowth;
 };
 
 // Inscribed candidate spheres from the interior voxels of `field` that lie near its medial
-// axis (no face neighbour deeper by half a voxel or more), radii from `mesh`.
+// axis (no face neighbour deeper by half a voxel or more), radii from `mesh`, each grown to the
+// largest inscribed sphere containing it (options.growth).
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& options);
 
 // Every vertex of `mesh`, then `area_samples` points drawn uniformly by area (seeded).
@@ -74,6 +81,23 @@ std::vector<int> greedy_cover(const Coverage& coverage);
 // when that removes two or more. Returns the spheres saved.
 size_t shrink_cover(const Coverage& coverage, std::vector<int>& chosen);
 
+// The same cover problem made smaller without changing its optimum: a sample whose candidates
+// include all of another's is dropped (covering the other covers it), then a candidate whose
+// samples another candidate also covers is dropped. Samples no candidate covers are dropped.
+struct ReducedCover {
+  Coverage coverage;
+  std::vector<uint32_t> candidate;  // reduced candidate -> original index
+  std::vector<uint32_t> sample;     // reduced sample -> original index
+};
+ReducedCover reduce_cover(const Coverage& coverage);
+
+// Row-weighting local search (after Gao, Weise and Li's RWLS for unicost set cover): from a
+// cover, drop the sphere whose loss is least and re-cover a random bare sample with the
+// candidate that gains most, raising the weight of every sample left bare at each step so that
+// the hard ones steer the search; keeps the smallest cover met. `steps` and `seed` fix the run,
+// so it is deterministic. Returns the spheres saved.
+size_t local_search_cover(const Coverage& coverage, std::vector<int>& chosen, size_t steps, uint64_t seed = 1);
+
 // A lower bound on any cover's size: samples no two of which one candidate covers together.
 size_t cover_lower_bound(const Coverage& coverage);
 
@@ -110,8 +134,17 @@ struct CoverResult {
   int evaluations = 0;         // covers solved
 };
 
+// The fewest spheres found for `coverage`: the problem reduced (reduce_cover), greedy, shrunk,
+// then `steps` of the row-weighting search. `lower_bound` gets the larger of the two bounds.
+// Returns candidate indices, ascending.
+std::vector<int> smallest_cover(const Coverage& coverage, size_t steps, size_t& lower_bound, Log& log = Log::silent());
+
+// Steps of the row-weighting search in tolerance mode: about a second on a 5-pose elephant.
+constexpr size_t kSearchSteps = 20000;
+
 // Tolerance mode: the fewest candidates that cover every sample at `delta`.
-CoverResult cover_within(const CoverProblem& problem, double delta, Log& log = Log::silent());
+CoverResult cover_within(const CoverProblem& problem, double delta, size_t search_steps = kSearchSteps,
+                         Log& log = Log::silent());
 
 // Both modes as the tools combine them: the fewest spheres within `target` (when > 0), unless
 // that exceeds `budget` (when > 0), then the least error for the budget. `limited_by` says

@@ -1,6 +1,7 @@
 #include "posemap/posemap.hpp"
 
 #include <array>
+#include <functional>
 #include <cmath>
 #include <memory>
 #include <tbb/blocked_range.h>
@@ -10,6 +11,7 @@
 #include "core/format.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/defects.hpp"
+#include "mesh/inscribed.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
@@ -40,6 +42,16 @@ struct PoseSolid {
     const double r = std::min(exact, hole_bound(c));
     if (r > 0) return {r, Zero::none};
     return {0, exact > 0 ? Zero::hole_bound : Zero::other};
+  }
+
+  // The sphere at c by this rule, grown to the largest that contains it (grow_inscribed), the
+  // holes bounding it too.
+  std::pair<Sphere, Zero> grown(const Eigen::Vector3d& c) const {
+    const Radius at = radius(c);
+    if (at.zero != Zero::none) return {{c, 0}, at.zero};
+    std::function<double(const Eigen::Vector3d&)> bound;
+    if (holes) bound = [this](const Eigen::Vector3d& q) { return hole_bound(q); };
+    return {grow_inscribed(*mesh, {c, at.value}, max_radius, kDefaultGrowth, bound), Zero::none};
   }
 
   // Distance is 1-Lipschitz: a voxel's depth less its offset to c bounds the depth at c; the
@@ -120,6 +132,7 @@ class PoseMapper {
   // by the same rule), each pose's vertices and area samples to cover, one set cover. Returns
   // the chosen candidates (rest pose) and the report's part.
   SphereSet select_jointly(const SphereSet& file_candidates, nlohmann::json& report) {
+    grow_ = true;  // from here on every sphere, in every pose, is grown (the candidates and the result alike)
     const size_t poses = meshes_.size();
     SphereSet candidates = file_candidates;
     CoverProblem problem;
@@ -155,12 +168,13 @@ class PoseMapper {
     size_t added = 0;
     const double reach = target > 0 ? target : 0.02 * rest_.diagonal();
     {
-      const std::vector<double> gaps = least_gaps(problem);
+      std::vector<char> near(problem.sample_count(), 0);
+      for (uint32_t s : coverage_at(problem, reach).samples) near[s] = 1;
       size_t offset = problem.samples[0].size();
       for (size_t i = 1; i < poses; ++i) {
         std::vector<Eigen::Vector3d> far;
         for (size_t s = 0; s < problem.samples[i].size(); ++s)
-          if (gaps[offset + s] > reach) far.push_back(problem.samples[i][s]);
+          if (!near[offset + s]) far.push_back(problem.samples[i][s]);
         offset += problem.samples[i].size();
         if (far.empty()) continue;
         const SphereSet own = pose_candidates_near(i - 1, far, reach);
@@ -183,7 +197,7 @@ class PoseMapper {
     for (int c : cover.chosen) chosen.push_back(candidates[size_t(c)]);
     std::stable_sort(chosen.begin(), chosen.end(), [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
     report = {{"method", "one set cover over the rest and every pose of the spheres file's candidates, each mapped "
-                         "into every pose"},
+                         "into every pose and grown there to the largest inscribed sphere containing it"},
               {"candidates", n},
               {"candidates_from_poses", added},
               {"samples", problem.sample_count()},
@@ -332,6 +346,7 @@ class PoseMapper {
   // through f, its radius by the pose's rule, and why that radius is 0 if it is.
   std::pair<Sphere, PoseSolid::Zero> in_pose(size_t i, const Eigen::Vector3d& c, const TetLocator::Location& at) const {
     const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
+    if (grow_) return solids_[i].grown(center);
     const PoseSolid::Radius radius = solids_[i].radius(center);
     return {{center, radius.value}, radius.zero};
   }
@@ -435,6 +450,7 @@ class PoseMapper {
   std::vector<PoseSolid> solids_;
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 3>> zero_radius_;       // per pose, by cause
+  bool grow_ = false;                                    // spheres grown in every pose (joint selection)
 };
 
 }  // namespace

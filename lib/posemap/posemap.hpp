@@ -1,7 +1,9 @@
 #pragma once
 // pose-map: S_1..S_e from S_0. Each center moves by the harmonic map f; its radius in pose i
 // is min(max radius, distance to M_i); a center that lands outside M_i is reported and its
-// sphere gets radius 0 in that pose. Each sphere's blend site is its nearest rest tet vertex.
+// sphere gets radius 0 in that pose. Under joint selection each of those spheres, the rest's
+// too, is then grown to the largest inscribed sphere containing it (grow_inscribed), candidates
+// and result alike. Each sphere's blend site is its nearest rest tet vertex.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
