@@ -116,13 +116,13 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
 
     std::vector<int> searched = greedy_cover(c);
     const size_t start = searched.size();
-    local_search_cover(c, searched, 2000);
+    local_search_cover(c, searched, {2000, 1000000000});
     EXPECT_TRUE(covers_all(c, searched)) << "trial " << trial;
     EXPECT_LE(searched.size(), start) << "trial " << trial;
     EXPECT_EQ(searched.size(), best) << "trial " << trial;
 
     size_t bound = 0;
-    const std::vector<int> smallest = smallest_cover(c, 2000, bound);
+    const std::vector<int> smallest = smallest_cover(c, {2000, 1000000000}, 0, &bound);
     EXPECT_TRUE(covers_all(c, smallest)) << "trial " << trial;
     EXPECT_EQ(smallest.size(), best) << "trial " << trial;
     EXPECT_LE(bound, best) << "trial " << trial;

@@ -4,8 +4,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <queue>
 #include <tuple>
@@ -161,35 +163,81 @@ size_t CoverProblem::sample_count() const {
   return n;
 }
 
-Coverage coverage_at(const CoverProblem& problem, double delta) {
+namespace {
+
+// Every (candidate, sample) pair within `delta`, gathered per candidate by `keep(row, sample,
+// gap)` in parallel over candidates; each row then sorted.
+template <class Entry, class Keep>
+std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t>& offset,
+                                            Keep&& keep) {
   const size_t candidates = problem.candidate_count();
   std::vector<SampleGrid> grids;
-  std::vector<uint32_t> offset{0};
+  offset.assign(1, 0);
   for (const auto& s : problem.samples) {
     grids.emplace_back(s);
     offset.push_back(offset.back() + uint32_t(s.size()));
   }
-  std::vector<std::vector<uint32_t>> rows(candidates);
+  std::vector<std::vector<Entry>> rows(candidates);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t c = r.begin(); c != r.end(); ++c)
+    for (size_t c = r.begin(); c != r.end(); ++c) {
       for (size_t k = 0; k < problem.samples.size(); ++k) {
         const Sphere& s = problem.spheres[k][c];
         if (!(s.radius > 0)) continue;
         const auto& points = problem.samples[k];
         grids[k].near(s.center, s.radius + delta, [&](uint32_t i) {
-          if ((points[i] - s.center).norm() - s.radius <= delta) rows[c].push_back(offset[k] + i);
+          const double gap = (points[i] - s.center).norm() - s.radius;
+          if (gap <= delta) keep(rows[c], offset[k] + i, gap);
         });
       }
+      std::sort(rows[c].begin(), rows[c].end());
+    }
   });
+  return rows;
+}
+
+}  // namespace
+
+Coverage coverage_at(const CoverProblem& problem, double delta) {
+  std::vector<uint32_t> offset;
+  std::vector<std::vector<uint32_t>> rows = gather_rows<uint32_t>(
+      problem, delta, offset, [](std::vector<uint32_t>& row, uint32_t sample, double) { row.push_back(sample); });
   Coverage cov;
   cov.sample_count = offset.back();
-  cov.start.assign(candidates + 1, 0);
-  for (size_t c = 0; c < candidates; ++c) cov.start[c + 1] = cov.start[c] + uint32_t(rows[c].size());
+  cov.start.assign(rows.size() + 1, 0);
+  for (size_t c = 0; c < rows.size(); ++c) cov.start[c + 1] = cov.start[c] + uint32_t(rows[c].size());
   cov.samples.resize(cov.start.back());
+  tbb::parallel_for(size_t(0), rows.size(),
+                    [&](size_t c) { std::copy(rows[c].begin(), rows[c].end(), cov.samples.begin() + cov.start[c]); });
+  return cov;
+}
+
+GapTable::GapTable(const CoverProblem& problem, double max_delta) : max_delta_(max_delta) {
+  std::vector<uint32_t> offset;
+  const std::vector<std::vector<std::pair<uint32_t, double>>> rows = gather_rows<std::pair<uint32_t, double>>(
+      problem, max_delta, offset,
+      [](std::vector<std::pair<uint32_t, double>>& row, uint32_t sample, double gap) { row.emplace_back(sample, gap); });
+  const size_t candidates = rows.size();
+  sample_count_ = offset.back();
+  start_.assign(candidates + 1, 0);
+  for (size_t c = 0; c < candidates; ++c) start_[c + 1] = start_[c] + uint32_t(rows[c].size());
+  samples_.resize(start_.back());
+  gaps_.resize(start_.back());
   tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
-    std::sort(rows[c].begin(), rows[c].end());
-    std::copy(rows[c].begin(), rows[c].end(), cov.samples.begin() + cov.start[c]);
+    for (size_t n = 0; n < rows[c].size(); ++n) std::tie(samples_[start_[c] + n], gaps_[start_[c] + n]) = rows[c][n];
   });
+}
+
+Coverage GapTable::at(double delta) const {
+  delta = std::min(delta, max_delta_);
+  Coverage cov;
+  cov.sample_count = sample_count_;
+  cov.start.reserve(start_.size());
+  cov.start.push_back(0);
+  for (size_t c = 0; c + 1 < start_.size(); ++c) {
+    for (uint32_t n = start_[c]; n < start_[c + 1]; ++n)
+      if (gaps_[n] <= delta) cov.samples.push_back(samples_[n]);
+    cov.start.push_back(uint32_t(cov.samples.size()));
+  }
   return cov;
 }
 
@@ -367,6 +415,7 @@ class WeightedCover {
   }
 
   void add(uint32_t c, uint64_t step) {
+    work_ += cov_.row_size(c);
     in_[c] = 1;
     score_[c] = -score_[c];
     stamp_[c] = step;
@@ -376,6 +425,7 @@ class WeightedCover {
       const uint32_t before = count_[s]++;
       if (before == 0) drop_bare(s);
       if (before > 1) continue;  // no score changes
+      work_ += by_.row_size(s);
       for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
         const uint32_t o = by_.samples[n];
         if (o == c) continue;
@@ -387,6 +437,7 @@ class WeightedCover {
   }
 
   void remove(uint32_t c, uint64_t step) {
+    work_ += cov_.row_size(c);
     in_[c] = 0;
     score_[c] = -score_[c];
     stamp_[c] = step;
@@ -397,6 +448,7 @@ class WeightedCover {
       const uint32_t after = --count_[s];
       if (after == 0) make_bare(s);
       if (after > 1) continue;  // no score changes
+      work_ += by_.row_size(s);
       for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
         const uint32_t o = by_.samples[n];
         if (o == c) continue;
@@ -410,6 +462,7 @@ class WeightedCover {
   // Bare samples weigh one more, so the candidates covering them gain.
   void raise_bare_weights() {
     for (uint32_t s : bare_) {
+      work_ += by_.row_size(s);
       ++weight_[s];
       for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) ++score_[by_.samples[n]];
     }
@@ -441,6 +494,8 @@ class WeightedCover {
   }
 
   bool covers_all() const { return bare_.empty(); }
+  // Entries of the coverage visited so far: what the search has cost.
+  uint64_t work() const { return work_; }
   size_t bare_count() const { return bare_.size(); }
   uint32_t bare(size_t i) const { return bare_[i]; }
   const std::vector<uint32_t>& members() const { return members_; }
@@ -469,14 +524,18 @@ class WeightedCover {
   std::vector<uint64_t> stamp_;
   std::vector<char> in_, can_add_;
   std::vector<uint32_t> bare_, members_;
+  uint64_t work_ = 0;
 };
 
 }  // namespace
 
-ReducedCover reduce_cover(const Coverage& cov) {
+ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
   const size_t candidates = cov.start.size() - 1;
   const Coverage by = covering_candidates(cov);
   auto is_subset = [](const uint32_t* a, const uint32_t* a_end, const uint32_t* b, const uint32_t* b_end) {
+    if (a == a_end) return true;
+    // Rows that are not subsets mostly differ at their ends or middle: test those first.
+    if (*a < *b || *(a_end - 1) > *(b_end - 1) || !std::binary_search(b, b_end, a[(a_end - a) / 2])) return false;
     for (; a != a_end; ++a) {
       b = std::lower_bound(b, b_end, *a);
       if (b == b_end || *b != *a) return false;
@@ -489,22 +548,27 @@ ReducedCover reduce_cover(const Coverage& cov) {
   for (uint32_t s = 0; s < cov.sample_count; ++s)
     if (by.row_size(s) > 0) order.push_back(s);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return by.row_size(a) < by.row_size(b); });
-  std::vector<char> implied(cov.sample_count, 0);
-  for (uint32_t a : order) {
-    if (implied[a]) continue;
+  // In parallel: which rows get marked does not depend on the order they are visited in (a
+  // row implied by one that is itself implied is implied by that one's implier too). Rows whose
+  // scan would pass `scan` imply nothing; that too depends on the row alone.
+  std::vector<std::atomic<uint8_t>> implied(cov.sample_count);
+  tbb::parallel_for(size_t(0), order.size(), [&](size_t k) {
+    const uint32_t a = order[k];
+    if (implied[a].load(std::memory_order_relaxed)) return;
     // Every sample implied by a is covered by a's candidate that covers fewest samples.
     uint32_t rare = by.samples[by.start[a]];
     for (uint32_t n = by.start[a]; n < by.start[a + 1]; ++n)
       if (cov.row_size(by.samples[n]) < cov.row_size(rare)) rare = by.samples[n];
+    if (cov.row_size(rare) > scan) return;
     for (uint32_t n = cov.start[rare]; n < cov.start[rare + 1]; ++n) {
       const uint32_t b = cov.samples[n];
-      if (b == a || implied[b] || by.row_size(b) < by.row_size(a)) continue;
+      if (b == a || implied[b].load(std::memory_order_relaxed) || by.row_size(b) < by.row_size(a)) continue;
       if (by.row_size(b) == by.row_size(a) && b < a) continue;  // identical rows: keep the earlier
       if (is_subset(&by.samples[by.start[a]], &by.samples[by.start[a + 1]], &by.samples[by.start[b]],
                     &by.samples[by.start[b + 1]]))
-        implied[b] = 1;
+        implied[b].store(1, std::memory_order_relaxed);
     }
-  }
+  });
   ReducedCover out;
   std::vector<uint32_t> row_of(cov.sample_count, UINT32_MAX);
   for (uint32_t s = 0; s < cov.sample_count; ++s)
@@ -525,27 +589,30 @@ ReducedCover reduce_cover(const Coverage& cov) {
     for (size_t c = 0; c < candidates; ++c)
       for (uint32_t s : rows[c]) holders[fill[s]++] = uint32_t(c);
   }
-  std::vector<char> dominated(candidates, 0);
-  for (size_t d = 0; d < candidates; ++d) {
+  std::vector<std::atomic<uint8_t>> dominated(candidates);  // in parallel, as above
+  tbb::parallel_for(size_t(0), candidates, [&](size_t d) {
     if (rows[d].empty()) {
-      dominated[d] = 1;
-      continue;
+      dominated[d].store(1, std::memory_order_relaxed);
+      return;
     }
     uint32_t rare = rows[d].front();
     for (uint32_t s : rows[d])
       if (holders_start[s + 1] - holders_start[s] < holders_start[rare + 1] - holders_start[rare]) rare = s;
-    for (uint32_t n = holders_start[rare]; n < holders_start[rare + 1] && !dominated[d]; ++n) {
+    if (holders_start[rare + 1] - holders_start[rare] > scan) return;
+    for (uint32_t n = holders_start[rare]; n < holders_start[rare + 1]; ++n) {
       const uint32_t e = holders[n];
-      if (e == d || dominated[e] || rows[e].size() < rows[d].size()) continue;
+      if (e == d || dominated[e].load(std::memory_order_relaxed) || rows[e].size() < rows[d].size()) continue;
       if (rows[e].size() == rows[d].size() && e > d) continue;  // identical: keep the earlier
-      dominated[d] = is_subset(rows[d].data(), rows[d].data() + rows[d].size(), rows[e].data(),
-                               rows[e].data() + rows[e].size());
+      if (is_subset(rows[d].data(), rows[d].data() + rows[d].size(), rows[e].data(), rows[e].data() + rows[e].size())) {
+        dominated[d].store(1, std::memory_order_relaxed);
+        break;
+      }
     }
-  }
+  });
   out.coverage.sample_count = out.sample.size();
   out.coverage.start.push_back(0);
   for (size_t c = 0; c < candidates; ++c) {
-    if (dominated[c]) continue;
+    if (dominated[c].load(std::memory_order_relaxed)) continue;
     out.candidate.push_back(uint32_t(c));
     out.coverage.samples.insert(out.coverage.samples.end(), rows[c].begin(), rows[c].end());
     out.coverage.start.push_back(uint32_t(out.coverage.samples.size()));
@@ -553,18 +620,18 @@ ReducedCover reduce_cover(const Coverage& cov) {
   return out;
 }
 
-size_t local_search_cover(const Coverage& cov, std::vector<int>& chosen, size_t steps, uint64_t seed) {
-  if (chosen.size() <= 1 || steps == 0) return 0;
+size_t local_search_cover(const Coverage& cov, std::vector<int>& chosen, SearchLimits limits, size_t enough,
+                          uint64_t seed) {
+  if (chosen.size() <= std::max<size_t>(1, enough) || limits.steps == 0) return 0;
   const Coverage by = covering_candidates(cov);
-  WeightedCover state(cov, by);
+  WeightedCover state(cov, by);  // samples no candidate covers are never bare
   for (int c : chosen) state.add(uint32_t(c), 0);
-  const size_t bare_start = state.bare_count();  // samples no candidate covers stay bare
   std::vector<int> best = chosen;
   SplitMix rng{seed};
   uint32_t tabu = UINT32_MAX;
-  for (uint64_t step = 1; step <= steps; ++step) {
+  for (uint64_t step = 1; step <= limits.steps && best.size() > enough && state.work() < limits.work; ++step) {
     // A cover: keep it if smaller, then search one sphere below it.
-    while (state.bare_count() <= bare_start) {
+    while (state.covers_all()) {
       if (state.members().size() < best.size()) best.assign(state.members().begin(), state.members().end());
       if (state.members().size() <= 1) break;
       state.remove(state.cheapest_member(UINT32_MAX), step);
@@ -576,7 +643,7 @@ size_t local_search_cover(const Coverage& cov, std::vector<int>& chosen, size_t 
     state.add(tabu, step);
     state.raise_bare_weights();
   }
-  if (state.bare_count() <= bare_start && state.members().size() < best.size())
+  if (state.covers_all() && state.members().size() < best.size())
     best.assign(state.members().begin(), state.members().end());
   const size_t saved = chosen.size() - std::min(chosen.size(), best.size());
   if (best.size() < chosen.size()) {
@@ -586,19 +653,38 @@ size_t local_search_cover(const Coverage& cov, std::vector<int>& chosen, size_t 
   return saved;
 }
 
-std::vector<int> smallest_cover(const Coverage& cov, size_t steps, size_t& lower_bound, Log& log) {
-  const ReducedCover reduced = reduce_cover(cov);
+namespace {
+
+// The larger of the two lower bounds. On a reduced problem too: the reduction keeps the optimum
+// of the problem and of its LP relaxation, so its bounds hold for the original.
+// The Lagrangian's steps are capped at about 4e8 pairs visited in all (a dense budget cover's
+// bound would otherwise cost more than its search).
+size_t lower_bound_of(const Coverage& cov, size_t upper) {
+  const int steps = int(std::clamp<size_t>(size_t(4e8) / std::max<size_t>(cov.samples.size(), 1), 20, 200));
+  return std::max(cover_lower_bound(cov), lagrangian_bound(cov, upper, steps));
+}
+
+}  // namespace
+
+std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t enough, size_t* lower_bound, Log& log) {
+  if (enough > 0 && !lower_bound) {  // greedy may do already
+    std::vector<int> chosen = greedy_cover(cov);
+    if (chosen.size() <= enough) return chosen;
+  }
+  const ReducedCover reduced = reduce_cover(cov, limits.scan);
   std::vector<int> chosen = greedy_cover(reduced.coverage);
   const size_t greedy = chosen.size();
   shrink_cover(reduced.coverage, chosen);
   const size_t shrunk = chosen.size();
-  local_search_cover(reduced.coverage, chosen, steps);
-  // The reduction keeps the optimum of the problem and of its LP relaxation: bounds carry over.
-  lower_bound = std::max(cover_lower_bound(reduced.coverage), lagrangian_bound(reduced.coverage, chosen.size()));
+  local_search_cover(reduced.coverage, chosen, limits, enough);
+  std::string bound;
+  if (lower_bound) {
+    *lower_bound = lower_bound_of(reduced.coverage, chosen.size());
+    bound = " (at least " + std::to_string(*lower_bound) + ")";
+  }
   log.detail("cover of " + std::to_string(reduced.candidate.size()) + " candidates and " +
              std::to_string(reduced.sample.size()) + " samples after reduction: greedy " + std::to_string(greedy) +
-             ", shrunk " + std::to_string(shrunk) + ", searched " + std::to_string(chosen.size()) + " (at least " +
-             std::to_string(lower_bound) + ")");
+             ", shrunk " + std::to_string(shrunk) + ", searched " + std::to_string(chosen.size()) + bound);
   for (int& c : chosen) c = int(reduced.candidate[size_t(c)]);
   std::sort(chosen.begin(), chosen.end());
   return chosen;
@@ -711,11 +797,11 @@ double largest_finite(const std::vector<double>& values) {
 
 }  // namespace
 
-CoverResult cover_within(const CoverProblem& problem, double delta, size_t search_steps, Log& log) {
+CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits limits, Log& log) {
   CoverResult r;
   r.delta = delta;
   const Coverage cov = coverage_at(problem, delta);
-  r.chosen = smallest_cover(cov, search_steps, r.lower_bound, log);
+  r.chosen = smallest_cover(cov, limits, 0, &r.lower_bound, log);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
   r.uncoverable = uncovered_samples(cov);
   // Only a tolerance out of reach needs the least delta that would do (a full scan).
@@ -729,11 +815,11 @@ CoverResult cover_within(const CoverProblem& problem, double delta, size_t searc
 CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, std::string& limited_by, Log& log) {
   CoverResult cover;
   if (target > 0) {
-    cover = cover_within(problem, target, kSearchSteps, log);
+    cover = cover_within(problem, target, kToleranceSearch, log);
     limited_by = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
   }
   if (budget > 0 && (!(target > 0) || cover.chosen.size() > budget)) {
-    cover = cover_with_budget(problem, budget, kBudgetSlack, 2e-3, log);
+    cover = cover_with_budget(problem, budget, kBudgetSlack, 1e-2, log);
     limited_by = target > 0 ? "max_spheres (tighter than the tolerance)" : "max_spheres";
   }
   return cover;
@@ -745,17 +831,23 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   const std::vector<double> gaps = least_gaps(problem);
   const double lo_start = largest_finite(gaps);
   best.least_reachable = lo_start;
+  // Each table holds the pairs up to (1 + slack) times its delta: the relaxed cover at the end
+  // comes from the same table.
+  const double reach = 1 + std::max(slack, 0.0);
+  std::unique_ptr<GapTable> table;
   auto solve = [&](double delta) {
-    const Coverage cov = coverage_at(problem, delta);
+    Coverage v = table->at(delta);
     ++best.evaluations;
-    return std::make_pair(greedy_cover(cov), cov);
+    return std::make_pair(greedy_cover(v), std::move(v));
   };
   // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
   double lo = lo_start, hi = std::max(lo_start, 1e-12) * 1.25;
+  table = std::make_unique<GapTable>(problem, hi * reach);
   auto [cover, cov] = solve(hi);
   while (cover.size() > max_spheres && best.evaluations < 60) {
     lo = hi;
     hi *= 2;
+    table = std::make_unique<GapTable>(problem, hi * reach);
     std::tie(cover, cov) = solve(hi);
   }
   best.chosen = cover;
@@ -773,18 +865,38 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
       lo = mid;
     }
   }
+  // The row-weighting search fits the budget at a smaller delta than greedy does: bisect
+  // below greedy's delta, each cover searched until it fits.
+  lo = std::max(lo_start, (1 - kSearchReach) * best.delta);
+  for (int step = 0; step < kSearchBisections && best.delta - lo > precision * best.delta; ++step) {
+    const double mid = 0.5 * (lo + best.delta);
+    Coverage v = table->at(mid);
+    ++best.evaluations;
+    std::vector<int> c = smallest_cover(v, kBudgetSearch, max_spheres, nullptr, log);
+    if (c.size() <= max_spheres) {
+      best.chosen = std::move(c);
+      best.delta = mid;
+      best_cov = std::move(v);
+    } else {
+      lo = mid;
+    }
+  }
   best.least_max_delta = best.delta;
   if (slack > 0) {
     // A little more max error buys a lower median: the cover at the relaxed delta is smaller,
     // and improve_cover spends the budget it leaves on the total error.
-    best.delta *= 1 + slack;
-    auto [c, v] = solve(best.delta);
-    best.chosen = std::move(c);
-    best_cov = std::move(v);
+    Coverage v = table->at(best.delta * (1 + slack));
+    ++best.evaluations;
+    std::vector<int> c = smallest_cover(v, kBudgetSearch, 0, nullptr);
+    if (c.size() <= max_spheres) {
+      best.delta *= 1 + slack;
+      best.chosen = std::move(c);
+      best_cov = std::move(v);
+    }
   }
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
   improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log);
-  best.lower_bound = std::max(cover_lower_bound(best_cov), lagrangian_bound(best_cov, best.chosen.size()));
+  best.lower_bound = lower_bound_of(best_cov, best.chosen.size());
   best.uncoverable = uncovered_samples(best_cov);
   log.detail("budget " + std::to_string(max_spheres) + ": delta " + num(best.delta) + " with " +
              std::to_string(best.chosen.size()) + " spheres after " + std::to_string(best.evaluations) + " covers");

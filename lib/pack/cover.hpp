@@ -65,6 +65,20 @@ struct CoverProblem {
 
 Coverage coverage_at(const CoverProblem& problem, double delta);
 
+// The coverage at every delta up to `max_delta`, computed once: each candidate's samples with
+// their gaps. at(delta) equals coverage_at(problem, delta) for any delta <= max_delta.
+class GapTable {
+ public:
+  GapTable(const CoverProblem& problem, double max_delta);
+  Coverage at(double delta) const;
+
+ private:
+  double max_delta_;
+  size_t sample_count_ = 0;
+  std::vector<uint32_t> start_, samples_;
+  std::vector<double> gaps_;
+};
+
 // The same pairs the other way round: for each sample, the candidates that cover it.
 Coverage covering_candidates(const Coverage& coverage);
 
@@ -84,19 +98,35 @@ size_t shrink_cover(const Coverage& coverage, std::vector<int>& chosen);
 // The same cover problem made smaller without changing its optimum: a sample whose candidates
 // include all of another's is dropped (covering the other covers it), then a candidate whose
 // samples another candidate also covers is dropped. Samples no candidate covers are dropped.
+// A sample (candidate) whose check would scan more than `scan` others is kept unchecked: on
+// dense problems the full check costs more than the search it speeds up.
 struct ReducedCover {
   Coverage coverage;
   std::vector<uint32_t> candidate;  // reduced candidate -> original index
   std::vector<uint32_t> sample;     // reduced sample -> original index
 };
-ReducedCover reduce_cover(const Coverage& coverage);
+ReducedCover reduce_cover(const Coverage& coverage, uint32_t scan = UINT32_MAX);
+
+// How long a row-weighting search may run: at most `steps` steps and `work` entries of the
+// coverage visited (on dense problems, a large delta or few spheres, each step costs more);
+// and the reduction's `scan` before it (reduce_cover).
+struct SearchLimits {
+  size_t steps;
+  uint64_t work;
+  uint32_t scan = UINT32_MAX;
+};
+// Tolerance mode: about a second on a 5-pose elephant (20000 steps there), 1.5 s at most.
+constexpr SearchLimits kToleranceSearch{20000, 2000000000};
+// Budget mode searches several covers, densest at small budgets: a fifth of a second at most each.
+constexpr SearchLimits kBudgetSearch{2000, 300000000, 256};
 
 // Row-weighting local search (after Gao, Weise and Li's RWLS for unicost set cover): from a
 // cover, drop the sphere whose loss is least and re-cover a random bare sample with the
 // candidate that gains most, raising the weight of every sample left bare at each step so that
-// the hard ones steer the search; keeps the smallest cover met. `steps` and `seed` fix the run,
-// so it is deterministic. Returns the spheres saved.
-size_t local_search_cover(const Coverage& coverage, std::vector<int>& chosen, size_t steps, uint64_t seed = 1);
+// the hard ones steer the search; keeps the smallest cover met. Stops at the limits or once a
+// cover of `enough` spheres or fewer is found. Deterministic (`seed`). Returns the spheres saved.
+size_t local_search_cover(const Coverage& coverage, std::vector<int>& chosen, SearchLimits limits, size_t enough = 0,
+                          uint64_t seed = 1);
 
 // A lower bound on any cover's size: samples no two of which one candidate covers together.
 size_t cover_lower_bound(const Coverage& coverage);
@@ -135,15 +165,19 @@ struct CoverResult {
 };
 
 // The fewest spheres found for `coverage`: the problem reduced (reduce_cover), greedy, shrunk,
-// then `steps` of the row-weighting search. `lower_bound` gets the larger of the two bounds.
-// Returns candidate indices, ascending.
-std::vector<int> smallest_cover(const Coverage& coverage, size_t steps, size_t& lower_bound, Log& log = Log::silent());
+// then the row-weighting search, stopping at `enough` spheres (plain greedy first when that
+// already does). `lower_bound`, when given, gets the larger of the two bounds. Returns
+// candidate indices, ascending.
+std::vector<int> smallest_cover(const Coverage& coverage, SearchLimits limits, size_t enough, size_t* lower_bound,
+                                Log& log = Log::silent());
 
-// Steps of the row-weighting search in tolerance mode: about a second on a 5-pose elephant.
-constexpr size_t kSearchSteps = 20000;
+// Budget mode: after the greedy bisection, this many bisections over the deltas up to
+// kSearchReach below greedy's, each cover searched until it fits the budget.
+constexpr int kSearchBisections = 3;
+constexpr double kSearchReach = 0.15;
 
 // Tolerance mode: the fewest candidates that cover every sample at `delta`.
-CoverResult cover_within(const CoverProblem& problem, double delta, size_t search_steps = kSearchSteps,
+CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits limits = kToleranceSearch,
                          Log& log = Log::silent());
 
 // Both modes as the tools combine them: the fewest spheres within `target` (when > 0), unless
@@ -157,6 +191,6 @@ CoverResult cover_for(const CoverProblem& problem, double target, size_t budget,
 // that leaves (a little more max error for a lower median).
 constexpr double kBudgetSlack = 0.15;
 CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack = kBudgetSlack,
-                              double precision = 2e-3, Log& log = Log::silent());
+                              double precision = 1e-2, Log& log = Log::silent());
 
 }  // namespace spx
