@@ -667,10 +667,6 @@ size_t lower_bound_of(const Coverage& cov, size_t upper) {
 }  // namespace
 
 std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t enough, size_t* lower_bound, Log& log) {
-  if (enough > 0 && !lower_bound) {  // greedy may do already
-    std::vector<int> chosen = greedy_cover(cov);
-    if (chosen.size() <= enough) return chosen;
-  }
   const ReducedCover reduced = reduce_cover(cov, limits.scan);
   std::vector<int> chosen = greedy_cover(reduced.coverage);
   const size_t greedy = chosen.size();

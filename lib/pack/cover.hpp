@@ -118,7 +118,7 @@ struct SearchLimits {
 // Tolerance mode: about a second on a 5-pose elephant (20000 steps there), 1.5 s at most.
 constexpr SearchLimits kToleranceSearch{20000, 2000000000};
 // Budget mode searches several covers, densest at small budgets: a fifth of a second at most each.
-constexpr SearchLimits kBudgetSearch{2000, 300000000, 256};
+constexpr SearchLimits kBudgetSearch{2000, 150000000, 256};
 
 // Row-weighting local search (after Gao, Weise and Li's RWLS for unicost set cover): from a
 // cover, drop the sphere whose loss is least and re-cover a random bare sample with the
@@ -165,9 +165,8 @@ struct CoverResult {
 };
 
 // The fewest spheres found for `coverage`: the problem reduced (reduce_cover), greedy, shrunk,
-// then the row-weighting search, stopping at `enough` spheres (plain greedy first when that
-// already does). `lower_bound`, when given, gets the larger of the two bounds. Returns
-// candidate indices, ascending.
+// then the row-weighting search, stopping at `enough` spheres. `lower_bound`, when given, gets
+// the larger of the two bounds. Returns candidate indices, ascending.
 std::vector<int> smallest_cover(const Coverage& coverage, SearchLimits limits, size_t enough, size_t* lower_bound,
                                 Log& log = Log::silent());
 
