@@ -193,9 +193,13 @@ class PoseMapper {
       log_.warn(std::to_string(cover.uncoverable) + " surface samples over the poses are farther than " +
                 num(cover.delta) + " from every candidate sphere mapped there (thin parts at the field's "
                 "resolution; a finer sdf-build resolution gives candidates closer to them)");
+    // Largest first by the rest sphere each becomes (grown), as sphere-pack orders its spheres.
+    std::vector<int> order = cover.chosen;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return problem.spheres[0][size_t(a)].radius > problem.spheres[0][size_t(b)].radius;
+    });
     SphereSet chosen;
-    for (int c : cover.chosen) chosen.push_back(candidates[size_t(c)]);
-    std::stable_sort(chosen.begin(), chosen.end(), [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+    for (int c : order) chosen.push_back(candidates[size_t(c)]);
     report = {{"method", "one set cover over the rest and every pose of the spheres file's candidates, each mapped "
                          "into every pose and grown there to the largest inscribed sphere containing it"},
               {"candidates", n},
@@ -343,7 +347,8 @@ class PoseMapper {
 
  private:
   // The sphere a rest center c (at `at` in the tets) becomes in pose i (0: the rest): its center
-  // through f, its radius by the pose's rule, and why that radius is 0 if it is.
+  // through f, its radius by the pose's rule (then grown, under joint selection), and why that
+  // radius is 0 if it is.
   std::pair<Sphere, PoseSolid::Zero> in_pose(size_t i, const Eigen::Vector3d& c, const TetLocator::Location& at) const {
     const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
     if (grow_) return solids_[i].grown(center);
