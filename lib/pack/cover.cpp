@@ -486,20 +486,12 @@ class WeightedCover {
     }
     return best == UINT32_MAX ? fallback : best;
   }
-  // A member every sample of which another member also covers (UINT32_MAX: none).
-  uint32_t redundant_member() const {
-    for (uint32_t c : members_)
-      if (score_[c] == 0) return c;
-    return UINT32_MAX;
-  }
-
   bool covers_all() const { return bare_.empty(); }
   // Entries of the coverage visited so far: what the search has cost.
   uint64_t work() const { return work_; }
   size_t bare_count() const { return bare_.size(); }
   uint32_t bare(size_t i) const { return bare_[i]; }
   const std::vector<uint32_t>& members() const { return members_; }
-  bool in(uint32_t c) const { return in_[c] != 0; }
 
  private:
   bool better(uint32_t a, uint32_t b) const {

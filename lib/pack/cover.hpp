@@ -117,7 +117,7 @@ struct SearchLimits {
 };
 // Tolerance mode: about a second on a 5-pose elephant (20000 steps there), 1.5 s at most.
 constexpr SearchLimits kToleranceSearch{20000, 2000000000};
-// Budget mode searches several covers, densest at small budgets: a fifth of a second at most each.
+// Budget mode searches several covers, densest at small budgets: about a tenth of a second each.
 constexpr SearchLimits kBudgetSearch{2000, 150000000, 256};
 
 // Row-weighting local search (after Gao, Weise and Li's RWLS for unicost set cover): from a
