@@ -97,6 +97,29 @@ TEST(MeshLoad, PoseWithReorderedFacesIsMatchedByItsTriangles) {
   }
 }
 
+// The same on a real mesh of thousands of vertices whose pose moves far (the elephant's legs):
+// matching may not hinge on where the triangles are, only on how they connect.
+TEST(MeshLoad, RealPoseWithShuffledFacesAndRotatedCornersIsMatched) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string d = test::shared_data() + "/elephant/", dir = test::temp_dir("reorder-elephant");
+  const LoadedMesh rest = load_mesh(d + "rest.obj");
+  ASSERT_EQ(rest.mesh.vertices.size(), 6034u);
+  const TriMesh expected = load_pose(d + "pose-456.obj", rest);
+  TriMesh pose = load_mesh(d + "pose-456.obj").mesh;
+  std::mt19937 rng(11);
+  std::shuffle(pose.triangles.begin(), pose.triangles.end(), rng);
+  for (size_t t = 0; t < pose.triangles.size(); ++t) {
+    const Eigen::Vector3i f = pose.triangles[t];
+    pose.triangles[t] = t % 3 == 0 ? f : t % 3 == 1 ? Eigen::Vector3i(f[1], f[2], f[0]) : Eigen::Vector3i(f[2], f[0], f[1]);
+  }
+  write_file_atomic(dir + "/shuffled.obj", to_obj(pose));
+  const TriMesh got = load_pose(dir + "/shuffled.obj", rest);
+  ASSERT_EQ(got.vertices.size(), expected.vertices.size());
+  size_t wrong = 0;
+  for (size_t v = 0; v < got.vertices.size(); ++v) wrong += (got.vertices[v] - expected.vertices[v]).norm() > 1e-9;
+  EXPECT_EQ(wrong, 0u);
+}
+
 // Mixed formats: a GLB rest (its own vertex list) with OBJ poses (face corners). Each pose
 // vertex must land where the same pose read against the OBJ rest puts it.
 TEST(MeshLoad, GlbRestWithObjPoses) {

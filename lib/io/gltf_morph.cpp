@@ -4,55 +4,16 @@
 
 #include "core/error.hpp"
 #include "core/json_io.hpp"
+#include "io/glb_builder.hpp"
 
 namespace spx {
+using detail::to_double;
+using detail::to_float;
 namespace {
-
-// Through a volatile: GCC 12 at -O3 turned double(float(x)) back into x for vectorised pairs
-// of components, skipping the very rounding this file is about.
-float round_to_float(double x) {
-  volatile float f = float(x);
-  return f;
-}
-Eigen::Vector3f to_float(const Eigen::Vector3d& p) {
-  return Eigen::Vector3f(round_to_float(p.x()), round_to_float(p.y()), round_to_float(p.z()));
-}
-Eigen::Vector3d to_double(const Eigen::Vector3f& p) { return Eigen::Vector3d(double(p.x()), double(p.y()), double(p.z())); }
 
 // The single-precision displacement glTF stores for one target vertex.
 Eigen::Vector3f displacement(const MorphAsset& asset, size_t target, size_t v) {
   return to_float(asset.targets[target][v]) - to_float(asset.base.vertices[v]);
-}
-
-// One binary buffer with a view and an accessor per array.
-struct GlbBuilder {
-  std::string bin;
-  json views = json::array(), accessors = json::array();
-
-  int add(const void* data, size_t bytes, json accessor) {
-    while (bin.size() % 4) bin += '\0';
-    views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}});
-    bin.append(static_cast<const char*>(data), bytes);
-    accessor["bufferView"] = views.size() - 1;
-    accessors.push_back(std::move(accessor));
-    return int(accessors.size()) - 1;
-  }
-  int add_vec3(const std::vector<Eigen::Vector3f>& v) {
-    Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
-    for (const auto& p : v) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    return add(v.data(), v.size() * sizeof(Eigen::Vector3f),
-               {{"componentType", 5126}, {"type", "VEC3"}, {"count", v.size()},
-                {"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}});
-  }
-  int add_floats(const std::vector<float>& v, bool bounds) {
-    json a = {{"componentType", 5126}, {"type", "SCALAR"}, {"count", v.size()}};
-    if (bounds && !v.empty()) a["min"] = {v.front()}, a["max"] = {v.back()};
-    return add(v.data(), v.size() * sizeof(float), std::move(a));
-  }
-};
-
-void put32(std::string& s, uint32_t v) {
-  for (int i = 0; i < 4; ++i) s += char((v >> (8 * i)) & 0xff);
 }
 
 }  // namespace
@@ -75,15 +36,11 @@ std::vector<Eigen::Vector3d> stored_target(const MorphAsset& asset, size_t targe
 std::string encode_morph_glb(const MorphAsset& asset) {
   const size_t n = asset.base.vertices.size(), k = asset.targets.size();
   if (asset.target_names.size() != k) fail_usage(asset.name, "one name per morph target");
-  GlbBuilder b;
+  detail::GlbBuilder b;
   std::vector<Eigen::Vector3f> base;
   for (const auto& p : asset.base.vertices) base.push_back(to_float(p));
   const int position = b.add_vec3(base);
-  std::vector<uint32_t> indices;
-  for (const auto& t : asset.base.triangles)
-    for (int c = 0; c < 3; ++c) indices.push_back(uint32_t(t[c]));
-  const int index = b.add(indices.data(), indices.size() * 4,
-                          {{"componentType", 5125}, {"type", "SCALAR"}, {"count", indices.size()}});
+  const int index = b.add_indices(asset.base.triangles);
   json targets = json::array();
   for (size_t t = 0; t < k; ++t) {
     if (asset.targets[t].size() != n) fail_usage(asset.target_names[t], "target has another vertex count than the base");
@@ -107,10 +64,7 @@ std::string encode_morph_glb(const MorphAsset& asset) {
               {"scene", 0},
               {"scenes", {{{"nodes", {0}}}}},
               {"nodes", {{{"name", asset.name}, {"mesh", 0}}}},
-              {"meshes", {mesh}},
-              {"accessors", b.accessors},
-              {"bufferViews", b.views},
-              {"buffers", {{{"byteLength", b.bin.size()}}}}};
+              {"meshes", {mesh}}};
   if (k) {
     const json sampler = {{"input", input}, {"output", output}, {"interpolation", "LINEAR"}};
     const json channel = {{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}};
@@ -118,19 +72,7 @@ std::string encode_morph_glb(const MorphAsset& asset) {
                                           {"channels", json::array({channel})}}});
   }
 
-  std::string text = doc.dump();
-  while (text.size() % 4) text += ' ';
-  while (b.bin.size() % 4) b.bin += '\0';
-  std::string out = "glTF";
-  put32(out, 2);
-  put32(out, uint32_t(12 + 8 + text.size() + 8 + b.bin.size()));
-  put32(out, uint32_t(text.size()));
-  out += "JSON";
-  out += text;
-  put32(out, uint32_t(b.bin.size()));
-  out.append("BIN\0", 4);
-  out += b.bin;
-  return out;
+  return b.glb(std::move(doc));
 }
 
 }  // namespace spx

@@ -31,7 +31,12 @@ Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, double max_ra
     }
   }
   if (!(radius > sphere.radius)) return sphere;
-  return {p.point + lo * normal, radius};
+  // A closed mesh's winding number is constant off its surface: the grown ball holds the old
+  // center and no surface point, so it is inside. An open mesh's varies across its holes:
+  // the new center is checked by the tools' rule.
+  const Eigen::Vector3d center = p.point + lo * normal;
+  if (bound && !mesh.inside(center)) return sphere;
+  return {center, radius};
 }
 
 }  // namespace spx

@@ -6,7 +6,10 @@
 #include <map>
 #include <numeric>
 
+#include <unordered_map>
+
 #include "core/error.hpp"
+#include "core/hash.hpp"
 
 namespace spx {
 namespace {
@@ -20,6 +23,33 @@ std::map<Edge, std::vector<int>> edge_faces(const TriMesh& m) {
   for (size_t t = 0; t < m.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) out[edge_key(m.triangles[t][k], m.triangles[t][(k + 1) % 3])].push_back(int(t));
   return out;
+}
+
+// Each vertex's class by how the mesh connects around it, the same in any numbering of vertices
+// and faces: Weisfeiler-Lehman refinement of vertex degrees (each round hashes a vertex's class
+// with the sorted classes of its neighbours).
+std::vector<uint64_t> connectivity_classes(const TriMesh& m, int rounds) {
+  std::vector<std::vector<int>> neighbours(m.vertices.size());
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) neighbours[size_t(t[k])].push_back(t[(k + 1) % 3]), neighbours[size_t(t[(k + 1) % 3])].push_back(t[k]);
+  for (auto& n : neighbours) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  std::vector<uint64_t> label(m.vertices.size()), next(label.size());
+  for (size_t v = 0; v < label.size(); ++v) label[v] = neighbours[v].size();
+  std::vector<uint64_t> around;
+  for (int r = 0; r < rounds; ++r) {
+    for (size_t v = 0; v < label.size(); ++v) {
+      around.clear();
+      for (int u : neighbours[v]) around.push_back(label[size_t(u)]);
+      std::sort(around.begin(), around.end());
+      uint64_t h = fnv1a(kFnvOffset, &label[v], sizeof(uint64_t));
+      next[v] = fnv1a(h, around.data(), around.size() * sizeof(uint64_t));
+    }
+    label.swap(next);
+  }
+  return label;
 }
 
 class Matcher {
@@ -38,6 +68,7 @@ class Matcher {
   // else, of the matches seeded at the rest triangle in the same place in the list or at the
   // nearest ones, the one that moves the vertices least; else any match at all.
   bool run() {
+    anchor_pieces();
     for (size_t p = 0; p < pose_.triangles.size(); ++p) {
       if (rest_face_of_[p] >= 0) continue;
       if (!seed_piece(int(p))) return false;
@@ -48,6 +79,38 @@ class Matcher {
 
  private:
   static constexpr size_t kNearest = 8, kMaxSeeds = 64;
+  static constexpr int kClassRounds = 6;
+
+  // Pieces with a triangle whose corners are each the only vertex of their connectivity class,
+  // in the pose and in the rest alike: that triangle's image is known whatever moved where,
+  // so the piece grows from it. Symmetric pieces (tubes, spheres) have none and are left to
+  // seed_piece.
+  void anchor_pieces() {
+    const std::vector<uint64_t> rest_class = connectivity_classes(rest_, kClassRounds);
+    const std::vector<uint64_t> pose_class = connectivity_classes(pose_, kClassRounds);
+    std::unordered_map<uint64_t, int> rest_unique, pose_count;
+    for (size_t v = 0; v < rest_class.size(); ++v) {
+      auto [it, fresh] = rest_unique.emplace(rest_class[v], int(v));
+      if (!fresh) it->second = -1;
+    }
+    for (uint64_t c : pose_class) ++pose_count[c];
+    std::map<std::array<int, 3>, int> rest_face;
+    for (size_t r = 0; r < rest_.triangles.size(); ++r) rest_face.emplace(sorted(rest_.triangles[r]), int(r));
+    for (size_t p = 0; p < pose_.triangles.size(); ++p) {
+      if (rest_face_of_[p] >= 0) continue;
+      std::array<int, 3> corners{};
+      bool known = true;
+      for (int k = 0; k < 3 && known; ++k) {
+        const uint64_t c = pose_class[size_t(pose_.triangles[p][k])];
+        const auto it = rest_unique.find(c);
+        known = pose_count[c] == 1 && it != rest_unique.end() && it->second >= 0;
+        if (known) corners[size_t(k)] = it->second;
+      }
+      if (!known) continue;
+      const auto face = rest_face.find(sorted(Eigen::Vector3i(corners[0], corners[1], corners[2])));
+      if (face != rest_face.end()) try_grow(int(p), face->second, corners);
+    }
+  }
 
   bool seed_piece(int p) {
     const Eigen::Vector3i& pt = pose_.triangles[size_t(p)];

@@ -115,6 +115,12 @@ int WindingNumber::build(int first, int count) {
   return index;
 }
 
+double WindingNumber::exact(const Eigen::Vector3d& q) const {
+  double sum = 0;
+  for (size_t t = 0; t < a_.size(); ++t) sum += solid_angle(a_[t] - q, b_[t] - q, c_[t] - q);
+  return sum / kFourPi;
+}
+
 double WindingNumber::operator()(const Eigen::Vector3d& q) const {
   if (nodes_.empty()) return 0;
   double sum = 0;  // in units of solid angle * 4pi / 4pi, i.e. the winding number

@@ -3,6 +3,7 @@
 // of Barill et al. 2018: exact solid angles near the query, and the
 // Taylor expansion to second order (Barill's order 2) far away.
 // Inside is w > 1/2; this holds for open meshes, soups and self-intersections.
+#include <cmath>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -17,7 +18,16 @@ class WindingNumber {
   // `accuracy` is Barill's beta: expansions are used beyond beta * cluster radius.
   explicit WindingNumber(const TriMesh& mesh, double accuracy = 2.0);
   double operator()(const Eigen::Vector3d& q) const;
-  bool inside(const Eigen::Vector3d& q) const { return (*this)(q) > 0.5; }
+  // The exact sum over every triangle (O(triangles)).
+  double exact(const Eigen::Vector3d& q) const;
+  // w > 1/2, decided by the exact sum wherever the expansion lands within kExactBand of 1/2:
+  // the approximation's error may not flip a point near the threshold (an open mesh's hole).
+  bool inside(const Eigen::Vector3d& q) const {
+    const double w = (*this)(q);
+    if (std::abs(w - 0.5) < kExactBand) return exact(q) > 0.5;
+    return w > 0.5;
+  }
+  static constexpr double kExactBand = 0.02;
 
  private:
   struct Node {

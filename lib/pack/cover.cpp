@@ -913,9 +913,12 @@ class CoverState {
   }
 
   double weight(uint32_t s) const { return weight_[s]; }
+  // Infinite for a sphere of radius 0: it is absent from that pose and covers nothing there,
+  // however near its center (as in the coverage rows).
   double gap(uint32_t s, int c) const {
     const auto [k, i] = where_[s];
     const Sphere& sphere = problem_.spheres[k][size_t(c)];
+    if (!(sphere.radius > 0)) return std::numeric_limits<double>::infinity();
     return (problem_.samples[k][i] - sphere.center).norm() - sphere.radius;
   }
   // The sample's error with the chosen set: its gap to the nearest chosen sphere covering it

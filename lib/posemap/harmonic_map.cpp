@@ -21,8 +21,11 @@ TetLocator::TetLocator(const TetMesh& mesh) : mesh_(mesh) {
     inverse_[t] = d.fullPivLu().isInvertible() ? Eigen::Matrix3d(d.inverse()) : Eigen::Matrix3d::Zero();
   }
   for (const auto& p : mesh.vertices) box_.extend(p);
-  // Uniform grid of about one tet per cell.
-  cell_ = std::max(std::cbrt(volume / std::max<size_t>(1, mesh.tets.size())) * 1.5, 1e-12 * box_.diagonal().norm());
+  // Uniform grid of about one tet per cell, and never many more cells than tets: a posed tet
+  // mesh may have a few vertices flung far out, whose box would otherwise ask for 512^3 cells.
+  const double tets = double(std::max<size_t>(1, mesh.tets.size()));
+  const Eigen::Vector3d sizes = box_.sizes().cwiseMax(1e-12 * box_.diagonal().norm());
+  cell_ = std::max({std::cbrt(volume / tets) * 1.5, std::cbrt(sizes.prod() / (8 * tets)), 1e-12 * box_.diagonal().norm()});
   cells_ = ((box_.sizes() / cell_).array().floor() + 1).cast<int>().cwiseMin(512);
   cell_ = std::max(cell_, (box_.sizes().array() / cells_.cast<double>().array()).maxCoeff() * (1 + 1e-9));
   const size_t ncells = size_t(cells_.x()) * cells_.y() * cells_.z();

@@ -36,18 +36,23 @@ struct PoseSolid {
     Zero zero = Zero::none;
   };
 
-  Radius radius(const Eigen::Vector3d& c) const {
+  // `cause`: tell an outside center from a hole's bound where the radius is 0 (asked for the
+  // spheres written, not for every candidate); the radius is the same either way.
+  Radius radius(const Eigen::Vector3d& c, bool cause = true) const {
+    // The field's bound first: it is cheap, and where it is 0 so is the radius.
+    const double bound = hole_bound(c);
+    if (!(bound > 0) && !cause) return {0, Zero::hole_bound};
     if (!mesh->inside(c)) return {0, Zero::outside};
     const double exact = std::min(max_radius, mesh->distance(c));
-    const double r = std::min(exact, hole_bound(c));
+    const double r = std::min(exact, bound);
     if (r > 0) return {r, Zero::none};
     return {0, exact > 0 ? Zero::hole_bound : Zero::other};
   }
 
   // The sphere at c by this rule, grown to the largest that contains it (grow_inscribed), the
   // holes bounding it too.
-  std::pair<Sphere, Zero> grown(const Eigen::Vector3d& c) const {
-    const Radius at = radius(c);
+  std::pair<Sphere, Zero> grown(const Eigen::Vector3d& c, bool cause = true) const {
+    const Radius at = radius(c, cause);
     if (at.zero != Zero::none) return {{c, 0}, at.zero};
     std::function<double(const Eigen::Vector3d&)> bound;
     if (holes) bound = [this](const Eigen::Vector3d& q) { return hole_bound(q); };
@@ -71,6 +76,22 @@ struct PoseSolid {
     return std::max(0.0, best - 0.1 * g.voxel_size);
   }
 };
+
+// A sphere of radius 0 in a pose only costs the host there. Candidates that are 0 in half the
+// poses or more are not offered: every pose of theirs is set to 0, so they cover nothing.
+// Returns how many of candidates [from..] were.
+size_t drop_mostly_absent(CoverProblem& problem, size_t from = 0) {
+  const size_t poses = problem.spheres.size(), candidates = problem.candidate_count();
+  size_t dropped = 0;
+  for (size_t c = from; c < candidates; ++c) {
+    size_t absent = 0;
+    for (size_t k = 0; k < poses; ++k) absent += !(problem.spheres[k][c].radius > 0);
+    if (absent == 0 || 2 * absent < poses) continue;
+    for (size_t k = 0; k < poses; ++k) problem.spheres[k][c].radius = 0;
+    dropped += absent < poses;  // those 0 everywhere were never on offer
+  }
+  return dropped;
+}
 
 // Sets the field to 0 (not a candidate center) wherever a sphere already covers it.
 void clear_covered(DenseField& field, const SphereSet& spheres) {
@@ -108,12 +129,13 @@ class PoseMapper {
     for (const PoseInput& input : poses_) meshes_.push_back(&input.mesh);
     for (const TriMesh* mesh : meshes_) queries_.push_back(std::make_unique<MeshQuery>(*mesh));
     open_solid_ = !find_defects(rest_).watertight();
+    fields_.resize(meshes_.size());
     if (open_solid_) {
       StageTimer t(log_, "open-fields");
-      for (const TriMesh* mesh : meshes_) hole_fields_.push_back(build_sdf(*mesh, field_options()).field);
+      for (size_t i = 0; i < meshes_.size(); ++i) pose_field(i);
     }
     for (size_t i = 0; i < meshes_.size(); ++i)
-      solids_.push_back({queries_[i].get(), open_solid_ ? &hole_fields_[i] : nullptr, proxy_.max_radius});
+      solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius});
   }
 
   // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
@@ -144,11 +166,12 @@ class PoseMapper {
         for (size_t s = r.begin(); s != r.end(); ++s) {
           const Eigen::Vector3d& c = candidates[s].center;
           const TetLocator::Location at = f_->locator().locate(c);
-          for (size_t i = 0; i < poses; ++i) problem.spheres[i][s] = in_pose(i, c, at).first;
+          for (size_t i = 0; i < poses; ++i) problem.spheres[i][s] = in_pose(i, c, at, false).first;
         }
       });
     };
     map_candidates(0);
+    size_t mostly_absent = drop_mostly_absent(problem);
     for (const TriMesh* mesh : meshes_) {
       problem.samples.push_back(surface_samples(*mesh, opt_.area_samples, opt_.seed));
       problem.weighted.push_back(mesh->vertices.size());
@@ -184,6 +207,7 @@ class PoseMapper {
         candidates.insert(candidates.end(), back.begin(), back.end());
         map_candidates(from);
         added += back.size();
+        mostly_absent += drop_mostly_absent(problem, from);
       }
     }
     const size_t n = candidates.size();
@@ -204,6 +228,7 @@ class PoseMapper {
                          "into every pose and grown there to the largest inscribed sphere containing it"},
               {"candidates", n},
               {"candidates_from_poses", added},
+              {"candidates_mostly_absent", mostly_absent},
               {"samples", problem.sample_count()},
               {"target", target > 0 ? nlohmann::json(target) : nlohmann::json(nullptr)},
               {"delta", cover.delta},
@@ -349,11 +374,18 @@ class PoseMapper {
   // The sphere a rest center c (at `at` in the tets) becomes in pose i (0: the rest): its center
   // through f, its radius by the pose's rule (then grown, under joint selection), and why that
   // radius is 0 if it is.
-  std::pair<Sphere, PoseSolid::Zero> in_pose(size_t i, const Eigen::Vector3d& c, const TetLocator::Location& at) const {
+  std::pair<Sphere, PoseSolid::Zero> in_pose(size_t i, const Eigen::Vector3d& c, const TetLocator::Location& at,
+                                             bool cause = true) const {
     const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
-    if (grow_) return solids_[i].grown(center);
-    const PoseSolid::Radius radius = solids_[i].radius(center);
+    if (grow_) return solids_[i].grown(center, cause);
+    const PoseSolid::Radius radius = solids_[i].radius(center, cause);
     return {{center, radius.value}, radius.zero};
+  }
+
+  // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
+  const DenseField& pose_field(size_t i) {
+    if (!fields_[i]) fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], field_options()).field);
+    return *fields_[i];
   }
 
   SdfOptions field_options() const {
@@ -371,13 +403,13 @@ class PoseMapper {
   // Pose i's own interior less what its spheres cover, packed greedily; the fewest of those
   // that bring it within `target` (as sphere-pack's tolerance), mapped back to rest.
   SphereSet gap_spheres_of_pose(size_t i, double min_radius, double target, size_t& lost, bool& met, double& reached) {
-    SdfResult sdf = build_sdf(poses_[i].mesh, field_options());
-    clear_covered(sdf.field, proxy_.poses[i + 1].spheres);
+    DenseField field = pose_field(i + 1);
+    clear_covered(field, proxy_.poses[i + 1].spheres);
     PackOptions pack;
     pack.min_radius = min_radius;
     pack.max_radius = proxy_.max_radius;
     pack.field_bounds_radius = open_solid_;
-    PackResult found = pack_spheres(sdf.field, pack, queries_[i + 1].get());
+    PackResult found = pack_spheres(field, pack, queries_[i + 1].get());
     ToleranceResult enough = fewest_spheres_within(poses_[i].mesh, found.spheres, target, proxy_.poses[i + 1].spheres);
     if (!enough.met) {
       // Out of reach at this voxel size: keep only the spheres that lower the max error.
@@ -398,12 +430,12 @@ class PoseMapper {
 
   // Pose i's own inscribed candidates (from its own field) that come within `reach` of any of
   // `points` (samples of that pose no mapped candidate reaches), in pose coordinates.
-  SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) const {
-    const SdfResult sdf = build_sdf(poses_[i].mesh, field_options());
+  SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
+    const DenseField& field = pose_field(i + 1);
     CandidateOptions c;
     c.max_radius = proxy_.max_radius;
     c.field_bounds_radius = open_solid_;
-    const SphereSet all = inscribed_candidates(sdf.field, *queries_[i + 1], c);
+    const SphereSet all = inscribed_candidates(field, *queries_[i + 1], c);
     std::vector<char> keep(all.size(), 0);
     tbb::parallel_for(size_t(0), all.size(), [&](size_t s) {
       for (const auto& p : points)
@@ -451,7 +483,7 @@ class PoseMapper {
   std::vector<const TriMesh*> meshes_;                  // rest, then the poses
   std::vector<std::unique_ptr<MeshQuery>> queries_;
   bool open_solid_ = false;
-  std::vector<DenseField> hole_fields_;
+  std::vector<std::unique_ptr<DenseField>> fields_;  // per pose, built when first asked
   std::vector<PoseSolid> solids_;
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 3>> zero_radius_;       // per pose, by cause

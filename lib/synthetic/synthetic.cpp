@@ -7,6 +7,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "io/gltf_morph.hpp"
+#include "io/gltf_rig.hpp"
 
 namespace spx {
 namespace {
@@ -59,6 +60,59 @@ TriMesh box_lattice(int nx, int ny, int nz) {
         }
   }
   return m;
+}
+
+// The box lattice without its side `side` (0: low, 1: high) across `axis`: an open box, the
+// unused vertices dropped.
+TriMesh open_box(int nx, int ny, int nz, int axis, int side) {
+  const TriMesh box = box_lattice(nx, ny, nz);
+  const double wall = side ? 1.0 : -1.0;
+  TriMesh m;
+  std::vector<int> index(box.vertices.size(), -1);
+  for (const auto& t : box.triangles) {
+    bool open = true;
+    for (int c = 0; c < 3; ++c) open = open && box.vertices[size_t(t[c])][axis] == wall;
+    if (open) continue;
+    Eigen::Vector3i u;
+    for (int c = 0; c < 3; ++c) {
+      int& i = index[size_t(t[c])];
+      if (i < 0) i = int(m.vertices.size()), m.vertices.push_back(box.vertices[size_t(t[c])]);
+      u[c] = i;
+    }
+    m.triangles.push_back(u);
+  }
+  return m;
+}
+
+// A tube along y from y0 down to y1 (open at both ends, outward normals).
+TriMesh tube(double radius, double y0, double y1, int sectors, int rings) {
+  TriMesh m;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s < sectors; ++s) {
+      const double a = 2 * M_PI * s / sectors, y = y0 + (y1 - y0) * r / rings;
+      m.vertices.emplace_back(radius * std::cos(a), y, radius * std::sin(a));
+    }
+  auto at = [&](int r, int s) { return r * sectors + (s % sectors); };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < sectors; ++s) {
+      m.triangles.emplace_back(at(r, s), at(r + 1, s), at(r + 1, s + 1));
+      m.triangles.emplace_back(at(r, s), at(r + 1, s + 1), at(r, s + 1));
+    }
+  // As listed the normals face the axis when the tube goes down (y1 < y0): flip them then.
+  if (y1 < y0)
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  return m;
+}
+
+TriMesh placed(TriMesh m, const Eigen::Vector3d& half_size, const Eigen::Vector3d& center) {
+  for (auto& p : m.vertices) p = center + p.cwiseProduct(half_size);
+  return m;
+}
+
+void create_folder(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) fail_write(dir, "cannot create folder: " + ec.message());
 }
 
 }  // namespace
@@ -178,10 +232,55 @@ SampleAsset make_barrel() {
   return barrel;
 }
 
+RigAsset make_robot() {
+  RigAsset robot;
+  robot.name = "robot";
+  constexpr int keys = 24;
+  for (int k = 0; k < keys; ++k) robot.times.push_back(k / 24.0);
+  // Each joint's rotation about one axis, as a function of the walk's phase.
+  auto joint = [&](const std::string& name, int parent, Eigen::Vector3d at, Eigen::Vector3d axis,
+                   std::function<double(double)> angle) {
+    RigJoint j{name, parent, at, {}};
+    for (int k = 0; k < keys; ++k)
+      j.rotations.emplace_back(Eigen::AngleAxisd(angle(2 * M_PI * k / keys), axis.normalized()));
+    robot.joints.push_back(j);
+    return int(robot.joints.size()) - 1;
+  };
+  auto part = [&](const std::string& name, int on, TriMesh mesh) { robot.parts.push_back({name, on, std::move(mesh)}); };
+  const Eigen::Vector3d X = Eigen::Vector3d::UnitX(), Y = Eigen::Vector3d::UnitY();
+  const int hips = joint("hips", -1, {0, 1.0, 0}, Y, [](double p) { return 0.12 * std::sin(p); });
+  const int spine = joint("spine", hips, {0, 0.08, 0}, Y, [](double p) { return -0.15 * std::sin(p); });
+  const int neck = joint("neck", spine, {0, 0.56, 0}, Y, [](double p) { return 0.35 * std::sin(p); });
+  // Open boxes: the pelvis open at the top, inside the torso open at the bottom (they overlap).
+  part("pelvis", hips, placed(open_box(6, 3, 4, 1, 1), {0.18, 0.1, 0.11}, {0, -0.02, 0}));
+  part("torso", spine, placed(open_box(7, 9, 4, 1, 0), {0.22, 0.28, 0.13}, {0, 0.26, 0}));
+  part("head", neck, placed(open_box(4, 4, 4, 1, 0), {0.12, 0.13, 0.12}, {0, 0.16, 0}));
+  for (int side : {-1, 1}) {
+    const std::string lr = side < 0 ? "r_" : "l_";
+    const double swing = side;
+    const int shoulder = joint(lr + "shoulder", spine, {side * 0.28, 0.46, 0}, X,
+                               [=](double p) { return 0.5 * swing * std::sin(p); });
+    const int elbow = joint(lr + "elbow", shoulder, {0, -0.3, 0}, X,
+                            [=](double p) { return -0.35 - 0.25 * swing * std::sin(p); });
+    const int hip = joint(lr + "hip", hips, {side * 0.11, -0.06, 0}, X,
+                          [=](double p) { return -0.45 * swing * std::sin(p); });
+    const int knee = joint(lr + "knee", hip, {0, -0.44, 0}, X,
+                           [=](double p) { return 0.55 * std::max(0.0, swing * std::cos(p)); });
+    const int ankle = joint(lr + "ankle", knee, {0, -0.44, 0}, X, [=](double p) { return 0.2 * swing * std::sin(p); });
+    // Tubes open at both ends, the upper arm reaching into the torso; open-topped feet.
+    part(lr + "upper_arm", shoulder, tube(0.06, 0.04, -0.3, 12, 8));
+    part(lr + "forearm", elbow, tube(0.05, 0.0, -0.3, 12, 8));
+    part(lr + "thigh", hip, tube(0.08, 0.02, -0.44, 14, 10));
+    part(lr + "shin", knee, tube(0.065, 0.0, -0.44, 14, 10));
+    part(lr + "foot", ankle, placed(open_box(3, 2, 5, 1, 1), {0.07, 0.04, 0.13}, {0, -0.05, 0.05}));
+  }
+  return robot;
+}
+
 SampleAsset make_sample(const std::string& name) {
   if (name == "car") return make_car();
   if (name == "barrel") return make_barrel();
-  fail_usage(name, "unknown sample (use car or barrel)");
+  fail_usage(name, "unknown sample (use car, barrel or robot)");
 }
 
 MorphAsset morph_asset(const SampleAsset& asset) {
@@ -194,10 +293,23 @@ MorphAsset morph_asset(const SampleAsset& asset) {
 }
 
 void sample_gen_files(const std::string& name, const std::string& dir, Log& log, json& report) {
+  if (name == "robot") {
+    create_folder(dir);
+    const RigAsset robot = make_robot();
+    write_file_atomic(dir + "/robot.glb", encode_rig_glb(robot));
+    size_t triangles = 0;
+    for (const RigPart& p : robot.parts) triangles += p.mesh.triangles.size();
+    log.info(dir + ": robot.glb, " + std::to_string(robot.parts.size()) + " open parts on " +
+             std::to_string(robot.joints.size()) + " joints, " + std::to_string(triangles) + " triangles, a " +
+             std::to_string(robot.times.size()) + "-key walk");
+    report["triangles"] = triangles;
+    report["parts"] = robot.parts.size();
+    report["joints"] = robot.joints.size();
+    report["asset"] = "robot.glb";
+    return;
+  }
   const SampleAsset asset = make_sample(name);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) fail_write(dir, "cannot create folder: " + ec.message());
+  create_folder(dir);
   // The OBJ files hold exactly what the glTF holds (single precision), so the chain run on the
   // OBJ poses and on pose-extract's reading of the glTF sees the same numbers.
   const MorphAsset morph = morph_asset(asset);

@@ -8,6 +8,7 @@
 #include "core/json_io.hpp"
 #include "core/log.hpp"
 #include "io/gltf_morph.hpp"
+#include "io/gltf_rig.hpp"
 #include "mesh/mesh.hpp"
 
 namespace spx {
@@ -30,11 +31,16 @@ SampleAsset make_barrel();
 
 SampleAsset make_sample(const std::string& name);  // "car" or "barrel"
 
+// A walking robot, 1.8 m tall (y up), of 13 open parts (open boxes and tubes, the pelvis inside
+// the torso, the upper arms reaching into it) each hung rigidly from one of 13 joints, with a
+// 24-key walk: the articulated kind of game asset whose parts are not closed.
+RigAsset make_robot();
+
 // The sample as one mesh with its poses as morph targets (named after them).
 MorphAsset morph_asset(const SampleAsset& asset);
 
 // sample-gen NAME -o DIR: rest.obj, one OBJ per pose and NAME-morph.glb with the poses as morph
-// targets and a clip that reaches each in turn.
+// targets and a clip that reaches each in turn; for "robot", robot.glb alone.
 void sample_gen_files(const std::string& name, const std::string& dir, Log& log, json& report);
 
 }  // namespace spx
