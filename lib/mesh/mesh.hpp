@@ -24,7 +24,9 @@ struct LoadedMesh {
   std::vector<int> weld;                       // file vertex -> mesh vertex
   std::vector<Eigen::Vector3i> file_triangles; // triangles in file vertex indices
   size_t file_vertex_count() const { return weld.size(); }
-  size_t welded_vertices() const { return weld.size() - mesh.vertices.size(); }
+  // File vertices merged into another at the same position (face corners, for OBJ through
+  // assimp): not the mesh's vertex count, which is mesh.vertices.size().
+  size_t merged_corners() const { return weld.size() - mesh.vertices.size(); }
 };
 
 // Any format assimp reads (OBJ, PLY, STL, OFF, glTF/GLB, FBX, ...). Coincident vertices are

@@ -22,12 +22,14 @@ class WindingNumber {
   double exact(const Eigen::Vector3d& q) const;
   // w > 1/2, decided by the exact sum wherever the expansion lands within kExactBand of 1/2:
   // the approximation's error may not flip a point near the threshold (an open mesh's hole).
+  // A point on the threshold itself (the plane of a hemisphere's rim: 1/2 up to the sum's
+  // rounding) is outside, whatever order the solid angles are added in.
   bool inside(const Eigen::Vector3d& q) const {
     const double w = (*this)(q);
-    if (std::abs(w - 0.5) < kExactBand) return exact(q) > 0.5;
+    if (std::abs(w - 0.5) < kExactBand) return exact(q) > 0.5 + kTie;
     return w > 0.5;
   }
-  static constexpr double kExactBand = 0.02;
+  static constexpr double kExactBand = 0.02, kTie = 1e-9;
 
  private:
   struct Node {

@@ -1,6 +1,7 @@
 #include "pack/sphere_pack.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -199,8 +200,9 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   stats.stop_reason = limit;
   stats.min_radius = opt.pack.min_radius;
   stats.max_radius = opt.pack.max_radius;
-  report["cover"] = {{"method", "inscribed candidates at near-medial voxels, greedy set cover with redundant spheres "
-                                "removed"},
+  report["cover"] = {{"method", "inscribed candidates at near-medial voxels grown to the largest inscribed sphere "
+                                "containing them; set cover reduced, then greedy, shrunk and searched by row weighting; "
+                                "spare budget and swaps toward the least total error; centres refined off the grid"},
                      {"candidates", sel.candidates},
                      {"samples", sel.samples},
                      {"vertices", mesh.mesh().vertices.size()},
@@ -223,10 +225,32 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
 
 }  // namespace
 
-void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
+namespace {
+
+// --mesh, or else the mesh sdf-build recorded in the field (the cover method and a tolerance
+// need one); "" where neither is needed nor known.
+std::string mesh_for_field(const std::string& given, const LoadedSdf& sdf, const std::string& input,
+                           const SpherePackOptions& opt, Log& log) {
+  const bool needed = opt.method == PackMethod::cover || opt.tolerance.set();
+  if (!given.empty() || !needed) return given;
+  const std::string why = opt.method == PackMethod::cover
+                              ? "is needed by the cover method (inscribed spheres take exact distances to it)"
+                              : "is needed by --tolerance (the error is measured at its vertices)";
+  const auto recorded = sdf.metadata.find("spx_source_mesh");
+  if (recorded == sdf.metadata.end())
+    fail_option("mesh", why + ", and " + input + " does not record the mesh it was built from; pass it with --mesh");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(recorded->second, ec))
+    fail_option("mesh", why + "; " + input + " was built from " + recorded->second +
+                            ", which is not there from this folder; pass it with --mesh");
+  log.info("using the mesh " + input + " was built from: " + recorded->second + " (--mesh not given)");
+  return recorded->second;
+}
+
+}  // namespace
+
+void sphere_pack_files(const std::string& input, const std::string& given_mesh, const std::string& output,
                        const SpherePackOptions& user, Log& log, json& report) {
-  if (user.tolerance.set() && mesh_path.empty())
-    fail_option("tolerance", "needs the mesh (the error is measured at its vertices)");
   check_radius_limits(user.pack, 0);
   SpherePackOptions opt = user;
   LoadedSdf sdf;
@@ -234,9 +258,7 @@ void sphere_pack_files(const std::string& input, const std::string& mesh_path, c
     StageTimer t(log, "load");
     sdf = read_sdf_vdb(input);
   }
-  if (user.method == PackMethod::cover && mesh_path.empty())
-    fail_option("mesh", "is needed by the cover method (inscribed spheres take exact distances to it); or use the "
-                        "greedy method");
+  const std::string mesh_path = mesh_for_field(given_mesh, sdf, input, opt, log);
   auto open = sdf.metadata.find("spx_open_solid");
   opt.pack.field_bounds_radius = open != sdf.metadata.end() && open->second == "yes";
   if (opt.pack.field_bounds_radius) log.detail("open mesh: radii are also bounded by the field across its holes");

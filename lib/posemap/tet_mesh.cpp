@@ -100,32 +100,78 @@ void orient(TetMesh& m) {
 }
 
 // A body that bounds a solid (its triangles cross the level set) must have tet vertices
-// near its seeds; otherwise its spheres would follow another body's motion.
-void check_every_body_meshed(const TetMesh& tets, const TriMesh& surface, const Components& parts,
-                             const std::vector<SeededDomain::Body>& bodies, double size) {
-  size_t solids = 0, solid = 0;
-  for (const auto& body : bodies) solids += !body.seeds.empty();
+// near its seeds; otherwise its spheres would follow another body's motion. Returns the
+// bodies that have none.
+std::vector<size_t> unmeshed_bodies(const TetMesh& tets, const std::vector<SeededDomain::Body>& bodies,
+                                    const std::vector<double>& size) {
+  std::vector<size_t> out;
   for (size_t b = 0; b < bodies.size(); ++b) {
     if (bodies[b].seeds.empty()) continue;
-    ++solid;
     double nearest = std::numeric_limits<double>::infinity();
     for (const K::Segment_3& s : bodies[b].seeds) {
       const Eigen::Vector3d p(s.source().x(), s.source().y(), s.source().z());
       for (const auto& v : tets.vertices) nearest = std::min(nearest, (v - p).squaredNorm());
     }
-    if (std::sqrt(nearest) <= 2 * size) continue;
-    Eigen::AlignedBox3d box;
-    size_t triangles = 0;
-    for (size_t t = 0; t < surface.triangles.size(); ++t)
-      if (parts.of_triangle[t] == int(b)) {
-        ++triangles;
-        for (int k = 0; k < 3; ++k) box.extend(surface.vertices[size_t(surface.triangles[t][k])]);
-      }
-    const Eigen::Vector3d c = box.center();
-    fail_input("", "body " + std::to_string(solid) + " of " + std::to_string(solids) + " (" +
-                       std::to_string(triangles) + " triangles around " + num(c.x()) + ", " + num(c.y()) + ", " +
-                       num(c.z()) + ") produced no tetrahedra; is it thinner than the tet size " + num(size) + "?");
+    if (std::sqrt(nearest) > 2 * size[b]) out.push_back(b);
   }
+  return out;
+}
+
+Eigen::AlignedBox3d body_box(const TriMesh& surface, const Components& parts, size_t body, size_t& triangles) {
+  Eigen::AlignedBox3d box;
+  triangles = 0;
+  for (size_t t = 0; t < surface.triangles.size(); ++t)
+    if (parts.of_triangle[t] == int(body)) {
+      ++triangles;
+      for (int k = 0; k < 3; ++k) box.extend(surface.vertices[size_t(surface.triangles[t][k])]);
+    }
+  return box;
+}
+
+// Mesh_3's sizing field: the tet size asked for, smaller inside the boxes of bodies too thin
+// for it.
+struct BodySizing {
+  using FT = K::FT;
+  double size;
+  std::vector<std::pair<Eigen::AlignedBox3d, double>> finer;
+  template <class Index>
+  FT operator()(const K::Point_3& p, const int, const Index&) const {
+    const Eigen::Vector3d q(p.x(), p.y(), p.z());
+    double out = size;
+    for (const auto& [box, s] : finer)
+      if (box.contains(q)) out = std::min(out, s);
+    return out;
+  }
+};
+
+// One run of Mesh_3 (sequential and seeded: the same input gives the same tets), as a TetMesh.
+TetMesh mesh_domain(const SeededDomain& domain, const BodySizing& sizing, Log& log) {
+  namespace params = CGAL::parameters;
+  const double size = sizing.size;
+  Criteria criteria(params::facet_angle = 25, params::facet_size = sizing, params::facet_distance = size / 10,
+                    params::cell_radius_edge_ratio = 3, params::cell_size = sizing);
+  CGAL::get_default_random() = CGAL::Random(0);  // perturbation and exudation draw from it
+  log.detail("meshing the interior with tets of size " + std::to_string(size));
+  C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::exude());
+  TetMesh out;
+  std::map<Tr::Vertex_handle, int> ids;
+  for (auto cell = c3t3.cells_in_complex_begin(); cell != c3t3.cells_in_complex_end(); ++cell) {
+    Eigen::Vector4i t;
+    for (int k = 0; k < 4; ++k) {
+      auto v = cell->vertex(k);
+      auto [it, fresh] = ids.emplace(v, int(out.vertices.size()));
+      if (fresh) {
+        const auto& p = v->point().point();
+        out.vertices.emplace_back(p.x(), p.y(), p.z());
+      }
+      t[k] = it->second;
+    }
+    out.tets.push_back(t);
+  }
+  if (out.tets.empty()) return out;
+  orient(out);
+  find_tet_boundary(out);
+  return out;
 }
 
 }  // namespace
@@ -186,33 +232,42 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
           params::bounding_object = K::Sphere_3(K::Point_3(c.x(), c.y(), c.z()), radius * radius),
           params::relative_error_bound = 1e-6),
       bodies);
-  Criteria criteria(params::facet_angle = 25, params::facet_size = size, params::facet_distance = size / 10,
-                    params::cell_radius_edge_ratio = 3, params::cell_size = size);
-  CGAL::get_default_random() = CGAL::Random(0);  // perturbation and exudation draw from it
-  log.detail("meshing the interior with tets of size " + std::to_string(size));
-  C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::exude());
-
-  TetMesh out;
-  std::map<Tr::Vertex_handle, int> ids;
-  for (auto cell = c3t3.cells_in_complex_begin(); cell != c3t3.cells_in_complex_end(); ++cell) {
-    Eigen::Vector4i t;
-    for (int k = 0; k < 4; ++k) {
-      auto v = cell->vertex(k);
-      auto [it, fresh] = ids.emplace(v, int(out.vertices.size()));
-      if (fresh) {
-        const auto& p = v->point().point();
-        out.vertices.emplace_back(p.x(), p.y(), p.z());
+  // Bodies too thin for the tet size get no tets: mesh again with them halved in their boxes
+  // (a sizing field), up to kRefinements times; the others keep the size asked for.
+  constexpr int kRefinements = 3;
+  std::vector<double> body_size(bodies.size(), size);
+  BodySizing sizing{size, {}};
+  for (int attempt = 0;; ++attempt) {
+    TetMesh out = mesh_domain(domain, sizing, log);
+    if (out.tets.empty())
+      fail_input("", "the rest shape produced no tetrahedra (is it closed, or thinner than the tet size?)");
+    const std::vector<size_t> thin = unmeshed_bodies(out, bodies, body_size);
+    if (thin.empty()) return out;
+    if (attempt == kRefinements) {
+      size_t solids = 0;
+      for (const auto& body : bodies) solids += !body.seeds.empty();
+      for (size_t b : thin) {
+        size_t solid = 0, triangles = 0;
+        for (size_t k = 0; k <= b; ++k) solid += !bodies[k].seeds.empty();
+        const Eigen::Vector3d c = body_box(surface, parts, b, triangles).center();
+        out.unmeshed_bodies.push_back("body " + std::to_string(solid) + " of " + std::to_string(solids) + " (" +
+                                      std::to_string(triangles) + " triangles around " + num(c.x()) + ", " +
+                                      num(c.y()) + ", " + num(c.z()) + ")");
+        log.warn(out.unmeshed_bodies.back() + " produced no tetrahedra, even with tets of size " +
+                 num(body_size[b]) + " there: its spheres follow the tets nearby");
       }
-      t[k] = it->second;
+      return out;
     }
-    out.tets.push_back(t);
+    for (size_t b : thin) {
+      body_size[b] /= 2;
+      size_t triangles = 0;
+      Eigen::AlignedBox3d box = body_box(surface, parts, b, triangles);
+      box.extend(box.min() - Eigen::Vector3d::Constant(body_size[b]));
+      box.extend(box.max() + Eigen::Vector3d::Constant(body_size[b]));
+      sizing.finer.emplace_back(box, body_size[b]);
+    }
+    log.detail(std::to_string(thin.size()) + " bodies got no tets: meshing again with finer tets in them");
   }
-  if (out.tets.empty())
-    fail_input("", "the rest shape produced no tetrahedra (is it closed, or thinner than the tet size?)");
-  orient(out);
-  find_tet_boundary(out);
-  check_every_body_meshed(out, surface, parts, bodies, size);
-  return out;
 }
 
 TetMesh read_medit_tets(const std::string& path) {

@@ -15,6 +15,10 @@ struct TetMesh {
   std::vector<Eigen::Vector3i> boundary_faces;  // faces with one tet
   std::vector<int> boundary_face_tet;           // that tet
   std::vector<char> on_boundary;                // per vertex
+  // Bodies that bound a solid yet got no tets even at an eighth of the tet size in them (a
+  // flap of flipped triangles, a sheet): named ("body 4 of 20 (66 triangles around x, y, z)").
+  // Their spheres, if any, follow the tets nearby.
+  std::vector<std::string> unmeshed_bodies;
 };
 
 struct TetOptions {

@@ -323,11 +323,17 @@ void sign_closed_surface(SdfWork& w) {
 }
 
 // 2b. Anything else (holes, flipped faces, several pieces that may overlap): the winding
-//     number at every voxel.
-void sign_by_winding_numbers(SdfWork& w) {
+//     number at every voxel, or block by block. The winding number is harmonic off the surface:
+//     in a block of kSignBlock^3 voxels that no triangle comes within a voxel of (no layer voxel
+//     among them or its far corners) and whose 8 corners all lie on one side of 1/2 by more
+//     than kSignClear, every voxel is on that side. Other blocks are evaluated voxel by voxel.
+//     Exhaustive evaluation (`every_voxel`) is the reference the tests compare against.
+constexpr int kSignBlock = 4;
+constexpr double kSignClear = 0.2;
+
+void sign_by_winding_numbers(SdfWork& w, bool every_voxel) {
   const TriMesh& mesh = w.mesh;
   const GridShape& shape = w.shape;
-  const size_t total = shape.count();
   SdfStats& stats = w.stats;
   auto& flags = w.flags;
   stats.sign_method = "winding number at every voxel (not a single closed surface)";
@@ -335,15 +341,68 @@ void sign_by_winding_numbers(SdfWork& w) {
   // Outside the bounding box |w| <= 1/2 (a plane separates the query from the mesh).
   const Eigen::AlignedBox3d box = mesh.bounds();
   std::atomic<size_t> evaluations{0};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+  auto winding = [&](size_t idx) {
+    const Eigen::Vector3d p = shape.world(idx);
+    if (!box.contains(p)) return 0.0;
+    ++evaluations;
+    return wn(p);
+  };
+  auto sign_voxels = [&](const Eigen::Vector3i& lo, const Eigen::Vector3i& hi) {  // inclusive
     size_t local = 0;
-    for (size_t idx = r.begin(); idx != r.end(); ++idx) {
-      const Eigen::Vector3d p = shape.world(idx);
-      if (!box.contains(p)) continue;
-      if (wn.inside(p)) flags[idx] |= kInside;
-      ++local;
-    }
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) {
+          const size_t idx = shape.index(x, y, z);
+          const Eigen::Vector3d p = shape.world(idx);
+          if (!box.contains(p)) continue;
+          if (wn.inside(p)) flags[idx] |= kInside;
+          ++local;
+        }
     evaluations += local;
+  };
+  const Eigen::Vector3i& dims = shape.dims;
+  if (every_voxel) {
+    tbb::parallel_for(0, dims.x(), [&](int x) { sign_voxels({x, 0, 0}, {x, dims.y() - 1, dims.z() - 1}); });
+    stats.winding_evaluations = evaluations;
+    return;
+  }
+  // Corners: the voxels at multiples of kSignBlock (and the last one) along each axis.
+  const Eigen::Vector3i corners = (dims.array() - 2) / kSignBlock + 2;
+  auto corner_coord = [&](int c, int axis) { return std::min(c * kSignBlock, dims[axis] - 1); };
+  std::vector<double> at_corner(size_t(corners.prod()));
+  auto corner_index = [&](int i, int j, int k) { return size_t(i) + size_t(corners.x()) * (size_t(j) + size_t(corners.y()) * size_t(k)); };
+  tbb::parallel_for(0, corners.z(), [&](int k) {
+    for (int j = 0; j < corners.y(); ++j)
+      for (int i = 0; i < corners.x(); ++i)
+        at_corner[corner_index(i, j, k)] = winding(shape.index(corner_coord(i, 0), corner_coord(j, 1), corner_coord(k, 2)));
+  });
+  const Eigen::Vector3i blocks = corners.array() - 1;
+  tbb::parallel_for(0, blocks.z(), [&](int k) {
+    for (int j = 0; j < blocks.y(); ++j)
+      for (int i = 0; i < blocks.x(); ++i) {
+        const Eigen::Vector3i lo(corner_coord(i, 0), corner_coord(j, 1), corner_coord(k, 2));
+        const Eigen::Vector3i far(corner_coord(i + 1, 0), corner_coord(j + 1, 1), corner_coord(k + 1, 2));
+        double least = 1e300, most = -1e300;
+        for (int c = 0; c < 8; ++c) {
+          const double v = at_corner[corner_index(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))];
+          least = std::min(least, v), most = std::max(most, v);
+        }
+        bool clear = least > 0.5 + kSignClear || most < 0.5 - kSignClear;
+        for (int z = lo.z(); clear && z <= far.z(); ++z)
+          for (int y = lo.y(); clear && y <= far.y(); ++y)
+            for (int x = lo.x(); clear && x <= far.x(); ++x) clear = !(flags[shape.index(x, y, z)] & kLayer);
+        // The block's own voxels stop short of the far corners, which the next block owns
+        // (the last block along an axis takes them).
+        const Eigen::Vector3i hi(i + 1 == blocks.x() ? far.x() : far.x() - 1, j + 1 == blocks.y() ? far.y() : far.y() - 1,
+                                 k + 1 == blocks.z() ? far.z() : far.z() - 1);
+        if (!clear) {
+          sign_voxels(lo, hi);
+        } else if (least > 0.5) {
+          for (int x = lo.x(); x <= hi.x(); ++x)
+            for (int y = lo.y(); y <= hi.y(); ++y)
+              for (int z = lo.z(); z <= hi.z(); ++z) flags[shape.index(x, y, z)] |= kInside;
+        }
+      }
   });
   stats.winding_evaluations = evaluations;
 }
@@ -540,7 +599,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
   {
     StageTimer t(log, "sign");
     if (stats.defects.watertight() && stats.defects.components == 1) sign_closed_surface(work);
-    else sign_by_winding_numbers(work);
+    else sign_by_winding_numbers(work, opt.sign_every_voxel);
   }
   // Interior distances: nearest surface voxel by an exact feature transform, then the exact
   // distance to the closest of the triangles around it.

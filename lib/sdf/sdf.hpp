@@ -15,6 +15,9 @@ struct SdfOptions {
   double voxel_size = 0;       // overrides resolution when > 0
   int band = 3;                // exterior narrow band, in voxels
   double memory_limit_gib = 16;  // refuse grids whose working set would exceed this
+  // A mesh that is not one closed surface is signed by winding numbers block by block (see
+  // sdf.cpp); this evaluates every voxel instead, the reference the tests compare against.
+  bool sign_every_voxel = false;
 };
 
 struct SdfStats {

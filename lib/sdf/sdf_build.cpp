@@ -44,7 +44,10 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
 
   report["input"] = input;
   report["output"] = output;
-  report["mesh"] = {{"welded_vertices", loaded.welded_vertices()}};
+  report["mesh"] = {{"vertices", loaded.mesh.vertices.size()},
+                    {"triangles", loaded.mesh.triangles.size()},
+                    {"file_vertices", loaded.file_vertex_count()},
+                    {"merged_corners", loaded.merged_corners()}};
   report["grid"] = {{"voxel_size", s.voxel_size},
                     {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
                     {"origin_index", {s.origin.x(), s.origin.y(), s.origin.z()}},

@@ -57,7 +57,16 @@ if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exi
   --report "$out/t.report.json"
 if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['tolerance']; sys.exit(0 if r['met'] and r['max_error']<=r['target'] and r['spheres']<500 else 1)" "$out/t.report.json"; then
   passed=$((passed + 1)); else echo "FAIL: --tolerance did not win over a loose --max-spheres"; fail=$((fail + 1)); fi
-expect 1 "tolerance: needs the mesh" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --tolerance 1% -o "$out/u.json"
+# Without --mesh, the mesh the field records is used while it is there; else the error names it.
+if "$bin/sphere-pack" "$out/rest.vdb" --tolerance 2% -o "$out/auto.json" -q &&
+  /usr/bin/python3 -c "import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))['source']['mesh'].endswith('in/rest.obj') else 1)" "$out/auto.json"; then
+  passed=$((passed + 1)); else echo "FAIL: sphere-pack did not take the mesh the field records"; fail=$((fail + 1)); fi
+cp "$out/in/rest.obj" "$out/gone.obj"
+"$bin/sdf-build" "$out/gone.obj" -o "$out/gone.vdb" --resolution 32 -q
+rm "$out/gone.obj"
+expect 1 "mesh: is needed by the cover method .*gone.vdb was built from .*gone.obj, which is not there from this folder; pass it with --mesh" \
+  "$out/u.json" -- "$bin/sphere-pack" "$out/gone.vdb" -o "$out/u.json"
+expect 1 "mesh: is needed by --tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/gone.vdb" --method greedy --tolerance 1% -o "$out/u.json"
 expect 1 "tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance abc -o "$out/u.json"
 
 # --mesh must be the mesh the field was built from: a pose or another model is refused, naming both.
