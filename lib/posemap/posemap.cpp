@@ -388,6 +388,10 @@ class PoseMapper {
     if (!fields_[i]) fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], field_options()).field);
     return *fields_[i];
   }
+  // An open mesh's fields bound every radius to the end; a closed mesh's are asked once each.
+  void release_field(size_t i) {
+    if (!open_solid_) fields_[i].reset();
+  }
 
   SdfOptions field_options() const {
     SdfOptions o;
@@ -405,6 +409,7 @@ class PoseMapper {
   // that bring it within `target` (as sphere-pack's tolerance), mapped back to rest.
   SphereSet gap_spheres_of_pose(size_t i, double min_radius, double target, size_t& lost, bool& met, double& reached) {
     DenseField field = pose_field(i + 1);
+    release_field(i + 1);
     clear_covered(field, proxy_.poses[i + 1].spheres);
     PackOptions pack;
     pack.min_radius = min_radius;
@@ -437,6 +442,7 @@ class PoseMapper {
     c.max_radius = proxy_.max_radius;
     c.field_bounds_radius = open_solid_;
     const SphereSet all = inscribed_candidates(field, *queries_[i + 1], c);
+    release_field(i + 1);
     std::vector<char> keep(all.size(), 0);
     tbb::parallel_for(size_t(0), all.size(), [&](size_t s) {
       for (const auto& p : points)
