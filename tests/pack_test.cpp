@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "extract/asset.hpp"
+#include "pack/sphere_pack.hpp"
+#include "sdf/sdf_build.hpp"
 #include "mesh/union_distance.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
@@ -151,6 +155,47 @@ TEST(Pack, BadOptionsAreUsageErrors) {
   PackOptions c;
   c.max_radius = std::nan("");
   EXPECT_EQ(code(c), ExitCode::usage);
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// Where the tolerance is out of reach, the parts whose vertices no candidate reaches are named
+// with the resolution that would reach them, and a field of that resolution does.
+TEST(SpherePack, PartsOutOfReachAreNamedWithTheResolutionThatReachesThem) {
+  const std::string dir = test::temp_dir("reach");
+  write_file_atomic(dir + "/robot.glb", encode_rig_glb(make_robot()));
+  const Asset asset(dir + "/robot.glb", "");
+  TriMesh rest;
+  rest.vertices = asset.rest();
+  rest.triangles = asset.triangles();
+  write_file_atomic(dir + "/rest.obj", to_obj(rest));
+  auto pack_at = [&](int resolution) {
+    SdfOptions o;
+    o.resolution = resolution;
+    json sdf_report, report;
+    sdf_build_files(dir + "/rest.obj", dir + "/rest.vdb", o, Log::silent(), sdf_report);
+    sphere_pack_files(dir + "/rest.vdb", "", dir + "/rest.spheres.json", {}, Log::silent(), report);
+    return report;
+  };
+  const json coarse = pack_at(24);
+  ASSERT_TRUE(coarse.contains("parts_out_of_reach"));
+  const json& parts = coarse["parts_out_of_reach"];
+  ASSERT_GT(parts.size(), 2u);
+  double finest = 0;
+  for (const json& part : parts) {
+    EXPECT_EQ(part["part"].get<std::string>().rfind("part ", 0), 0u);
+    EXPECT_GT(part["vertices_out_of_reach"].get<size_t>(), 0u);
+    EXPECT_GT(part["resolution_needed"].get<double>(), 24);
+    finest = std::max(finest, part["resolution_needed"].get<double>());
+  }
+  EXPECT_LE(finest, coarse["resolution_needed"].get<double>());
+  const json fine = pack_at(int(finest));
+  EXPECT_FALSE(fine.contains("parts_out_of_reach"));
+  EXPECT_TRUE(fine["tolerance"]["met"].get<bool>());
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/subject.hpp"
+#include "mesh/components.hpp"
 #include "mesh/union_distance.hpp"
 #include "io/spheres_file.hpp"
 #include "io/vdb_io.hpp"
@@ -120,6 +121,58 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
 // Cells along the longest side of the field's grid.
 double field_resolution(const GridShape& g) { return double(g.dims.maxCoeff()); }
 
+// Thin parts with no voxel centre deep enough inside: a sample's least gap to the candidates
+// shrinks with the voxel, so the resolution that reaches it scales with gap / target (with a
+// quarter to spare, in steps of 16 cells).
+double resolution_reaching(double resolution, double gap, double target) {
+  return std::ceil(resolution * std::max(1.0, gap / target) * 1.25 / 16) * 16;
+}
+
+// The parts (edge-connected pieces) whose vertices no candidate reaches within `target`: each
+// named by its triangles and centre, with how many vertices, the farthest, whether any
+// candidate lies in its box at all, and the resolution that would reach them. Warned about,
+// the first few by name.
+json parts_out_of_reach(const TriMesh& mesh, const SphereSet& candidates, double target, double resolution, Log& log) {
+  const std::vector<double> gap = union_signed_distance(mesh.vertices, candidates);
+  const Components parts = edge_components(mesh);
+  std::vector<std::vector<int>> vertices_of(parts.count);
+  {
+    std::vector<int> part_of(mesh.vertices.size(), -1);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) part_of[size_t(mesh.triangles[t][k])] = parts.of_triangle[t];
+    for (size_t v = 0; v < part_of.size(); ++v)
+      if (part_of[v] >= 0) vertices_of[size_t(part_of[v])].push_back(int(v));
+  }
+  std::vector<size_t> triangles(parts.count, 0);
+  for (int p : parts.of_triangle) ++triangles[size_t(p)];
+  json out = json::array();
+  for (size_t p = 0; p < parts.count; ++p) {
+    Eigen::AlignedBox3d box;
+    size_t far = 0;
+    double farthest = 0;
+    for (int v : vertices_of[p]) {
+      box.extend(mesh.vertices[size_t(v)]);
+      if (gap[size_t(v)] > target) ++far, farthest = std::max(farthest, gap[size_t(v)]);
+    }
+    if (far == 0) continue;
+    bool holds_one = false;
+    for (const Sphere& s : candidates) holds_one = holds_one || box.contains(s.center);
+    const Eigen::Vector3d c = box.center();
+    const double needed = resolution_reaching(resolution, farthest, target);
+    const std::string name = "part " + std::to_string(p + 1) + " of " + std::to_string(parts.count) + " (" +
+                             std::to_string(triangles[p]) + " triangles around " + num(c.x()) + ", " + num(c.y()) +
+                             ", " + num(c.z()) + ")";
+    if (out.size() < 5)
+      log.warn(name + ": " + std::to_string(far) + " of its vertices out of reach" +
+               (holds_one ? "" : "; it holds no inscribed sphere at this resolution") + "; about " + num(needed) +
+               " cells would reach them");
+    out.push_back({{"part", name}, {"vertices_out_of_reach", far}, {"farthest", farthest},
+                   {"holds_a_candidate", holds_one}, {"resolution_needed", needed}});
+  }
+  if (out.size() > 5) log.warn("and " + std::to_string(out.size() - 5) + " more parts (the report lists them)");
+  return out;
+}
+
 }  // namespace
 
 // Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
@@ -186,15 +239,15 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const ErrorStats error = vertex_error(mesh.mesh(), spheres);
   const bool met = !tolerance.set() || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
   if (tolerance.set() && cover.uncoverable > 0) {
-    // Thin parts with no voxel center deep enough inside: their gap shrinks with the voxel.
     const double resolution = field_resolution(sdf.field.shape);
-    const double needed = std::ceil(resolution * std::max(1.0, cover.least_reachable / target) * 1.25 / 16) * 16;
+    const double needed = resolution_reaching(resolution, cover.least_reachable, target);
     log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
              num(h) + "): " + std::to_string(cover.uncoverable) +
              " surface samples are farther than it from every inscribed sphere (the farthest " +
              num(cover.least_reachable) + "); a field of about " + num(needed) + " cells (sdf-build --resolution " +
              num(needed) + ") would reach them");
     report["resolution_needed"] = needed;
+    report["parts_out_of_reach"] = parts_out_of_reach(mesh.mesh(), sel.pool, target, resolution, log);
   }
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
