@@ -167,12 +167,7 @@ namespace {
 // with the resolution that would reach them, and a field of that resolution does.
 TEST(SpherePack, PartsOutOfReachAreNamedWithTheResolutionThatReachesThem) {
   const std::string dir = test::temp_dir("reach");
-  write_file_atomic(dir + "/robot.glb", encode_rig_glb(make_robot()));
-  const Asset asset(dir + "/robot.glb", "");
-  TriMesh rest;
-  rest.vertices = asset.rest();
-  rest.triangles = asset.triangles();
-  write_file_atomic(dir + "/rest.obj", to_obj(rest));
+  write_file_atomic(dir + "/rest.obj", to_obj(test::rest_of(*test::robot_asset(dir))));
   auto pack_at = [&](int resolution) {
     SdfOptions o;
     o.resolution = resolution;

@@ -494,11 +494,9 @@ void expect_claim_holds(const TriMesh& rest, const std::vector<PoseInput>& poses
 
 TEST(PoseMap, OpenArticulatedSampleMeetsItsClaimInEveryFrame) {
   const std::string dir = test::temp_dir("robot");
-  write_file_atomic(dir + "/robot.glb", encode_rig_glb(make_robot()));
-  const Asset asset(dir + "/robot.glb", "");
-  TriMesh rest;
-  rest.vertices = asset.rest();
-  rest.triangles = asset.triangles();
+  const std::unique_ptr<Asset> robot = test::robot_asset(dir);
+  const Asset& asset = *robot;
+  const TriMesh rest = test::rest_of(asset);
   ASSERT_FALSE(find_defects(rest).watertight());
   std::vector<PoseInput> poses;
   for (int k = 2; k < 24; k += 4) {

@@ -146,18 +146,7 @@ TEST(Sdf, OpenMeshSignFollowsTheWindingNumber) {
 // alone gives: the open shared meshes, the truck's soup and the robot sample's open parts.
 TEST(Sdf, BlockSignEqualsEveryVoxelSign) {
   std::vector<std::pair<std::string, TriMesh>> meshes;
-  meshes.emplace_back("robot", [] {
-    const RigAsset robot = make_robot();
-    TriMesh all;
-    for (const RigPart& part : robot.parts) {  // every part at its joint's rest place, offset apart
-      const int base = int(all.vertices.size());
-      Eigen::Vector3d at = Eigen::Vector3d::Zero();
-      for (int j = part.joint; j >= 0; j = robot.joints[size_t(j)].parent) at += robot.joints[size_t(j)].translation;
-      for (const auto& v : part.mesh.vertices) all.vertices.push_back(at + v);
-      for (const auto& t : part.mesh.triangles) all.triangles.push_back(t.array() + base);
-    }
-    return all;
-  }());
+  meshes.emplace_back("robot", test::rest_of(*test::robot_asset(test::temp_dir("robot-sign"))));
   if (test::have_shared_data())
     for (const char* name : {"cylinder/rest.obj", "broken/hemisphere.obj", "broken/truck.obj"})
       meshes.emplace_back(name, load_mesh(test::shared_data() + "/" + name).mesh);

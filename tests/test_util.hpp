@@ -3,13 +3,17 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
+#include "core/atomic_file.hpp"
+#include "extract/asset.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
 #include "io/spheres_file.hpp"
 #include "sdf/sdf.hpp"
+#include "synthetic/synthetic.hpp"
 
 namespace spx::test {
 
@@ -37,6 +41,18 @@ inline SpheresFile pack_file(const TriMesh& mesh, int resolution, const PackOpti
   f.spheres = pack_spheres(sdf.field, pack, &query).spheres;
   f.voxel_size = sdf.field.shape.voxel_size;
   return f;
+}
+
+// The robot sample's glb written to `dir`, read back as the asset pose-extract reads.
+inline std::unique_ptr<Asset> robot_asset(const std::string& dir) {
+  write_file_atomic(dir + "/robot.glb", encode_rig_glb(make_robot()));
+  return std::make_unique<Asset>(dir + "/robot.glb", "");
+}
+inline TriMesh rest_of(const Asset& asset) {
+  TriMesh rest;
+  rest.vertices = asset.rest();
+  rest.triangles = asset.triangles();
+  return rest;
 }
 
 // Axis-aligned box as 12 outward triangles.
