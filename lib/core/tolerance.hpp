@@ -1,6 +1,16 @@
 #pragma once
-// A length given as mesh units or as a percentage of the mesh's bounding-box diagonal.
+// A length given as mesh units or as a percentage of the mesh's bounding-box diagonal, and the
+// default every tool falls back to.
 namespace spx {
+
+// With neither a tolerance nor a sphere budget, selection gives the fewest spheres within this
+// share of the mesh's bounding-box diagonal ("model no more than a scene needs").
+constexpr double kDefaultTolerancePercent = 2.0;
+
+// A field's distances may exceed the exact ones by a small fraction of a voxel (the interior
+// transform picks the best of nearby triangles, and depths between voxels are bounded by
+// Lipschitz steps): a radius bounded by a field keeps this many voxels clear.
+constexpr double kFieldMargin = 0.1;
 
 struct Tolerance {
   double value = 0;

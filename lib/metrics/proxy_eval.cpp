@@ -4,11 +4,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <random>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
+#include "core/random.hpp"
 #include "io/spx_writer.hpp"
 #include "mesh/winding_number.hpp"
 #include "runtime/spx_runtime.h"
@@ -71,12 +71,11 @@ std::vector<std::vector<float>> blend_weights(size_t poses, int count, unsigned 
       w[a] = w[b] = 0.5f;
       out.push_back(w);
     }
-  std::mt19937 rng(seed);
-  std::exponential_distribution<double> e(1.0);  // normalised exponentials: uniform on the simplex
+  SplitMix rng{seed};  // normalised exponentials: uniform on the simplex
   while (int(out.size()) < count) {
     std::vector<double> x(poses);
     double sum = 0;
-    for (auto& v : x) sum += (v = e(rng));
+    for (auto& v : x) sum += (v = rng.exponential());
     std::vector<float> w(poses);
     for (size_t i = 0; i < poses; ++i) w[i] = float(x[i] / sum);
     out.push_back(w);

@@ -4,11 +4,10 @@
 #include <queue>
 
 #include "core/error.hpp"
+#include "core/tolerance.hpp"
 #include "mesh/union_distance.hpp"
 
 namespace spx {
-
-constexpr double kFieldMargin = 0.1;  // voxels
 
 void check_radius_limits(const PackOptions& opt, double default_min_radius) {
   if (opt.min_radius < 0 || !std::isfinite(opt.min_radius)) fail_option("min_radius", "must be a positive number");

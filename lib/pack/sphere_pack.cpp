@@ -211,7 +211,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     // open mesh's radii also depend on the field across its holes: its centers stay put.)
     StageTimer t(log, "refine");
     const double max_radius = opt.pack.max_radius;
-    refine_centers(problem.samples[0], problem.weighted[0], out.spheres,
+    refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres,
                    [&](const Eigen::Vector3d& c) { return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0; },
                    out.cover.delta, 0.5 * field.shape.voxel_size, log);
   }

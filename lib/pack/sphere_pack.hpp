@@ -11,10 +11,6 @@ namespace spx {
 
 enum class PackMethod { cover, greedy };
 
-// With neither a tolerance nor a sphere budget, the cover gives the fewest spheres within this
-// share of the mesh's bounding-box diagonal ("model no more than a scene needs").
-constexpr double kDefaultTolerancePercent = 2.0;
-
 struct SpherePackOptions {
   PackMethod method = PackMethod::cover;
   PackOptions pack;         // radius limits and the budget (pack.max_spheres) for both methods

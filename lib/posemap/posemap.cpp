@@ -15,7 +15,6 @@
 #include "mesh/union_distance.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
-#include "pack/sphere_pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "sdf/sdf.hpp"
 
@@ -73,7 +72,7 @@ struct PoseSolid {
       const double depth = -holes->values[g.index(v.x(), v.y(), v.z())];
       best = std::max(best, depth - (g.world(v.x(), v.y(), v.z()) - c).norm());
     }
-    return std::max(0.0, best - 0.1 * g.voxel_size);
+    return std::max(0.0, best - kFieldMargin * g.voxel_size);
   }
 };
 
@@ -189,7 +188,7 @@ class PoseMapper {
     // Where a pose stretches, no rest candidate may reach its surface: add that pose's own
     // inscribed spheres near the samples out of reach, mapped back to rest (the inverse map).
     size_t added = 0;
-    const double reach = target > 0 ? target : 0.02 * rest_.diagonal();
+    const double reach = target > 0 ? target : kDefaultTolerancePercent / 100 * rest_.diagonal();
     {
       std::vector<char> near(problem.sample_count(), 0);
       for (uint32_t s : coverage_at(problem, reach).samples) near[s] = 1;

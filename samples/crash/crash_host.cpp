@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "core/random.hpp"
 #include "mesh/winding_number.hpp"
 #include "mesh/union_distance.hpp"
 #include "spx_bullet.hpp"
@@ -26,15 +27,11 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 btVector3 bt(const Eigen::Vector3d& v) { return {btScalar(v.x()), btScalar(v.y()), btScalar(v.z())}; }
 Eigen::Vector3d eig(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
-// Deterministic jitter in [-1, 1] for (seed, car, channel): splitmix64, the same on every
-// platform (std:: distributions are not).
+// Deterministic jitter in [-1, 1] for (seed, car, channel): the first draw of the project's
+// generator keyed by them.
 double jitter(uint32_t seed, int car, int channel) {
-  uint64_t z = (uint64_t(seed) << 32) ^ (uint64_t(car) << 8) ^ uint64_t(channel);
-  z += 0x9e3779b97f4a7c15ull;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return double(z >> 11) / double(1ull << 53) * 2 - 1;
+  SplitMix rng{(uint64_t(seed) << 32) ^ (uint64_t(car) << 8) ^ uint64_t(channel)};
+  return rng.uniform() * 2 - 1;
 }
 
 Eigen::Vector3d volume_centroid(const TriMesh& m) {

@@ -1,0 +1,100 @@
+#include "pack/candidates.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/random.hpp"
+#include "core/tolerance.hpp"
+
+namespace spx {
+namespace {
+
+// Keeps the deepest voxel of each cell of `stride` voxels (ties to the lower index).
+std::vector<size_t> thin_on_grid(const std::vector<size_t>& voxels, const DenseField& field, int stride) {
+  std::vector<std::pair<uint64_t, size_t>> keyed;
+  keyed.reserve(voxels.size());
+  const GridShape& g = field.shape;
+  const uint64_t ny = uint64_t(g.dims.y() / stride + 1), nz = uint64_t(g.dims.z() / stride + 1);
+  for (size_t idx : voxels) {
+    const Eigen::Vector3i c = g.coords(idx) / stride;
+    keyed.emplace_back((uint64_t(c.x()) * ny + uint64_t(c.y())) * nz + uint64_t(c.z()), idx);
+  }
+  std::sort(keyed.begin(), keyed.end(), [&](const auto& a, const auto& b) {
+    if (a.first != b.first) return a.first < b.first;
+    if (field.values[a.second] != field.values[b.second]) return field.values[a.second] < field.values[b.second];
+    return a.second < b.second;
+  });
+  std::vector<size_t> out;
+  for (size_t n = 0; n < keyed.size(); ++n)
+    if (n == 0 || keyed[n].first != keyed[n - 1].first) out.push_back(keyed[n].second);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& opt) {
+  const GridShape& g = field.shape;
+  const double h = g.voxel_size;
+  // Near-medial: off the medial axis, the distance grows by about h/sqrt(3) or more towards
+  // some face neighbour; on it (and across a part a few voxels thin) no neighbour is deeper.
+  std::vector<char> medial(g.count(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, g.count(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t idx = r.begin(); idx != r.end(); ++idx) {
+      const float v = field.values[idx];
+      if (!(v < 0)) continue;
+      bool deeper = false;
+      g.for_each_face_neighbour(idx, g.coords(idx), [&](size_t m) { deeper = deeper || field.values[m] <= v - 0.5f * float(h); });
+      medial[idx] = !deeper;
+    }
+  });
+  std::vector<size_t> voxels;
+  for (size_t idx = 0; idx < g.count(); ++idx)
+    if (medial[idx]) voxels.push_back(idx);
+  for (int stride = 2; voxels.size() > opt.max_candidates && stride < 64; ++stride) voxels = thin_on_grid(voxels, field, stride);
+
+  SphereSet out(voxels.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t n = r.begin(); n != r.end(); ++n) {
+      const Eigen::Vector3d c = g.world(voxels[n]);
+      double radius = mesh.inside(c) ? std::min(opt.max_radius, mesh.distance(c)) : 0.0;
+      if (opt.field_bounds_radius) radius = std::min(radius, -double(field.values[voxels[n]]) - kFieldMargin * h);
+      out[n] = {c, std::max(radius, 0.0)};
+      if (!opt.field_bounds_radius) out[n] = grow_inscribed(mesh, out[n], opt.max_radius, opt.growth);
+    }
+  });
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const Sphere& s) { return !(s.radius > 0) || s.radius < opt.min_radius; }),
+            out.end());
+  return out;
+}
+
+std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed) {
+  std::vector<Eigen::Vector3d> out = mesh.vertices;
+  std::vector<double> cumulative(mesh.triangles.size());
+  double total = 0;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    total += 0.5 * (mesh.vertices[size_t(f[1])] - mesh.vertices[size_t(f[0])])
+                       .cross(mesh.vertices[size_t(f[2])] - mesh.vertices[size_t(f[0])])
+                       .norm();
+    cumulative[t] = total;
+  }
+  if (!(total > 0)) return out;
+  SplitMix rng{seed};
+  for (size_t n = 0; n < area_samples; ++n) {
+    const double pick = rng.uniform() * total;
+    const size_t t = std::min(size_t(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin()),
+                              cumulative.size() - 1);
+    const double a = std::sqrt(rng.uniform()), b = rng.uniform();
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    out.push_back((1 - a) * mesh.vertices[size_t(f[0])] + a * (1 - b) * mesh.vertices[size_t(f[1])] +
+                  a * b * mesh.vertices[size_t(f[2])]);
+  }
+  return out;
+}
+
+}  // namespace spx

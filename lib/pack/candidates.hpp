@@ -1,0 +1,34 @@
+#pragma once
+// What sphere-pack's cover chooses from and what it covers: inscribed candidate spheres (centre
+// at a near-medial interior voxel, radius the exact distance to the surface, grown to the
+// largest inscribed sphere containing it) and surface samples (every vertex plus area samples).
+#include <cstdint>
+#include <vector>
+
+#include "core/sphere.hpp"
+#include "io/dense_field.hpp"
+#include "mesh/inscribed.hpp"
+#include "mesh/mesh_query.hpp"
+
+namespace spx {
+
+struct CandidateOptions {
+  double min_radius = 0;
+  double max_radius = 1e300;
+  size_t max_candidates = 12000;  // thinned on a coarser grid past this, deepest kept per cell
+  bool field_bounds_radius = false;  // open meshes: the field bounds radii across the holes too
+  // Each candidate grown to the largest inscribed sphere containing it (grow_inscribed), so
+  // centers off the medial axis by a voxel reach it; closed meshes only (the field's bound
+  // across an open mesh's holes holds at voxel centers alone).
+  double growth = kDefaultGrowth;
+};
+
+// Inscribed candidate spheres from the interior voxels of `field` that lie near its medial
+// axis (no face neighbour deeper by half a voxel or more), radii from `mesh`, each grown to the
+// largest inscribed sphere containing it (options.growth).
+SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& options);
+
+// Every vertex of `mesh`, then `area_samples` points drawn uniformly by area (seeded).
+std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed);
+
+}  // namespace spx

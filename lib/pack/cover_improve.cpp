@@ -1,0 +1,258 @@
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pack/cover.hpp"
+#include "pack/sample_grid.hpp"
+
+namespace spx {
+using detail::SampleGrid;
+
+namespace {
+
+// Gaps between samples (stacked over poses) and candidates, and each sample's two nearest
+// chosen spheres among those that cover it at delta.
+class CoverState {
+ public:
+  CoverState(const CoverProblem& problem, const Coverage& cov, double delta)
+      : problem_(problem), cov_(cov), delta_(delta) {
+    for (size_t k = 0; k < problem.samples.size(); ++k)
+      for (size_t i = 0; i < problem.samples[k].size(); ++i) {
+        where_.emplace_back(uint32_t(k), uint32_t(i));
+        weight_.push_back(problem.weighted.empty() || i < problem.weighted[k] ? 1.0 : 0.0);
+      }
+    const Coverage covering = covering_candidates(cov);
+    by_start_ = covering.start;
+    by_ = covering.samples;
+    in_.assign(cov.start.size() - 1, 0);
+    first_.assign(cov.sample_count, -1);
+    second_.assign(cov.sample_count, -1);
+  }
+
+  double weight(uint32_t s) const { return weight_[s]; }
+  // Infinite for a sphere of radius 0: it is absent from that pose and covers nothing there,
+  // however near its center (as in the coverage rows).
+  double gap(uint32_t s, int c) const {
+    const auto [k, i] = where_[s];
+    const Sphere& sphere = problem_.spheres[k][size_t(c)];
+    if (!(sphere.radius > 0)) return std::numeric_limits<double>::infinity();
+    return (problem_.samples[k][i] - sphere.center).norm() - sphere.radius;
+  }
+  // The sample's error with the chosen set: its gap to the nearest chosen sphere covering it
+  // (delta's worth past delta where none does: such a sample only arises from uncoverable ones).
+  double error(uint32_t s) const { return first_[s] < 0 ? 2 * delta_ : gap(s, first_[s]); }
+  double error_without(uint32_t s, int c) const {
+    const int best = first_[s] == c ? second_[s] : first_[s];
+    return best < 0 ? 2 * delta_ : gap(s, best);
+  }
+
+  void set(const std::vector<int>& chosen) {
+    std::fill(in_.begin(), in_.end(), 0);
+    for (int c : chosen) in_[size_t(c)] = 1;
+    for (uint32_t s = 0; s < cov_.sample_count; ++s) update(s);
+  }
+  void swap(int out, int in) {
+    in_[size_t(out)] = 0;
+    in_[size_t(in)] = 1;
+    for (int c : {out, in})
+      for (uint32_t n = cov_.start[size_t(c)]; n < cov_.start[size_t(c) + 1]; ++n) update(cov_.samples[n]);
+  }
+  void add(int c) {
+    in_[size_t(c)] = 1;
+    for (uint32_t n = cov_.start[size_t(c)]; n < cov_.start[size_t(c) + 1]; ++n) update(cov_.samples[n]);
+  }
+  bool chosen(int c) const { return in_[size_t(c)] != 0; }
+  int first(uint32_t s) const { return first_[s]; }
+  int second(uint32_t s) const { return second_[s]; }
+  const uint32_t* covering_begin(uint32_t s) const { return by_.data() + by_start_[s]; }
+  const uint32_t* covering_end(uint32_t s) const { return by_.data() + by_start_[s + 1]; }
+
+ private:
+  void update(uint32_t s) {
+    int a = -1, b = -1;
+    double ga = 0, gb = 0;
+    for (uint32_t n = by_start_[s]; n < by_start_[s + 1]; ++n) {
+      const int c = int(by_[n]);
+      if (!in_[size_t(c)]) continue;
+      const double g = gap(s, c);
+      if (a < 0 || g < ga) {
+        b = a, gb = ga;
+        a = c, ga = g;
+      } else if (b < 0 || g < gb) {
+        b = c, gb = g;
+      }
+    }
+    first_[s] = a;
+    second_[s] = b;
+  }
+
+  const CoverProblem& problem_;
+  const Coverage& cov_;
+  double delta_;
+  std::vector<std::pair<uint32_t, uint32_t>> where_;  // sample -> (pose, index)
+  std::vector<double> weight_;
+  std::vector<uint32_t> by_start_, by_;
+  std::vector<char> in_;
+  std::vector<int> first_, second_;
+};
+
+}  // namespace
+
+void improve_cover(const CoverProblem& problem, const Coverage& cov, double delta, size_t max_spheres,
+                   std::vector<int>& chosen, Log& log) {
+  if (chosen.empty()) return;
+  CoverState state(problem, cov, delta);
+  state.set(chosen);
+  const size_t candidates = cov.start.size() - 1;
+  // Spare budget: the candidate that cuts the total error most, while one does.
+  size_t added = 0;
+  while (chosen.size() < max_spheres) {
+    std::vector<double> cut(candidates, 0);
+    tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
+      if (state.chosen(int(c))) return;
+      double sum = 0;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+        sum += state.weight(cov.samples[n]) * std::max(0.0, state.error(cov.samples[n]) - state.gap(cov.samples[n], int(c)));
+      cut[c] = sum;
+    });
+    const size_t best = size_t(std::max_element(cut.begin(), cut.end()) - cut.begin());
+    if (!(cut[best] > 0)) break;
+    state.add(int(best));
+    chosen.push_back(int(best));
+    ++added;
+  }
+  // Swaps: a sphere for one that covers every sample only it covers, cutting the sum most.
+  size_t swaps = 0;
+  for (int round = 0; round < 4; ++round) {
+    size_t this_round = 0;
+    for (size_t slot = 0; slot < chosen.size(); ++slot) {
+      const int out = chosen[slot];
+      // Samples only `out` covers: a replacement must cover them all.
+      std::vector<uint32_t> critical;
+      for (uint32_t n = cov.start[size_t(out)]; n < cov.start[size_t(out) + 1]; ++n) {
+        const uint32_t s = cov.samples[n];
+        if (state.first(s) == out && state.second(s) < 0) critical.push_back(s);
+      }
+      // Candidates: those covering the first critical sample (every sample of `out` if none).
+      const uint32_t anchor = critical.empty() ? cov.samples[cov.start[size_t(out)]] : critical.front();
+      std::vector<int> options;
+      for (const uint32_t* c = state.covering_begin(anchor); c != state.covering_end(anchor); ++c)
+        if (!state.chosen(int(*c))) options.push_back(int(*c));
+      std::vector<double> change(options.size(), std::numeric_limits<double>::infinity());
+      tbb::parallel_for(size_t(0), options.size(), [&](size_t o) {
+        const int in = options[o];
+        for (uint32_t s : critical)
+          if (state.gap(s, in) > delta) return;
+        double sum = 0;
+        // Samples losing `out` fall back to their second sphere or to `in`.
+        for (uint32_t n = cov.start[size_t(out)]; n < cov.start[size_t(out) + 1]; ++n) {
+          const uint32_t s = cov.samples[n];
+          if (state.first(s) != out) continue;
+          const double g = state.gap(s, in);
+          sum += state.weight(s) *
+                 (std::min(state.error_without(s, out), g <= delta ? g : std::numeric_limits<double>::infinity()) -
+                  state.error(s));
+        }
+        // Samples `in` brings closer (those whose nearest is `out` are counted above).
+        for (uint32_t n = cov.start[size_t(in)]; n < cov.start[size_t(in) + 1]; ++n) {
+          const uint32_t s = cov.samples[n];
+          if (state.first(s) == out) continue;
+          sum += state.weight(s) * std::min(0.0, state.gap(s, in) - state.error(s));
+        }
+        change[o] = sum;
+      });
+      size_t best = options.size();
+      for (size_t o = 0; o < options.size(); ++o)
+        if (change[o] < -1e-12 * delta && (best == options.size() || change[o] < change[best])) best = o;
+      if (best == options.size()) continue;
+      state.swap(out, options[best]);
+      chosen[slot] = options[best];
+      ++this_round;
+    }
+    swaps += this_round;
+    if (this_round == 0) break;
+  }
+  log.detail("cover improved: " + std::to_string(added) + " spheres added, " + std::to_string(swaps) + " swaps");
+}
+
+size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
+                       const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
+                       Log& log) {
+  if (spheres.empty() || samples.empty()) return 0;
+  const SampleGrid grid(samples);
+  // Each sample's nearest and second-nearest sphere.
+  std::vector<int> first(samples.size(), -1), second(samples.size(), -1);
+  auto gap = [&](size_t i, const Sphere& s) { return (samples[i] - s.center).norm() - s.radius; };
+  auto rank = [&](size_t i) {
+    int a = -1, b = -1;
+    double ga = 0, gb = 0;
+    for (size_t j = 0; j < spheres.size(); ++j) {
+      const double g = gap(i, spheres[j]);
+      if (a < 0 || g < ga) {
+        b = a, gb = ga;
+        a = int(j), ga = g;
+      } else if (b < 0 || g < gb) {
+        b = int(j), gb = g;
+      }
+    }
+    first[i] = a;
+    second[i] = b;
+  };
+  tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) { rank(i); });
+  auto error_without = [&](size_t i, size_t j) {
+    const int k = first[i] == int(j) ? second[i] : first[i];
+    return k < 0 ? std::numeric_limits<double>::infinity() : gap(i, spheres[size_t(k)]);
+  };
+  size_t moves = 0;
+  for (double s = step; s >= step / 4; s /= 2)
+    for (int round = 0; round < 3; ++round) {
+      size_t this_round = 0;
+      for (size_t j = 0; j < spheres.size(); ++j) {
+        const Sphere old = spheres[j];
+        Sphere best_sphere = old;
+        double best_change = -1e-12 * delta;
+        for (int d = 0; d < 6; ++d) {
+          Eigen::Vector3d c = old.center;
+          c[d / 2] += d % 2 ? s : -s;
+          const double r = radius_at(c);
+          if (!(r > 0)) continue;
+          const Sphere moved{c, r};
+          // Samples whose error can change: near the old sphere or the new one.
+          double change = 0;
+          bool feasible = true;
+          auto visit = [&](uint32_t i) {
+            if (!feasible) return;
+            const double before = gap(i, spheres[size_t(first[i])]);
+            const double after = std::min(error_without(i, j), gap(i, moved));
+            if (after > delta && after > before) feasible = false;
+            if (i < weighted) change += after - before;
+          };
+          std::vector<uint32_t> seen;
+          grid.near(old.center, old.radius + delta, [&](uint32_t i) { seen.push_back(i); });
+          grid.near(c, r + delta, [&](uint32_t i) { seen.push_back(i); });
+          std::sort(seen.begin(), seen.end());
+          seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+          for (uint32_t i : seen) visit(i);
+          if (feasible && change < best_change) {
+            best_change = change;
+            best_sphere = moved;
+          }
+        }
+        if (best_sphere.center == old.center) continue;
+        spheres[j] = best_sphere;
+        ++this_round;
+        std::vector<uint32_t> seen;
+        grid.near(old.center, old.radius + delta, [&](uint32_t i) { seen.push_back(i); });
+        grid.near(best_sphere.center, best_sphere.radius + delta, [&](uint32_t i) { seen.push_back(i); });
+        for (uint32_t i : seen) rank(i);
+      }
+      moves += this_round;
+      if (this_round == 0) break;
+    }
+  log.detail("refined centers: " + std::to_string(moves) + " moves");
+  return moves;
+}
+
+}  // namespace spx

@@ -1,0 +1,116 @@
+#include "pack/coverage.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+#include "pack/sample_grid.hpp"
+
+namespace spx {
+using detail::SampleGrid;
+
+size_t CoverProblem::sample_count() const {
+  size_t n = 0;
+  for (const auto& s : samples) n += s.size();
+  return n;
+}
+
+namespace {
+
+// Every (candidate, sample) pair within `delta`, gathered per candidate by `keep(row, sample,
+// gap)` in parallel over candidates; each row then sorted.
+template <class Entry, class Keep>
+std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t>& offset,
+                                            Keep&& keep) {
+  const size_t candidates = problem.candidate_count();
+  std::vector<SampleGrid> grids;
+  offset.assign(1, 0);
+  for (const auto& s : problem.samples) {
+    grids.emplace_back(s);
+    offset.push_back(offset.back() + uint32_t(s.size()));
+  }
+  std::vector<std::vector<Entry>> rows(candidates);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      for (size_t k = 0; k < problem.samples.size(); ++k) {
+        const Sphere& s = problem.spheres[k][c];
+        if (!(s.radius > 0)) continue;
+        const auto& points = problem.samples[k];
+        grids[k].near(s.center, s.radius + delta, [&](uint32_t i) {
+          const double gap = (points[i] - s.center).norm() - s.radius;
+          if (gap <= delta) keep(rows[c], offset[k] + i, gap);
+        });
+      }
+      std::sort(rows[c].begin(), rows[c].end());
+    }
+  });
+  return rows;
+}
+
+}  // namespace
+
+Coverage coverage_at(const CoverProblem& problem, double delta) {
+  std::vector<uint32_t> offset;
+  std::vector<std::vector<uint32_t>> rows = gather_rows<uint32_t>(
+      problem, delta, offset, [](std::vector<uint32_t>& row, uint32_t sample, double) { row.push_back(sample); });
+  Coverage cov;
+  cov.sample_count = offset.back();
+  cov.start.assign(rows.size() + 1, 0);
+  for (size_t c = 0; c < rows.size(); ++c) cov.start[c + 1] = cov.start[c] + uint32_t(rows[c].size());
+  cov.samples.resize(cov.start.back());
+  tbb::parallel_for(size_t(0), rows.size(),
+                    [&](size_t c) { std::copy(rows[c].begin(), rows[c].end(), cov.samples.begin() + cov.start[c]); });
+  return cov;
+}
+
+GapTable::GapTable(const CoverProblem& problem, double max_delta) : max_delta_(max_delta) {
+  std::vector<uint32_t> offset;
+  const std::vector<std::vector<std::pair<uint32_t, double>>> rows = gather_rows<std::pair<uint32_t, double>>(
+      problem, max_delta, offset,
+      [](std::vector<std::pair<uint32_t, double>>& row, uint32_t sample, double gap) { row.emplace_back(sample, gap); });
+  const size_t candidates = rows.size();
+  sample_count_ = offset.back();
+  start_.assign(candidates + 1, 0);
+  for (size_t c = 0; c < candidates; ++c) start_[c + 1] = start_[c] + uint32_t(rows[c].size());
+  samples_.resize(start_.back());
+  gaps_.resize(start_.back());
+  tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
+    for (size_t n = 0; n < rows[c].size(); ++n) std::tie(samples_[start_[c] + n], gaps_[start_[c] + n]) = rows[c][n];
+  });
+}
+
+Coverage GapTable::at(double delta) const {
+  delta = std::min(delta, max_delta_);
+  Coverage cov;
+  cov.sample_count = sample_count_;
+  cov.start.reserve(start_.size());
+  cov.start.push_back(0);
+  for (size_t c = 0; c + 1 < start_.size(); ++c) {
+    for (uint32_t n = start_[c]; n < start_[c + 1]; ++n)
+      if (gaps_[n] <= delta) cov.samples.push_back(samples_[n]);
+    cov.start.push_back(uint32_t(cov.samples.size()));
+  }
+  return cov;
+}
+
+std::vector<double> least_gaps(const CoverProblem& problem) {
+  std::vector<double> out;
+  for (size_t k = 0; k < problem.samples.size(); ++k) {
+    const auto& points = problem.samples[k];
+    const SphereSet& spheres = problem.spheres[k];
+    std::vector<double> gaps(points.size(), std::numeric_limits<double>::infinity());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i)
+        for (const Sphere& s : spheres)
+          if (s.radius > 0) gaps[i] = std::min(gaps[i], (points[i] - s.center).norm() - s.radius);
+    });
+    out.insert(out.end(), gaps.begin(), gaps.end());
+  }
+  return out;
+}
+
+}  // namespace spx

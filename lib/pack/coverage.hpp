@@ -1,0 +1,46 @@
+#pragma once
+// Coverage from geometry: the samples of one or several poses and each candidate's sphere in
+// them; a candidate covers a sample within delta of its sphere (gap = |p - c| - r <= delta).
+#include <vector>
+
+#include "core/sphere.hpp"
+#include "pack/set_cover.hpp"
+
+namespace spx {
+
+// The geometry of one cover problem: the points to cover, in one or several poses, and each
+// candidate's sphere in those poses. Rows of several poses are stacked: a candidate covers a
+// sample of pose k with its sphere in pose k.
+struct CoverProblem {
+  std::vector<std::vector<Eigen::Vector3d>> samples;  // per pose
+  // Per pose: the first `weighted[k]` samples count in the total error that local improvement
+  // cuts (the mesh's vertices, where the error is measured); the rest (area samples) only have
+  // to stay within delta. Empty: every sample counts.
+  std::vector<size_t> weighted;
+  std::vector<SphereSet> spheres;                     // per pose, one per candidate (radius 0: absent)
+  size_t candidate_count() const { return spheres.empty() ? 0 : spheres.front().size(); }
+  size_t sample_count() const;
+};
+
+// Which samples each candidate covers at `delta`, rows of several poses stacked.
+Coverage coverage_at(const CoverProblem& problem, double delta);
+
+// The coverage at every delta up to `max_delta`, computed once: each candidate's samples with
+// their gaps. at(delta) equals coverage_at(problem, delta) for any delta <= max_delta.
+class GapTable {
+ public:
+  GapTable(const CoverProblem& problem, double max_delta);
+  Coverage at(double delta) const;
+
+ private:
+  double max_delta_;
+  size_t sample_count_ = 0;
+  std::vector<uint32_t> start_, samples_;
+  std::vector<double> gaps_;
+};
+
+// For each sample, the smallest gap over every candidate: the least delta at which it can be
+// covered at all (infinite where no candidate exists).
+std::vector<double> least_gaps(const CoverProblem& problem);
+
+}  // namespace spx

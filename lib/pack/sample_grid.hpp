@@ -1,0 +1,53 @@
+#pragma once
+// pack internals: samples bucketed on a uniform grid, for ball queries (the coverage rows and
+// the centre refinement).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+namespace spx::detail {
+
+class SampleGrid {
+ public:
+  explicit SampleGrid(const std::vector<Eigen::Vector3d>& points) {
+    for (const auto& p : points) box_.extend(p);
+    const double diag = std::max(box_.diagonal().norm(), 1e-30);
+    cell_ = diag / 40;
+    dims_ = ((box_.sizes() / cell_).array().floor() + 1).cast<int>().cwiseMax(1);
+    std::vector<uint32_t> count(cells() + 1, 0);
+    for (const auto& p : points) ++count[cell_of(p) + 1];
+    std::partial_sum(count.begin(), count.end(), count.begin());
+    start_ = count;
+    order_.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) order_[count[cell_of(points[i])]++] = uint32_t(i);
+  }
+  // Calls visit(i) for every sample within `reach` of c (and some a little farther).
+  template <class Visit>
+  void near(const Eigen::Vector3d& c, double reach, Visit&& visit) const {
+    const Eigen::Vector3i lo = index(c - Eigen::Vector3d::Constant(reach)), hi = index(c + Eigen::Vector3d::Constant(reach));
+    for (int i = lo.x(); i <= hi.x(); ++i)
+      for (int j = lo.y(); j <= hi.y(); ++j)
+        for (int k = lo.z(); k <= hi.z(); ++k) {
+          const size_t cell = size_t(i) + size_t(dims_.x()) * (size_t(j) + size_t(dims_.y()) * size_t(k));
+          for (uint32_t n = start_[cell]; n < start_[cell + 1]; ++n) visit(order_[n]);
+        }
+  }
+
+ private:
+  size_t cells() const { return size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z()); }
+  Eigen::Vector3i index(const Eigen::Vector3d& p) const {
+    return ((p - box_.min()) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1);
+  }
+  size_t cell_of(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3i c = index(p);
+    return size_t(c.x()) + size_t(dims_.x()) * (size_t(c.y()) + size_t(dims_.y()) * size_t(c.z()));
+  }
+  Eigen::AlignedBox3d box_;
+  double cell_ = 1;
+  Eigen::Vector3i dims_;
+  std::vector<uint32_t> start_, order_;
+};
+
+}  // namespace spx::detail

@@ -1,0 +1,359 @@
+#include "pack/set_cover.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <queue>
+
+namespace spx {
+
+std::vector<int> greedy_cover(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  std::vector<char> covered(cov.sample_count, 0);
+  // Samples few candidates cover weigh more: a sphere that takes the only cover of a hard
+  // sample early saves the spheres that would chase it late.
+  std::vector<uint32_t> degree(cov.sample_count, 0);
+  for (uint32_t s : cov.samples) ++degree[s];
+  std::vector<double> weight(cov.sample_count, 0);
+  for (size_t s = 0; s < weight.size(); ++s) weight[s] = degree[s] ? 1.0 / degree[s] : 0;
+  // Lazy greedy: a popped gain is recounted, and the candidate taken only if it still leads.
+  std::priority_queue<std::pair<double, int>> queue;  // (gain, -index)
+  auto gain_of = [&](size_t c) {
+    double g = 0;
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      if (!covered[cov.samples[n]]) g += weight[cov.samples[n]];
+    return g;
+  };
+  for (size_t c = 0; c < candidates; ++c)
+    if (cov.row_size(c) > 0) queue.emplace(gain_of(c), -int(c));
+  std::vector<int> chosen;
+  while (!queue.empty()) {
+    const auto [gain, neg] = queue.top();
+    queue.pop();
+    const size_t c = size_t(-neg);
+    const double now = gain_of(c);
+    if (!(now > 0)) continue;
+    if (now < gain) {
+      queue.emplace(now, neg);
+      continue;
+    }
+    chosen.push_back(int(c));
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) covered[cov.samples[n]] = 1;
+  }
+  // Redundant spheres, smallest first: every sample also covered by another chosen sphere.
+  std::vector<uint32_t> times(cov.sample_count, 0);
+  for (int c : chosen)
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) ++times[cov.samples[n]];
+  std::vector<int> order(chosen);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cov.row_size(size_t(a)) < cov.row_size(size_t(b)); });
+  std::vector<char> dropped(candidates, 0);
+  for (int c : order) {
+    bool redundant = true;
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1] && redundant; ++n)
+      redundant = times[cov.samples[n]] >= 2;
+    if (!redundant) continue;
+    dropped[size_t(c)] = 1;
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) --times[cov.samples[n]];
+  }
+  chosen.erase(std::remove_if(chosen.begin(), chosen.end(), [&](int c) { return dropped[size_t(c)]; }), chosen.end());
+  return chosen;
+}
+
+size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
+  const size_t candidates = cov.start.size() - 1;
+  std::vector<char> in(candidates, 0);
+  std::vector<uint32_t> times(cov.sample_count, 0);
+  for (int c : chosen) {
+    in[size_t(c)] = 1;
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) ++times[cov.samples[n]];
+  }
+  auto account = [&](uint32_t c, int by) {
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) times[cov.samples[n]] = uint32_t(int(times[cov.samples[n]]) + by);
+  };
+  auto redundant = [&](uint32_t c) {
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      if (times[cov.samples[n]] < 2) return false;
+    return true;
+  };
+  // The chosen sphere that alone covers each sample (-1: none or several), and how many such
+  // samples each sphere has: a candidate makes sphere k redundant only if it covers all of k's.
+  std::vector<int> owner(cov.sample_count, -1);
+  std::vector<uint32_t> critical(candidates, 0);
+  auto find_owners = [&] {
+    std::fill(owner.begin(), owner.end(), -1);
+    std::fill(critical.begin(), critical.end(), 0);
+    for (size_t c = 0; c < candidates; ++c)
+      if (in[c])
+        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+          if (times[cov.samples[n]] == 1) {
+            owner[cov.samples[n]] = int(c);
+            ++critical[c];
+          }
+  };
+  find_owners();
+  // Add one candidate, drop the spheres it makes redundant; keep the move when two or more go.
+  size_t shrunk = 0;
+  std::vector<uint32_t> hits(candidates, 0);
+  for (int pass = 0; pass < 3; ++pass) {
+    size_t this_pass = 0;
+    for (uint32_t c = 0; c < candidates; ++c) {
+      if (in[c] || cov.row_size(c) == 0) continue;
+      std::vector<uint32_t> touched;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) {
+        const int k = owner[cov.samples[n]];
+        if (k < 0) continue;
+        if (hits[size_t(k)]++ == 0) touched.push_back(uint32_t(k));
+      }
+      std::vector<uint32_t> could;
+      for (uint32_t k : touched) {
+        if (hits[k] == critical[k]) could.push_back(k);
+        hits[k] = 0;
+      }
+      if (could.size() < 2) continue;
+      account(c, +1);
+      std::vector<uint32_t> dropped;
+      for (uint32_t k : could)
+        if (redundant(k)) {
+          account(k, -1);
+          in[k] = 0;
+          dropped.push_back(k);
+        }
+      if (dropped.size() >= 2) {
+        in[c] = 1;
+        ++this_pass;
+        find_owners();
+        continue;
+      }
+      for (uint32_t k : dropped) {
+        account(k, +1);
+        in[k] = 1;
+      }
+      account(c, -1);
+    }
+    shrunk += this_pass;
+    if (this_pass == 0) break;
+  }
+  if (shrunk > 0) {
+    chosen.clear();
+    for (size_t c = 0; c < candidates; ++c)
+      if (in[c]) chosen.push_back(int(c));
+  }
+  return shrunk;
+}
+
+ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
+  const size_t candidates = cov.start.size() - 1;
+  const Coverage by = covering_candidates(cov);
+  auto is_subset = [](const uint32_t* a, const uint32_t* a_end, const uint32_t* b, const uint32_t* b_end) {
+    if (a == a_end) return true;
+    // Rows that are not subsets mostly differ at their ends or middle: test those first.
+    if (*a < *b || *(a_end - 1) > *(b_end - 1) || !std::binary_search(b, b_end, a[(a_end - a) / 2])) return false;
+    for (; a != a_end; ++a) {
+      b = std::lower_bound(b, b_end, *a);
+      if (b == b_end || *b != *a) return false;
+    }
+    return true;
+  };
+  // Samples: b is implied when some a's candidates are all among b's (a cover of a covers b).
+  // Smallest first; a kept sample marks every larger one it implies (ties: the later index).
+  std::vector<uint32_t> order;
+  for (uint32_t s = 0; s < cov.sample_count; ++s)
+    if (by.row_size(s) > 0) order.push_back(s);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return by.row_size(a) < by.row_size(b); });
+  // In parallel: which rows get marked does not depend on the order they are visited in (a
+  // row implied by one that is itself implied is implied by that one's implier too). Rows whose
+  // scan would pass `scan` imply nothing; that too depends on the row alone.
+  std::vector<std::atomic<uint8_t>> implied(cov.sample_count);
+  tbb::parallel_for(size_t(0), order.size(), [&](size_t k) {
+    const uint32_t a = order[k];
+    if (implied[a].load(std::memory_order_relaxed)) return;
+    // Every sample implied by a is covered by a's candidate that covers fewest samples.
+    uint32_t rare = by.samples[by.start[a]];
+    for (uint32_t n = by.start[a]; n < by.start[a + 1]; ++n)
+      if (cov.row_size(by.samples[n]) < cov.row_size(rare)) rare = by.samples[n];
+    if (cov.row_size(rare) > scan) return;
+    for (uint32_t n = cov.start[rare]; n < cov.start[rare + 1]; ++n) {
+      const uint32_t b = cov.samples[n];
+      if (b == a || implied[b].load(std::memory_order_relaxed) || by.row_size(b) < by.row_size(a)) continue;
+      if (by.row_size(b) == by.row_size(a) && b < a) continue;  // identical rows: keep the earlier
+      if (is_subset(&by.samples[by.start[a]], &by.samples[by.start[a + 1]], &by.samples[by.start[b]],
+                    &by.samples[by.start[b + 1]]))
+        implied[b].store(1, std::memory_order_relaxed);
+    }
+  });
+  ReducedCover out;
+  std::vector<uint32_t> row_of(cov.sample_count, UINT32_MAX);
+  for (uint32_t s = 0; s < cov.sample_count; ++s)
+    if (by.row_size(s) > 0 && !implied[s]) row_of[s] = uint32_t(out.sample.size()), out.sample.push_back(s);
+  // Candidates over the kept samples; d is dominated when another covers all of its samples
+  // (ties: the later index).
+  std::vector<std::vector<uint32_t>> rows(candidates);
+  for (size_t c = 0; c < candidates; ++c)
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      if (row_of[cov.samples[n]] != UINT32_MAX) rows[c].push_back(row_of[cov.samples[n]]);
+  std::vector<uint32_t> holders_start(out.sample.size() + 1, 0), holders;
+  for (const auto& r : rows)
+    for (uint32_t s : r) ++holders_start[s + 1];
+  std::partial_sum(holders_start.begin(), holders_start.end(), holders_start.begin());
+  holders.resize(holders_start.back());
+  {
+    std::vector<uint32_t> fill(holders_start.begin(), holders_start.end() - 1);
+    for (size_t c = 0; c < candidates; ++c)
+      for (uint32_t s : rows[c]) holders[fill[s]++] = uint32_t(c);
+  }
+  std::vector<std::atomic<uint8_t>> dominated(candidates);  // in parallel, as above
+  tbb::parallel_for(size_t(0), candidates, [&](size_t d) {
+    if (rows[d].empty()) {
+      dominated[d].store(1, std::memory_order_relaxed);
+      return;
+    }
+    uint32_t rare = rows[d].front();
+    for (uint32_t s : rows[d])
+      if (holders_start[s + 1] - holders_start[s] < holders_start[rare + 1] - holders_start[rare]) rare = s;
+    if (holders_start[rare + 1] - holders_start[rare] > scan) return;
+    for (uint32_t n = holders_start[rare]; n < holders_start[rare + 1]; ++n) {
+      const uint32_t e = holders[n];
+      if (e == d || dominated[e].load(std::memory_order_relaxed) || rows[e].size() < rows[d].size()) continue;
+      if (rows[e].size() == rows[d].size() && e > d) continue;  // identical: keep the earlier
+      if (is_subset(rows[d].data(), rows[d].data() + rows[d].size(), rows[e].data(), rows[e].data() + rows[e].size())) {
+        dominated[d].store(1, std::memory_order_relaxed);
+        break;
+      }
+    }
+  });
+  out.coverage.sample_count = out.sample.size();
+  out.coverage.start.push_back(0);
+  for (size_t c = 0; c < candidates; ++c) {
+    if (dominated[c].load(std::memory_order_relaxed)) continue;
+    out.candidate.push_back(uint32_t(c));
+    out.coverage.samples.insert(out.coverage.samples.end(), rows[c].begin(), rows[c].end());
+    out.coverage.start.push_back(uint32_t(out.coverage.samples.size()));
+  }
+  return out;
+}
+
+// The larger of the two lower bounds. On a reduced problem too: the reduction keeps the optimum
+// of the problem and of its LP relaxation, so its bounds hold for the original.
+// The Lagrangian's steps are capped at about 4e8 pairs visited in all (a dense budget cover's
+// bound would otherwise cost more than its search).
+size_t lower_bound_of(const Coverage& cov, size_t upper) {
+  const int steps = int(std::clamp<size_t>(size_t(4e8) / std::max<size_t>(cov.samples.size(), 1), 20, 200));
+  return std::max(cover_lower_bound(cov), lagrangian_bound(cov, upper, steps));
+}
+
+std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t enough, size_t* lower_bound, Log& log) {
+  const ReducedCover reduced = reduce_cover(cov, limits.scan);
+  std::vector<int> chosen = greedy_cover(reduced.coverage);
+  const size_t greedy = chosen.size();
+  shrink_cover(reduced.coverage, chosen);
+  const size_t shrunk = chosen.size();
+  local_search_cover(reduced.coverage, chosen, limits, enough);
+  std::string bound;
+  if (lower_bound) {
+    *lower_bound = lower_bound_of(reduced.coverage, chosen.size());
+    bound = " (at least " + std::to_string(*lower_bound) + ")";
+  }
+  log.detail("cover of " + std::to_string(reduced.candidate.size()) + " candidates and " +
+             std::to_string(reduced.sample.size()) + " samples after reduction: greedy " + std::to_string(greedy) +
+             ", shrunk " + std::to_string(shrunk) + ", searched " + std::to_string(chosen.size()) + bound);
+  for (int& c : chosen) c = int(reduced.candidate[size_t(c)]);
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+Coverage covering_candidates(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  Coverage t;
+  t.sample_count = candidates;
+  t.start.assign(cov.sample_count + 1, 0);
+  for (uint32_t s : cov.samples) ++t.start[s + 1];
+  std::partial_sum(t.start.begin(), t.start.end(), t.start.begin());
+  t.samples.resize(cov.samples.size());
+  std::vector<uint32_t> fill(t.start.begin(), t.start.end() - 1);
+  for (size_t c = 0; c < candidates; ++c)
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) t.samples[fill[cov.samples[n]]++] = uint32_t(c);
+  return t;
+}
+
+size_t cover_lower_bound(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  const Coverage covering = covering_candidates(cov);
+  const std::vector<uint32_t>& start = covering.start;
+  const std::vector<uint32_t>& by = covering.samples;
+  // Most constrained samples first; a pick blocks every sample a candidate of it covers.
+  std::vector<uint32_t> order(cov.sample_count);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return start[a + 1] - start[a] < start[b + 1] - start[b];
+  });
+  std::vector<char> blocked(cov.sample_count, 0), used(candidates, 0);
+  size_t picked = 0;
+  for (uint32_t s : order) {
+    if (blocked[s] || start[s] == start[s + 1]) continue;
+    ++picked;
+    for (uint32_t n = start[s]; n < start[s + 1]; ++n) {
+      const uint32_t c = by[n];
+      if (used[c]) continue;
+      used[c] = 1;
+      for (uint32_t m = cov.start[c]; m < cov.start[c + 1]; ++m) blocked[cov.samples[m]] = 1;
+    }
+  }
+  return picked;
+}
+
+size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
+  const size_t candidates = cov.start.size() - 1, samples = cov.sample_count;
+  std::vector<char> coverable(samples, 0);
+  for (uint32_t s : cov.samples) coverable[s] = 1;
+  // Start: each sample's multiplier the best 1/|column| among the candidates covering it.
+  std::vector<double> u(samples, 0.0);
+  for (size_t c = 0; c < candidates; ++c)
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) {
+      const double share = 1.0 / double(cov.row_size(c));
+      if (u[cov.samples[n]] == 0 || share < u[cov.samples[n]]) u[cov.samples[n]] = share;
+    }
+  // Subgradient steps by Polyak's rule toward the best cover known (`upper`).
+  std::vector<int> hits(samples, 0);
+  double best = 0, lambda = 2.0;
+  int since_better = 0;
+  for (int step = 0; step < steps && lambda > 1e-3; ++step) {
+    double value = 0;
+    for (size_t s = 0; s < samples; ++s) value += u[s];
+    std::fill(hits.begin(), hits.end(), 0);
+    for (size_t c = 0; c < candidates; ++c) {
+      if (cov.row_size(c) == 0) continue;
+      double r = 1;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) r -= u[cov.samples[n]];
+      if (r < 0) {
+        value += r;
+        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) ++hits[cov.samples[n]];
+      }
+    }
+    if (value > best + 1e-9) {
+      best = value;
+      since_better = 0;
+    } else if (++since_better >= 15) {
+      lambda /= 2;
+      since_better = 0;
+    }
+    if (std::ceil(best - 1e-6) >= double(upper)) break;  // the cover is optimal
+    double norm = 0;
+    for (size_t s = 0; s < samples; ++s)
+      if (coverable[s]) {
+        const double g = 1.0 - hits[s];
+        if (g > 0 || u[s] > 0) norm += g * g;
+      }
+    if (norm == 0) break;
+    const double t = lambda * (1.05 * double(upper) - value) / norm;
+    for (size_t s = 0; s < samples; ++s)
+      if (coverable[s]) u[s] = std::max(0.0, u[s] + t * (1.0 - hits[s]));
+  }
+  return size_t(std::max(0.0, std::ceil(best - 1e-6)));
+}
+
+}  // namespace spx

@@ -1,0 +1,84 @@
+#pragma once
+// The set cover itself, free of geometry: candidates are rows of the samples they cover. The
+// reduction, greedy, the add-one-drop-two shrink, the row-weighting search, the fewest spheres
+// found from them all, and lower bounds on any cover's size. Tested against brute force.
+#include <cstdint>
+#include <vector>
+
+#include "core/log.hpp"
+
+namespace spx {
+
+// Which samples each candidate covers: compressed rows, one per candidate.
+struct Coverage {
+  std::vector<uint32_t> start;    // candidates + 1 offsets into `samples`
+  std::vector<uint32_t> samples;  // ascending within a row
+  size_t sample_count = 0;
+  size_t row_size(size_t c) const { return start[c + 1] - start[c]; }
+};
+
+// The same pairs the other way round: for each sample, the candidates that cover it.
+Coverage covering_candidates(const Coverage& coverage);
+
+// Greedy set cover (most newly covered first, ties to the lower index), then removal of
+// spheres every one of whose samples another chosen sphere also covers. Samples no candidate
+// covers are skipped (the caller counts them). Returns candidate indices.
+std::vector<int> greedy_cover(const Coverage& coverage);
+
+// Local search on a cover: add a candidate, drop every sphere it makes redundant, keep the move
+// when that removes two or more. Returns the spheres saved.
+size_t shrink_cover(const Coverage& coverage, std::vector<int>& chosen);
+
+// The same cover problem made smaller without changing its optimum: a sample whose candidates
+// include all of another's is dropped (covering the other covers it), then a candidate whose
+// samples another candidate also covers is dropped. Samples no candidate covers are dropped.
+// A sample (candidate) whose check would scan more than `scan` others is kept unchecked: on
+// dense problems the full check costs more than the search it speeds up.
+struct ReducedCover {
+  Coverage coverage;
+  std::vector<uint32_t> candidate;  // reduced candidate -> original index
+  std::vector<uint32_t> sample;     // reduced sample -> original index
+};
+ReducedCover reduce_cover(const Coverage& coverage, uint32_t scan = UINT32_MAX);
+
+// How long a row-weighting search may run: at most `steps` steps and `work` entries of the
+// coverage visited (on dense problems, a large delta or few spheres, each step costs more);
+// and the reduction's `scan` before it (reduce_cover).
+struct SearchLimits {
+  size_t steps;
+  uint64_t work;
+  uint32_t scan = UINT32_MAX;
+};
+// Tolerance mode: about a second on a 5-pose elephant (20000 steps there), 1.5 s at most.
+constexpr SearchLimits kToleranceSearch{20000, 2000000000};
+// Budget mode searches several covers, densest at small budgets: about a tenth of a second each.
+constexpr SearchLimits kBudgetSearch{2000, 150000000, 256};
+
+// Row-weighting local search (after Gao, Weise and Li's RWLS for unicost set cover): from a
+// cover, drop the sphere whose loss is least and re-cover a random bare sample with the
+// candidate that gains most, raising the weight of every sample left bare at each step so that
+// the hard ones steer the search; keeps the smallest cover met. Stops at the limits or once a
+// cover of `enough` spheres or fewer is found. Deterministic (`seed`). Returns the spheres saved.
+size_t local_search_cover(const Coverage& coverage, std::vector<int>& chosen, SearchLimits limits, size_t enough = 0,
+                          uint64_t seed = 1);
+
+// A lower bound on any cover's size: samples no two of which one candidate covers together.
+size_t cover_lower_bound(const Coverage& coverage);
+
+// The Lagrangian relaxation's lower bound on the number of spheres in any cover (subgradient
+// optimisation over the samples' multipliers, steps by Polyak's rule toward `upper`, the size of
+// a known cover; a fixed number of steps so the result is deterministic; rounded up, covers
+// being whole spheres). Never above the LP relaxation's optimum; usually well above
+// cover_lower_bound.
+size_t lagrangian_bound(const Coverage& coverage, size_t upper, int steps = 200);
+
+// The larger of cover_lower_bound and lagrangian_bound (its steps capped on dense problems).
+size_t lower_bound_of(const Coverage& coverage, size_t upper);
+
+// The fewest spheres found for `coverage`: the problem reduced (reduce_cover), greedy, shrunk,
+// then the row-weighting search, stopping at `enough` spheres. `lower_bound`, when given, gets
+// the larger of the two bounds. Returns candidate indices, ascending.
+std::vector<int> smallest_cover(const Coverage& coverage, SearchLimits limits, size_t enough, size_t* lower_bound,
+                                Log& log = Log::silent());
+
+}  // namespace spx
