@@ -16,65 +16,11 @@
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
+#include "posemap/pose_solid.hpp"
 #include "sdf/sdf.hpp"
 
 namespace spx {
 namespace {
-
-// The one rule for a sphere's radius in any pose, the rest included: min(max radius, exact
-// distance to the pose's mesh and, for open meshes, a bound from the pose's own field across
-// its holes); 0 where the center is outside, with the cause counted for the report.
-struct PoseSolid {
-  const MeshQuery* mesh;
-  const DenseField* holes;  // null for closed meshes
-  double max_radius;
-
-  enum class Zero : char { none, outside, hole_bound, other };
-  struct Radius {
-    double value = 0;
-    Zero zero = Zero::none;
-  };
-
-  // `cause`: tell an outside center from a hole's bound where the radius is 0 (asked for the
-  // spheres written, not for every candidate); the radius is the same either way.
-  Radius radius(const Eigen::Vector3d& c, bool cause = true) const {
-    // The field's bound first: it is cheap, and where it is 0 so is the radius.
-    const double bound = hole_bound(c);
-    if (!(bound > 0) && !cause) return {0, Zero::hole_bound};
-    if (!mesh->inside(c)) return {0, Zero::outside};
-    const double exact = std::min(max_radius, mesh->distance(c));
-    const double r = std::min(exact, bound);
-    if (r > 0) return {r, Zero::none};
-    return {0, exact > 0 ? Zero::hole_bound : Zero::other};
-  }
-
-  // The sphere at c by this rule, grown to the largest that contains it (grow_inscribed), the
-  // holes bounding it too.
-  std::pair<Sphere, Zero> grown(const Eigen::Vector3d& c, bool cause = true) const {
-    const Radius at = radius(c, cause);
-    if (at.zero != Zero::none) return {{c, 0}, at.zero};
-    std::function<double(const Eigen::Vector3d&)> bound;
-    if (holes) bound = [this](const Eigen::Vector3d& q) { return hole_bound(q); };
-    return {grow_inscribed(*mesh, {c, at.value}, max_radius, kDefaultGrowth, bound), Zero::none};
-  }
-
-  // Distance is 1-Lipschitz: a voxel's depth less its offset to c bounds the depth at c; the
-  // best of the 8 voxels around c, less the field's own error margin.
-  double hole_bound(const Eigen::Vector3d& c) const {
-    if (!holes) return std::numeric_limits<double>::infinity();
-    const GridShape& g = holes->shape;
-    const Eigen::Vector3d at = c / g.voxel_size - g.origin.cast<double>();
-    const Eigen::Vector3i lo = at.array().floor().cast<int>();
-    double best = 0;
-    for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
-      if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
-      const double depth = -holes->values[g.index(v.x(), v.y(), v.z())];
-      best = std::max(best, depth - (g.world(v.x(), v.y(), v.z()) - c).norm());
-    }
-    return std::max(0.0, best - kFieldMargin * g.voxel_size);
-  }
-};
 
 // A sphere of radius 0 in a pose only costs the host there. Candidates that are 0 in half the
 // poses or more are not offered: every pose of theirs is set to 0, so they cover nothing.
@@ -154,62 +100,17 @@ class PoseMapper {
   // the chosen candidates (rest pose) and the report's part.
   SphereSet select_jointly(const SphereSet& file_candidates, nlohmann::json& report) {
     grow_ = true;  // from here on every sphere, in every pose, is grown (the candidates and the result alike)
-    const size_t poses = meshes_.size();
-    SphereSet candidates = file_candidates;
-    CoverProblem problem;
-    problem.spheres.assign(poses, SphereSet());
-    auto map_candidates = [&](size_t from) {  // candidates[from..] into every pose
-      const size_t n = candidates.size();
-      for (auto& set : problem.spheres) set.resize(n);
-      tbb::parallel_for(tbb::blocked_range<size_t>(from, n, 16), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t s = r.begin(); s != r.end(); ++s) {
-          const Eigen::Vector3d& c = candidates[s].center;
-          const TetLocator::Location at = f_->locator().locate(c);
-          for (size_t i = 0; i < poses; ++i) problem.spheres[i][s] = in_pose(i, c, at, false).first;
-        }
-      });
-    };
-    map_candidates(0);
-    size_t mostly_absent = drop_mostly_absent(problem);
+    JointProblem joint;
+    joint.candidates = file_candidates;
+    joint.problem.spheres.assign(meshes_.size(), SphereSet());
+    map_candidates(joint, 0);
     for (const TriMesh* mesh : meshes_) {
-      problem.samples.push_back(surface_samples(*mesh, opt_.area_samples, opt_.seed));
-      problem.weighted.push_back(mesh->vertices.size());
+      joint.problem.samples.push_back(surface_samples(*mesh, opt_.area_samples, opt_.seed));
+      joint.problem.weighted.push_back(mesh->vertices.size());
     }
-    // Asked here, or else what sphere-pack was asked (its tolerance, its budget), or else 2%.
-    double target = 0;
-    size_t budget = opt_.max_spheres;
-    if (opt_.tolerance.set()) {
-      target = opt_.tolerance.length(rest_.diagonal());
-    } else if (budget == 0) {
-      target = spheres_.tolerance;
-      budget = spheres_.max_spheres;
-      if (target == 0 && budget == 0) target = kDefaultTolerancePercent / 100 * rest_.diagonal();
-    }
-    // Where a pose stretches, no rest candidate may reach its surface: add that pose's own
-    // inscribed spheres near the samples out of reach, mapped back to rest (the inverse map).
-    size_t added = 0;
-    const double reach = target > 0 ? target : kDefaultTolerancePercent / 100 * rest_.diagonal();
-    {
-      std::vector<char> near(problem.sample_count(), 0);
-      for (uint32_t s : coverage_at(problem, reach).samples) near[s] = 1;
-      size_t offset = problem.samples[0].size();
-      for (size_t i = 1; i < poses; ++i) {
-        std::vector<Eigen::Vector3d> far;
-        for (size_t s = 0; s < problem.samples[i].size(); ++s)
-          if (!near[offset + s]) far.push_back(problem.samples[i][s]);
-        offset += problem.samples[i].size();
-        if (far.empty()) continue;
-        const SphereSet own = pose_candidates_near(i - 1, far, reach);
-        size_t lost = 0;
-        const SphereSet back = map_back_to_rest(i - 1, own, lost);
-        const size_t from = candidates.size();
-        candidates.insert(candidates.end(), back.begin(), back.end());
-        map_candidates(from);
-        added += back.size();
-        mostly_absent += drop_mostly_absent(problem, from);
-      }
-    }
-    const size_t n = candidates.size();
+    const auto [target, budget] = selection_size();
+    add_pose_candidates(joint, target > 0 ? target : kDefaultTolerancePercent / 100 * rest_.diagonal());
+    const CoverProblem& problem = joint.problem;
     std::string limit;
     const CoverResult cover = cover_for(problem, target, budget, limit, log_);
     if (cover.uncoverable > 0)
@@ -222,12 +123,12 @@ class PoseMapper {
       return problem.spheres[0][size_t(a)].radius > problem.spheres[0][size_t(b)].radius;
     });
     SphereSet chosen;
-    for (int c : order) chosen.push_back(candidates[size_t(c)]);
+    for (int c : order) chosen.push_back(joint.candidates[size_t(c)]);
     report = {{"method", "one set cover over the rest and every pose of the spheres file's candidates, each mapped "
                          "into every pose and grown there to the largest inscribed sphere containing it"},
-              {"candidates", n},
-              {"candidates_from_poses", added},
-              {"candidates_mostly_absent", mostly_absent},
+              {"candidates", joint.candidates.size()},
+              {"candidates_from_poses", joint.added},
+              {"candidates_mostly_absent", joint.mostly_absent},
               {"samples", problem.sample_count()},
               {"target", target > 0 ? nlohmann::json(target) : nlohmann::json(nullptr)},
               {"delta", cover.delta},
@@ -235,7 +136,7 @@ class PoseMapper {
               {"uncoverable_samples", cover.uncoverable},
               {"spheres", chosen.size()},
               {"limited_by", limit}};
-    log_.detail("joint selection: " + std::to_string(chosen.size()) + " of " + std::to_string(n) +
+    log_.detail("joint selection: " + std::to_string(chosen.size()) + " of " + std::to_string(joint.candidates.size()) +
                 " candidates, delta " + num(cover.delta));
     return chosen;
   }
@@ -371,6 +272,58 @@ class PoseMapper {
   }
 
  private:
+  // The joint selection's pool and its cover problem as they grow.
+  struct JointProblem {
+    SphereSet candidates;  // rest pose
+    CoverProblem problem;
+    size_t added = 0, mostly_absent = 0;
+  };
+
+  // Candidates [from..] into every pose; those 0 in half the poses or more are withdrawn.
+  void map_candidates(JointProblem& joint, size_t from) const {
+    const size_t n = joint.candidates.size(), poses = meshes_.size();
+    for (auto& set : joint.problem.spheres) set.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(from, n, 16), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t s = r.begin(); s != r.end(); ++s) {
+        const Eigen::Vector3d& c = joint.candidates[s].center;
+        const TetLocator::Location at = f_->locator().locate(c);
+        for (size_t i = 0; i < poses; ++i) joint.problem.spheres[i][s] = in_pose(i, c, at, false).first;
+      }
+    });
+    joint.mostly_absent += drop_mostly_absent(joint.problem, from);
+  }
+
+  // The tolerance (as a length, 0: none) and budget asked here, or else what sphere-pack was
+  // asked, or else the default tolerance.
+  std::pair<double, size_t> selection_size() const {
+    if (opt_.tolerance.set()) return {opt_.tolerance.length(rest_.diagonal()), opt_.max_spheres};
+    if (opt_.max_spheres > 0) return {0.0, opt_.max_spheres};
+    if (spheres_.tolerance > 0 || spheres_.max_spheres > 0) return {spheres_.tolerance, spheres_.max_spheres};
+    return {kDefaultTolerancePercent / 100 * rest_.diagonal(), 0};
+  }
+
+  // Where a pose stretches, no rest candidate may reach its surface: that pose's own inscribed
+  // spheres near the samples out of `reach` join the pool, mapped back to rest (the inverse map).
+  void add_pose_candidates(JointProblem& joint, double reach) {
+    const CoverProblem& problem = joint.problem;
+    std::vector<char> near(problem.sample_count(), 0);
+    for (uint32_t s : coverage_at(problem, reach).samples) near[s] = 1;
+    size_t offset = problem.samples[0].size();
+    for (size_t i = 1; i < meshes_.size(); ++i) {
+      std::vector<Eigen::Vector3d> far;
+      for (size_t s = 0; s < problem.samples[i].size(); ++s)
+        if (!near[offset + s]) far.push_back(problem.samples[i][s]);
+      offset += problem.samples[i].size();
+      if (far.empty()) continue;
+      size_t lost = 0;
+      const SphereSet back = map_back_to_rest(i - 1, pose_candidates_near(i - 1, far, reach), lost);
+      const size_t from = joint.candidates.size();
+      joint.candidates.insert(joint.candidates.end(), back.begin(), back.end());
+      map_candidates(joint, from);
+      joint.added += back.size();
+    }
+  }
+
   // The sphere a rest center c (at `at` in the tets) becomes in pose i (0: the rest): its center
   // through f, its radius by the pose's rule (then grown, under joint selection), and why that
   // radius is 0 if it is.

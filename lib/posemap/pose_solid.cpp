@@ -1,0 +1,46 @@
+#include "posemap/pose_solid.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+
+#include "core/tolerance.hpp"
+#include "mesh/inscribed.hpp"
+
+namespace spx {
+
+PoseSolid::Radius PoseSolid::radius(const Eigen::Vector3d& c, bool cause) const {
+  // The field's bound first: it is cheap, and where it is 0 so is the radius.
+  const double bound = hole_bound(c);
+  if (!(bound > 0) && !cause) return {0, Zero::hole_bound};
+  if (!mesh->inside(c)) return {0, Zero::outside};
+  const double exact = std::min(max_radius, mesh->distance(c));
+  const double r = std::min(exact, bound);
+  if (r > 0) return {r, Zero::none};
+  return {0, exact > 0 ? Zero::hole_bound : Zero::other};
+}
+
+std::pair<Sphere, PoseSolid::Zero> PoseSolid::grown(const Eigen::Vector3d& c, bool cause) const {
+  const Radius at = radius(c, cause);
+  if (at.zero != Zero::none) return {{c, 0}, at.zero};
+  std::function<double(const Eigen::Vector3d&)> bound;
+  if (holes) bound = [this](const Eigen::Vector3d& q) { return hole_bound(q); };
+  return {grow_inscribed(*mesh, {c, at.value}, max_radius, kDefaultGrowth, bound), Zero::none};
+}
+
+double PoseSolid::hole_bound(const Eigen::Vector3d& c) const {
+  if (!holes) return std::numeric_limits<double>::infinity();
+  const GridShape& g = holes->shape;
+  const Eigen::Vector3d at = c / g.voxel_size - g.origin.cast<double>();
+  const Eigen::Vector3i lo = at.array().floor().cast<int>();
+  double best = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+    if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
+    const double depth = -holes->values[g.index(v.x(), v.y(), v.z())];
+    best = std::max(best, depth - (g.world(v.x(), v.y(), v.z()) - c).norm());
+  }
+  return std::max(0.0, best - kFieldMargin * g.voxel_size);
+}
+
+}  // namespace spx
