@@ -139,6 +139,13 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
 
   std::vector<std::pair<const aiNode*, unsigned>> placed;
   collect_instances(scene_->mRootNode, placed);
+  list_meshes(placed, wanted);
+  use_meshes(placed);
+  read_clips();
+}
+
+// Every mesh instance the hierarchy places, and which of them make the body.
+void Asset::list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed, const std::string& wanted) {
   std::vector<std::string> names;
   for (const auto& [node, index] : placed) {
     const aiMesh* m = scene_->mMeshes[index];
@@ -153,10 +160,14 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
     meshes_.push_back(info);
     if (info.triangles) names.push_back(info.name);
   }
-  if (names.empty()) fail_input(path, "contains no triangle mesh");
+  if (names.empty()) fail_input(path_, "contains no triangle mesh");
   if (std::none_of(meshes_.begin(), meshes_.end(), [](const AssetMesh& m) { return m.used; }))
-    fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path + " (its meshes: " + list_names(names) + ")");
+    fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path_ + " (its meshes: " + list_names(names) + ")");
 
+}
+
+// The used instances: their vertices laid out in turn, their triangles, morph targets and skins.
+void Asset::use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed) {
   for (size_t i = 0; i < placed.size(); ++i) {
     if (!meshes_[i].used) continue;
     Instance inst;
@@ -180,7 +191,7 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
       for (unsigned b = 0; b < m->mNumBones; ++b) {
         const aiBone* bone = m->mBones[b];
         const aiNode* joint = scene_->mRootNode->FindNode(bone->mName);
-        if (!joint) fail_input(path, "mesh '" + meshes_[i].name + "': joint '" + bone->mName.C_Str() + "' is not a node");
+        if (!joint) fail_input(path_, "mesh '" + meshes_[i].name + "': joint '" + bone->mName.C_Str() + "' is not a node");
         inst.bones.emplace_back(joint, to_eigen(bone->mOffsetMatrix));
         for (unsigned w = 0; w < bone->mNumWeights; ++w) {
           const aiVertexWeight& vw = bone->mWeights[w];
@@ -193,6 +204,10 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
     instances_.push_back(std::move(inst));
   }
 
+}
+
+// Every clip with its distinct key times.
+void Asset::read_clips() {
   for (unsigned a = 0; a < scene_->mNumAnimations; ++a) {
     const aiAnimation* anim = scene_->mAnimations[a];
     AssetClip clip;

@@ -4,11 +4,13 @@
 // file's own vertex layout (every mesh instance's vertices in turn); welding is the caller's.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/json_io.hpp"
 #include "mesh/mesh.hpp"
 
+struct aiNode;
 struct aiScene;
 namespace Assimp {
 class Importer;
@@ -76,6 +78,9 @@ class Asset {
  private:
   struct Instance;
   struct Pose;
+  void list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed, const std::string& wanted);
+  void use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed);
+  void read_clips();
   std::vector<Eigen::Vector3d> evaluate(const Pose& pose) const;
 
   std::string path_;

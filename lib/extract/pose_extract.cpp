@@ -166,87 +166,104 @@ std::vector<size_t> farthest_poses(const std::vector<Eigen::Vector3d>& rest,
   return chosen;
 }
 
-void pose_extract_files(const std::string& input, const std::string& dir, const PoseExtractOptions& opt, Log& log,
-                        json& report) {
+namespace {
+
+void check_options(const PoseExtractOptions& opt) {
   if (opt.morph_targets == !opt.animation.empty())
     fail_option("animation", "give --morph-targets or --animation (one of them)");
   if (opt.animation.empty() && (!opt.frames.empty() || !opt.times.empty() || opt.every || opt.select))
     fail_option("animation", "--frames, --times, --every and --select choose frames of a clip: give --animation");
   if (opt.select < 0) fail_option("select", "must be at least 1");
   if (opt.every < 0) fail_option("every", "must be at least 1");
+}
 
-  StageTimer read_timer(log, "read");
-  const Asset asset(input, opt.mesh);
-  read_timer.stop();
-  report["asset"] = asset.inventory();
-  const WeldedBody body = weld_body(asset);
-  const double diagonal = body.rest.diagonal();
-  const double seam_tolerance = 1e-7 * std::max(diagonal, 1e-30);
+// The body and what the report and the log say of it.
+struct Body {
+  WeldedBody welded;
+  double diagonal = 0, seam_tolerance = 0;
+};
+Body read_body(const Asset& asset, const std::string& input, Log& log) {
+  Body out{weld_body(asset)};
+  out.diagonal = out.welded.rest.diagonal();
+  out.seam_tolerance = 1e-7 * std::max(out.diagonal, 1e-30);
+  const TriMesh& rest = out.welded.rest;
   size_t meshes_used = 0;
   for (const auto& m : asset.meshes()) meshes_used += m.used;
   log.info(input + ": " + std::to_string(meshes_used) + " mesh" + (meshes_used == 1 ? "" : "es") + ", " +
-           std::to_string(body.rest.vertices.size()) + " vertices (" +
-           std::to_string(asset.vertex_count() - body.rest.vertices.size()) + " welded), " +
-           std::to_string(body.rest.triangles.size()) + " triangles");
+           std::to_string(rest.vertices.size()) + " vertices (" +
+           std::to_string(asset.vertex_count() - rest.vertices.size()) + " welded), " +
+           std::to_string(rest.triangles.size()) + " triangles");
   if (asset.unweighted_vertices())
     log.warn(std::to_string(asset.unweighted_vertices()) + " skinned vertices have no joint weight; they keep their bind position");
+  return out;
+}
 
-  std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt);
-
-  // --select: the K frames that best span the clip, by farthest-point sampling.
-  if (opt.select > 0) {
-    StageTimer timer(log, "select");
-    std::vector<std::vector<Eigen::Vector3f>> candidates;
-    for (size_t i = 0; i < requests.size(); ++i) {
-      log.progress("evaluating frames", i, requests.size());
-      TriMesh pose;
-      size_t opened = 0;
-      pose = welded_pose(body, evaluate(asset, requests[i]), seam_tolerance, opened, requests[i].name, input);
-      candidates.push_back(as_float(pose.vertices));
-    }
-    const std::vector<size_t> keep = farthest_poses(body.rest.vertices, candidates, size_t(opt.select));
-    // How far the farthest frame left out is from the rest or a kept frame: how well K spans the clip.
-    double spread = 0;
-    const std::vector<Eigen::Vector3f> rest_f = as_float(body.rest.vertices);
-    for (const auto& c : candidates) {
-      double nearest = rms_distance(rest_f, c);
-      for (size_t k : keep) nearest = std::min(nearest, rms_distance(candidates[k], c));
-      spread = std::max(spread, nearest);
-    }
-    json chosen = json::array();
-    for (size_t k : keep) chosen.push_back(requests[k].source.value("frame", int(k)));
-    report["selection"] = {{"candidates", requests.size()}, {"kept", keep.size()}, {"frames", chosen},
-                           {"farthest_left_out", spread}, {"farthest_left_out_percent", 100 * spread / diagonal}};
-    if (size_t(opt.select) > requests.size())
-      log.info("--select " + std::to_string(opt.select) + ": the clip has only " + std::to_string(requests.size()) +
-               " frames; all are kept");
-    log.info("kept " + std::to_string(keep.size()) + " of " + std::to_string(requests.size()) +
-             " frames; every frame is within " + format_seconds(100 * spread / diagonal) +
-             "% of the diagonal (RMS) of the rest or a kept frame");
-    std::vector<PoseRequest> kept;
-    for (size_t i = 0; i < keep.size(); ++i) {
-      kept.push_back(requests[keep[i]]);
-      char file[32];
-      std::snprintf(file, sizeof file, "pose-%02zu.obj", i);
-      kept.back().file = file;
-    }
-    requests = kept;
+// --select: the K frames that best span the clip, by farthest-point sampling; named pose-NN.
+std::vector<PoseRequest> select_frames(const Asset& asset, const Body& body, const std::vector<PoseRequest>& requests,
+                                       size_t k, const std::string& input, Log& log, json& report) {
+  StageTimer timer(log, "select");
+  std::vector<std::vector<Eigen::Vector3f>> candidates;
+  for (size_t i = 0; i < requests.size(); ++i) {
+    log.progress("evaluating frames", i, requests.size());
+    size_t opened = 0;
+    const TriMesh pose = welded_pose(body.welded, evaluate(asset, requests[i]), body.seam_tolerance, opened,
+                                     requests[i].name, input);
+    candidates.push_back(as_float(pose.vertices));
   }
+  const std::vector<size_t> keep = farthest_poses(body.welded.rest.vertices, candidates, k);
+  // How far the farthest frame left out is from the rest or a kept frame: how well K spans the clip.
+  double spread = 0;
+  const std::vector<Eigen::Vector3f> rest_f = as_float(body.welded.rest.vertices);
+  for (const auto& c : candidates) {
+    double nearest = rms_distance(rest_f, c);
+    for (size_t kept : keep) nearest = std::min(nearest, rms_distance(candidates[kept], c));
+    spread = std::max(spread, nearest);
+  }
+  json chosen = json::array();
+  for (size_t kept : keep) chosen.push_back(requests[kept].source.value("frame", int(kept)));
+  report["selection"] = {{"candidates", requests.size()}, {"kept", keep.size()}, {"frames", chosen},
+                         {"farthest_left_out", spread}, {"farthest_left_out_percent", 100 * spread / body.diagonal}};
+  if (k > requests.size())
+    log.info("--select " + std::to_string(k) + ": the clip has only " + std::to_string(requests.size()) +
+             " frames; all are kept");
+  log.info("kept " + std::to_string(keep.size()) + " of " + std::to_string(requests.size()) +
+           " frames; every frame is within " + format_seconds(100 * spread / body.diagonal) +
+           "% of the diagonal (RMS) of the rest or a kept frame");
+  std::vector<PoseRequest> kept;
+  for (size_t i = 0; i < keep.size(); ++i) {
+    kept.push_back(requests[keep[i]]);
+    char file[32];
+    std::snprintf(file, sizeof file, "pose-%02zu.obj", i);
+    kept.back().file = file;
+  }
+  return kept;
+}
 
+double max_displacement(const TriMesh& pose, const TriMesh& rest) {
+  double d = 0;
+  for (size_t v = 0; v < pose.vertices.size(); ++v) d = std::max(d, (pose.vertices[v] - rest.vertices[v]).norm());
+  return d;
+}
+
+// The rest and every pose as OBJ, then the manifest last: its presence means every file it
+// names is complete.
+void write_poses(const Asset& asset, const Body& body, const std::vector<PoseRequest>& requests,
+                 const std::string& input, const std::string& dir, Log& log, json& report) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) fail_write(dir, "cannot create folder: " + ec.message());
   StageTimer write_timer(log, "write");
+  const TriMesh& rest = body.welded.rest;
   const std::string tag = "spx pose-extract " + std::filesystem::path(input).filename().string();
   PoseManifest manifest;
-  write_file_atomic(dir + "/" + manifest.rest, to_obj(body.rest, tag + " rest (bind pose)"));
+  write_file_atomic(dir + "/" + manifest.rest, to_obj(rest, tag + " rest (bind pose)"));
   json poses = json::array();
   size_t opened_total = 0;
   for (size_t i = 0; i < requests.size(); ++i) {
     const PoseRequest& r = requests[i];
     log.progress("writing poses", i, requests.size());
     size_t opened = 0;
-    const TriMesh pose = welded_pose(body, evaluate(asset, r), seam_tolerance, opened, r.name, input);
+    const TriMesh pose = welded_pose(body.welded, evaluate(asset, r), body.seam_tolerance, opened, r.name, input);
     if (opened) {
       log.warn(r.name + ": " + std::to_string(opened) + " vertices that coincide at rest part in this pose; the first "
                "of each is written");
@@ -255,20 +272,29 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
     write_file_atomic(dir + "/" + r.file, to_obj(pose, tag + " " + r.name));
     manifest.poses.push_back({r.name, r.file, r.source});
     poses.push_back({{"name", r.name}, {"file", r.file}, {"source", r.source}, {"opened_seams", opened},
-                     {"max_displacement", [&] {
-                        double d = 0;
-                        for (size_t v = 0; v < pose.vertices.size(); ++v)
-                          d = std::max(d, (pose.vertices[v] - body.rest.vertices[v]).norm());
-                        return d;
-                      }()}});
+                     {"max_displacement", max_displacement(pose, rest)}});
   }
-  // The manifest last: its presence means every file it names is complete.
   write_json_atomic(dir + "/poses.json", manifest_to_json(manifest));
   report["output"] = {{"folder", dir}, {"manifest", "poses.json"}, {"rest", manifest.rest},
-                      {"vertices", body.rest.vertices.size()}, {"triangles", body.rest.triangles.size()},
-                      {"welded", asset.vertex_count() - body.rest.vertices.size()}, {"diagonal", diagonal}};
+                      {"vertices", rest.vertices.size()}, {"triangles", rest.triangles.size()},
+                      {"welded", asset.vertex_count() - rest.vertices.size()}, {"diagonal", body.diagonal}};
   report["poses"] = poses;
   report["opened_seams"] = opened_total;
+}
+
+}  // namespace
+
+void pose_extract_files(const std::string& input, const std::string& dir, const PoseExtractOptions& opt, Log& log,
+                        json& report) {
+  check_options(opt);
+  StageTimer read_timer(log, "read");
+  const Asset asset(input, opt.mesh);
+  read_timer.stop();
+  report["asset"] = asset.inventory();
+  const Body body = read_body(asset, input, log);
+  std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt);
+  if (opt.select > 0) requests = select_frames(asset, body, requests, size_t(opt.select), input, log, report);
+  write_poses(asset, body, requests, input, dir, log, report);
   log.info(dir + ": rest + " + std::to_string(requests.size()) + " poses");
 }
 

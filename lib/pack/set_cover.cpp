@@ -64,110 +64,137 @@ std::vector<int> greedy_cover(const Coverage& cov) {
   return chosen;
 }
 
+namespace {
+
+// shrink_cover's state: which candidates are in, how often each sample is covered, the chosen
+// sphere that alone covers each sample (-1: none or several) and how many such samples each
+// sphere has: a candidate makes sphere k redundant only if it covers all of k's.
+class Shrink {
+ public:
+  Shrink(const Coverage& cov, const std::vector<int>& chosen)
+      : cov_(cov), in_(cov.start.size() - 1, 0), times_(cov.sample_count, 0), owner_(cov.sample_count, -1),
+        critical_(cov.start.size() - 1, 0), hits_(cov.start.size() - 1, 0) {
+    for (int c : chosen) {
+      in_[size_t(c)] = 1;
+      account(uint32_t(c), +1);
+    }
+    find_owners();
+  }
+  bool in(uint32_t c) const { return in_[c] != 0; }
+
+  // Adds c and drops the spheres it makes redundant; keeps the move when two or more go.
+  bool try_add(uint32_t c) {
+    std::vector<uint32_t> touched;
+    for (uint32_t n = cov_.start[c]; n < cov_.start[c + 1]; ++n) {
+      const int k = owner_[cov_.samples[n]];
+      if (k < 0) continue;
+      if (hits_[size_t(k)]++ == 0) touched.push_back(uint32_t(k));
+    }
+    std::vector<uint32_t> could;
+    for (uint32_t k : touched) {
+      if (hits_[k] == critical_[k]) could.push_back(k);
+      hits_[k] = 0;
+    }
+    if (could.size() < 2) return false;
+    account(c, +1);
+    std::vector<uint32_t> dropped;
+    for (uint32_t k : could)
+      if (redundant(k)) {
+        account(k, -1);
+        in_[k] = 0;
+        dropped.push_back(k);
+      }
+    if (dropped.size() >= 2) {
+      in_[c] = 1;
+      find_owners();
+      return true;
+    }
+    for (uint32_t k : dropped) {
+      account(k, +1);
+      in_[k] = 1;
+    }
+    account(c, -1);
+    return false;
+  }
+
+ private:
+  void account(uint32_t c, int by) {
+    for (uint32_t n = cov_.start[c]; n < cov_.start[c + 1]; ++n)
+      times_[cov_.samples[n]] = uint32_t(int(times_[cov_.samples[n]]) + by);
+  }
+  bool redundant(uint32_t c) const {
+    for (uint32_t n = cov_.start[c]; n < cov_.start[c + 1]; ++n)
+      if (times_[cov_.samples[n]] < 2) return false;
+    return true;
+  }
+  void find_owners() {
+    std::fill(owner_.begin(), owner_.end(), -1);
+    std::fill(critical_.begin(), critical_.end(), 0);
+    for (size_t c = 0; c < in_.size(); ++c)
+      if (in_[c])
+        for (uint32_t n = cov_.start[c]; n < cov_.start[c + 1]; ++n)
+          if (times_[cov_.samples[n]] == 1) {
+            owner_[cov_.samples[n]] = int(c);
+            ++critical_[c];
+          }
+  }
+
+  const Coverage& cov_;
+  std::vector<char> in_;
+  std::vector<uint32_t> times_;
+  std::vector<int> owner_;
+  std::vector<uint32_t> critical_, hits_;
+};
+
+}  // namespace
+
 size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
   const size_t candidates = cov.start.size() - 1;
-  std::vector<char> in(candidates, 0);
-  std::vector<uint32_t> times(cov.sample_count, 0);
-  for (int c : chosen) {
-    in[size_t(c)] = 1;
-    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) ++times[cov.samples[n]];
-  }
-  auto account = [&](uint32_t c, int by) {
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) times[cov.samples[n]] = uint32_t(int(times[cov.samples[n]]) + by);
-  };
-  auto redundant = [&](uint32_t c) {
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
-      if (times[cov.samples[n]] < 2) return false;
-    return true;
-  };
-  // The chosen sphere that alone covers each sample (-1: none or several), and how many such
-  // samples each sphere has: a candidate makes sphere k redundant only if it covers all of k's.
-  std::vector<int> owner(cov.sample_count, -1);
-  std::vector<uint32_t> critical(candidates, 0);
-  auto find_owners = [&] {
-    std::fill(owner.begin(), owner.end(), -1);
-    std::fill(critical.begin(), critical.end(), 0);
-    for (size_t c = 0; c < candidates; ++c)
-      if (in[c])
-        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
-          if (times[cov.samples[n]] == 1) {
-            owner[cov.samples[n]] = int(c);
-            ++critical[c];
-          }
-  };
-  find_owners();
-  // Add one candidate, drop the spheres it makes redundant; keep the move when two or more go.
+  Shrink state(cov, chosen);
   size_t shrunk = 0;
-  std::vector<uint32_t> hits(candidates, 0);
   for (int pass = 0; pass < 3; ++pass) {
     size_t this_pass = 0;
-    for (uint32_t c = 0; c < candidates; ++c) {
-      if (in[c] || cov.row_size(c) == 0) continue;
-      std::vector<uint32_t> touched;
-      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) {
-        const int k = owner[cov.samples[n]];
-        if (k < 0) continue;
-        if (hits[size_t(k)]++ == 0) touched.push_back(uint32_t(k));
-      }
-      std::vector<uint32_t> could;
-      for (uint32_t k : touched) {
-        if (hits[k] == critical[k]) could.push_back(k);
-        hits[k] = 0;
-      }
-      if (could.size() < 2) continue;
-      account(c, +1);
-      std::vector<uint32_t> dropped;
-      for (uint32_t k : could)
-        if (redundant(k)) {
-          account(k, -1);
-          in[k] = 0;
-          dropped.push_back(k);
-        }
-      if (dropped.size() >= 2) {
-        in[c] = 1;
-        ++this_pass;
-        find_owners();
-        continue;
-      }
-      for (uint32_t k : dropped) {
-        account(k, +1);
-        in[k] = 1;
-      }
-      account(c, -1);
-    }
+    for (uint32_t c = 0; c < candidates; ++c)
+      if (!state.in(c) && cov.row_size(c) > 0 && state.try_add(c)) ++this_pass;
     shrunk += this_pass;
     if (this_pass == 0) break;
   }
   if (shrunk > 0) {
     chosen.clear();
-    for (size_t c = 0; c < candidates; ++c)
-      if (in[c]) chosen.push_back(int(c));
+    for (uint32_t c = 0; c < candidates; ++c)
+      if (state.in(c)) chosen.push_back(int(c));
   }
   return shrunk;
 }
 
-ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
-  const size_t candidates = cov.start.size() - 1;
-  const Coverage by = covering_candidates(cov);
-  auto is_subset = [](const uint32_t* a, const uint32_t* a_end, const uint32_t* b, const uint32_t* b_end) {
-    if (a == a_end) return true;
-    // Rows that are not subsets mostly differ at their ends or middle: test those first.
-    if (*a < *b || *(a_end - 1) > *(b_end - 1) || !std::binary_search(b, b_end, a[(a_end - a) / 2])) return false;
-    for (; a != a_end; ++a) {
-      b = std::lower_bound(b, b_end, *a);
-      if (b == b_end || *b != *a) return false;
-    }
-    return true;
-  };
-  // Samples: b is implied when some a's candidates are all among b's (a cover of a covers b).
-  // Smallest first; a kept sample marks every larger one it implies (ties: the later index).
+namespace {
+
+// Whether sorted a is a subset of sorted b.
+bool is_subset(const uint32_t* a, const uint32_t* a_end, const uint32_t* b, const uint32_t* b_end) {
+  if (a == a_end) return true;
+  // Rows that are not subsets mostly differ at their ends or middle: test those first.
+  if (*a < *b || *(a_end - 1) > *(b_end - 1) || !std::binary_search(b, b_end, a[(a_end - a) / 2])) return false;
+  for (; a != a_end; ++a) {
+    b = std::lower_bound(b, b_end, *a);
+    if (b == b_end || *b != *a) return false;
+  }
+  return true;
+}
+bool row_is_subset(const Coverage& rows, uint32_t a, const Coverage& of, uint32_t b) {
+  return is_subset(&rows.samples[rows.start[a]], &rows.samples[rows.start[a + 1]], &of.samples[of.start[b]],
+                   &of.samples[of.start[b + 1]]);
+}
+
+// Samples: b is implied when some a's candidates are all among b's (a cover of a covers b).
+// Smallest first; a kept sample marks every larger one it implies (ties: the later index). In
+// parallel: which rows get marked does not depend on the order they are visited in (a row
+// implied by one that is itself implied is implied by that one's implier too). Rows whose scan
+// would pass `scan` imply nothing; that too depends on the row alone. `by`: cov transposed.
+std::vector<std::atomic<uint8_t>> implied_samples(const Coverage& cov, const Coverage& by, uint32_t scan) {
   std::vector<uint32_t> order;
   for (uint32_t s = 0; s < cov.sample_count; ++s)
     if (by.row_size(s) > 0) order.push_back(s);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return by.row_size(a) < by.row_size(b); });
-  // In parallel: which rows get marked does not depend on the order they are visited in (a
-  // row implied by one that is itself implied is implied by that one's implier too). Rows whose
-  // scan would pass `scan` imply nothing; that too depends on the row alone.
   std::vector<std::atomic<uint8_t>> implied(cov.sample_count);
   tbb::parallel_for(size_t(0), order.size(), [&](size_t k) {
     const uint32_t a = order[k];
@@ -181,57 +208,66 @@ ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
       const uint32_t b = cov.samples[n];
       if (b == a || implied[b].load(std::memory_order_relaxed) || by.row_size(b) < by.row_size(a)) continue;
       if (by.row_size(b) == by.row_size(a) && b < a) continue;  // identical rows: keep the earlier
-      if (is_subset(&by.samples[by.start[a]], &by.samples[by.start[a + 1]], &by.samples[by.start[b]],
-                    &by.samples[by.start[b + 1]]))
-        implied[b].store(1, std::memory_order_relaxed);
+      if (row_is_subset(by, a, by, b)) implied[b].store(1, std::memory_order_relaxed);
     }
   });
-  ReducedCover out;
-  std::vector<uint32_t> row_of(cov.sample_count, UINT32_MAX);
-  for (uint32_t s = 0; s < cov.sample_count; ++s)
-    if (by.row_size(s) > 0 && !implied[s]) row_of[s] = uint32_t(out.sample.size()), out.sample.push_back(s);
-  // Candidates over the kept samples; d is dominated when another covers all of its samples
-  // (ties: the later index).
-  std::vector<std::vector<uint32_t>> rows(candidates);
-  for (size_t c = 0; c < candidates; ++c)
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
-      if (row_of[cov.samples[n]] != UINT32_MAX) rows[c].push_back(row_of[cov.samples[n]]);
-  std::vector<uint32_t> holders_start(out.sample.size() + 1, 0), holders;
-  for (const auto& r : rows)
-    for (uint32_t s : r) ++holders_start[s + 1];
-  std::partial_sum(holders_start.begin(), holders_start.end(), holders_start.begin());
-  holders.resize(holders_start.back());
-  {
-    std::vector<uint32_t> fill(holders_start.begin(), holders_start.end() - 1);
-    for (size_t c = 0; c < candidates; ++c)
-      for (uint32_t s : rows[c]) holders[fill[s]++] = uint32_t(c);
-  }
-  std::vector<std::atomic<uint8_t>> dominated(candidates);  // in parallel, as above
+  return implied;
+}
+
+// Candidates: d is dominated when another covers all of its samples (ties: the later index), or
+// covers none. In parallel, as above. `holders`: rows transposed.
+std::vector<std::atomic<uint8_t>> dominated_candidates(const Coverage& rows, const Coverage& holders, uint32_t scan) {
+  const size_t candidates = rows.start.size() - 1;
+  std::vector<std::atomic<uint8_t>> dominated(candidates);
   tbb::parallel_for(size_t(0), candidates, [&](size_t d) {
-    if (rows[d].empty()) {
+    if (rows.row_size(d) == 0) {
       dominated[d].store(1, std::memory_order_relaxed);
       return;
     }
-    uint32_t rare = rows[d].front();
-    for (uint32_t s : rows[d])
-      if (holders_start[s + 1] - holders_start[s] < holders_start[rare + 1] - holders_start[rare]) rare = s;
-    if (holders_start[rare + 1] - holders_start[rare] > scan) return;
-    for (uint32_t n = holders_start[rare]; n < holders_start[rare + 1]; ++n) {
-      const uint32_t e = holders[n];
-      if (e == d || dominated[e].load(std::memory_order_relaxed) || rows[e].size() < rows[d].size()) continue;
-      if (rows[e].size() == rows[d].size() && e > d) continue;  // identical: keep the earlier
-      if (is_subset(rows[d].data(), rows[d].data() + rows[d].size(), rows[e].data(), rows[e].data() + rows[e].size())) {
+    uint32_t rare = rows.samples[rows.start[d]];
+    for (uint32_t n = rows.start[d]; n < rows.start[d + 1]; ++n)
+      if (holders.row_size(rows.samples[n]) < holders.row_size(rare)) rare = rows.samples[n];
+    if (holders.row_size(rare) > scan) return;
+    for (uint32_t n = holders.start[rare]; n < holders.start[rare + 1]; ++n) {
+      const uint32_t e = holders.samples[n];
+      if (e == d || dominated[e].load(std::memory_order_relaxed) || rows.row_size(e) < rows.row_size(d)) continue;
+      if (rows.row_size(e) == rows.row_size(d) && e > d) continue;  // identical: keep the earlier
+      if (row_is_subset(rows, uint32_t(d), rows, e)) {
         dominated[d].store(1, std::memory_order_relaxed);
         break;
       }
     }
   });
+  return dominated;
+}
+
+}  // namespace
+
+ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
+  const size_t candidates = cov.start.size() - 1;
+  const Coverage by = covering_candidates(cov);
+  const std::vector<std::atomic<uint8_t>> implied = implied_samples(cov, by, scan);
+  ReducedCover out;
+  std::vector<uint32_t> row_of(cov.sample_count, UINT32_MAX);
+  for (uint32_t s = 0; s < cov.sample_count; ++s)
+    if (by.row_size(s) > 0 && !implied[s]) row_of[s] = uint32_t(out.sample.size()), out.sample.push_back(s);
+  // The candidates' rows over the kept samples, renumbered.
+  Coverage rows;
+  rows.sample_count = out.sample.size();
+  rows.start.push_back(0);
+  for (size_t c = 0; c < candidates; ++c) {
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      if (row_of[cov.samples[n]] != UINT32_MAX) rows.samples.push_back(row_of[cov.samples[n]]);
+    rows.start.push_back(uint32_t(rows.samples.size()));
+  }
+  const std::vector<std::atomic<uint8_t>> dominated = dominated_candidates(rows, covering_candidates(rows), scan);
   out.coverage.sample_count = out.sample.size();
   out.coverage.start.push_back(0);
   for (size_t c = 0; c < candidates; ++c) {
     if (dominated[c].load(std::memory_order_relaxed)) continue;
     out.candidate.push_back(uint32_t(c));
-    out.coverage.samples.insert(out.coverage.samples.end(), rows[c].begin(), rows[c].end());
+    out.coverage.samples.insert(out.coverage.samples.end(), rows.samples.begin() + rows.start[c],
+                                rows.samples.begin() + rows.start[c + 1]);
     out.coverage.start.push_back(uint32_t(out.coverage.samples.size()));
   }
   return out;
