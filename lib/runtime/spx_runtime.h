@@ -216,10 +216,19 @@ inline bool normalize(const float* w, uint32_t n, float* out) {
 static const unsigned char SPX_MAGIC[8] = {0x89, 'S', 'P', 'X', 0x0D, 0x0A, 0x1A, 0x0A};
 enum { SPX_HEADER_SIZE = 64 };
 
-inline Status load_memory(const void* data, size_t size, Proxy* out) {
-  using namespace detail;
-  if (!out || (!data && size > 0)) return SPX_ERR_INVALID_ARGUMENT;
-  const unsigned char* b = static_cast<const unsigned char*>(data);
+namespace detail {
+
+// Where a file's sections lie, once its header has been checked.
+struct Layout {
+  uint32_t header, n, p, s;
+  uint32_t off_spheres, off_ss, off_sites, off_names, names_size;
+  uint64_t sphere_bytes, ss_bytes, site_bytes, name_chars;
+};
+
+// Magic, version, sizes, checksum and the header's fields; the sections' ranges inside the
+// body, apart and tiling it exactly (each padded to 4 bytes): a count that shrank would
+// otherwise leave bytes nobody reads, and a file that silently loses spheres.
+inline Status check_header(const unsigned char* b, size_t size, Layout* l) {
   if (size < 8) return size == 0 || std::memcmp(b, SPX_MAGIC, size) == 0 ? SPX_ERR_TRUNCATED : SPX_ERR_BAD_MAGIC;
   if (std::memcmp(b, SPX_MAGIC, 8) != 0) return SPX_ERR_BAD_MAGIC;
   if (size < 12) return SPX_ERR_TRUNCATED;
@@ -232,76 +241,67 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
   if (file_size < size) return SPX_ERR_BAD_SIZES;
   if (rd32(b + size - 4) != crc32(b, size - 4)) return SPX_ERR_CHECKSUM;
 
-  const uint32_t header = rd32(b + 12);
-  const uint32_t n = rd32(b + 24), p = rd32(b + 28), s = rd32(b + 32);
-  const uint32_t off_spheres = rd32(b + 40), off_ss = rd32(b + 44), off_sites = rd32(b + 48);
-  const uint32_t off_names = rd32(b + 52), names_size = rd32(b + 56);
+  l->header = rd32(b + 12);
+  l->n = rd32(b + 24), l->p = rd32(b + 28), l->s = rd32(b + 32);
+  l->off_spheres = rd32(b + 40), l->off_ss = rd32(b + 44), l->off_sites = rd32(b + 48);
+  l->off_names = rd32(b + 52), l->names_size = rd32(b + 56);
   // Flags and the reserved word have no meaning in format 1: a set bit is a file this reader
   // cannot honour, not one to half-read.
-  if (header < SPX_HEADER_SIZE || b[36] != 4 || b[37] != 4 || rd16(b + 38) != 0 || rd32(b + 60) != 0)
+  if (l->header < SPX_HEADER_SIZE || b[36] != 4 || b[37] != 4 || rd16(b + 38) != 0 || rd32(b + 60) != 0)
     return SPX_ERR_BAD_SIZES;
-  if (n == 0 || p == 0 || s == 0 || p > SPX_MAX_POSES || s > n) return SPX_ERR_BAD_SIZES;
+  if (l->n == 0 || l->p == 0 || l->s == 0 || l->p > SPX_MAX_POSES || l->s > l->n) return SPX_ERR_BAD_SIZES;
   const uint64_t body = size - 4;
-  const uint64_t sphere_bytes = uint64_t(p) * n * 16, ss_bytes = uint64_t(n) * 4, site_bytes = uint64_t(s) * 12;
+  l->sphere_bytes = uint64_t(l->p) * l->n * 16, l->ss_bytes = uint64_t(l->n) * 4, l->site_bytes = uint64_t(l->s) * 12;
   struct Range { uint64_t at, len; } ranges[4] = {
-      {off_spheres, sphere_bytes}, {off_ss, ss_bytes}, {off_sites, site_bytes}, {off_names, names_size}};
+      {l->off_spheres, l->sphere_bytes}, {l->off_ss, l->ss_bytes}, {l->off_sites, l->site_bytes}, {l->off_names, l->names_size}};
   for (int i = 0; i < 4; ++i) {
-    if (ranges[i].at < header || ranges[i].at % 4 != 0 || ranges[i].at + ranges[i].len > body) return SPX_ERR_BAD_SIZES;
+    if (ranges[i].at < l->header || ranges[i].at % 4 != 0 || ranges[i].at + ranges[i].len > body) return SPX_ERR_BAD_SIZES;
     for (int j = 0; j < i; ++j)
       if (ranges[i].at < ranges[j].at + ranges[j].len && ranges[j].at < ranges[i].at + ranges[i].len)
         return SPX_ERR_BAD_SIZES;
   }
+  const uint64_t padded = ((l->sphere_bytes + 3) & ~uint64_t(3)) + ((l->ss_bytes + 3) & ~uint64_t(3)) +
+                          ((l->site_bytes + 3) & ~uint64_t(3)) + ((uint64_t(l->names_size) + 3) & ~uint64_t(3));
+  if (l->header + padded != body) return SPX_ERR_BAD_SIZES;
+  return SPX_OK;
+}
 
-  // The sections tile the body exactly (each padded to 4 bytes): a count that shrank would
-  // otherwise leave bytes nobody reads, and a file that silently loses spheres.
-  const uint64_t padded = ((sphere_bytes + 3) & ~uint64_t(3)) + ((ss_bytes + 3) & ~uint64_t(3)) +
-                          ((site_bytes + 3) & ~uint64_t(3)) + ((uint64_t(names_size) + 3) & ~uint64_t(3));
-  if (header + padded != body) return SPX_ERR_BAD_SIZES;
-
-  // Names: p length-prefixed strings that fill the names section.
-  uint64_t name_chars = 0;
-  {
-    uint64_t at = off_names;
-    for (uint32_t i = 0; i < p; ++i) {
-      if (at + 4 > uint64_t(off_names) + names_size) return SPX_ERR_BAD_SIZES;
-      const uint32_t len = rd32(b + at);
-      if (at + 4 + len > uint64_t(off_names) + names_size) return SPX_ERR_BAD_SIZES;
-      name_chars += len + 1;
-      at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
-    }
-    if (at != uint64_t(off_names) + names_size) return SPX_ERR_BAD_SIZES;
+// Names: p length-prefixed strings that fill the names section; counts their characters.
+inline Status check_names(const unsigned char* b, Layout* l) {
+  const uint64_t end = uint64_t(l->off_names) + l->names_size;
+  uint64_t at = l->off_names;
+  l->name_chars = 0;
+  for (uint32_t i = 0; i < l->p; ++i) {
+    if (at + 4 > end) return SPX_ERR_BAD_SIZES;
+    const uint32_t len = rd32(b + at);
+    if (at + 4 + len > end) return SPX_ERR_BAD_SIZES;
+    l->name_chars += len + 1;
+    at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
   }
+  return at == end ? SPX_OK : SPX_ERR_BAD_SIZES;
+}
 
-  // One block: the spheres first (16-byte aligned, and a multiple of 16 bytes long), then the
-  // name pointers, sites, sphere sites (all 4-byte types) and the name characters.
-  const uint64_t pointer_bytes = uint64_t(p) * sizeof(char*);
-  const uint64_t total = sphere_bytes + pointer_bytes + site_bytes + ss_bytes + name_chars;
-  if (total > SIZE_MAX) return SPX_ERR_OUT_OF_MEMORY;
-  unsigned char* block = static_cast<unsigned char*>(SPX_MALLOC(size_t(total)));
-  if (!block) return SPX_ERR_OUT_OF_MEMORY;
-  float* spheres = reinterpret_cast<float*>(block);
-  char** names = reinterpret_cast<char**>(block + sphere_bytes);
-  float* sites = reinterpret_cast<float*>(block + sphere_bytes + pointer_bytes);
-  uint32_t* ss = reinterpret_cast<uint32_t*>(block + sphere_bytes + pointer_bytes + site_bytes);
-  char* chars = reinterpret_cast<char*>(block + sphere_bytes + pointer_bytes + site_bytes + ss_bytes);
-
+// The sections copied into one block laid out as `spheres, names, sites, ss, chars` say;
+// SPX_ERR_BAD_DATA for a non-finite number, a negative radius or a site out of range.
+inline Status copy_sections(const unsigned char* b, const Layout& l, float* spheres, char** names, float* sites,
+                            uint32_t* ss, char* chars) {
   Status status = SPX_OK;
-  for (uint64_t i = 0; i < uint64_t(p) * n; ++i) {
-    for (int k = 0; k < 4; ++k) spheres[i * 4 + k] = rdf32(b + off_spheres + i * 16 + k * 4);
+  for (uint64_t i = 0; i < uint64_t(l.p) * l.n; ++i) {
+    for (int k = 0; k < 4; ++k) spheres[i * 4 + k] = rdf32(b + l.off_spheres + i * 16 + k * 4);
     if (!finite(spheres[i * 4]) || !finite(spheres[i * 4 + 1]) || !finite(spheres[i * 4 + 2]) ||
         !finite(spheres[i * 4 + 3]) || spheres[i * 4 + 3] < 0)
       status = SPX_ERR_BAD_DATA;
   }
-  for (uint64_t i = 0; i < uint64_t(s) * 3; ++i) {
-    sites[i] = rdf32(b + off_sites + i * 4);
+  for (uint64_t i = 0; i < uint64_t(l.s) * 3; ++i) {
+    sites[i] = rdf32(b + l.off_sites + i * 4);
     if (!finite(sites[i])) status = SPX_ERR_BAD_DATA;
   }
-  for (uint32_t i = 0; i < n; ++i) {
-    ss[i] = rd32(b + off_ss + uint64_t(i) * 4);
-    if (ss[i] >= s) status = SPX_ERR_BAD_DATA;
+  for (uint32_t i = 0; i < l.n; ++i) {
+    ss[i] = rd32(b + l.off_ss + uint64_t(i) * 4);
+    if (ss[i] >= l.s) status = SPX_ERR_BAD_DATA;
   }
-  uint64_t at = off_names;
-  for (uint32_t i = 0; i < p; ++i) {
+  uint64_t at = l.off_names;
+  for (uint32_t i = 0; i < l.p; ++i) {
     const uint32_t len = rd32(b + at);
     names[i] = chars;
     std::memcpy(chars, b + at + 4, len);
@@ -309,6 +309,33 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
     chars += len + 1;
     at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
   }
+  return status;
+}
+
+}  // namespace detail
+
+inline Status load_memory(const void* data, size_t size, Proxy* out) {
+  using namespace detail;
+  if (!out || (!data && size > 0)) return SPX_ERR_INVALID_ARGUMENT;
+  const unsigned char* b = static_cast<const unsigned char*>(data);
+  Layout l;
+  Status status = check_header(b, size, &l);
+  if (status == SPX_OK) status = check_names(b, &l);
+  if (status != SPX_OK) return status;
+
+  // One block: the spheres first (16-byte aligned, and a multiple of 16 bytes long), then the
+  // name pointers, sites, sphere sites (all 4-byte types) and the name characters.
+  const uint64_t pointer_bytes = uint64_t(l.p) * sizeof(char*);
+  const uint64_t total = l.sphere_bytes + pointer_bytes + l.site_bytes + l.ss_bytes + l.name_chars;
+  if (total > SIZE_MAX) return SPX_ERR_OUT_OF_MEMORY;
+  unsigned char* block = static_cast<unsigned char*>(SPX_MALLOC(size_t(total)));
+  if (!block) return SPX_ERR_OUT_OF_MEMORY;
+  float* spheres = reinterpret_cast<float*>(block);
+  char** names = reinterpret_cast<char**>(block + l.sphere_bytes);
+  float* sites = reinterpret_cast<float*>(block + l.sphere_bytes + pointer_bytes);
+  uint32_t* ss = reinterpret_cast<uint32_t*>(block + l.sphere_bytes + pointer_bytes + l.site_bytes);
+  char* chars = reinterpret_cast<char*>(block + l.sphere_bytes + pointer_bytes + l.site_bytes + l.ss_bytes);
+  status = copy_sections(b, l, spheres, names, sites, ss, chars);
   if (status != SPX_OK) {
     SPX_FREE(block);
     return status;
@@ -319,9 +346,9 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
   out->sites_ = sites;
   out->sphere_sites_ = ss;
   out->names_ = names;
-  out->spheres_n_ = n;
-  out->poses_n_ = p;
-  out->sites_n_ = s;
+  out->spheres_n_ = l.n;
+  out->poses_n_ = l.p;
+  out->sites_n_ = l.s;
   return SPX_OK;
 }
 

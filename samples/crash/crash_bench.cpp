@@ -84,6 +84,138 @@ RunStats run_seeds(const CarAsset& asset, SceneOptions scene, int seeds) {
   return first;
 }
 
+// The meshes, in the order the proxies name their poses, and the proxies.
+struct Inputs {
+  std::vector<TriMesh> meshes;
+  std::vector<Proxy> proxies;
+};
+Inputs load_inputs(const std::string& rest_path, const std::vector<std::string>& pose_paths,
+                   const std::vector<std::string>& proxy_paths) {
+  Inputs in;
+  const LoadedMesh rest = load_mesh(rest_path);
+  in.meshes = {rest.mesh};
+  for (const auto& p : pose_paths) in.meshes.push_back(load_pose(p, rest));
+  in.proxies.resize(proxy_paths.size());
+  for (size_t i = 0; i < proxy_paths.size(); ++i) {
+    Proxy& proxy = in.proxies[i];
+    const Status s = load_file(proxy_paths[i].c_str(), &proxy);
+    if (s != SPX_OK) fail_input(proxy_paths[i], std::string("cannot load: ") + status_string(s));
+    for (uint32_t k = 1; k < proxy.pose_count() && k <= pose_paths.size(); ++k)
+      if (stem_of(pose_paths[k - 1]) != proxy.pose_name(k))
+        fail_input(proxy_paths[i], "pose " + std::to_string(k) + " is '" + proxy.pose_name(k) + "' but --pose " +
+                                       std::to_string(k) + " is " + pose_paths[k - 1]);
+  }
+  return in;
+}
+
+// Configurations: each proxy as Bullet's compound and with the sphere-set narrow phase, then
+// the triangle mesh (the baseline, last) with the finest proxy's blend sites.
+std::vector<CarAsset> configurations(const Inputs& in) {
+  std::vector<CarAsset> assets;
+  size_t finest = 0;
+  for (size_t i = 0; i < in.proxies.size(); ++i) {
+    const std::string n = std::to_string(in.proxies[i].sphere_count());
+    assets.push_back(make_car_asset("compound-" + n, true, in.proxies[i], in.meshes));
+    assets.push_back(make_car_asset("sphereset-" + n, true, in.proxies[i], in.meshes));
+    assets.back().sphere_set = true;
+    if (in.proxies[i].sphere_count() > in.proxies[finest].sphere_count()) finest = i;
+  }
+  assets.push_back(make_car_asset("triangle-mesh", false, in.proxies[finest], in.meshes));
+  return assets;
+}
+
+// The same scene over `seeds` consecutive seeds, monitored (never timed).
+std::vector<RunStats> monitored_seeds(const CarAsset& asset, SceneOptions o, int seeds) {
+  o.monitor = true;
+  const uint32_t first = o.seed;
+  std::vector<RunStats> runs;
+  for (int k = 0; k < seeds; ++k) {
+    o.seed = first + uint32_t(k);
+    runs.push_back(run_scene(asset, o));
+  }
+  return runs;
+}
+
+json paths_json(const RunStats& m) {
+  json paths = json::array();
+  for (const auto& car : m.path) {
+    json xyz = json::array();
+    for (const auto& p : car) xyz.push_back({p.x(), p.y(), p.z()});
+    paths.push_back(xyz);
+  }
+  return {{"times_s", m.sample_times}, {"cars", paths}};
+}
+
+// One configuration's entry: medians of its timed runs, ratios to the baseline's, and what its
+// monitored run measured; printed as a table row too.
+json config_json(const CarAsset& asset, const std::vector<RunStats>& timed, const RunStats& m, const json& safety,
+                 const std::vector<RunStats>& baseline) {
+  auto median_of = [](const std::vector<RunStats>& runs, auto field) {
+    std::vector<double> v;
+    for (const auto& run : runs) v.push_back(field(run));
+    return median(v);
+  };
+  auto total_of = [](const RunStats& r) { return r.total_ms(); };
+  auto sim_of = [](const RunStats& r) { return r.sim_ms; };
+  const double base_total = median_of(baseline, total_of), base_sim = median_of(baseline, sim_of);
+  bool repeatable = true;
+  json runs = json::array();
+  for (const auto& run : timed) {
+    repeatable = repeatable && run.state_hash == m.state_hash;  // first seed's final state
+    runs.push_back({{"sim_ms", run.sim_ms}, {"deform_ms", run.deform_ms}, {"total_ms", run.total_ms()}});
+  }
+  const double total = median_of(timed, total_of), sim = median_of(timed, sim_of);
+  json entry = {{"name", asset.name},
+                {"spheres_per_car", asset.sphere_count()},
+                {"triangles_per_car", asset.rest.triangles.size()},
+                {"sim_ms", sim},
+                {"deform_ms", median_of(timed, [](const RunStats& r) { return r.deform_ms; })},
+                {"total_ms", total},
+                {"speedup", base_total / total},
+                {"sim_speedup", base_sim / sim},
+                {"runs", runs},
+                {"steps", m.steps},
+                {"contacts", m.contacts},
+                {"reblends", m.reblends},
+                {"max_weight_moved", m.max_weight_moved},
+                {"repeatable", repeatable},
+                {"safety", safety},
+                {"paths", paths_json(m)}};
+  if (asset.spheres) entry["error"] = error_json(m);
+  std::printf("%-16s %8zu %10.1f %10.1f %10.1f %7.1fx %10llu %12s %10s\n", asset.name.c_str(), asset.sphere_count(), sim,
+              entry["deform_ms"].get<double>(), total, base_total / total, (unsigned long long)m.contacts,
+              asset.spheres ? num(entry["error"]["median_of_medians_m"].get<double>()).c_str() : "-",
+              asset.spheres ? num(entry["error"]["max_m"].get<double>()).c_str() : "-");
+  return entry;
+}
+
+// The stability sweep: every configuration at larger steps and higher launch speeds.
+json stability_sweep(const std::vector<CarAsset>& assets, const SceneOptions& scene, int seeds, Log& log) {
+  json sweep = json::array();
+  std::printf("\n%-16s %6s %6s %8s %8s %12s %12s %8s\n", "config", "dt", "speed", "ground", "car", "contact pen",
+              "ground pen", "energy");
+  for (double dt : {1.0 / 60, 1.0 / 30, 1.0 / 15})
+    for (double speed : {1.0, 1.5, 2.0})
+      for (const auto& asset : assets) {
+        SceneOptions o = scene;
+        o.dt = dt;
+        o.speed_scale = speed;
+        o.sample_every = 1 << 30;  // error traces are not part of the sweep
+        log.info("stability: " + asset.name + " at dt 1/" + std::to_string(int(std::lround(1 / dt))) +
+                 ", launch speed x" + num(speed));
+        json row = safety_json(monitored_seeds(asset, o, seeds));
+        row["name"] = asset.name;
+        row["dt_s"] = dt;
+        row["speed_scale"] = speed;
+        sweep.push_back(row);
+        std::printf("%-16s  1/%-3d %6.1f %8d %8d %12.3f %12.3f %8.2f%s\n", asset.name.c_str(), int(std::lround(1 / dt)),
+                    speed, row["ground_tunnels"].get<int>(), row["car_tunnels"].get<int>(),
+                    row["max_contact_penetration_m"].get<double>(), row["max_ground_penetration_m"].get<double>(),
+                    row["max_energy_ratio"].get<double>(), row["energy_blew_up"].get<bool>() ? " blew up" : "");
+      }
+  return sweep;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -106,33 +238,8 @@ int main(int argc, char** argv) {
   tool.app.add_flag("!--no-stability", stability, "Skip the larger-step / higher-speed sweep");
   tool.app.add_option("--profile", only, "Only time this configuration (for a profiler); no baseline, no JSON");
   return tool.run(argc, argv, [&] {
-    // Inputs: the meshes, in the order the proxies name their poses.
-    const LoadedMesh rest = load_mesh(rest_path);
-    std::vector<TriMesh> meshes = {rest.mesh};
-    for (const auto& p : pose_paths) meshes.push_back(load_pose(p, rest));
-    std::vector<Proxy> proxies(proxy_paths.size());
-    for (size_t i = 0; i < proxy_paths.size(); ++i) {
-      const Status s = load_file(proxy_paths[i].c_str(), &proxies[i]);
-      if (s != SPX_OK) fail_input(proxy_paths[i], std::string("cannot load: ") + status_string(s));
-      for (uint32_t k = 1; k < proxies[i].pose_count() && k <= pose_paths.size(); ++k)
-        if (stem_of(pose_paths[k - 1]) != proxies[i].pose_name(k))
-          fail_input(proxy_paths[i], "pose " + std::to_string(k) + " is '" + proxies[i].pose_name(k) + "' but --pose " +
-                                         std::to_string(k) + " is " + pose_paths[k - 1]);
-    }
-
-    // Configurations: each proxy as Bullet's compound and with the sphere-set narrow phase,
-    // then the triangle mesh with the finest proxy's blend sites.
-    std::vector<CarAsset> assets;
-    size_t finest = 0;
-    for (size_t i = 0; i < proxies.size(); ++i) {
-      const std::string n = std::to_string(proxies[i].sphere_count());
-      assets.push_back(make_car_asset("compound-" + n, true, proxies[i], meshes));
-      assets.push_back(make_car_asset("sphereset-" + n, true, proxies[i], meshes));
-      assets.back().sphere_set = true;
-      if (proxies[i].sphere_count() > proxies[finest].sphere_count()) finest = i;
-    }
-    assets.push_back(make_car_asset("triangle-mesh", false, proxies[finest], meshes));
-    const size_t baseline = assets.size() - 1;
+    const Inputs inputs = load_inputs(rest_path, pose_paths, proxy_paths);  // the assets point into it
+    const std::vector<CarAsset> assets = configurations(inputs);
     if (!only.empty()) {
       const auto it = std::find_if(assets.begin(), assets.end(), [&](const CarAsset& a) { return a.name == only; });
       if (it == assets.end()) fail_usage(only, "no such configuration");
@@ -142,20 +249,13 @@ int main(int argc, char** argv) {
       }
       return;
     }
-
     // Monitored runs first (never timed), then timed repeats interleaved across configurations
     // so that machine noise hits every configuration alike.
     std::vector<RunStats> monitored;
     std::vector<json> safety;
     for (const auto& asset : assets) {
       tool.log.info("monitored runs: " + asset.name);
-      SceneOptions o = scene;
-      o.monitor = true;
-      std::vector<RunStats> runs;
-      for (int k = 0; k < seeds; ++k) {
-        o.seed = scene.seed + uint32_t(k);
-        runs.push_back(run_scene(asset, o));
-      }
+      const std::vector<RunStats> runs = monitored_seeds(asset, scene, seeds);
       safety.push_back(safety_json(runs));
       monitored.push_back(runs.front());  // Figure 5 and the paths show the first crash
     }
@@ -164,96 +264,19 @@ int main(int argc, char** argv) {
       tool.log.info("timed round " + std::to_string(r + 1) + "/" + std::to_string(repeats));
       for (size_t c = 0; c < assets.size(); ++c) timed[c].push_back(run_seeds(assets[c], scene, seeds));
     }
-
-    auto medians = [&](size_t c, auto field) {
-      std::vector<double> v;
-      for (const auto& run : timed[c]) v.push_back(field(run));
-      return median(v);
-    };
-    const double base_total = medians(baseline, [](const RunStats& r) { return r.total_ms(); });
-    const double base_sim = medians(baseline, [](const RunStats& r) { return r.sim_ms; });
     json configs = json::array();
     std::printf("%-16s %8s %10s %10s %10s %8s %10s %12s %10s\n", "config", "spheres", "sim ms", "deform ms", "total ms",
                 "speedup", "contacts", "err median", "err max");
-    for (size_t c = 0; c < assets.size(); ++c) {
-      const RunStats& m = monitored[c];
-      bool repeatable = true;
-      json runs = json::array();
-      for (const auto& run : timed[c]) {
-        repeatable = repeatable && run.state_hash == m.state_hash;  // first seed's final state
-        runs.push_back({{"sim_ms", run.sim_ms}, {"deform_ms", run.deform_ms}, {"total_ms", run.total_ms()}});
-      }
-      const double total = medians(c, [](const RunStats& r) { return r.total_ms(); });
-      const double sim = medians(c, [](const RunStats& r) { return r.sim_ms; });
-      json entry = {{"name", assets[c].name},
-                    {"spheres_per_car", assets[c].sphere_count()},
-                    {"triangles_per_car", assets[c].rest.triangles.size()},
-                    {"sim_ms", sim},
-                    {"deform_ms", medians(c, [](const RunStats& r) { return r.deform_ms; })},
-                    {"total_ms", total},
-                    {"speedup", base_total / total},
-                    {"sim_speedup", base_sim / sim},
-                    {"runs", runs},
-                    {"steps", m.steps},
-                    {"contacts", m.contacts},
-                    {"reblends", m.reblends},
-                    {"max_weight_moved", m.max_weight_moved},
-                    {"repeatable", repeatable},
-                    {"safety", safety[c]}};
-      if (assets[c].spheres) entry["error"] = error_json(m);
-      json paths = json::array();
-      for (const auto& car : m.path) {
-        json xyz = json::array();
-        for (const auto& p : car) xyz.push_back({p.x(), p.y(), p.z()});
-        paths.push_back(xyz);
-      }
-      entry["paths"] = {{"times_s", m.sample_times}, {"cars", paths}};
-      configs.push_back(entry);
-      std::printf("%-16s %8zu %10.1f %10.1f %10.1f %7.1fx %10llu %12s %10s\n", assets[c].name.c_str(),
-                  assets[c].sphere_count(), sim, entry["deform_ms"].get<double>(), total, base_total / total,
-                  (unsigned long long)m.contacts, assets[c].spheres ? num(entry["error"]["median_of_medians_m"].get<double>()).c_str() : "-",
-                  assets[c].spheres ? num(entry["error"]["max_m"].get<double>()).c_str() : "-");
-    }
-
-    json sweep = json::array();
-    if (stability) {
-      std::printf("\n%-16s %6s %6s %8s %8s %12s %12s %8s\n", "config", "dt", "speed", "ground", "car", "contact pen",
-                  "ground pen", "energy");
-      for (double dt : {1.0 / 60, 1.0 / 30, 1.0 / 15})
-        for (double speed : {1.0, 1.5, 2.0})
-          for (const auto& asset : assets) {
-            SceneOptions o = scene;
-            o.dt = dt;
-            o.speed_scale = speed;
-            o.monitor = true;
-            o.sample_every = 1 << 30;  // error traces are not part of the sweep
-            tool.log.info("stability: " + asset.name + " at dt 1/" + std::to_string(int(std::lround(1 / dt))) +
-                          ", launch speed x" + num(speed));
-            std::vector<RunStats> runs;
-            for (int k = 0; k < seeds; ++k) {
-              o.seed = scene.seed + uint32_t(k);
-              runs.push_back(run_scene(asset, o));
-            }
-            json row = safety_json(runs);
-            row["name"] = asset.name;
-            row["dt_s"] = dt;
-            row["speed_scale"] = speed;
-            sweep.push_back(row);
-            std::printf("%-16s  1/%-3d %6.1f %8d %8d %12.3f %12.3f %8.2f%s\n", asset.name.c_str(),
-                        int(std::lround(1 / dt)), speed, row["ground_tunnels"].get<int>(),
-                        row["car_tunnels"].get<int>(), row["max_contact_penetration_m"].get<double>(),
-                        row["max_ground_penetration_m"].get<double>(), row["max_energy_ratio"].get<double>(),
-                        row["energy_blew_up"].get<bool>() ? " blew up" : "");
-          }
-    }
-
+    for (size_t c = 0; c < assets.size(); ++c)
+      configs.push_back(config_json(assets[c], timed[c], monitored[c], safety[c], timed.back()));
+    const json sweep = stability ? stability_sweep(assets, scene, seeds, tool.log) : json::array();
     json result = {{"generator", std::string("crash-bench (spx) ") + spx::version_string()},
                    {"scene",
                     {{"cars", scene.cars},
                      {"seconds", scene.seconds},
                      {"dt_s", scene.dt},
                      {"seed", scene.seed},
-                    {"seeds", seeds},
+                     {"seeds", seeds},
                      {"impulse_threshold", scene.impulse_threshold}}},
                    {"repeats", repeats},
                    {"configs", configs},
