@@ -13,7 +13,7 @@
 #include "mesh/union_distance.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
-#include "pack/sphere_pack.hpp"
+#include "pack/sphere_pack_tool.hpp"
 #include "sdf/sdf.hpp"
 #include "synthetic/synthetic.hpp"
 #include "tool/tool.hpp"

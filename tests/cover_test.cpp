@@ -7,7 +7,7 @@
 #include "io/vdb_io.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/cover.hpp"
-#include "pack/sphere_pack.hpp"
+#include "pack/sphere_pack_tool.hpp"
 #include "sdf/sdf.hpp"
 #include "synthetic/synthetic.hpp"
 #include "test_util.hpp"

@@ -13,7 +13,7 @@
 #include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
-#include "pack/sphere_pack.hpp"
+#include "pack/sphere_pack_tool.hpp"
 #include "posemap/posemap.hpp"
 #include "synthetic/synthetic.hpp"
 #include "sdf/sdf.hpp"

@@ -1,5 +1,5 @@
 #include "tool/tool.hpp"
-#include "extract/pose_extract.hpp"
+#include "extract/pose_extract_tool.hpp"
 
 int main(int argc, char** argv) {
   spx::Tool tool("pose-extract", "Example poses out of a rigged or morph-target asset: DIR/rest.obj, one OBJ per "

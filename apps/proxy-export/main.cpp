@@ -1,6 +1,6 @@
 #include "core/error.hpp"
 #include "tool/tool.hpp"
-#include "export/proxy_export.hpp"
+#include "export/proxy_export_tool.hpp"
 
 int main(int argc, char** argv) {
   spx::Tool tool("proxy-export", "Write a proxy for the runtime (.spx), as plain JSON (.json), or as sphere "

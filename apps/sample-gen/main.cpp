@@ -1,5 +1,5 @@
 #include "tool/tool.hpp"
-#include "synthetic/synthetic.hpp"
+#include "synthetic/sample_gen_tool.hpp"
 
 int main(int argc, char** argv) {
   spx::Tool tool("sample-gen", "Write the project's sample assets: rest mesh and example poses as OBJ, and NAME-morph.glb with the poses as morph targets.");

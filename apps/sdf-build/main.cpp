@@ -1,5 +1,5 @@
 #include "tool/tool.hpp"
-#include "sdf/sdf_build.hpp"
+#include "sdf/sdf_build_tool.hpp"
 
 int main(int argc, char** argv) {
   spx::Tool tool("sdf-build", "Signed distance field of a mesh with distances through the whole interior "

@@ -1,4 +1,4 @@
-#include "pack/sphere_pack.hpp"
+#include "pack/sphere_pack_tool.hpp"
 #include "tool/tool.hpp"
 
 int main(int argc, char** argv) {

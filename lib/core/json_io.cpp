@@ -47,18 +47,16 @@ double require_number(const json& j, const char* key, const std::string& file) {
   return as_finite_number(require(j, key, file), std::string("field '") + key + "'", file);
 }
 
-std::string optional_string(const json& j, const char* key, const std::string& fallback, const std::string& file) {
-  if (!j.is_object() || !j.contains(key) || j[key].is_null()) return fallback;
-  if (!j[key].is_string()) fail_input(file, std::string("field '") + key + "' is not a string");
-  return j[key].get<std::string>();
-}
-
 std::string require_string(const json& j, const char* key, const std::string& file) {
   const json& v = require(j, key, file);
   if (!v.is_string()) fail_input(file, std::string("field '") + key + "' is not a string");
   return v.get<std::string>();
 }
 
+namespace {
+
+// The "version" field: an integer >= 1; newer than `newest` is exit 3 (unsupported), anything
+// else that is not a version this format ever had is exit 2.
 int require_version(const json& j, const std::string& what, int newest, const std::string& file) {
   const json& v = require(j, "version", file);
   if (!v.is_number_integer() || v.get<long long>() < 1)
@@ -69,15 +67,18 @@ int require_version(const json& j, const std::string& what, int newest, const st
   return int(v.get<long long>());
 }
 
+// Whether j is an object whose "format" is the string `format`.
+bool has_format(const json& j, const char* format) {
+  return j.is_object() && j.contains("format") && j["format"].is_string() && j["format"] == format;
+}
+
+}  // namespace
+
 void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file) {
   if (!has_format(j, format))
     fail_input(file, "is not a " + what + " file (expected \"format\": \"" + format + "\")");
   require_version(j, what, newest, file);
   require_string(j, "generator", file);
-}
-
-bool has_format(const json& j, const char* format) {
-  return j.is_object() && j.contains("format") && j["format"].is_string() && j["format"] == format;
 }
 
 }  // namespace spx

@@ -28,18 +28,10 @@ void write_json_atomic(const std::string& path, const json& j);
 const json& require(const json& j, const char* key, const std::string& file);
 double require_number(const json& j, const char* key, const std::string& file);
 double as_finite_number(const json& v, const std::string& what, const std::string& file);
-// An optional string field: `fallback` when absent or null, exit 2 naming the field when it is
-// not a string (json::value() would throw an unnamed type error instead).
-std::string optional_string(const json& j, const char* key, const std::string& fallback, const std::string& file);
 // A string field that must be there.
 std::string require_string(const json& j, const char* key, const std::string& file);
-// The "version" field: an integer >= 1; newer than `newest` is exit 3 (unsupported), anything
-// else that is not a version this format ever had is exit 2.
-int require_version(const json& j, const std::string& what, int newest, const std::string& file);
 // The header every file between tools has: "format" (this one), "version" (up to `newest`)
 // and "generator".
 void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file);
-// Whether j is an object whose "format" is the string `format`.
-bool has_format(const json& j, const char* format);
 
 }  // namespace spx

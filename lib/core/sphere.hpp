@@ -1,4 +1,5 @@
 #pragma once
+// A sphere (centre and radius) and a set of them: what every stage passes around.
 #include <Eigen/Core>
 #include <vector>
 

@@ -67,8 +67,7 @@ aiMesh* to_ai_mesh(const TriMesh& m, const std::vector<Eigen::Vector3f>& colors,
   return mesh;
 }
 
-}  // namespace
-
+// Every sphere with a positive radius as an icosphere (`subdivisions` 0..4).
 TriMesh sphere_union_mesh(const SphereSet& spheres, int subdivisions) {
   const TriMesh unit = icosphere(std::clamp(subdivisions, 0, 4));
   TriMesh out;
@@ -81,7 +80,13 @@ TriMesh sphere_union_mesh(const SphereSet& spheres, int subdivisions) {
   return out;
 }
 
-namespace {
+// How far apart poses are laid along x when shown side by side.
+double side_by_side_step(const ProxyModel& proxy) {
+  Eigen::AlignedBox3d box;
+  for (const auto& s : proxy.poses.front().spheres)
+    if (s.radius > 0) box.extend(s.center + Eigen::Vector3d::Constant(s.radius)).extend(s.center - Eigen::Vector3d::Constant(s.radius));
+  return box.isEmpty() ? 0.0 : 1.25 * box.sizes().x();
+}
 
 // Binary little-endian PLY, written here: assimp 5.2's binary PLY exporter writes colours as
 // floats under a uchar header, which other readers then misread.
@@ -189,13 +194,6 @@ std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int 
     nodes.push_back(std::move(node));
   }
   return encode_scene(nodes, ext);
-}
-
-double side_by_side_step(const ProxyModel& proxy) {
-  Eigen::AlignedBox3d box;
-  for (const auto& s : proxy.poses.front().spheres)
-    if (s.radius > 0) box.extend(s.center + Eigen::Vector3d::Constant(s.radius)).extend(s.center - Eigen::Vector3d::Constant(s.radius));
-  return box.isEmpty() ? 0.0 : 1.25 * box.sizes().x();
 }
 
 std::string encode_error_scene(const std::vector<PoseError>& evals, const std::string& ext, int pose, double scale,

@@ -22,14 +22,8 @@ std::string encode_scene(const std::vector<SceneNode>& nodes, const std::string&
 // at `scale` and beyond; blue where the union pokes out (negative distance).
 std::vector<Eigen::Vector3f> error_colors(const std::vector<double>& signed_error, double scale);
 
-// Every sphere with a positive radius as an icosphere (`subdivisions` 0..4).
-TriMesh sphere_union_mesh(const SphereSet& spheres, int subdivisions = 2);
-
 // Binary glTF with one node per pose (named after it), laid side by side along +x when
 // `spread` is set; or binary PLY of one pose. The format comes from the extension.
-// How far apart poses are laid along x when shown side by side.
-double side_by_side_step(const ProxyModel& proxy);
-
 // The error-coloured meshes (and their sphere unions) of `poses`: every pose for .glb, laid
 // `step` apart along x; pose number `pose` alone for .ply.
 std::string encode_error_scene(const std::vector<PoseError>& poses, const std::string& extension, int pose,

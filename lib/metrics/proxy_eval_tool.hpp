@@ -1,4 +1,6 @@
 #pragma once
+// proxy-eval, the tool: a proxy measured against its meshes (per pose, blends between them),
+// with error colours on request.
 #include <string>
 #include <vector>
 

@@ -9,6 +9,15 @@
 #include "core/format.hpp"
 
 namespace spx {
+namespace {
+
+// Budget mode's greedy bisection: the first delta tried, a quarter past the least at which
+// every sample can be covered at all; and at most this many covers solved in it (doubling,
+// then halving the interval).
+constexpr double kFirstDeltaOverReach = 1.25;
+constexpr int kMaxBudgetCovers = 60;
+
+}  // namespace
 
 namespace {
 
@@ -42,15 +51,26 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
   return r;
 }
 
-CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, std::string& limited_by, Log& log) {
+const char* limit_wording(Limit limit) {
+  switch (limit) {
+    case Limit::tolerance: return "met the tolerance";
+    case Limit::default_tolerance: return "met the default tolerance";
+    case Limit::resolution: return "the field's resolution (some samples are out of reach)";
+    case Limit::budget: return "max_spheres";
+    case Limit::budget_over_tolerance: return "max_spheres (tighter than the tolerance)";
+  }
+  return "";
+}
+
+CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, Limit& limited_by, Log& log) {
   CoverResult cover;
   if (target > 0) {
     cover = cover_within(problem, target, kToleranceSearch, log);
-    limited_by = cover.uncoverable > 0 ? "the field's resolution (some samples are out of reach)" : "met the tolerance";
+    limited_by = cover.uncoverable > 0 ? Limit::resolution : Limit::tolerance;
   }
   if (budget > 0 && (!(target > 0) || cover.chosen.size() > budget)) {
     cover = cover_with_budget(problem, budget, kBudgetSlack, 1e-2, log);
-    limited_by = target > 0 ? "max_spheres (tighter than the tolerance)" : "max_spheres";
+    limited_by = target > 0 ? Limit::budget_over_tolerance : Limit::budget;
   }
   return cover;
 }
@@ -71,10 +91,10 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
     return std::make_pair(greedy_cover(v), std::move(v));
   };
   // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
-  double lo = lo_start, hi = std::max(lo_start, 1e-12) * 1.25;
+  double lo = lo_start, hi = std::max(lo_start, 1e-12) * kFirstDeltaOverReach;
   table = std::make_unique<GapTable>(problem, hi * reach);
   auto [cover, cov] = solve(hi);
-  while (cover.size() > max_spheres && best.evaluations < 60) {
+  while (cover.size() > max_spheres && best.evaluations < kMaxBudgetCovers) {
     lo = hi;
     hi *= 2;
     table = std::make_unique<GapTable>(problem, hi * reach);
@@ -83,7 +103,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   best.chosen = cover;
   best.delta = hi;
   Coverage best_cov = std::move(cov);
-  while (hi - lo > precision * hi && best.evaluations < 60) {
+  while (hi - lo > precision * hi && best.evaluations < kMaxBudgetCovers) {
     const double mid = 0.5 * (lo + hi);
     auto [c, v] = solve(mid);
     if (c.size() <= max_spheres) {

@@ -53,10 +53,14 @@ constexpr double kSearchReach = 0.15;
 CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits limits = kToleranceSearch,
                          Log& log = Log::silent());
 
+// What decided a selection's size, and its words in reports and logs (limit_wording).
+enum class Limit { tolerance, default_tolerance, resolution, budget, budget_over_tolerance };
+const char* limit_wording(Limit limit);
+
 // Both modes as the tools combine them: the fewest spheres within `target` (when > 0), unless
 // that exceeds `budget` (when > 0), then the least error for the budget. `limited_by` says
-// which decided: "met the tolerance", "the field's resolution (...)", "max_spheres (...)".
-CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, std::string& limited_by,
+// which decided (the tolerance, the field's resolution or the budget).
+CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, Limit& limited_by,
                       Log& log = Log::silent());
 
 // Budget mode: the smallest delta (to a relative `precision`) whose cover has at most

@@ -9,12 +9,14 @@
 
 namespace spx::detail {
 
+constexpr double kCellsAcross = 40;  // cells along the samples' bounding-box diagonal
+
 class SampleGrid {
  public:
   explicit SampleGrid(const std::vector<Eigen::Vector3d>& points) {
     for (const auto& p : points) box_.extend(p);
     const double diag = std::max(box_.diagonal().norm(), 1e-30);
-    cell_ = diag / 40;
+    cell_ = diag / kCellsAcross;
     dims_ = ((box_.sizes() / cell_).array().floor() + 1).cast<int>().cwiseMax(1);
     std::vector<uint32_t> count(cells() + 1, 0);
     for (const auto& p : points) ++count[cell_of(p) + 1];

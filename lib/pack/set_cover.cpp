@@ -11,6 +11,16 @@
 #include <queue>
 
 namespace spx {
+namespace {
+
+// The Lagrangian bound: pairs visited in all by its steps (a dense budget cover's bound would
+// otherwise cost more than its search); steps without a better bound before the step halves;
+// the value Polyak's rule steps toward, a little above the known cover's size.
+constexpr size_t kLagrangianPairs = size_t(4e8);
+constexpr int kStallSteps = 15;
+constexpr double kPolyakTarget = 1.05;
+
+}  // namespace
 
 std::vector<int> greedy_cover(const Coverage& cov) {
   const size_t candidates = cov.start.size() - 1;
@@ -146,8 +156,8 @@ class Shrink {
   std::vector<uint32_t> critical_, hits_;
 };
 
-}  // namespace
-
+// Local search on a cover: add a candidate, drop every sphere it makes redundant, keep the move
+// when that removes two or more. Returns the spheres saved.
 size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
   const size_t candidates = cov.start.size() - 1;
   Shrink state(cov, chosen);
@@ -166,8 +176,6 @@ size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
   }
   return shrunk;
 }
-
-namespace {
 
 // Whether sorted a is a subset of sorted b.
 bool is_subset(const uint32_t* a, const uint32_t* a_end, const uint32_t* b, const uint32_t* b_end) {
@@ -275,10 +283,10 @@ ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
 
 // The larger of the two lower bounds. On a reduced problem too: the reduction keeps the optimum
 // of the problem and of its LP relaxation, so its bounds hold for the original.
-// The Lagrangian's steps are capped at about 4e8 pairs visited in all (a dense budget cover's
+// The Lagrangian's steps are capped at kLagrangianPairs pairs visited in all (a dense budget cover's
 // bound would otherwise cost more than its search).
 size_t lower_bound_of(const Coverage& cov, size_t upper) {
-  const int steps = int(std::clamp<size_t>(size_t(4e8) / std::max<size_t>(cov.samples.size(), 1), 20, 200));
+  const int steps = int(std::clamp<size_t>(kLagrangianPairs / std::max<size_t>(cov.samples.size(), 1), 20, 200));
   return std::max(cover_lower_bound(cov), lagrangian_bound(cov, upper, steps));
 }
 
@@ -373,7 +381,7 @@ size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
     if (value > best + 1e-9) {
       best = value;
       since_better = 0;
-    } else if (++since_better >= 15) {
+    } else if (++since_better >= kStallSteps) {
       lambda /= 2;
       since_better = 0;
     }
@@ -385,7 +393,7 @@ size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
         if (g > 0 || u[s] > 0) norm += g * g;
       }
     if (norm == 0) break;
-    const double t = lambda * (1.05 * double(upper) - value) / norm;
+    const double t = lambda * (kPolyakTarget * double(upper) - value) / norm;
     for (size_t s = 0; s < samples; ++s)
       if (coverable[s]) u[s] = std::max(0.0, u[s] + t * (1.0 - hits[s]));
   }

@@ -25,9 +25,6 @@ Coverage covering_candidates(const Coverage& coverage);
 // covers are skipped (the caller counts them). Returns candidate indices.
 std::vector<int> greedy_cover(const Coverage& coverage);
 
-// Local search on a cover: add a candidate, drop every sphere it makes redundant, keep the move
-// when that removes two or more. Returns the spheres saved.
-size_t shrink_cover(const Coverage& coverage, std::vector<int>& chosen);
 
 // The same cover problem made smaller without changing its optimum: a sample whose candidates
 // include all of another's is dropped (covering the other covers it), then a candidate whose

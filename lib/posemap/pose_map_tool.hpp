@@ -1,4 +1,5 @@
 #pragma once
+// pose-map, the tool: the meshes and the spheres file read, the proxy written with its report.
 #include <vector>
 
 #include "core/json_io.hpp"

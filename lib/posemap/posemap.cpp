@@ -111,7 +111,7 @@ class PoseMapper {
     const auto [target, budget] = selection_size();
     add_pose_candidates(joint, target > 0 ? target : kDefaultTolerancePercent / 100 * rest_.diagonal());
     const CoverProblem& problem = joint.problem;
-    std::string limit;
+    Limit limit = Limit::tolerance;
     const CoverResult cover = cover_for(problem, target, budget, limit, log_);
     if (cover.uncoverable > 0)
       log_.warn(std::to_string(cover.uncoverable) + " surface samples over the poses are farther than " +
@@ -135,7 +135,7 @@ class PoseMapper {
               {"lower_bound", cover.lower_bound},
               {"uncoverable_samples", cover.uncoverable},
               {"spheres", chosen.size()},
-              {"limited_by", limit}};
+              {"limited_by", limit_wording(limit)}};
     log_.detail("joint selection: " + std::to_string(chosen.size()) + " of " + std::to_string(joint.candidates.size()) +
                 " candidates, delta " + num(cover.delta));
     return chosen;

@@ -91,6 +91,41 @@ std::vector<SeededDomain::Body> seed_bodies(const TriMesh& surface, const Compon
   return bodies;
 }
 
+// Faces used by exactly one tet, with that tet; fills boundary_* and on_boundary.
+void find_tet_boundary(TetMesh& m) {
+  struct Face { std::array<int, 3> key; int tet; int opposite; };
+  std::vector<Face> faces;
+  faces.reserve(m.tets.size() * 4);
+  for (size_t t = 0; t < m.tets.size(); ++t)
+    for (int o = 0; o < 4; ++o) {
+      std::array<int, 3> k;
+      for (int s = 0, n = 0; s < 4; ++s)
+        if (s != o) k[n++] = m.tets[t][s];
+      std::sort(k.begin(), k.end());
+      faces.push_back({k, int(t), o});
+    }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) {
+    return a.key != b.key ? a.key < b.key : a.tet < b.tet;
+  });
+  m.boundary_faces.clear();
+  m.boundary_face_tet.clear();
+  m.on_boundary.assign(m.vertices.size(), 0);
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i == 1) {
+      // Outward orientation: the face seen from outside, opposite vertex behind it.
+      const Eigen::Vector4i& t = m.tets[faces[i].tet];
+      static const int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+      const int* f = kFace[faces[i].opposite];
+      m.boundary_faces.emplace_back(t[f[0]], t[f[1]], t[f[2]]);
+      m.boundary_face_tet.push_back(faces[i].tet);
+      for (int v : faces[i].key) m.on_boundary[v] = 1;
+    }
+    i = j;
+  }
+}
+
 void orient(TetMesh& m) {
   for (auto& t : m.tets) {
     const Eigen::Vector3d& a = m.vertices[t[0]];
@@ -176,39 +211,6 @@ TetMesh mesh_domain(const SeededDomain& domain, const BodySizing& sizing, Log& l
 
 }  // namespace
 
-void find_tet_boundary(TetMesh& m) {
-  struct Face { std::array<int, 3> key; int tet; int opposite; };
-  std::vector<Face> faces;
-  faces.reserve(m.tets.size() * 4);
-  for (size_t t = 0; t < m.tets.size(); ++t)
-    for (int o = 0; o < 4; ++o) {
-      std::array<int, 3> k;
-      for (int s = 0, n = 0; s < 4; ++s)
-        if (s != o) k[n++] = m.tets[t][s];
-      std::sort(k.begin(), k.end());
-      faces.push_back({k, int(t), o});
-    }
-  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) {
-    return a.key != b.key ? a.key < b.key : a.tet < b.tet;
-  });
-  m.boundary_faces.clear();
-  m.boundary_face_tet.clear();
-  m.on_boundary.assign(m.vertices.size(), 0);
-  for (size_t i = 0; i < faces.size();) {
-    size_t j = i;
-    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
-    if (j - i == 1) {
-      // Outward orientation: the face seen from outside, opposite vertex behind it.
-      const Eigen::Vector4i& t = m.tets[faces[i].tet];
-      static const int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
-      const int* f = kFace[faces[i].opposite];
-      m.boundary_faces.emplace_back(t[f[0]], t[f[1]], t[f[2]]);
-      m.boundary_face_tet.push_back(faces[i].tet);
-      for (int v : faces[i].key) m.on_boundary[v] = 1;
-    }
-    i = j;
-  }
-}
 
 TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) {
   const Eigen::AlignedBox3d box = surface.bounds();

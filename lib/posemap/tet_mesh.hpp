@@ -29,8 +29,6 @@ struct TetOptions {
 // and soups mesh too. Sequential and seeded: the same input gives the same tets.
 TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& log = Log::silent());
 
-// Faces used by exactly one tet, with that tet; fills boundary_* and on_boundary.
-void find_tet_boundary(TetMesh& mesh);
 
 // A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections).
 TetMesh read_medit_tets(const std::string& path);

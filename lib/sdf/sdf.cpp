@@ -122,8 +122,8 @@ TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
   return sorted;
 }
 
-}  // namespace
-
+// Grid placement for a mesh: voxel size and padded extent. Throws Error(usage) on bad options
+// and Error(unsupported) when the grid would not fit in memory (the message gives the estimate).
 GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimated_gib) {
   if (opt.voxel_size < 0 || !std::isfinite(opt.voxel_size))
     fail_option("voxel_size", "must be a positive number");
@@ -168,8 +168,6 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
   shape.dims = dims.cast<int>();
   return shape;
 }
-
-namespace {
 
 // 1. The surface layer: every voxel within one voxel of the surface, with its exact distance
 //    and closest triangle (each triangle visits the voxels of its box grown by a voxel). Any

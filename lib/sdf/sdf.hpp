@@ -34,10 +34,6 @@ struct SdfResult {
   SdfStats stats;
 };
 
-// Grid placement for a mesh: voxel size and padded extent. Throws Error(usage) on bad options
-// and Error(unsupported) when the grid would not fit in memory (the message gives the estimate).
-GridShape plan_grid(const TriMesh& mesh, const SdfOptions& options, double* estimated_gib = nullptr);
-
 SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& options, Log& log = Log::silent());
 
 }  // namespace spx

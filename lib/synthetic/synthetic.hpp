@@ -5,8 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "core/json_io.hpp"
-#include "core/log.hpp"
 #include "io/gltf_morph.hpp"
 #include "io/gltf_rig.hpp"
 #include "mesh/mesh.hpp"
@@ -39,8 +37,5 @@ RigAsset make_robot();
 // The sample as one mesh with its poses as morph targets (named after them).
 MorphAsset morph_asset(const SampleAsset& asset);
 
-// sample-gen NAME -o DIR: rest.obj, one OBJ per pose and NAME-morph.glb with the poses as morph
-// targets and a clip that reaches each in turn; for "robot", robot.glb alone.
-void sample_gen_files(const std::string& name, const std::string& dir, Log& log, json& report);
 
 }  // namespace spx

@@ -1,4 +1,4 @@
-#include "export/proxy_export.hpp"
+#include "export/proxy_export_tool.hpp"
 
 #include <filesystem>
 

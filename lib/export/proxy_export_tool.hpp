@@ -1,4 +1,6 @@
 #pragma once
+// proxy-export, the tool: a proxy to the runtime .spx, a plain JSON dump, or GLB/PLY previews
+// (coloured by error when the meshes are given).
 #include "core/json_io.hpp"
 #include "core/log.hpp"
 

@@ -1,4 +1,4 @@
-#include "sdf/sdf_build.hpp"
+#include "sdf/sdf_build_tool.hpp"
 
 #include <cstdio>
 

@@ -1,7 +1,9 @@
 #pragma once
-// sphere-pack: the rest-pose spheres S_0 from a signed distance field, by coverage (default) or
-// by the paper's greedy packing.
-#include "core/json_io.hpp"
+// The cover method on a field and its mesh, as sphere-pack (and the benchmarks) call it:
+// inscribed candidates, surface samples, the set cover for a tolerance or a budget, then the
+// centres refined off the grid; and the options sphere-pack's two methods take.
+#include <string>
+
 #include "core/log.hpp"
 #include "core/tolerance.hpp"
 #include "pack/cover.hpp"
@@ -26,15 +28,11 @@ struct CoverSelection {
   CoverResult cover;
   Tolerance tolerance;         // the one in force (the default when no size was asked)
   double target = 0;           // the tolerance as a length (0: budget alone)
-  std::string limited_by;
+  Limit limited_by = Limit::tolerance;
   size_t candidates = 0, samples = 0;
   SphereSet pool;              // every candidate (pose-map selects from them over every pose)
 };
 CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& options,
                                Log& log = Log::silent());
-
-// sphere-pack IN.vdb -o OUT.spheres.json [--mesh REST] [--tolerance T] [--max-spheres N] [--method M]
-void sphere_pack_files(const std::string& input, const std::string& mesh_path, const std::string& output,
-                       const SpherePackOptions& options, Log& log, json& report);
 
 }  // namespace spx

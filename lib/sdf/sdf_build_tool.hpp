@@ -1,4 +1,5 @@
 #pragma once
+// sdf-build, the tool: a mesh to a .vdb signed distance field, with its defects reported.
 #include "core/json_io.hpp"
 #include "core/log.hpp"
 #include "sdf/sdf.hpp"

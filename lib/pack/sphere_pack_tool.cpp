@@ -1,4 +1,4 @@
-#include "pack/sphere_pack.hpp"
+#include "pack/sphere_pack_tool.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -69,6 +69,13 @@ void warn_if_tolerance_is_huge(const Tolerance& tolerance, double diagonal, Log&
              (tolerance.percent ? "" : "; did you mean " + num(tolerance.value) + "%?"));
 }
 
+// The report's "tolerance": what was asked, whether the written spheres meet it, what decided.
+json tolerance_report(const Tolerance& tolerance, double target, bool is_default, bool met, double max_error,
+                      size_t spheres, const std::string& limited_by) {
+  return {{"target", target}, {"given", tolerance.value}, {"percent", tolerance.percent}, {"default", is_default},
+          {"met", met},       {"max_error", max_error},    {"spheres", spheres},             {"limited_by", limited_by}};
+}
+
 // The paper's greedy packing; with a tolerance, the shortest prefix of the whole sequence
 // that meets it.
 SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const MeshQuery* mesh,
@@ -109,10 +116,8 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
                     target, reached, keep, options.min_radius, sdf.field.shape.voxel_size);
       log.warn(msg);
     }
-    report["tolerance"] = {{"target", target},   {"given", tolerance.value},
-                           {"percent", tolerance.percent}, {"met", tr.met},
-                           {"max_error", reached},         {"spheres", keep},
-                           {"limited_by", limit},          {"sequence_length", tr.max_error_by_count.size()}};
+    report["tolerance"] = tolerance_report(tolerance, target, false, tr.met, reached, keep, limit);
+    report["tolerance"]["sequence_length"] = tr.max_error_by_count.size();
   }
   stats = packed.stats;
   return packed.spheres;
@@ -125,7 +130,8 @@ double field_resolution(const GridShape& g) { return double(g.dims.maxCoeff()); 
 // shrinks with the voxel, so the resolution that reaches it scales with gap / target (with a
 // quarter to spare, in steps of 16 cells).
 double resolution_reaching(double resolution, double gap, double target) {
-  return std::ceil(resolution * std::max(1.0, gap / target) * 1.25 / 16) * 16;
+  constexpr double kSpare = 1.25, kStep = 16;
+  return std::ceil(resolution * std::max(1.0, gap / target) * kSpare / kStep) * kStep;
 }
 
 // The parts (edge-connected pieces) whose vertices no candidate reaches within `target`: each
@@ -175,52 +181,6 @@ json parts_out_of_reach(const TriMesh& mesh, const SphereSet& candidates, double
 
 }  // namespace
 
-// Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
-// tolerance or the budget, then the centers refined off the grid.
-CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt, Log& log) {
-  const double diagonal = mesh.mesh().diagonal();
-  CoverSelection out;
-  CoverProblem problem;
-  {
-    StageTimer t(log, "candidates");
-    CandidateOptions c;
-    c.min_radius = opt.pack.min_radius;
-    c.max_radius = opt.pack.max_radius;
-    c.max_candidates = opt.max_candidates;
-    c.field_bounds_radius = opt.pack.field_bounds_radius;
-    problem.spheres.push_back(inscribed_candidates(field, mesh, c));
-    problem.samples.push_back(surface_samples(mesh.mesh(), opt.area_samples, opt.seed));
-    problem.weighted.push_back(mesh.mesh().vertices.size());
-  }
-  const SphereSet& candidates = problem.spheres[0];
-  if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
-  out.candidates = candidates.size();
-  out.pool = candidates;
-  out.samples = problem.sample_count();
-  const size_t budget = opt.pack.max_spheres;
-  out.tolerance = opt.tolerance.set() || budget > 0 ? opt.tolerance : Tolerance{kDefaultTolerancePercent, true};
-  {
-    StageTimer t(log, "cover");
-    if (out.tolerance.set()) out.target = out.tolerance.length(diagonal);
-    out.cover = cover_for(problem, out.target, budget, out.limited_by, log);
-    if (out.limited_by == "met the tolerance" && !opt.tolerance.set()) out.limited_by = "met the default tolerance";
-  }
-  for (int c : out.cover.chosen) out.spheres.push_back(candidates[size_t(c)]);
-  if (!opt.pack.field_bounds_radius) {
-    // Off the voxel grid: the radius stays the exact distance, so spheres stay inside. (An
-    // open mesh's radii also depend on the field across its holes: its centers stay put.)
-    StageTimer t(log, "refine");
-    const double max_radius = opt.pack.max_radius;
-    refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres,
-                   [&](const Eigen::Vector3d& c) { return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0; },
-                   out.cover.delta, 0.5 * field.shape.voxel_size, log);
-  }
-  // Largest first (what a host culls by), ties in candidate order.
-  std::stable_sort(out.spheres.begin(), out.spheres.end(),
-                   [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
-  return out;
-}
-
 namespace {
 
 // select_by_cover, with its warnings and report.
@@ -231,7 +191,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const SphereSet& spheres = sel.spheres;
   const CoverResult& cover = sel.cover;
   const Tolerance& tolerance = sel.tolerance;
-  const std::string& limit = sel.limited_by;
+  const std::string limit = limit_wording(sel.limited_by);
   const size_t budget = opt.pack.max_spheres;
   target = sel.target;
   pool = sel.pool;
@@ -269,10 +229,8 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
                      {"median_error", error.median},
                      {"limited_by", limit}};
   if (tolerance.set())
-    report["tolerance"] = {{"target", target},         {"given", tolerance.value},
-                           {"percent", tolerance.percent}, {"default", !opt.tolerance.set() && budget == 0},
-                           {"met", met},               {"max_error", error.max},
-                           {"spheres", spheres.size()}, {"limited_by", limit}};
+    report["tolerance"] = tolerance_report(tolerance, target, !opt.tolerance.set() && budget == 0, met, error.max,
+                                           spheres.size(), limit);
   return spheres;
 }
 

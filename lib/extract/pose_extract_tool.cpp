@@ -1,4 +1,4 @@
-#include "extract/pose_extract.hpp"
+#include "extract/pose_extract_tool.hpp"
 
 #include <cmath>
 #include <cstdio>
