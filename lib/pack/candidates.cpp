@@ -36,6 +36,15 @@ std::vector<size_t> thin_on_grid(const std::vector<size_t>& voxels, const DenseF
 
 }  // namespace
 
+CandidateOptions candidate_options(const PackOptions& pack, size_t max_candidates) {
+  CandidateOptions c;
+  c.min_radius = pack.min_radius;
+  c.max_radius = pack.max_radius;
+  c.max_candidates = max_candidates;
+  c.field_bounds_radius = pack.field_bounds_radius;
+  return c;
+}
+
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& opt) {
   const GridShape& g = field.shape;
   const double h = g.voxel_size;

@@ -9,6 +9,7 @@
 #include "io/dense_field.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
+#include "pack/pack.hpp"
 
 namespace spx {
 
@@ -22,6 +23,10 @@ struct CandidateOptions {
   // across an open mesh's holes holds at voxel centers alone).
   double growth = kDefaultGrowth;
 };
+
+// The candidates' limits from a packing's (its radius limits and whether the field bounds radii),
+// so that both methods keep the same spheres out.
+CandidateOptions candidate_options(const PackOptions& pack, size_t max_candidates = CandidateOptions().max_candidates);
 
 // Inscribed candidate spheres from the interior voxels of `field` that lie near its medial
 // axis (no face neighbour deeper by half a voxel or more), radii from `mesh`, each grown to the

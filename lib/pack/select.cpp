@@ -15,12 +15,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   CoverProblem problem;
   {
     StageTimer t(log, "candidates");
-    CandidateOptions c;
-    c.min_radius = opt.pack.min_radius;
-    c.max_radius = opt.pack.max_radius;
-    c.max_candidates = opt.max_candidates;
-    c.field_bounds_radius = opt.pack.field_bounds_radius;
-    problem.spheres.push_back(inscribed_candidates(field, mesh, c));
+    problem.spheres.push_back(inscribed_candidates(field, mesh, candidate_options(opt.pack, opt.max_candidates)));
     problem.samples.push_back(surface_samples(mesh.mesh(), opt.area_samples, opt.seed));
     problem.weighted.push_back(mesh.mesh().vertices.size());
   }

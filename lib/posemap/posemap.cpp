@@ -335,6 +335,15 @@ class PoseMapper {
     return {{center, radius.value}, radius.zero};
   }
 
+  // Packing in a pose's own field: the proxy's max radius, and the field bounding radii across
+  // an open mesh's holes.
+  PackOptions pose_pack_options() const {
+    PackOptions pack;
+    pack.max_radius = proxy_.max_radius;
+    pack.field_bounds_radius = open_solid_;
+    return pack;
+  }
+
   // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
   const DenseField& pose_field(size_t i) {
     if (!fields_[i]) fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], field_options()).field);
@@ -363,10 +372,8 @@ class PoseMapper {
     DenseField field = pose_field(i + 1);
     release_field(i + 1);
     clear_covered(field, proxy_.poses[i + 1].spheres);
-    PackOptions pack;
+    PackOptions pack = pose_pack_options();
     pack.min_radius = min_radius;
-    pack.max_radius = proxy_.max_radius;
-    pack.field_bounds_radius = open_solid_;
     PackResult found = pack_spheres(field, pack, queries_[i + 1].get());
     ToleranceResult enough = fewest_spheres_within(poses_[i].mesh, found.spheres, target, proxy_.poses[i + 1].spheres);
     if (!enough.met) {
@@ -390,10 +397,7 @@ class PoseMapper {
   // `points` (samples of that pose no mapped candidate reaches), in pose coordinates.
   SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
     const DenseField& field = pose_field(i + 1);
-    CandidateOptions c;
-    c.max_radius = proxy_.max_radius;
-    c.field_bounds_radius = open_solid_;
-    const SphereSet all = inscribed_candidates(field, *queries_[i + 1], c);
+    const SphereSet all = inscribed_candidates(field, *queries_[i + 1], candidate_options(pose_pack_options()));
     release_field(i + 1);
     std::vector<char> keep(all.size(), 0);
     tbb::parallel_for(size_t(0), all.size(), [&](size_t s) {
