@@ -25,7 +25,6 @@ Coverage covering_candidates(const Coverage& coverage);
 // covers are skipped (the caller counts them). Returns candidate indices.
 std::vector<int> greedy_cover(const Coverage& coverage);
 
-
 // The same cover problem made smaller without changing its optimum: a sample whose candidates
 // include all of another's is dropped (covering the other covers it), then a candidate whose
 // samples another candidate also covers is dropped. Samples no candidate covers are dropped.

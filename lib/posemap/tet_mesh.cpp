@@ -211,7 +211,6 @@ TetMesh mesh_domain(const SeededDomain& domain, const BodySizing& sizing, Log& l
 
 }  // namespace
 
-
 TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) {
   const Eigen::AlignedBox3d box = surface.bounds();
   const double diag = box.diagonal().norm();

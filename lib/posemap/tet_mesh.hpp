@@ -29,7 +29,6 @@ struct TetOptions {
 // and soups mesh too. Sequential and seeded: the same input gives the same tets.
 TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& log = Log::silent());
 
-
 // A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections).
 TetMesh read_medit_tets(const std::string& path);
 

@@ -107,7 +107,6 @@ TriMesh placed(TriMesh m, const Eigen::Vector3d& half_size, const Eigen::Vector3
   return m;
 }
 
-
 }  // namespace
 
 TriMesh SampleAsset::pose(size_t index) const {

@@ -37,5 +37,4 @@ RigAsset make_robot();
 // The sample as one mesh with its poses as morph targets (named after them).
 MorphAsset morph_asset(const SampleAsset& asset);
 
-
 }  // namespace spx
