@@ -63,6 +63,17 @@ TEST(MeshLoad, PoseMustShareTheRestTopology) {
 // A pose listing the rest's faces in another order, with their corners rotated (as another
 // exporter writes them): matched by its triangles, each vertex lands on its own rest vertex,
 // even on a symmetric mesh that maps onto itself in many ways.
+// The same triangles listed in a shuffled order, two in three with their corners rotated
+// (orientation kept).
+void shuffle_faces(TriMesh& mesh, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::shuffle(mesh.triangles.begin(), mesh.triangles.end(), rng);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3i f = mesh.triangles[t];
+    mesh.triangles[t] = t % 3 == 0 ? f : t % 3 == 1 ? Eigen::Vector3i(f[1], f[2], f[0]) : Eigen::Vector3i(f[2], f[0], f[1]);
+  }
+}
+
 TEST(MeshLoad, PoseWithReorderedFacesIsMatchedByItsTriangles) {
   const std::string dir = test::temp_dir("reorder");
   const TriMesh rest_mesh = test::uv_sphere(1.0, 12, 24);
@@ -71,12 +82,7 @@ TEST(MeshLoad, PoseWithReorderedFacesIsMatchedByItsTriangles) {
   auto bend = [](const Eigen::Vector3d& v) { return Eigen::Vector3d(1.2 * v.x() + 0.3 * v.z() * v.z(), 0.9 * v.y(), v.z()); };
   TriMesh pose = rest_mesh;
   for (auto& v : pose.vertices) v = bend(v);
-  std::mt19937 rng(7);
-  std::shuffle(pose.triangles.begin(), pose.triangles.end(), rng);
-  for (size_t t = 0; t < pose.triangles.size(); ++t) {
-    const Eigen::Vector3i f = pose.triangles[t];
-    pose.triangles[t] = t % 3 == 0 ? f : t % 3 == 1 ? Eigen::Vector3i(f[1], f[2], f[0]) : Eigen::Vector3i(f[2], f[0], f[1]);
-  }
+  shuffle_faces(pose, 7);
   write_file_atomic(dir + "/shuffled.obj", to_obj(pose));
   const TriMesh got = load_pose(dir + "/shuffled.obj", rest);
   ASSERT_EQ(got.vertices.size(), rest.mesh.vertices.size());
@@ -106,12 +112,7 @@ TEST(MeshLoad, RealPoseWithShuffledFacesAndRotatedCornersIsMatched) {
   ASSERT_EQ(rest.mesh.vertices.size(), 6034u);
   const TriMesh expected = load_pose(d + "pose-456.obj", rest);
   TriMesh pose = load_mesh(d + "pose-456.obj").mesh;
-  std::mt19937 rng(11);
-  std::shuffle(pose.triangles.begin(), pose.triangles.end(), rng);
-  for (size_t t = 0; t < pose.triangles.size(); ++t) {
-    const Eigen::Vector3i f = pose.triangles[t];
-    pose.triangles[t] = t % 3 == 0 ? f : t % 3 == 1 ? Eigen::Vector3i(f[1], f[2], f[0]) : Eigen::Vector3i(f[2], f[0], f[1]);
-  }
+  shuffle_faces(pose, 11);
   write_file_atomic(dir + "/shuffled.obj", to_obj(pose));
   const TriMesh got = load_pose(dir + "/shuffled.obj", rest);
   ASSERT_EQ(got.vertices.size(), expected.vertices.size());

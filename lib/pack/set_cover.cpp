@@ -193,6 +193,15 @@ bool row_is_subset(const Coverage& rows, uint32_t a, const Coverage& of, uint32_
                    &of.samples[of.start[b + 1]]);
 }
 
+// Of the entries of row r of `rows`, the one whose own row in `of` is shortest (the first on
+// ties): the only rows a subset test must scan.
+uint32_t shortest_among(const Coverage& rows, size_t r, const Coverage& of) {
+  uint32_t best = rows.samples[rows.start[r]];
+  for (uint32_t n = rows.start[r]; n < rows.start[r + 1]; ++n)
+    if (of.row_size(rows.samples[n]) < of.row_size(best)) best = rows.samples[n];
+  return best;
+}
+
 // Samples: b is implied when some a's candidates are all among b's (a cover of a covers b).
 // Smallest first; a kept sample marks every larger one it implies (ties: the later index). In
 // parallel: which rows get marked does not depend on the order they are visited in (a row
@@ -208,9 +217,7 @@ std::vector<std::atomic<uint8_t>> implied_samples(const Coverage& cov, const Cov
     const uint32_t a = order[k];
     if (implied[a].load(std::memory_order_relaxed)) return;
     // Every sample implied by a is covered by a's candidate that covers fewest samples.
-    uint32_t rare = by.samples[by.start[a]];
-    for (uint32_t n = by.start[a]; n < by.start[a + 1]; ++n)
-      if (cov.row_size(by.samples[n]) < cov.row_size(rare)) rare = by.samples[n];
+    const uint32_t rare = shortest_among(by, a, cov);
     if (cov.row_size(rare) > scan) return;
     for (uint32_t n = cov.start[rare]; n < cov.start[rare + 1]; ++n) {
       const uint32_t b = cov.samples[n];
@@ -232,9 +239,7 @@ std::vector<std::atomic<uint8_t>> dominated_candidates(const Coverage& rows, con
       dominated[d].store(1, std::memory_order_relaxed);
       return;
     }
-    uint32_t rare = rows.samples[rows.start[d]];
-    for (uint32_t n = rows.start[d]; n < rows.start[d + 1]; ++n)
-      if (holders.row_size(rows.samples[n]) < holders.row_size(rare)) rare = rows.samples[n];
+    const uint32_t rare = shortest_among(rows, d, holders);
     if (holders.row_size(rare) > scan) return;
     for (uint32_t n = holders.start[rare]; n < holders.start[rare + 1]; ++n) {
       const uint32_t e = holders.samples[n];
