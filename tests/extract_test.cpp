@@ -11,6 +11,7 @@
 #include "extract/pose_extract_tool.hpp"
 #include "io/pose_manifest.hpp"
 #include "io/scene.hpp"
+#include "io/skin_file.hpp"
 #include "io/proxy_file.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/sphere_pack_tool.hpp"
@@ -89,6 +90,53 @@ TEST(PoseExtract, RiggedSimpleClipGivesTheReferencePoses) {
   EXPECT_GT(max_vertex_distance(rest.mesh, load_pose(data + "pose-02.obj", rest)), 0.01 * rest.mesh.diagonal());
   EXPECT_EQ(report["asset"]["skins"].get<int>(), 1);
   EXPECT_EQ(report["asset"]["meshes"][0]["joints"].get<int>(), 2);
+}
+
+// The skin written beside a clip's poses gives them back: every welded rest vertex taken to the
+// asset's own space by the rest's joint matrices and skinned with a pose's gives that pose's
+// vertex. On the rigged elephant (24 joints, 4 weights a vertex) and on the robot, whose rigid
+// parts are joints of weight 1.
+TEST(PoseExtract, SkinFileGivesBackEveryPoseFromTheRest) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("skin");
+  json report;
+  sample_gen_files("robot", dir + "/robot", Log::silent(), report);
+  const std::pair<std::string, int> assets[] = {{test::shared_data() + "/elephant/elephant-rigged.glb", 24},
+                                                {dir + "/robot/robot.glb", 13}};
+  for (const auto& [asset, joints] : assets) {
+    PoseExtractOptions opt;
+    opt.animation = "0";
+    opt.every = 7;
+    const std::string out = dir + "/" + std::to_string(joints);
+    pose_extract_files(asset, out, opt, Log::silent(), report);
+    const PoseManifest manifest = read_pose_manifest(out + "/poses.json");
+    ASSERT_EQ(manifest.skin, "skin.json") << asset;
+    const SkinFile skin = read_skin_file(out + "/skin.json");
+    EXPECT_EQ(skin.joints.size(), size_t(joints)) << asset;
+    ASSERT_EQ(skin.poses.size(), manifest.poses.size()) << asset;
+    const LoadedMesh rest = load_mesh(out + "/" + manifest.rest);
+    ASSERT_EQ(skin.vertex_weights.size(), rest.mesh.vertices.size()) << asset;
+    auto blend = [&](const JointWeights& w, const JointMatrices& m) {
+      Eigen::Matrix4d sum = Eigen::Matrix4d::Zero();
+      for (const auto& [j, weight] : w) sum += weight * m[size_t(j)];
+      return sum;
+    };
+    double worst = 0, moved = 0;
+    for (size_t k = 0; k < manifest.poses.size(); ++k) {
+      EXPECT_EQ(skin.poses[k].name, manifest.poses[k].name);
+      const TriMesh pose = load_pose(out + "/" + manifest.poses[k].file, rest);
+      for (size_t v = 0; v < pose.vertices.size(); ++v) {
+        const JointWeights& w = skin.vertex_weights[v];
+        ASSERT_FALSE(w.empty()) << asset << " vertex " << v;
+        const Eigen::Vector4d stored = blend(w, skin.rest).inverse() * rest.mesh.vertices[v].homogeneous();
+        const Eigen::Vector3d skinned = (blend(w, skin.poses[k].matrices) * stored).head<3>();
+        worst = std::max(worst, (skinned - pose.vertices[v]).norm());
+        moved = std::max(moved, (pose.vertices[v] - rest.mesh.vertices[v]).norm());
+      }
+    }
+    EXPECT_LE(worst, 1e-6 * rest.mesh.diagonal()) << asset;
+    EXPECT_GT(moved, 0.05 * rest.mesh.diagonal()) << asset << ": the clip should move the body";
+  }
 }
 
 // The car's crumples as glTF morph targets: extracted, chained, and blended with the runtime at

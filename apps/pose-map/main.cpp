@@ -11,8 +11,12 @@ int main(int argc, char** argv) {
   auto* rest_opt = tool.app.add_option("--rest", rest, "Rest mesh M_0");
   auto* pose_opt = tool.app.add_option("--pose", poses, "Example pose M_i (same topology as the rest mesh); repeat");
   std::string manifest;
-  tool.app.add_option("--manifest", manifest, "Rest and poses from pose-extract's poses.json (instead of --rest/--pose)")
-      ->excludes(rest_opt)->excludes(pose_opt);
+  std::string skin;
+  auto* skin_opt = tool.app.add_option("--skin", skin, "The poses' rig (pose-extract's skin.json): the spheres follow "
+                                                       "the skin, one radius each in every frame");
+  tool.app.add_option("--manifest", manifest, "Rest and poses (and a clip's skin) from pose-extract's poses.json "
+                                              "(instead of --rest/--pose/--skin)")
+      ->excludes(rest_opt)->excludes(pose_opt)->excludes(skin_opt);
   tool.app.add_option("--spheres", spheres, "Rest spheres from sphere-pack")->required();
   tool.app.add_option("-o,--output", output, "Output .proxy.json")->required();
   tool.app.add_option("--tet-size", opt.tets.size, "Tet edge length (default: bounding-box diagonal / 30)");
@@ -43,7 +47,7 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     opt.fill_tolerance = spx::parse_tolerance(fill_tolerance, "--fill-tolerance");
     opt.tolerance = spx::parse_tolerance(tolerance, "--tolerance");
-    spx::rest_and_poses(manifest, rest, poses);
-    spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report);
+    spx::rest_and_poses(manifest, rest, poses, &skin);
+    spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report, skin);
   });
 }

@@ -17,9 +17,11 @@ struct Asset::Instance {
   const aiMesh* mesh = nullptr;
   size_t offset = 0;                // first vertex in the body's layout
   std::vector<size_t> target_of;    // anim mesh -> index into targets_
-  // Skin: per vertex, (bone, weight) pairs; bones as (node, inverse bind matrix).
+  // Skin: per vertex, (bone, weight) pairs, and each bone's joint. A mesh without a skin has
+  // one joint, its node.
   std::vector<std::vector<std::pair<int, double>>> weights;
-  std::vector<std::pair<const aiNode*, Eigen::Matrix4d>> bones;
+  std::vector<int> bone_joint;
+  int rigid_joint = -1;
 };
 
 // What to evaluate: node transforms at rest or in a clip, and the morph weights.
@@ -192,18 +194,44 @@ void Asset::use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& pl
         const aiBone* bone = m->mBones[b];
         const aiNode* joint = scene_->mRootNode->FindNode(bone->mName);
         if (!joint) fail_input(path_, "mesh '" + meshes_[i].name + "': joint '" + bone->mName.C_Str() + "' is not a node");
-        inst.bones.emplace_back(joint, to_eigen(bone->mOffsetMatrix));
+        inst.bone_joint.push_back(joint_of(joint, to_eigen(bone->mOffsetMatrix)));
         for (unsigned w = 0; w < bone->mNumWeights; ++w) {
           const aiVertexWeight& vw = bone->mWeights[w];
           if (vw.mVertexId < m->mNumVertices && vw.mWeight > 0) inst.weights[vw.mVertexId].emplace_back(int(b), vw.mWeight);
         }
       }
       for (const auto& w : inst.weights) unweighted_ += w.empty();
+    } else {
+      inst.rigid_joint = joint_of(inst.node, Eigen::Matrix4d::Identity());
     }
     vertex_count_ += m->mNumVertices;
     instances_.push_back(std::move(inst));
   }
+  link_joint_parents();
+}
 
+// The joint of (node, inverse bind), added on first use.
+int Asset::joint_of(const aiNode* node, const Eigen::Matrix4d& inverse_bind) {
+  int bound = 0;
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    if (joint_nodes_[j] != node) continue;
+    if (joints_[j].inverse_bind == inverse_bind) return int(j);
+    ++bound;
+  }
+  AssetJoint joint;
+  joint.name = std::string(node->mName.C_Str()) + (bound ? "#" + std::to_string(bound + 1) : "");
+  joint.inverse_bind = inverse_bind;
+  joints_.push_back(joint);
+  joint_nodes_.push_back(node);
+  return int(joints_.size() - 1);
+}
+
+void Asset::link_joint_parents() {
+  for (size_t j = 0; j < joints_.size(); ++j)
+    for (const aiNode* up = joint_nodes_[j]->mParent; up && joints_[j].parent < 0; up = up->mParent) {
+      const auto it = std::find(joint_nodes_.begin(), joint_nodes_.end(), up);
+      if (it != joint_nodes_.end()) joints_[j].parent = int(it - joint_nodes_.begin());
+    }
 }
 
 // Every clip with its distinct key times.
@@ -255,13 +283,23 @@ size_t Asset::find_clip(const std::string& which) const {
   fail_option("animation", "no clip named '" + which + "' in " + path_ + " (its clips: " + list_names(names) + ")");
 }
 
-std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
+std::vector<Eigen::Matrix4d> Asset::joint_matrices(const Pose& pose) const {
   std::map<std::string, const aiNodeAnim*> channels;
   for (unsigned c = 0; pose.clip && c < pose.clip->mNumChannels; ++c)
     channels[pose.clip->mChannels[c]->mNodeName.C_Str()] = pose.clip->mChannels[c];
   std::map<const aiNode*, Eigen::Matrix4d> globals;
   node_globals(scene_->mRootNode, Eigen::Matrix4d::Identity(), channels, pose.ticks, globals);
+  std::vector<Eigen::Matrix4d> out;
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    const Eigen::Matrix4d& global = globals.at(joint_nodes_[j]);
+    // A rigid part's matrix is its node's, bit for bit.
+    out.push_back(joints_[j].inverse_bind.isIdentity(0.0) ? global : Eigen::Matrix4d(global * joints_[j].inverse_bind));
+  }
+  return out;
+}
 
+std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
+  const std::vector<Eigen::Matrix4d> joint = joint_matrices(pose);
   std::vector<Eigen::Vector3d> out(vertex_count_);
   for (const Instance& inst : instances_) {
     const aiMesh* m = inst.mesh;
@@ -284,22 +322,20 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
       for (size_t k = 0; k < w.size(); ++k)
         if (w[k] != 0.0) p[v] += w[k] * (to_eigen(m->mAnimMeshes[k]->mVertices[v]) - to_eigen(m->mVertices[v]));
     }
-    if (!inst.bones.empty()) {
-      std::vector<Eigen::Matrix4d> joint;
-      for (const auto& [node, inverse_bind] : inst.bones) joint.push_back(globals.at(node) * inverse_bind);
+    if (!inst.bone_joint.empty()) {
       for (unsigned v = 0; v < m->mNumVertices; ++v) {
         const auto& vw = inst.weights[v];
         if (vw.empty()) continue;
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         double total = 0;
         for (const auto& [b, weight] : vw) {
-          sum += weight * (joint[size_t(b)] * p[v].homogeneous()).head<3>();
+          sum += weight * (joint[size_t(inst.bone_joint[size_t(b)])] * p[v].homogeneous()).head<3>();
           total += weight;
         }
         p[v] = sum / total;
       }
     } else {
-      const Eigen::Matrix4d& g = globals.at(inst.node);
+      const Eigen::Matrix4d& g = joint[size_t(inst.rigid_joint)];
       if (!g.isIdentity(0.0))
         for (auto& q : p) q = (g * q.homogeneous()).head<3>();
     }
@@ -321,6 +357,31 @@ std::vector<Eigen::Vector3d> Asset::at_time(size_t clip, double seconds) const {
   pose.clip = scene_->mAnimations[clip];
   pose.ticks = seconds * clips_[clip].ticks_per_second;
   return evaluate(pose);
+}
+
+std::vector<std::vector<std::pair<int, double>>> Asset::vertex_joints() const {
+  std::vector<std::vector<std::pair<int, double>>> out(vertex_count_);
+  for (const Instance& inst : instances_)
+    for (unsigned v = 0; v < inst.mesh->mNumVertices; ++v) {
+      auto& w = out[inst.offset + v];
+      if (inst.bone_joint.empty()) {
+        w = {{inst.rigid_joint, 1.0}};
+        continue;
+      }
+      double total = 0;
+      for (const auto& [b, weight] : inst.weights[v]) total += weight;
+      for (const auto& [b, weight] : inst.weights[v]) w.emplace_back(inst.bone_joint[size_t(b)], weight / total);
+    }
+  return out;
+}
+
+std::vector<Eigen::Matrix4d> Asset::rest_joint_matrices() const { return joint_matrices(Pose{}); }
+
+std::vector<Eigen::Matrix4d> Asset::joint_matrices(size_t clip, double seconds) const {
+  Pose pose;
+  pose.clip = scene_->mAnimations[clip];
+  pose.ticks = seconds * clips_[clip].ticks_per_second;
+  return joint_matrices(pose);
 }
 
 json Asset::inventory() const {

@@ -29,6 +29,16 @@ struct AssetMesh {
   bool used = false;                       // part of the body (--mesh, or every mesh)
 };
 
+// A joint of the body's skin: a skin joint of a skinned mesh, or the node that places a mesh
+// without a skin (a rigid part, weight 1 on each of its vertices, inverse bind the identity).
+// Its matrix in a pose is the node's global transform times the inverse bind, the matrix a
+// host computes to skin the mesh: it acts on the positions as the file stores them.
+struct AssetJoint {
+  std::string name;  // the node's name (with "#2", "#3", ... for a node bound twice)
+  int parent = -1;   // the joint of the nearest ancestor node that is one, else -1
+  Eigen::Matrix4d inverse_bind = Eigen::Matrix4d::Identity();
+};
+
 // An animation clip; times in seconds from the clip's start.
 struct AssetClip {
   std::string name;
@@ -72,6 +82,14 @@ class Asset {
   // inverse bind matrix.
   std::vector<Eigen::Vector3d> at_time(size_t clip, double seconds) const;
 
+  // The body's joints, and per file vertex its (joint, weight) pairs, weights summing to 1
+  // (empty for skinned vertices no joint weighs).
+  const std::vector<AssetJoint>& joints() const { return joints_; }
+  std::vector<std::vector<std::pair<int, double>>> vertex_joints() const;
+  // Every joint's matrix at rest, and in clip `clip` at `seconds`.
+  std::vector<Eigen::Matrix4d> rest_joint_matrices() const;
+  std::vector<Eigen::Matrix4d> joint_matrices(size_t clip, double seconds) const;
+
   // What the file holds, for the report.
   json inventory() const;
 
@@ -81,6 +99,9 @@ class Asset {
   void list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed, const std::string& wanted);
   void use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed);
   void read_clips();
+  int joint_of(const aiNode* node, const Eigen::Matrix4d& inverse_bind);
+  void link_joint_parents();
+  std::vector<Eigen::Matrix4d> joint_matrices(const Pose& pose) const;
   std::vector<Eigen::Vector3d> evaluate(const Pose& pose) const;
 
   std::string path_;
@@ -90,6 +111,8 @@ class Asset {
   std::vector<Instance> instances_;  // the used meshes, in file order
   std::vector<AssetClip> clips_;
   std::vector<std::string> targets_;
+  std::vector<AssetJoint> joints_;
+  std::vector<const aiNode*> joint_nodes_;  // per joint
   std::vector<Eigen::Vector3i> triangles_;
   size_t vertex_count_ = 0, unweighted_ = 0;
 };

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "extract/asset.hpp"
 #include "io/pose_manifest.hpp"
+#include "io/skin_file.hpp"
 
 namespace spx {
 namespace {
@@ -28,9 +29,23 @@ struct WeldedBody {
   TriMesh rest;
 };
 
+// Welded vertices are numbered in order of first use by the triangles (unused ones last): the
+// order a mesh reader that welds face corners gives them back in, so that the OBJ files' vertex
+// order is the tools' and the skin's per-vertex weights stay with their vertices.
 WeldedBody weld_body(const Asset& asset) {
   WeldedBody body;
-  body.weld = weld_by_position(asset.rest(), body.rest.vertices);
+  std::vector<Eigen::Vector3d> welded;
+  const std::vector<int> weld = weld_by_position(asset.rest(), welded);
+  std::vector<int> number(welded.size(), -1);
+  int next = 0;
+  for (const auto& t : asset.triangles())
+    for (int k = 0; k < 3; ++k)
+      if (number[size_t(weld[size_t(t[k])])] < 0) number[size_t(weld[size_t(t[k])])] = next++;
+  for (int& n : number)
+    if (n < 0) n = next++;
+  body.rest.vertices.resize(welded.size());
+  for (size_t v = 0; v < welded.size(); ++v) body.rest.vertices[size_t(number[v])] = welded[v];
+  for (int w : weld) body.weld.push_back(number[size_t(w)]);
   for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
   return body;
 }
@@ -239,16 +254,36 @@ std::vector<PoseRequest> select_frames(const Asset& asset, const Body& body, con
   return kept;
 }
 
+// The rig of a clip's poses: the joints, the welded rest's weights (a welded vertex takes its
+// first file vertex's, as its position), and the joint matrices of the rest and every pose.
+SkinFile skin_of(const Asset& asset, const WeldedBody& body, const std::vector<PoseRequest>& requests) {
+  SkinFile skin;
+  for (const AssetJoint& j : asset.joints()) skin.joints.push_back({j.name, j.parent, j.inverse_bind});
+  const auto weights = asset.vertex_joints();
+  skin.vertex_weights.resize(body.rest.vertices.size());
+  std::vector<char> set(skin.vertex_weights.size(), 0);
+  for (size_t i = 0; i < weights.size(); ++i) {
+    const size_t v = size_t(body.weld[i]);
+    if (!set[v]) skin.vertex_weights[v] = weights[i];
+    set[v] = 1;
+  }
+  skin.rest = asset.rest_joint_matrices();
+  for (const PoseRequest& r : requests) skin.poses.push_back({r.name, asset.joint_matrices(r.clip, r.time)});
+  skin.morph_channels = requests.empty() ? 0 : asset.clips()[requests.front().clip].morph_channels;
+  return skin;
+}
+
 double max_displacement(const TriMesh& pose, const TriMesh& rest) {
   double d = 0;
   for (size_t v = 0; v < pose.vertices.size(); ++v) d = std::max(d, (pose.vertices[v] - rest.vertices[v]).norm());
   return d;
 }
 
-// The rest and every pose as OBJ, then the manifest last: its presence means every file it
-// names is complete.
+// The rest and every pose as OBJ (and a clip's skin), then the manifest last: its presence
+// means every file it names is complete.
 void write_poses(const Asset& asset, const Body& body, const std::vector<PoseRequest>& requests,
-                 const std::string& input, const std::string& dir, Log& log, json& report) {
+                 const PoseExtractOptions& opt, const std::string& input, const std::string& dir, Log& log,
+                 json& report) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) fail_write(dir, "cannot create folder: " + ec.message());
@@ -274,6 +309,15 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
     poses.push_back({{"name", r.name}, {"file", r.file}, {"source", r.source}, {"opened_seams", opened},
                      {"max_displacement", max_displacement(pose, rest)}});
   }
+  if (!opt.animation.empty()) {
+    const SkinFile skin = skin_of(asset, body.welded, requests);
+    if (skin.morph_channels)
+      log.warn(input + ": the clip also drives " + std::to_string(skin.morph_channels) +
+               " morph channels; the skin written beside the poses does not follow them");
+    manifest.skin = "skin.json";
+    write_json_atomic(dir + "/" + manifest.skin, skin_to_json(skin));
+    report["skin"] = {{"file", manifest.skin}, {"joints", skin.joints.size()}, {"morph_channels", skin.morph_channels}};
+  }
   write_json_atomic(dir + "/poses.json", manifest_to_json(manifest));
   report["output"] = {{"folder", dir}, {"manifest", "poses.json"}, {"rest", manifest.rest},
                       {"vertices", rest.vertices.size()}, {"triangles", rest.triangles.size()},
@@ -294,7 +338,7 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
   const Body body = read_body(asset, input, log);
   std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt);
   if (opt.select > 0) requests = select_frames(asset, body, requests, size_t(opt.select), input, log, report);
-  write_poses(asset, body, requests, input, dir, log, report);
+  write_poses(asset, body, requests, opt, input, dir, log, report);
   log.info(dir + ": rest + " + std::to_string(requests.size()) + " poses");
 }
 

@@ -14,7 +14,10 @@ constexpr int kVersion = 1;
 json manifest_to_json(const PoseManifest& m) {
   json poses = json::array();
   for (const auto& p : m.poses) poses.push_back({{"name", p.name}, {"file", p.file}, {"source", p.source}});
-  return {{"format", kFormat}, {"version", kVersion}, {"generator", std::string("spx ") + version_string()}, {"rest", m.rest}, {"poses", poses}};
+  json out = {{"format", kFormat}, {"version", kVersion}, {"generator", std::string("spx ") + version_string()},
+              {"rest", m.rest}, {"poses", poses}};
+  if (!m.skin.empty()) out["skin"] = m.skin;
+  return out;
 }
 
 PoseManifest read_pose_manifest(const std::string& path) {
@@ -29,6 +32,7 @@ PoseManifest read_pose_manifest(const std::string& path) {
       m.poses.push_back({require_string(p, "name", path), require_string(p, "file", path), p.value("source", json())});
     }
     if (m.poses.empty()) fail_input(path, "lists no poses");
+    if (j.contains("skin")) m.skin = require_string(j, "skin", path);
     return m;
   });
 }
@@ -39,7 +43,7 @@ std::string manifest_file_path(const std::string& manifest_path, const std::stri
   return (std::filesystem::path(manifest_path).parent_path() / f).lexically_normal().string();
 }
 
-void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<std::string>& poses) {
+void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<std::string>& poses, std::string* skin) {
   if (manifest.empty()) {
     if (rest.empty()) fail_option("rest", "give --rest and --pose, or --manifest");
     return;
@@ -48,6 +52,7 @@ void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<
   rest = manifest_file_path(manifest, m.rest);
   poses.clear();
   for (const auto& p : m.poses) poses.push_back(manifest_file_path(manifest, p.file));
+  if (skin && !m.skin.empty()) *skin = manifest_file_path(manifest, m.skin);
 }
 
 }  // namespace spx

@@ -1,7 +1,8 @@
 #pragma once
 // poses.json: the rest mesh and the example poses pose-extract wrote, in the asset's order.
-// {"rest": "rest.obj", "poses": [{"name", "file", "source"}, ...]}, files relative to the
-// manifest's folder; pose-map --manifest reads it.
+// {"rest": "rest.obj", "poses": [{"name", "file", "source"}, ...], "skin": "skin.json"}, files
+// relative to the manifest's folder, "skin" only for a clip's poses (io/skin_file.hpp);
+// pose-map --manifest reads it.
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@ struct ManifestPose {
 struct PoseManifest {
   std::string rest = "rest.obj";
   std::vector<ManifestPose> poses;
+  std::string skin;  // empty: the poses come without a rig
 };
 
 json manifest_to_json(const PoseManifest& manifest);
@@ -26,8 +28,10 @@ PoseManifest read_pose_manifest(const std::string& path);
 // `file` of a manifest at `manifest_path`, as a path usable from the working folder.
 std::string manifest_file_path(const std::string& manifest_path, const std::string& file);
 
-// The tools' --manifest: rest and pose paths from `manifest` when it is given, else `rest` and
-// `poses` as given (exit 1 when neither names a rest mesh).
-void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<std::string>& poses);
+// The tools' --manifest: rest and pose paths (and the skin's, empty without one) from
+// `manifest` when it is given, else `rest` and `poses` as given (exit 1 when neither names a
+// rest mesh).
+void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<std::string>& poses,
+                    std::string* skin = nullptr);
 
 }  // namespace spx

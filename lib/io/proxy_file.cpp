@@ -8,12 +8,64 @@
 
 namespace spx {
 
+namespace {
+
+json skin_to_json(const ProxySkin& skin) {
+  json joints = json::array(), spheres = json::array();
+  for (size_t j = 0; j < skin.joints.size(); ++j) joints.push_back({{"name", skin.joints[j]}, {"parent", skin.parents[j]}});
+  for (const auto& s : skin.spheres)
+    spheres.push_back({{"joints", s.joint}, {"weights", s.weight}, {"center", {s.center.x(), s.center.y(), s.center.z()}},
+                       {"radius", s.radius}});
+  return {{"joints", joints}, {"spheres", spheres}};
+}
+
+ProxySkin skin_from_json(const json& j, size_t sphere_count, const std::string& path) {
+  ProxySkin skin;
+  const json& joints = require(j, "joints", path);
+  if (!joints.is_array() || joints.empty()) fail_input(path, "skin.joints is not a non-empty array");
+  for (const json& joint : joints) {
+    skin.joints.push_back(require_string(joint, "name", path));
+    const json& parent = require(joint, "parent", path);
+    if (!parent.is_number_integer() || parent.get<long long>() < -1 || parent.get<long long>() >= (long long)joints.size())
+      fail_input(path, "skin.joints: a parent is not -1 or a joint");
+    skin.parents.push_back(parent.get<int>());
+  }
+  const json& spheres = require(j, "spheres", path);
+  if (!spheres.is_array() || spheres.size() != sphere_count)
+    fail_input(path, "skin.spheres must have one entry per sphere (" + std::to_string(sphere_count) + ")");
+  for (size_t i = 0; i < spheres.size(); ++i) {
+    const std::string what = "skin.spheres[" + std::to_string(i) + "]";
+    SkinnedSphere s;
+    const json& js = require(spheres[i], "joints", path);
+    const json& ws = require(spheres[i], "weights", path);
+    const json& c = require(spheres[i], "center", path);
+    if (!js.is_array() || js.size() != 4 || !ws.is_array() || ws.size() != 4 || !c.is_array() || c.size() != 3)
+      fail_input(path, what + " needs 4 joints, 4 weights and a center [x, y, z]");
+    for (size_t k = 0; k < 4; ++k) {
+      if (!js[k].is_number_integer() || js[k].get<long long>() < 0 || js[k].get<long long>() >= (long long)joints.size())
+        fail_input(path, what + ".joints holds an index that is not a joint");
+      s.joint[k] = js[k].get<int>();
+      s.weight[k] = float(as_finite_number(ws[k], what + ".weights", path));
+      if (s.weight[k] < 0) fail_input(path, what + ".weights holds a negative weight");
+    }
+    for (int k = 0; k < 3; ++k) s.center[k] = as_finite_number(c[size_t(k)], what + ".center", path);
+    s.radius = require_number(spheres[i], "radius", path);
+    if (s.radius < 0) fail_input(path, what + ".radius is negative");
+    skin.spheres.push_back(s);
+  }
+  return skin;
+}
+
+}  // namespace
+
 json proxy_to_plain_json(const ProxyModel& p) {
   json poses = json::array();
   for (const auto& pose : p.poses) poses.push_back({{"name", pose.name}, {"spheres", sphere_array_to_json(pose.spheres)}});
   json sites = json::array();
   for (const auto& s : p.sites) sites.push_back({s.x(), s.y(), s.z()});
-  return {{"poses", poses}, {"sphere_sites", p.sphere_sites}, {"sites", sites}};
+  json out = {{"poses", poses}, {"sphere_sites", p.sphere_sites}, {"sites", sites}};
+  if (!p.skin.empty()) out["skin"] = skin_to_json(p.skin);
+  return out;
 }
 
 json proxy_to_json(const ProxyModel& p) {
@@ -75,6 +127,7 @@ ProxyModel proxy_from_json(const json& j, const std::string& path) {
       fail_input(path, "field 'sphere_sites' holds an index that is not a site");
     p.sphere_sites.push_back(v.get<int>());
   }
+  if (j.contains("skin")) p.skin = skin_from_json(j["skin"], p.sphere_count(), path);
   return p;
 }
 

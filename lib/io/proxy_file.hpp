@@ -1,6 +1,7 @@
 #pragma once
 // S_0..S_e with blend sites: what pose-map writes and proxy-export reads
 // (OUT.proxy.json, schemas/proxy.schema.json).
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -17,11 +18,28 @@ struct ProxyPose {
   std::vector<int> outside;    // spheres whose mapped center fell outside this pose's mesh
 };
 
+// A rigged body's spheres follow its skin (pose-map given a skin): per sphere up to 4 joints and
+// weights (0 past the last), its center in the asset's space (where the host's joint matrices
+// act), and one radius for every frame. Empty `joints`: the proxy has no skin.
+struct SkinnedSphere {
+  std::array<int, 4> joint{{0, 0, 0, 0}};
+  std::array<float, 4> weight{{0, 0, 0, 0}};
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius = 0;
+};
+struct ProxySkin {
+  std::vector<std::string> joints;
+  std::vector<int> parents;
+  std::vector<SkinnedSphere> spheres;
+  bool empty() const { return joints.empty(); }
+};
+
 struct ProxyModel {
   std::vector<ProxyPose> poses;
   std::vector<int> sphere_sites;            // per sphere: index into sites
   std::vector<Eigen::Vector3d> sites;       // blend sites (rest tet vertices), rest positions
   double max_radius = std::numeric_limits<double>::infinity();
+  ProxySkin skin;
 
   size_t sphere_count() const { return poses.empty() ? 0 : poses.front().spheres.size(); }
 };

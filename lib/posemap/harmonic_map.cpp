@@ -188,6 +188,15 @@ std::vector<Eigen::Vector3d> HarmonicMap::deform(const TriMesh& pose) const {
   return out;
 }
 
+Eigen::MatrixXd HarmonicMap::extend(const Eigen::MatrixXd& per_vertex) const {
+  Eigen::MatrixXd d(Eigen::Index(data_.size()), per_vertex.cols());
+  for (size_t r = 0; r < data_.size(); ++r) {
+    d.row(Eigen::Index(r)).setZero();
+    for (int k = 0; k < 3; ++k) d.row(Eigen::Index(r)) += data_[r].surface[k] * per_vertex.row(data_[r].triangle[k]);
+  }
+  return solver_.solve(Eigen::MatrixXd(ct_ * d));
+}
+
 Eigen::Vector3d HarmonicMap::map(const Eigen::Vector3d& p, const TetLocator::Location& at,
                                  const std::vector<Eigen::Vector3d>& deformed) const {
   // p plus the interpolated displacement: where nothing moves (a body that stays still, a pose

@@ -49,6 +49,9 @@ class HarmonicMap {
 
   // Tet-vertex positions in a pose whose surface vertices are `pose.vertices`.
   std::vector<Eigen::Vector3d> deform(const TriMesh& pose) const;
+  // Any per-vertex quantity of the rest surface (a row per vertex) carried into the interior by
+  // the same extension: a row per tet vertex. Linear, so rows summing to 1 stay so.
+  Eigen::MatrixXd extend(const Eigen::MatrixXd& per_vertex) const;
   // f(p) in a pose given by deform()'s result; `at` is locator().locate(p).
   Eigen::Vector3d map(const Eigen::Vector3d& p, const TetLocator::Location& at,
                       const std::vector<Eigen::Vector3d>& deformed) const;

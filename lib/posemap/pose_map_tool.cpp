@@ -8,14 +8,30 @@
 #include "core/subject.hpp"
 
 namespace spx {
+namespace {
+
+// The rig must be the rest mesh's and the poses': a weight list per rest vertex, a pose each.
+SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, size_t poses) {
+  SkinFile skin = read_skin_file(path);
+  if (skin.vertex_weights.size() != rest.vertices.size())
+    fail_input(path, "weighs " + std::to_string(skin.vertex_weights.size()) + " vertices; the rest mesh has " +
+                         std::to_string(rest.vertices.size()));
+  if (skin.poses.size() != poses)
+    fail_input(path, "holds the joint matrices of " + std::to_string(skin.poses.size()) + " poses; " +
+                         std::to_string(poses) + " poses are given (every pose must come with the rig, or none)");
+  return skin;
+}
+
+}  // namespace
 
 void pose_map_files(const std::string& rest_path, const std::vector<std::string>& pose_paths,
                     const std::string& spheres_path, const std::string& output, const PoseMapOptions& options,
-                    Log& log, json& report) {
+                    Log& log, json& report, const std::string& skin_path) {
   if (pose_paths.empty()) fail_option("poses", "give at least one example pose");
   LoadedMesh rest;
   std::vector<PoseInput> poses;
   SpheresFile spheres;
+  SkinFile skin;
   {
     StageTimer t(log, "load");
     rest = load_mesh(rest_path);
@@ -30,9 +46,11 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
       poses.push_back(std::move(pose));
     }
     spheres = read_spheres_file(spheres_path);
+    if (!skin_path.empty()) skin = read_matching_skin(skin_path, rest.mesh, poses.size());
   }
-  PoseMapResult result =
-      about_file(rest_path, [&] { return pose_map(rest.mesh, rest_path, poses, spheres, options, log); });
+  PoseMapResult result = about_file(rest_path, [&] {
+    return pose_map(rest.mesh, rest_path, poses, spheres, options, log, skin_path.empty() ? nullptr : &skin);
+  });
   write_json_atomic(output, proxy_to_json(result.proxy));
 
   char line[256];
@@ -47,6 +65,7 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   }
   report.update(result.report);
   report["output"] = output;
+  if (!skin_path.empty()) report["skin"] = skin_path;
 }
 
 }  // namespace spx

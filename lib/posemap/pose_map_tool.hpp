@@ -8,8 +8,10 @@
 
 namespace spx {
 
-// pose-map --rest REST --pose P... --spheres S -o OUT.proxy.json
+// pose-map --rest REST --pose P... --spheres S -o OUT.proxy.json [--skin SKIN]: `skin` (empty:
+// none) is the poses' rig, its poses in the order of `poses`.
 void pose_map_files(const std::string& rest, const std::vector<std::string>& poses, const std::string& spheres,
-                    const std::string& output, const PoseMapOptions& options, Log& log, json& report);
+                    const std::string& output, const PoseMapOptions& options, Log& log, json& report,
+                    const std::string& skin = "");
 
 }  // namespace spx

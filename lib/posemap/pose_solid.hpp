@@ -16,7 +16,9 @@ struct PoseSolid {
   const DenseField* holes;  // null for closed meshes
   double max_radius;
 
-  enum class Zero : char { none, outside, hole_bound, other };
+  // Why a radius is 0: the centre is outside, the holes bound it, it is on the surface, or (a
+  // skinned sphere, one radius in every pose) it is 0 in another pose.
+  enum class Zero : char { none, outside, hole_bound, other, another_pose };
   struct Radius {
     double value = 0;
     Zero zero = Zero::none;

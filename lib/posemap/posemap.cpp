@@ -17,6 +17,7 @@
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/pose_solid.hpp"
+#include "posemap/skinned_map.hpp"
 #include "sdf/sdf.hpp"
 
 namespace spx {
@@ -49,8 +50,15 @@ void clear_covered(DenseField& field, const SphereSet& spheres) {
 class PoseMapper {
  public:
   PoseMapper(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
-             const SpheresFile& spheres, const PoseMapOptions& opt, ProxyModel& proxy, Log& log)
-      : rest_(rest), rest_source_(rest_source), poses_(poses), spheres_(spheres), opt_(opt), proxy_(proxy), log_(log) {}
+             const SpheresFile& spheres, const PoseMapOptions& opt, const SkinFile* skin, ProxyModel& proxy, Log& log)
+      : rest_(rest),
+        rest_source_(rest_source),
+        poses_(poses),
+        spheres_(spheres),
+        opt_(opt),
+        skin_(skin),
+        proxy_(proxy),
+        log_(log) {}
 
   // The paper's tet mesh of M_0: CGAL Mesh_3, or the user's.
   void make_tets() {
@@ -59,11 +67,14 @@ class PoseMapper {
     log_.detail(std::to_string(tets_.tets.size()) + " tets, " + std::to_string(tets_.vertices.size()) + " vertices");
   }
 
-  // f: the surface motion of every pose carried to the tet vertices.
+  // f: the surface motion of every pose carried to the tet vertices; for a rigged body the skin,
+  // its weights carried in by the same extension, and the tets skinned (for the inverse map).
   void solve_map() {
     StageTimer t(log_, "harmonic");
     f_ = std::make_unique<HarmonicMap>(tets_, rest_, log_);
-    for (const PoseInput& input : poses_) deformed_.push_back(f_->deform(input.mesh));
+    if (skin_) skinned_ = std::make_unique<SkinnedMap>(*skin_, *f_);
+    for (size_t i = 0; i < poses_.size(); ++i)
+      deformed_.push_back(skinned_ ? skinned_->deform_tets(i + 1) : f_->deform(poses_[i].mesh));
   }
 
   // Each pose's solid, the rest's included: exact distances and, for open meshes (whose solid
@@ -99,7 +110,9 @@ class PoseMapper {
   // by the same rule), each pose's vertices and area samples to cover, one set cover. Returns
   // the chosen candidates (rest pose) and the report's part.
   SphereSet select_jointly(const SphereSet& file_candidates, nlohmann::json& report) {
-    grow_ = true;  // from here on every sphere, in every pose, is grown (the candidates and the result alike)
+    // From here on every sphere, in every pose, is grown (the candidates and the result alike);
+    // a skinned sphere is not, since the host can only skin it.
+    grow_ = !skinned_;
     JointProblem joint;
     joint.candidates = file_candidates;
     joint.problem.spheres.assign(meshes_.size(), SphereSet());
@@ -124,8 +137,10 @@ class PoseMapper {
     });
     SphereSet chosen;
     for (int c : order) chosen.push_back(joint.candidates[size_t(c)]);
-    report = {{"method", "one set cover over the rest and every pose of the spheres file's candidates, each mapped "
-                         "into every pose and grown there to the largest inscribed sphere containing it"},
+    report = {{"method", skinned_ ? "one set cover over the rest and every pose of the spheres file's candidates, each "
+                                    "skinned into every pose with one radius, the least over the poses"
+                                  : "one set cover over the rest and every pose of the spheres file's candidates, each "
+                                    "mapped into every pose and grown there to the largest inscribed sphere containing it"},
               {"candidates", joint.candidates.size()},
               {"candidates_from_poses", joint.added},
               {"candidates_mostly_absent", joint.mostly_absent},
@@ -147,19 +162,17 @@ class PoseMapper {
     if (proxy_.poses.empty()) {
       proxy_.poses.push_back({stem_of(rest_source_), rest_source_, {}, {}});
       for (const PoseInput& input : poses_) proxy_.poses.push_back({input.name, input.source, {}, {}});
-      zero_radius_.assign(proxy_.poses.size(), {0, 0, 0});
+      zero_radius_.assign(proxy_.poses.size(), {0, 0, 0, 0});
     }
     const size_t first = rest_centers_.size(), n = rest_spheres.size();
     for (auto& pose : proxy_.poses) pose.spheres.resize(first + n);
     std::vector<std::vector<char>> cause(proxy_.poses.size(), std::vector<char>(n, 0));
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t s = r.begin(); s != r.end(); ++s) {
-        const Eigen::Vector3d& c = rest_spheres[s].center;
-        const TetLocator::Location at = f_->locator().locate(c);
+        const auto spheres = in_poses(rest_spheres[s].center, true);
         for (size_t i = 0; i < proxy_.poses.size(); ++i) {
-          const auto [sphere, zero] = in_pose(i, c, at);
-          proxy_.poses[i].spheres[first + s] = sphere;
-          cause[i][s] = char(zero);
+          proxy_.poses[i].spheres[first + s] = spheres[i].first;
+          cause[i][s] = char(spheres[i].second);
         }
       }
     });
@@ -223,16 +236,32 @@ class PoseMapper {
     for (size_t s = 0; s < n; ++s) proxy_.sphere_sites.push_back(site_of_vertex[size_t(nearest[s])]);
   }
 
+  // A rigged body's proxy carries each sphere's influence and its one radius.
+  void attach_skin() {
+    if (!skinned_) return;
+    for (const SkinJoint& j : skin_->joints) {
+      proxy_.skin.joints.push_back(j.name);
+      proxy_.skin.parents.push_back(j.parent);
+    }
+    for (size_t s = 0; s < rest_centers_.size(); ++s) {
+      const SkinInfluence influence = skinned_->influence(rest_centers_[s], f_->locator().locate(rest_centers_[s]));
+      proxy_.skin.spheres.push_back({influence.joint, influence.weight, influence.bind, proxy_.poses[0].spheres[s].radius});
+    }
+  }
+
   // Warnings for every radius 0, and the report: tets, map, per-pose errors and zero radii.
   nlohmann::json report(const nlohmann::json& fill_report, const nlohmann::json& selection) const {
     for (size_t i = 0; i < proxy_.poses.size(); ++i) {
-      const auto& [outside, holes, other] = zero_radius_[i];
+      const auto& [outside, holes, other, elsewhere] = zero_radius_[i];
       if (outside > 0)
         log_.warn(proxy_.poses[i].source + ": " + std::to_string(outside) +
                   " sphere centers land outside this pose; those spheres get radius 0 in it");
       if (holes + other > 0)
         log_.warn(proxy_.poses[i].source + ": " + std::to_string(holes + other) + " spheres get radius 0 in this pose (" +
                   std::to_string(holes) + " bounded by its holes, " + std::to_string(other) + " on its surface)");
+      if (elsewhere > 0)
+        log_.warn(proxy_.poses[i].source + ": " + std::to_string(elsewhere) +
+                  " skinned spheres get radius 0 here because they have it in another pose");
     }
     const nlohmann::json errors = pose_errors();
     nlohmann::json pose_reports = nlohmann::json::array();
@@ -241,10 +270,12 @@ class PoseMapper {
                               {"source", proxy_.poses[i].source},
                               {"outside", proxy_.poses[i].outside},
                               {"zero_radius",
-                               {{"total", zero_radius_[i][0] + zero_radius_[i][1] + zero_radius_[i][2]},
+                               {{"total", zero_radius_[i][0] + zero_radius_[i][1] + zero_radius_[i][2] +
+                                              zero_radius_[i][3]},
                                 {"center_outside", zero_radius_[i][0]},
                                 {"hole_bound", zero_radius_[i][1]},
-                                {"other", zero_radius_[i][2]}}},
+                                {"other", zero_radius_[i][2]},
+                                {"another_pose", zero_radius_[i][3]}}},
                               {"error", errors[i]}});
     size_t outside_points = 0;
     for (const auto& c : rest_centers_) outside_points += f_->locator().locate(c).outside > 0;
@@ -256,7 +287,11 @@ class PoseMapper {
               {"boundary_faces", tets_.boundary_faces.size()},
               {"unmeshed_bodies", tets_.unmeshed_bodies}}},
             {"map",
-             {{"method", "harmonic extension of the surface motion (least squares), barycentric in tets"},
+             {{"method", skinned_ ? "linear blend skinning: the surface's joint weights carried in by the harmonic "
+                                    "extension, the 4 heaviest kept per sphere; one radius per sphere, the least over "
+                                    "the rest and every pose"
+                                  : "harmonic extension of the surface motion (least squares), barycentric in tets"},
+              {"joints", skin_ ? skin_->joints.size() : 0},
               {"data_points", f_->data_points()},
               {"dropped_points", f_->dropped_points()},
               {"centers_outside_tets", outside_points}}},
@@ -285,9 +320,8 @@ class PoseMapper {
     for (auto& set : joint.problem.spheres) set.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(from, n, 16), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t s = r.begin(); s != r.end(); ++s) {
-        const Eigen::Vector3d& c = joint.candidates[s].center;
-        const TetLocator::Location at = f_->locator().locate(c);
-        for (size_t i = 0; i < poses; ++i) joint.problem.spheres[i][s] = in_pose(i, c, at, false).first;
+        const auto spheres = in_poses(joint.candidates[s].center, false);
+        for (size_t i = 0; i < poses; ++i) joint.problem.spheres[i][s] = spheres[i].first;
       }
     });
     joint.mostly_absent += drop_mostly_absent(joint.problem, from);
@@ -324,15 +358,37 @@ class PoseMapper {
     }
   }
 
-  // The sphere a rest center c (at `at` in the tets) becomes in pose i (0: the rest): its center
-  // through f, its radius by the pose's rule (then grown, under joint selection), and why that
-  // radius is 0 if it is.
-  std::pair<Sphere, PoseSolid::Zero> in_pose(size_t i, const Eigen::Vector3d& c, const TetLocator::Location& at,
-                                             bool cause = true) const {
-    const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
-    if (grow_) return solids_[i].grown(center, cause);
-    const PoseSolid::Radius radius = solids_[i].radius(center, cause);
-    return {{center, radius.value}, radius.zero};
+  // The spheres a rest center c becomes in every pose (0: the rest): its center through f, its
+  // radius by each pose's rule (then grown, under joint selection), and why a radius is 0 if it
+  // is. A skinned sphere keeps the least of its radii in every pose.
+  std::vector<std::pair<Sphere, PoseSolid::Zero>> in_poses(const Eigen::Vector3d& c, bool cause) const {
+    const TetLocator::Location at = f_->locator().locate(c);
+    std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
+    if (!skinned_) {
+      for (size_t i = 0; i < solids_.size(); ++i) {
+        const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
+        if (grow_) {
+          out.push_back(solids_[i].grown(center, cause));
+          continue;
+        }
+        const PoseSolid::Radius radius = solids_[i].radius(center, cause);
+        out.push_back({{center, radius.value}, radius.zero});
+      }
+      return out;
+    }
+    const SkinInfluence influence = skinned_->influence(c, at);
+    double least = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < solids_.size(); ++i) {
+      const Eigen::Vector3d center = i == 0 ? c : skin_point(influence, skinned_->matrices(i));
+      const PoseSolid::Radius radius = solids_[i].radius(center, cause);
+      out.push_back({{center, radius.value}, radius.zero});
+      least = std::min(least, radius.value);
+    }
+    for (auto& [sphere, zero] : out) {
+      sphere.radius = least;
+      if (least == 0 && zero == PoseSolid::Zero::none) zero = PoseSolid::Zero::another_pose;
+    }
+    return out;
   }
 
   // Packing in a pose's own field: the proxy's max radius, and the field bounding radii across
@@ -438,10 +494,12 @@ class PoseMapper {
   const std::vector<PoseInput>& poses_;
   const SpheresFile& spheres_;
   const PoseMapOptions& opt_;
+  const SkinFile* skin_;  // the poses' rig, or null
   ProxyModel& proxy_;
   Log& log_;
   TetMesh tets_;
   std::unique_ptr<HarmonicMap> f_;
+  std::unique_ptr<SkinnedMap> skinned_;  // f for a rigged body
   std::vector<std::vector<Eigen::Vector3d>> deformed_;  // per pose: tet vertices
   std::vector<const TriMesh*> meshes_;                  // rest, then the poses
   std::vector<std::unique_ptr<MeshQuery>> queries_;
@@ -449,19 +507,19 @@ class PoseMapper {
   std::vector<std::unique_ptr<DenseField>> fields_;  // per pose, built when first asked
   std::vector<PoseSolid> solids_;
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
-  std::vector<std::array<size_t, 3>> zero_radius_;       // per pose, by cause
+  std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
   bool grow_ = false;                                    // spheres grown in every pose (joint selection)
 };
 
 }  // namespace
 
 PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
-                       const SpheresFile& spheres, const PoseMapOptions& opt, Log& log) {
+                       const SpheresFile& spheres, const PoseMapOptions& opt, Log& log, const SkinFile* skin) {
   if (std::isnan(opt.max_radius) || opt.max_radius < 0) fail_option("max_radius", "must be a positive number");
   if (std::isnan(opt.fill_min_radius) || opt.fill_min_radius < 0) fail_option("fill_min_radius", "must be a positive number");
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
-  PoseMapper mapper(rest, rest_source, poses, spheres, opt, result.proxy, log);
+  PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
   mapper.make_tets();
   mapper.solve_map();
   mapper.build_solids();
@@ -482,6 +540,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   }
   const nlohmann::json fill = opt.fill_gaps ? mapper.fill_gaps() : nlohmann::json(nullptr);
   mapper.assign_blend_sites();
+  mapper.attach_skin();
   result.report = mapper.report(fill, selection);
   return result;
 }

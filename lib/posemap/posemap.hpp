@@ -1,7 +1,7 @@
 #pragma once
-// pose-map: S_1..S_e from S_0. Each center moves by the harmonic map f; its radius in pose i
-// is min(max radius, distance to M_i); a center that lands outside M_i is reported and its
-// sphere gets radius 0 in that pose. Under joint selection each of those spheres, the rest's
+// pose-map: S_1..S_e from S_0. Each center moves by the harmonic map f (or by the skin, for a
+// rigged body); its radius in pose i is min(max radius, distance to M_i); a center that lands
+// outside M_i is reported and its sphere gets radius 0 in that pose. Under joint selection each of those spheres, the rest's
 // too, is then grown to the largest inscribed sphere containing it (grow_inscribed), candidates
 // and result alike. Each sphere's blend site is its nearest rest tet vertex.
 #include <nlohmann/json.hpp>
@@ -13,6 +13,7 @@
 #include "mesh/mesh.hpp"
 #include "io/spheres_file.hpp"
 #include "io/proxy_file.hpp"
+#include "io/skin_file.hpp"
 #include "posemap/tet_mesh.hpp"
 
 namespace spx {
@@ -50,7 +51,11 @@ struct PoseMapResult {
   nlohmann::json report;  // tets, map, per-pose errors and outside centers
 };
 
+// `skin` (the poses' rig, its poses in the order of `poses`; null: none) makes f the skin: each
+// sphere follows it (posemap/skinned_map.hpp) and keeps one radius, the least over the rest and
+// every pose, so that the host can skin it through any frame; the proxy gets its skin.
 PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
-                       const SpheresFile& spheres, const PoseMapOptions& options, Log& log = Log::silent());
+                       const SpheresFile& spheres, const PoseMapOptions& options, Log& log = Log::silent(),
+                       const SkinFile* skin = nullptr);
 
 }  // namespace spx

@@ -44,6 +44,11 @@ if [ -n "$data" ] && [ -e "$data/rigged-simple/RiggedSimple.glb" ]; then
   check "skinned clip: report schema" v pose-extract-report.schema.json "$out/rigged/extract.report.json"
   check "skinned clip: 2 poses kept" /usr/bin/python3 -c \
     "import json,sys; sys.exit(len(json.load(open(sys.argv[1]))['poses']) != 2)" "$out/rigged/poses/poses.json"
+  check "skinned clip: skin.json schema" v skin.schema.json "$out/rigged/poses/skin.json"
+  check "skinned clip: the skin has 2 joints, 2 poses and a weight per rest vertex" /usr/bin/python3 -c \
+    "import json,sys; s=json.load(open(sys.argv[1])); n=sum(1 for l in open(sys.argv[2]) if l.startswith('v '));
+sys.exit(not (len(s['joints']) == 2 and len(s['poses']) == 2 and len(s['vertex_weights']) == n))" \
+    "$out/rigged/poses/skin.json" "$out/rigged/poses/rest.obj"
 fi
 echo "$passed passed, $fail failed"
 [ "$fail" = 0 ]

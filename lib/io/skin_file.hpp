@@ -1,0 +1,45 @@
+#pragma once
+// skin.json: the rig a clip's poses came from, written by pose-extract beside poses.json and
+// read by pose-map --manifest (schemas/skin.schema.json). The joints in the skin's order with
+// their parents and inverse bind matrices, each welded rest vertex's (joint, weight) pairs, and
+// every joint's matrix (global transform x inverse bind) at rest and in each pose. Matrices act
+// on positions as the asset stores them (glTF POSITION, the host's mesh space) and carry them
+// to where pose-extract put the rest and the poses, so the rest's matrices are what maps the
+// host's space to the tools'.
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/json_io.hpp"
+
+namespace spx {
+
+struct SkinJoint {
+  std::string name;
+  int parent = -1;
+  Eigen::Matrix4d inverse_bind = Eigen::Matrix4d::Identity();
+};
+
+using JointWeights = std::vector<std::pair<int, double>>;  // (joint, weight), weights summing to 1
+using JointMatrices = std::vector<Eigen::Matrix4d>;         // one per joint
+
+struct SkinPose {
+  std::string name;  // as in poses.json
+  JointMatrices matrices;
+};
+
+struct SkinFile {
+  std::vector<SkinJoint> joints;
+  std::vector<JointWeights> vertex_weights;  // per welded rest vertex (empty: no joint weighs it)
+  JointMatrices rest;
+  std::vector<SkinPose> poses;  // in poses.json's order
+  size_t morph_channels = 0;    // the clip also drives morph weights, which a skin cannot follow
+};
+
+json skin_to_json(const SkinFile& skin);
+// Exit 2 naming `path` and the field when the document is not a valid skin: joint indices out
+// of range, weights or matrices not finite, a matrix count other than the joint count.
+SkinFile read_skin_file(const std::string& path);
+
+}  // namespace spx

@@ -1,0 +1,87 @@
+#include "posemap/skinned_map.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <numeric>
+
+namespace spx {
+
+SkinInfluence heaviest_four(const Eigen::VectorXd& weights) {
+  std::vector<int> order(size_t(weights.size()));
+  std::iota(order.begin(), order.end(), 0);
+  const size_t keep = std::min<size_t>(4, order.size());
+  std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(keep), order.end(),
+                    [&](int a, int b) { return weights[a] > weights[b] || (weights[a] == weights[b] && a < b); });
+  SkinInfluence s;
+  double total = 0;
+  for (size_t k = 0; k < keep; ++k) total += std::max(0.0, weights[order[k]]);
+  if (!(total > 0)) {  // nothing weighs it (an unweighted region): its heaviest joint alone
+    s.joint[0] = order.empty() ? 0 : order[0];
+    s.weight[0] = 1;
+    return s;
+  }
+  // Float weights whose float sum is 1: the last kept one takes what the others leave.
+  float rest = 1;
+  size_t last = 0;
+  for (size_t k = 0; k < keep; ++k)
+    if (weights[order[k]] > 0) last = k;
+  for (size_t k = 0; k <= last; ++k) {
+    s.joint[k] = order[k];
+    s.weight[k] = k == last ? rest : float(std::max(0.0, weights[order[k]]) / total);
+    rest -= s.weight[k];
+  }
+  return s;
+}
+
+Eigen::Vector3d skin_point(const SkinInfluence& s, const JointMatrices& m) {
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < 4; ++k)
+    if (s.weight[k] != 0) {
+      const Eigen::Matrix4d& mk = m[size_t(s.joint[k])];
+      out += double(s.weight[k]) * (mk.topLeftCorner<3, 3>() * s.bind + mk.topRightCorner<3, 1>());
+    }
+  return out;
+}
+
+namespace {
+// p taken to the asset's space: the inverse of s's blended rest matrix (an affine map).
+Eigen::Vector3d unskin_point(const SkinInfluence& s, const JointMatrices& rest, const Eigen::Vector3d& p) {
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < 4; ++k) {
+    const Eigen::Matrix4d& m = rest[size_t(s.joint[k])];
+    a += double(s.weight[k]) * m.topLeftCorner<3, 3>();
+    t += double(s.weight[k]) * m.topRightCorner<3, 1>();
+  }
+  return a.lu().solve(p - t);
+}
+}  // namespace
+
+SkinnedMap::SkinnedMap(const SkinFile& skin, const HarmonicMap& f) : skin_(skin), f_(f) {
+  Eigen::MatrixXd per_vertex = Eigen::MatrixXd::Zero(Eigen::Index(skin.vertex_weights.size()), Eigen::Index(skin.joints.size()));
+  for (size_t v = 0; v < skin.vertex_weights.size(); ++v)
+    for (const auto& [j, w] : skin.vertex_weights[v]) per_vertex(Eigen::Index(v), j) += w;
+  tet_weights_ = f.extend(per_vertex);
+}
+
+SkinInfluence SkinnedMap::influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const {
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(tet_weights_.cols());
+  const auto& tet = f_.locator().mesh().tets[size_t(at.tet)];
+  for (int k = 0; k < 4; ++k) w += at.weights[k] * tet_weights_.row(tet[k]).transpose();
+  SkinInfluence s = heaviest_four(w);
+  s.bind = unskin_point(s, skin_.rest, p);
+  return s;
+}
+
+std::vector<Eigen::Vector3d> SkinnedMap::deform_tets(size_t i) const {
+  const TetMesh& tets = f_.locator().mesh();
+  std::vector<Eigen::Vector3d> out(tets.vertices.size());
+  for (size_t v = 0; v < out.size(); ++v) {
+    SkinInfluence s = heaviest_four(tet_weights_.row(Eigen::Index(v)).transpose());
+    s.bind = unskin_point(s, skin_.rest, tets.vertices[v]);
+    out[v] = skin_point(s, matrices(i));
+  }
+  return out;
+}
+
+}  // namespace spx

@@ -1,0 +1,49 @@
+#pragma once
+// f for a rigged body: the skin itself, as the paper skins its tets. A point's joint weights
+// inside the body are the surface's weights carried in by the harmonic extension, the 4
+// heaviest kept and renormalised (as engines do, and in float, as the runtime holds them); its
+// place in a pose is linear blend skinning with that pose's joint matrices. The point is first
+// taken to the asset's own space (the host's) by the inverse of its blended rest matrix, so
+// that the host's joint matrices skin it as they skin its mesh.
+#include <array>
+#include <Eigen/Core>
+#include <vector>
+
+#include "io/skin_file.hpp"
+#include "posemap/harmonic_map.hpp"
+
+namespace spx {
+
+// Up to 4 joints of a point (weight 0 past the last), and the point in the asset's space.
+struct SkinInfluence {
+  std::array<int, 4> joint{{0, 0, 0, 0}};
+  std::array<float, 4> weight{{0, 0, 0, 0}};
+  Eigen::Vector3d bind = Eigen::Vector3d::Zero();
+};
+
+// The 4 heaviest of `weights` (one per joint; ties to the lower joint), negatives dropped,
+// renormalised and rounded to float so that they sum to 1 as the runtime reads them.
+SkinInfluence heaviest_four(const Eigen::VectorXd& weights);
+
+// sum_j w_j M_j x, in double.
+Eigen::Vector3d skin_point(const SkinInfluence& s, const JointMatrices& m);
+
+class SkinnedMap {
+ public:
+  // `skin`'s vertex weights are the rest mesh's (one list per vertex of `f`'s rest mesh).
+  SkinnedMap(const SkinFile& skin, const HarmonicMap& f);
+
+  // The influence of rest point p, at `at` in the tets.
+  SkinInfluence influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const;
+  // Pose i's joint matrices (0: the rest).
+  const JointMatrices& matrices(size_t i) const { return i == 0 ? skin_.rest : skin_.poses[i - 1].matrices; }
+  // Every tet vertex skinned into pose i (i >= 1) by its own influence.
+  std::vector<Eigen::Vector3d> deform_tets(size_t i) const;
+
+ private:
+  const SkinFile& skin_;
+  const HarmonicMap& f_;
+  Eigen::MatrixXd tet_weights_;  // a row per tet vertex, a column per joint
+};
+
+}  // namespace spx
