@@ -139,6 +139,66 @@ TEST(PoseExtract, SkinFileGivesBackEveryPoseFromTheRest) {
   }
 }
 
+// A clip's poses with their skin through the chain: the .spx skinned with each pose's joint
+// matrices gives back the sphere centers pose-map wrote for that pose (float rounding apart) and
+// its one radius, and every sphere is inside every pose.
+TEST(PoseExtract, SkinnedProxyFollowsTheClipAsTheToolsMappedIt) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("skinned-chain");
+  PoseExtractOptions opt;
+  opt.animation = "0";
+  json report;
+  pose_extract_files(test::shared_data() + "/rigged-simple/RiggedSimple.glb", dir + "/poses", opt, Log::silent(), report);
+  const PoseManifest manifest = read_pose_manifest(dir + "/poses/poses.json");
+  std::vector<std::string> poses;
+  for (const auto& p : manifest.poses) poses.push_back(dir + "/poses/" + p.file);
+  const std::string rest = dir + "/poses/rest.obj";
+  SdfOptions sdf;
+  sdf.resolution = 64;
+  sdf_build_files(rest, dir + "/rest.vdb", sdf, Log::silent(), report);
+  sphere_pack_files(dir + "/rest.vdb", rest, dir + "/rest.spheres.json", SpherePackOptions{}, Log::silent(), report);
+  json map_report;
+  pose_map_files(rest, poses, dir + "/rest.spheres.json", dir + "/proxy.json", PoseMapOptions{}, Log::silent(), map_report,
+                 dir + "/poses/skin.json");
+  proxy_export_files(dir + "/proxy.json", dir + "/proxy.spx", ExportOptions{}, Log::silent(), report);
+
+  const ProxyModel model = read_proxy_file(dir + "/proxy.json");
+  const SkinFile skin = read_skin_file(dir + "/poses/skin.json");
+  Proxy proxy;
+  ASSERT_EQ(load_file((dir + "/proxy.spx").c_str(), &proxy), SPX_OK);
+  ASSERT_TRUE(proxy.has_skin());
+  ASSERT_EQ(proxy.joint_count(), skin.joints.size());
+  const LoadedMesh rest_mesh = load_mesh(rest);
+  const double tol = 1e-5 * rest_mesh.mesh.diagonal();
+  std::vector<TriMesh> meshes = {rest_mesh.mesh};
+  for (size_t k = 0; k <= skin.poses.size(); ++k) {
+    const JointMatrices& m = k == 0 ? skin.rest : skin.poses[k - 1].matrices;
+    std::vector<float> matrices;
+    for (const auto& mj : m)
+      for (int e = 0; e < 16; ++e) matrices.push_back(float(mj(e % 4, e / 4)));
+    std::vector<float> xyzr(size_t(proxy.sphere_count()) * 4);
+    ASSERT_EQ(spx::skin(proxy, matrices.data(), int(proxy.joint_count()), xyzr.data()), SPX_OK);
+    double worst = 0;
+    for (size_t s = 0; s < model.sphere_count(); ++s) {
+      const Sphere& want = model.poses[k].spheres[s];
+      worst = std::max(worst, (Eigen::Vector3d(xyzr[4 * s], xyzr[4 * s + 1], xyzr[4 * s + 2]) - want.center).norm());
+      EXPECT_EQ(xyzr[4 * s + 3], float(want.radius)) << "pose " << k << " sphere " << s;
+    }
+    EXPECT_LE(worst, tol) << "pose " << k;
+    if (k > 0) meshes.push_back(load_pose(poses[k - 1], rest_mesh));
+  }
+  expect_spheres_inside(dir + "/proxy.json", meshes, "skinned RiggedSimple");
+  // The clip bends the body: the skinned centers really move.
+  double moved = 0;
+  for (const ProxyPose& pose : model.poses)
+    for (size_t s = 0; s < model.sphere_count(); ++s)
+      moved = std::max(moved, (pose.spheres[s].center - model.poses[0].spheres[s].center).norm());
+  EXPECT_GT(moved, 0.05 * rest_mesh.mesh.diagonal());
+  // Every frame the tools saw within 1.25x the tolerance (the motion's acceptance).
+  const double target = map_report["selection"]["target"].get<double>();
+  for (const auto& pose : map_report["poses"]) EXPECT_LE(pose["error"]["max"].get<double>(), 1.25 * target) << pose["name"];
+}
+
 // The car's crumples as glTF morph targets: extracted, chained, and blended with the runtime at
 // the morph weights, they give the very spheres the OBJ poses give.
 TEST(PoseExtract, MorphTargetRoundTripBlendsAsTheObjPoses) {

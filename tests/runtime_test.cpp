@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <functional>
 #include <limits>
 #include <random>
+
+#include <Eigen/Geometry>
 
 #include "io/spx_writer.hpp"
 #include "io/proxy_file.hpp"
@@ -25,7 +29,63 @@ ProxyModel small_proxy(size_t spheres = 7, size_t poses = 4, size_t sites = 3) {
   return p;
 }
 
+// small_proxy() with a skin of `joints` joints: up to 4 random joints a sphere, float weights
+// summing to 1 (some slots 0), centers and radii at random.
+ProxyModel skinned_proxy(size_t spheres = 7, size_t poses = 4, size_t sites = 3, int joints = 5) {
+  ProxyModel p = small_proxy(spheres, poses, sites);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int j = 0; j < joints; ++j) {
+    p.skin.joints.push_back("joint-" + std::to_string(j));
+    p.skin.parents.push_back(j - 1);
+  }
+  for (size_t s = 0; s < spheres; ++s) {
+    SkinnedSphere k;
+    const int used = 1 + int(s % 4);
+    float left = 1;
+    for (int i = 0; i < used; ++i) {
+      k.joint[size_t(i)] = int(rng() % unsigned(joints));
+      k.weight[size_t(i)] = i + 1 == used ? left : float(0.5 * left * (1 + u(rng)) / 2);
+      left -= k.weight[size_t(i)];
+    }
+    k.center = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    k.radius = 0.3 + 0.2 * u(rng);
+    p.skin.spheres.push_back(k);
+  }
+  return p;
+}
+
+// sum_k w_k M_k c in double: what skin() computes in float.
+Eigen::Vector3d skin_in_double(const SkinnedSphere& s, const std::vector<float>& m) {
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < 4; ++k) {
+    Eigen::Matrix4d mk;
+    for (int e = 0; e < 16; ++e) mk(e % 4, e / 4) = m[size_t(s.joint[k]) * 16 + size_t(e)];
+    out += double(s.weight[k]) * (mk * s.center.cast<float>().cast<double>().homogeneous()).head<3>();
+  }
+  return out;
+}
+
+std::vector<float> random_joint_matrices(int joints, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::vector<float> m;
+  for (int j = 0; j < joints; ++j) {
+    const Eigen::Matrix3f r = Eigen::AngleAxisf(3 * u(rng), Eigen::Vector3f(u(rng), u(rng), u(rng)).normalized()).matrix();
+    for (int c = 0; c < 4; ++c)
+      for (int row = 0; row < 4; ++row) m.push_back(c < 3 ? (row < 3 ? r(row, c) : 0.0f) : (row < 3 ? 5 * u(rng) : 1.0f));
+  }
+  return m;
+}
+
 Status load(const std::string& bytes, Proxy* out) { return load_memory(bytes.data(), bytes.size(), out); }
+
+// The checksum recomputed after a mutation, so that the structural checks behind it run.
+std::string with_fixed_crc(std::string b) {
+  if (b.size() < 4) return b;
+  const uint32_t crc = detail::crc32(reinterpret_cast<const unsigned char*>(b.data()), b.size() - 4);
+  for (int k = 0; k < 4; ++k) b[b.size() - 4 + size_t(k)] = char((crc >> (8 * k)) & 0xFF);
+  return b;
+}
 
 TEST(Runtime, LoadsWhatTheWriterWrote) {
   const ProxyModel model = small_proxy();
@@ -43,6 +103,91 @@ TEST(Runtime, LoadsWhatTheWriterWrote) {
       EXPECT_EQ(proxy.pose_spheres(i)[4 * s + 3], float(model.poses[i].spheres[s].radius));
     }
   EXPECT_EQ(encode_spx(model), bytes) << "deterministic bytes";
+}
+
+TEST(Runtime, SkinnedSpheresFollowTheJointMatrices) {
+  const ProxyModel model = skinned_proxy(40, 3, 5, 6);
+  const std::string bytes = encode_spx(model);
+  EXPECT_EQ(bytes[10], 1) << "a skin makes a format 1.1 file";
+  EXPECT_EQ(encode_spx(small_proxy())[10], 0) << "without one the file is format 1.0";
+  Proxy proxy;
+  ASSERT_EQ(load(bytes, &proxy), SPX_OK);
+  ASSERT_TRUE(proxy.has_skin());
+  EXPECT_EQ(proxy.joint_count(), 6u);
+  EXPECT_STREQ(proxy.joint_name(5), "joint-5");
+  EXPECT_EQ(proxy.joint_parent(0), -1);
+  EXPECT_EQ(proxy.joint_parent(4), 3);
+  EXPECT_EQ(proxy.joint_name(6), nullptr);
+  std::mt19937 rng(3);
+  for (int frame = 0; frame < 5; ++frame) {
+    const std::vector<float> m = random_joint_matrices(6, rng);
+    std::vector<float> xyzr(40 * 4);
+    ASSERT_EQ(skin(proxy, m.data(), 6, xyzr.data()), SPX_OK);
+    for (size_t s = 0; s < 40; ++s) {
+      const Eigen::Vector3d want = skin_in_double(model.skin.spheres[s], m);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(xyzr[4 * s + size_t(k)], want[k], 1e-5 * (1 + std::abs(want[k])));
+      EXPECT_EQ(xyzr[4 * s + 3], float(model.skin.spheres[s].radius));
+    }
+  }
+}
+
+TEST(Runtime, SkinChecksItsArguments) {
+  Proxy plain, skinned;
+  ASSERT_EQ(load(encode_spx(small_proxy()), &plain), SPX_OK);
+  ASSERT_EQ(load(encode_spx(skinned_proxy()), &skinned), SPX_OK);
+  std::mt19937 rng(3);
+  std::vector<float> m = random_joint_matrices(5, rng), xyzr(7 * 4, -7.0f);
+  EXPECT_FALSE(plain.has_skin());
+  EXPECT_EQ(plain.joint_count(), 0u);
+  EXPECT_EQ(skin(plain, m.data(), 5, xyzr.data()), SPX_ERR_NO_SKIN);
+  EXPECT_EQ(skin(skinned, m.data(), 4, xyzr.data()), SPX_ERR_JOINT_COUNT);
+  EXPECT_EQ(skin(skinned, m.data(), -1, xyzr.data()), SPX_ERR_JOINT_COUNT);
+  EXPECT_EQ(skin(skinned, nullptr, 5, xyzr.data()), SPX_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(skin(Proxy(), m.data(), 5, xyzr.data()), SPX_ERR_EMPTY);
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    std::vector<float> broken = m;
+    broken[37] = bad;
+    EXPECT_EQ(skin(skinned, broken.data(), 5, xyzr.data()), SPX_ERR_BAD_MATRICES);
+  }
+  for (float v : xyzr) EXPECT_EQ(v, -7.0f) << "a refused call leaves the output alone";
+}
+
+// The skin section's own damage, each with a valid checksum: a joint index past the joints,
+// a weight or center that is not finite, weights with no positive entry, a parent out of
+// range, a joint count or section size that reaches past the file.
+TEST(Runtime, DamagedSkinSectionsHaveTheirOwnStatus) {
+  const std::string bytes = encode_spx(skinned_proxy());
+  const uint32_t at = detail::rd32(reinterpret_cast<const unsigned char*>(bytes.data()) + 60);
+  auto put32 = [](std::string& b, size_t i, uint32_t v) {
+    for (int k = 0; k < 4; ++k) b[i + size_t(k)] = char((v >> (8 * k)) & 0xFF);
+  };
+  auto putf = [&](std::string& b, size_t i, float f) {
+    uint32_t u;
+    std::memcpy(&u, &f, 4);
+    put32(b, i, u);
+  };
+  const size_t record = at + 8 + 2 * 48;  // the third sphere's
+  std::vector<std::pair<std::string, std::function<void(std::string&)>>> damage = {
+      {"joint index 5 of 5 joints", [&](std::string& b) { put32(b, record + 32, 5); }},
+      {"joint index far out", [&](std::string& b) { put32(b, record + 44, 0xFFFFFFF0u); }},
+      {"weight NaN", [&](std::string& b) { putf(b, record + 16, std::numeric_limits<float>::quiet_NaN()); }},
+      {"weight negative", [&](std::string& b) { putf(b, record + 20, -0.5f); }},
+      {"weights all 0", [&](std::string& b) { for (int k = 0; k < 4; ++k) putf(b, record + 16 + 4 * size_t(k), 0.0f); }},
+      {"center infinite", [&](std::string& b) { putf(b, record + 4, std::numeric_limits<float>::infinity()); }},
+      {"radius negative", [&](std::string& b) { putf(b, record + 12, -1.0f); }},
+      {"parent out of range", [&](std::string& b) { put32(b, at + 8 + 7 * 48 + 4, 9); }},
+      {"joint count past the file", [&](std::string& b) { put32(b, at, 0x10000000u); }},
+      {"no joints", [&](std::string& b) { put32(b, at, 0); }},
+      {"section size past the file", [&](std::string& b) { put32(b, at + 4, 0x7FFFFFF0u); }},
+      {"section offset past the file", [&](std::string& b) { put32(b, 60, 0x7FFFFFF0u); }},
+  };
+  for (auto& [what, apply] : damage) {
+    std::string bad = bytes;
+    apply(bad);
+    Proxy proxy;
+    EXPECT_EQ(load(with_fixed_crc(bad), &proxy), SPX_ERR_BAD_SKIN) << what;
+    EXPECT_TRUE(proxy.empty()) << what;
+  }
 }
 
 TEST(Runtime, WeightOneOnExampleIReturnsSi) {
@@ -155,12 +300,6 @@ TEST(Runtime, EveryFlippedByteIsRejected) {
 // structural checks behind it run. A header byte changed is always rejected (by a structural
 // status, never the checksum); a data byte changed either is rejected or loads a proxy whose
 // blends stay finite with radii >= 0.
-std::string with_fixed_crc(std::string b) {
-  if (b.size() < 4) return b;
-  const uint32_t crc = detail::crc32(reinterpret_cast<const unsigned char*>(b.data()), b.size() - 4);
-  for (int k = 0; k < 4; ++k) b[b.size() - 4 + size_t(k)] = char((crc >> (8 * k)) & 0xFF);
-  return b;
-}
 
 void expect_safe_if_loaded(const std::string& bytes, const std::string& what) {
   Proxy proxy;
@@ -178,10 +317,17 @@ void expect_safe_if_loaded(const std::string& bytes, const std::string& what) {
     EXPECT_TRUE(std::isfinite(c[3 * j]) && std::isfinite(c[3 * j + 1]) && std::isfinite(c[3 * j + 2])) << what;
   }
   ASSERT_EQ(blend_local(proxy, sw.data(), uint32_t(sw.size()), c.data(), r.data()), SPX_OK) << what;
+  if (!proxy.has_skin()) return;
+  std::mt19937 rng(1);
+  const std::vector<float> m = random_joint_matrices(int(proxy.joint_count()), rng);
+  std::vector<float> xyzr(size_t(n) * 4);
+  ASSERT_EQ(skin(proxy, m.data(), int(proxy.joint_count()), xyzr.data()), SPX_OK) << what;
+  for (float v : xyzr) EXPECT_TRUE(std::isfinite(v)) << what;
 }
 
 TEST(Runtime, EveryFlippedByteWithAFixedChecksumIsCheckedStructurally) {
-  const std::string bytes = encode_spx(small_proxy());
+  for (const bool skinned : {false, true}) {
+  const std::string bytes = encode_spx(skinned ? skinned_proxy() : small_proxy());
   size_t loaded = 0;
   for (size_t i = 0; i + 4 < bytes.size(); ++i)
     for (unsigned char mask : {0x01, 0x80, 0xFF}) {
@@ -189,7 +335,11 @@ TEST(Runtime, EveryFlippedByteWithAFixedChecksumIsCheckedStructurally) {
       bad[i] = char(bad[i] ^ mask);
       bad = with_fixed_crc(bad);
       const std::string what = "byte " + std::to_string(i) + " mask " + std::to_string(int(mask));
-      if (i < 64 && i != 10 && i != 11) {  // a newer minor version (bytes 10-11) must still load
+      // A newer minor version (bytes 10-11) must still load; a skin needs 1.1 or later.
+      if (skinned && i == 10) {
+        Proxy proxy;
+        EXPECT_EQ(load(bad, &proxy), bad[10] == 0 ? SPX_ERR_BAD_SIZES : SPX_OK) << what;
+      } else if (i < 64 && i != 10 && i != 11) {
         Proxy proxy;
         const Status s = load(bad, &proxy);
         EXPECT_NE(s, SPX_OK) << what;
@@ -201,16 +351,19 @@ TEST(Runtime, EveryFlippedByteWithAFixedChecksumIsCheckedStructurally) {
       }
     }
   EXPECT_GT(loaded, 0u) << "no data byte survived the structural checks: is the checksum still deciding?";
+  }
 }
 
 TEST(Runtime, RandomBytesWithAValidHeaderAndChecksum) {
-  const std::string bytes = encode_spx(small_proxy());
+  for (const bool skinned : {false, true}) {
+  const std::string bytes = encode_spx(skinned ? skinned_proxy() : small_proxy());
   std::mt19937 rng(5);
   for (int trial = 0; trial < 3000; ++trial) {
     std::string junk = bytes;
     const int edits = 1 + int(rng() % 8);
     for (int e = 0; e < edits; ++e) junk[rng() % (junk.size() - 4)] = char(rng());
     expect_safe_if_loaded(with_fixed_crc(junk), "trial " + std::to_string(trial));
+  }
   }
 }
 

@@ -30,6 +30,28 @@ void append_f32(std::string& b, double v) {
   append32(b, u);
 }
 
+void append_name(std::string& b, const std::string& name) {
+  append32(b, uint32_t(name.size()));
+  b += name;
+  b.resize((b.size() + 3) & ~size_t(3), '\0');
+}
+
+// The skin section (format 1.1): joint count, size, a record per sphere, parents, names.
+void append_skin(std::string& b, const ProxySkin& skin) {
+  const size_t at = b.size();
+  append32(b, uint32_t(skin.joints.size()));
+  append32(b, 0);  // the size, once known
+  for (const SkinnedSphere& s : skin.spheres) {
+    for (int k = 0; k < 3; ++k) append_f32(b, s.center[k]);
+    append_f32(b, s.radius);
+    for (float w : s.weight) append_f32(b, w);
+    for (int j : s.joint) append32(b, uint32_t(j));
+  }
+  for (int parent : skin.parents) append32(b, uint32_t(int32_t(parent)));
+  for (const auto& name : skin.joints) append_name(b, name);
+  put32(b, at + 4, uint32_t(b.size() - at));
+}
+
 }  // namespace
 
 std::string encode_spx(const ProxyModel& proxy) {
@@ -39,7 +61,8 @@ std::string encode_spx(const ProxyModel& proxy) {
   std::string b(SPX_HEADER_SIZE, '\0');
   std::memcpy(&b[0], SPX_MAGIC, 8);
   put16(b, 8, SPX_FORMAT_VERSION_MAJOR);
-  put16(b, 10, SPX_FORMAT_VERSION_MINOR);
+  // A proxy without a skin is a format 1.0 file, byte for byte.
+  put16(b, 10, proxy.skin.empty() ? 0 : SPX_FORMAT_VERSION_MINOR);
   put32(b, 12, SPX_HEADER_SIZE);
   put32(b, 24, uint32_t(n));
   put32(b, 28, uint32_t(p));
@@ -60,12 +83,14 @@ std::string encode_spx(const ProxyModel& proxy) {
     for (int k = 0; k < 3; ++k) append_f32(b, site[k]);
   const size_t names_at = b.size();
   put32(b, 52, uint32_t(names_at));
-  for (const auto& pose : proxy.poses) {
-    append32(b, uint32_t(pose.name.size()));
-    b += pose.name;
-    b.resize((b.size() + 3) & ~size_t(3), '\0');
-  }
+  for (const auto& pose : proxy.poses) append_name(b, pose.name);
   put32(b, 56, uint32_t(b.size() - names_at));
+  if (!proxy.skin.empty()) {
+    if (proxy.skin.spheres.size() != n) fail_input("", "proxy's skin does not have one entry per sphere");
+    b[38] = detail::SPX_FLAG_SKIN;
+    put32(b, 60, uint32_t(b.size()));
+    append_skin(b, proxy.skin);
+  }
   if (b.size() + 4 > 0xFFFFFFFFull) fail_unsupported("", "proxy is too large for the .spx format");
   put64(b, 16, b.size() + 4);
   append32(b, detail::crc32(reinterpret_cast<const unsigned char*>(b.data()), b.size()));

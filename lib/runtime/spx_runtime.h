@@ -6,6 +6,7 @@
 //   spx::Proxy proxy;
 //   if (spx::load_file("car.spx", &proxy) != spx::SPX_OK) ...
 //   spx::blend_global(proxy, weights, proxy.pose_count(), centers, radii);   // each frame
+//   spx::skin(proxy, joint_matrices, proxy.joint_count(), xyzr);   // each frame, a rigged body
 //
 // Two output layouts: centers (x y z per sphere) + radii, or xyzr (x y z r per sphere, the
 // layout of pose_spheres(); the fastest: the loops vectorise). For the local blend at memory
@@ -31,16 +32,27 @@
 // their sum, which must be positive. Anything else is rejected with SPX_ERR_BAD_WEIGHTS or
 // SPX_ERR_WEIGHT_COUNT and the output buffers are left untouched. Radii are never negative.
 //
-// File layout (little-endian), format 1.0:
+// Skin (a rigged body's proxy, has_skin()): each sphere follows the body's skeleton by linear
+// blend skinning of its center with up to 4 joints, exactly as a host skins its mesh, and keeps
+// one radius in every frame. joint_matrices are joint_count() column-major 4x4 matrices in the
+// skin's joint order (joint_name()): each joint's global transform times its inverse bind, the
+// matrices the host computes for its own skinned mesh, acting on the mesh as the asset stores
+// it (glTF POSITION). The sphere centers are stored in that space.
+//
+// File layout (little-endian), format 1.1 (1.0: the same without the skin section):
 //   0  u8[8]  magic 89 'S' 'P' 'X' 0D 0A 1A 0A
 //   8  u16    format major, u16 minor
 //   12 u32    header size (64)
 //   16 u64    file size in bytes, including the trailing checksum
 //   24 u32    sphere count n, u32 pose count p, u32 site count s
-//   36 u8     sizeof(float) = 4, u8 sizeof(index) = 4, u16 flags (0)
+//   36 u8     sizeof(float) = 4, u8 sizeof(index) = 4, u16 flags (bit 0: a skin section; no others)
 //   40 u32    offsets of: spheres (p*n*4 f32: x y z r, pose-major), sphere sites (n u32),
 //             sites (s*3 f32), names (per pose: u32 length + bytes, padded to 4); u32 names size
-//   60 u32    reserved (0)
+//   60 u32    offset of the skin section (0 without one), format 1.1:
+//             u32 joint count J, u32 section size in bytes (all of it, these 8 included);
+//             n records of x y z r, w0..w3 (f32) and j0..j3 (u32): the sphere's center in the
+//             asset's space, its radius, its joints' weights (0 past the last) and indices;
+//             J i32 parents (-1: none); J names (u32 length + bytes, padded to 4)
 //   ...       sections, each 4-byte aligned
 //   end-4 u32 CRC-32 (IEEE 802.3) of every byte before it
 #ifndef SPX_RUNTIME_H
@@ -49,7 +61,7 @@
 #define SPX_RUNTIME_VERSION_MAJOR 1
 #define SPX_RUNTIME_VERSION_MINOR 0
 #define SPX_FORMAT_VERSION_MAJOR 1
-#define SPX_FORMAT_VERSION_MINOR 0
+#define SPX_FORMAT_VERSION_MINOR 1
 
 #ifndef SPX_MAX_POSES
 #define SPX_MAX_POSES 256
@@ -81,7 +93,11 @@ enum Status {
   SPX_ERR_BAD_DATA,          // non-finite value, negative radius or site index out of range
   SPX_ERR_WEIGHT_COUNT,      // weight vector length is not pose_count()
   SPX_ERR_BAD_WEIGHTS,       // non-finite weights, or no positive weight
-  SPX_ERR_EMPTY              // the proxy holds nothing (not loaded)
+  SPX_ERR_EMPTY,             // the proxy holds nothing (not loaded)
+  SPX_ERR_BAD_SKIN,          // skin section damaged: joint index out of range, weights or centers not finite, counts
+  SPX_ERR_NO_SKIN,           // skin() on a proxy without a skin
+  SPX_ERR_JOINT_COUNT,       // joint matrix count is not joint_count()
+  SPX_ERR_BAD_MATRICES       // joint matrices not finite
 };
 
 inline const char* status_string(Status s) {
@@ -100,6 +116,10 @@ inline const char* status_string(Status s) {
     case SPX_ERR_WEIGHT_COUNT: return "weight count does not match pose count";
     case SPX_ERR_BAD_WEIGHTS: return "weights are not finite or have no positive entry";
     case SPX_ERR_EMPTY: return "proxy is empty";
+    case SPX_ERR_BAD_SKIN: return "skin section is damaged";
+    case SPX_ERR_NO_SKIN: return "proxy has no skin";
+    case SPX_ERR_JOINT_COUNT: return "joint matrix count does not match the skin's joint count";
+    case SPX_ERR_BAD_MATRICES: return "joint matrices are not finite";
   }
   return "unknown status";
 }
@@ -135,14 +155,23 @@ class Proxy {
   const float* site_positions() const { return sites_; }  // x, y, z per site
   const char* pose_name(uint32_t pose) const { return pose < poses_n_ ? names_[pose] : nullptr; }
   bool empty() const { return block_ == nullptr; }
+  // The skin: 0 joints without one. Per sphere x y z r w0 w1 w2 w3 (skin_spheres) and j0..j3
+  // (skin_joints); per joint its parent (-1: none) and name.
+  bool has_skin() const { return joints_n_ > 0; }
+  uint32_t joint_count() const { return joints_n_; }
+  const float* skin_spheres() const { return skin_; }
+  const uint32_t* skin_joints() const { return skin_joints_; }
+  int32_t joint_parent(uint32_t joint) const { return joint < joints_n_ ? parents_[joint] : -1; }
+  const char* joint_name(uint32_t joint) const { return joint < joints_n_ ? names_[poses_n_ + joint] : nullptr; }
 
   void reset() {
     if (block_) SPX_FREE(block_);
     block_ = nullptr;
-    spheres_ = sites_ = nullptr;
-    sphere_sites_ = nullptr;
+    spheres_ = sites_ = skin_ = nullptr;
+    sphere_sites_ = skin_joints_ = nullptr;
+    parents_ = nullptr;
     names_ = nullptr;
-    spheres_n_ = poses_n_ = sites_n_ = 0;
+    spheres_n_ = poses_n_ = sites_n_ = joints_n_ = 0;
   }
 
  private:
@@ -153,9 +182,13 @@ class Proxy {
     sites_ = o.sites_;
     sphere_sites_ = o.sphere_sites_;
     names_ = o.names_;
+    skin_ = o.skin_;
+    skin_joints_ = o.skin_joints_;
+    parents_ = o.parents_;
     spheres_n_ = o.spheres_n_;
     poses_n_ = o.poses_n_;
     sites_n_ = o.sites_n_;
+    joints_n_ = o.joints_n_;
     o.block_ = nullptr;
     o.reset();
   }
@@ -163,8 +196,11 @@ class Proxy {
   float* spheres_ = nullptr;
   float* sites_ = nullptr;
   uint32_t* sphere_sites_ = nullptr;
-  char** names_ = nullptr;
-  uint32_t spheres_n_ = 0, poses_n_ = 0, sites_n_ = 0;
+  char** names_ = nullptr;  // the poses', then the joints'
+  float* skin_ = nullptr;
+  uint32_t* skin_joints_ = nullptr;
+  int32_t* parents_ = nullptr;
+  uint32_t spheres_n_ = 0, poses_n_ = 0, sites_n_ = 0, joints_n_ = 0;
 };
 
 namespace detail {
@@ -223,7 +259,24 @@ struct Layout {
   uint32_t header, n, p, s;
   uint32_t off_spheres, off_ss, off_sites, off_names, names_size;
   uint64_t sphere_bytes, ss_bytes, site_bytes, name_chars;
+  uint32_t off_skin, skin_size, joints;  // all 0 without a skin
+  uint64_t joint_name_chars;
 };
+
+enum { SPX_FLAG_SKIN = 1, SPX_SKIN_RECORD = 48 };
+
+// The skin section's head: where it lies and its joint count, inside the body and big enough
+// for its records and parents.
+inline Status check_skin_head(const unsigned char* b, uint64_t body, Layout* l) {
+  l->off_skin = rd32(b + 60);
+  if (l->off_skin < l->header || l->off_skin % 4 != 0 || uint64_t(l->off_skin) + 8 > body) return SPX_ERR_BAD_SKIN;
+  l->joints = rd32(b + l->off_skin);
+  l->skin_size = rd32(b + l->off_skin + 4);
+  const uint64_t least = 8 + uint64_t(l->n) * SPX_SKIN_RECORD + uint64_t(l->joints) * 8;
+  if (l->joints == 0 || l->skin_size % 4 != 0 || l->skin_size < least || uint64_t(l->off_skin) + l->skin_size > body)
+    return SPX_ERR_BAD_SKIN;
+  return SPX_OK;
+}
 
 // Magic, version, sizes, checksum and the header's fields; the sections' ranges inside the
 // body, apart and tiling it exactly (each padded to 4 bytes): a count that shrank would
@@ -247,21 +300,31 @@ inline Status check_header(const unsigned char* b, size_t size, Layout* l) {
   l->off_names = rd32(b + 52), l->names_size = rd32(b + 56);
   // Flags and the reserved word have no meaning in format 1: a set bit is a file this reader
   // cannot honour, not one to half-read.
-  if (l->header < SPX_HEADER_SIZE || b[36] != 4 || b[37] != 4 || rd16(b + 38) != 0 || rd32(b + 60) != 0)
+  const uint16_t flags = rd16(b + 38);
+  if (l->header < SPX_HEADER_SIZE || b[36] != 4 || b[37] != 4 || (flags & ~uint16_t(SPX_FLAG_SKIN)) != 0 ||
+      (flags == 0 && rd32(b + 60) != 0) || (flags != 0 && rd16(b + 10) < 1))
     return SPX_ERR_BAD_SIZES;
   if (l->n == 0 || l->p == 0 || l->s == 0 || l->p > SPX_MAX_POSES || l->s > l->n) return SPX_ERR_BAD_SIZES;
   const uint64_t body = size - 4;
+  l->off_skin = l->skin_size = l->joints = 0;
+  if (flags & SPX_FLAG_SKIN) {
+    const Status skin = check_skin_head(b, body, l);
+    if (skin != SPX_OK) return skin;
+  }
   l->sphere_bytes = uint64_t(l->p) * l->n * 16, l->ss_bytes = uint64_t(l->n) * 4, l->site_bytes = uint64_t(l->s) * 12;
-  struct Range { uint64_t at, len; } ranges[4] = {
-      {l->off_spheres, l->sphere_bytes}, {l->off_ss, l->ss_bytes}, {l->off_sites, l->site_bytes}, {l->off_names, l->names_size}};
-  for (int i = 0; i < 4; ++i) {
+  struct Range { uint64_t at, len; } ranges[5] = {
+      {l->off_spheres, l->sphere_bytes}, {l->off_ss, l->ss_bytes}, {l->off_sites, l->site_bytes},
+      {l->off_names, l->names_size}, {l->off_skin, l->skin_size}};
+  for (int i = 0; i < 5; ++i) {
+    if (ranges[i].len == 0 && i == 4) continue;
     if (ranges[i].at < l->header || ranges[i].at % 4 != 0 || ranges[i].at + ranges[i].len > body) return SPX_ERR_BAD_SIZES;
     for (int j = 0; j < i; ++j)
       if (ranges[i].at < ranges[j].at + ranges[j].len && ranges[j].at < ranges[i].at + ranges[i].len)
         return SPX_ERR_BAD_SIZES;
   }
   const uint64_t padded = ((l->sphere_bytes + 3) & ~uint64_t(3)) + ((l->ss_bytes + 3) & ~uint64_t(3)) +
-                          ((l->site_bytes + 3) & ~uint64_t(3)) + ((uint64_t(l->names_size) + 3) & ~uint64_t(3));
+                          ((l->site_bytes + 3) & ~uint64_t(3)) + ((uint64_t(l->names_size) + 3) & ~uint64_t(3)) +
+                          l->skin_size;
   if (l->header + padded != body) return SPX_ERR_BAD_SIZES;
   return SPX_OK;
 }
@@ -279,6 +342,58 @@ inline Status check_names(const unsigned char* b, Layout* l) {
     at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
   }
   return at == end ? SPX_OK : SPX_ERR_BAD_SIZES;
+}
+
+// The skin's joint names: J length-prefixed strings that fill the rest of its section.
+inline Status check_skin_names(const unsigned char* b, Layout* l) {
+  l->joint_name_chars = 0;
+  if (l->joints == 0) return SPX_OK;
+  const uint64_t end = uint64_t(l->off_skin) + l->skin_size;
+  uint64_t at = uint64_t(l->off_skin) + 8 + uint64_t(l->n) * SPX_SKIN_RECORD + uint64_t(l->joints) * 4;
+  for (uint32_t i = 0; i < l->joints; ++i) {
+    if (at + 4 > end) return SPX_ERR_BAD_SKIN;
+    const uint32_t len = rd32(b + at);
+    if (at + 4 + len > end) return SPX_ERR_BAD_SKIN;
+    l->joint_name_chars += len + 1;
+    at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
+  }
+  return at == end ? SPX_OK : SPX_ERR_BAD_SKIN;
+}
+
+// The skin's records, parents and names into `skin` (x y z r w0..w3 per sphere), `joints`,
+// `parents`, `names` and `chars`; SPX_ERR_BAD_SKIN for a value out of range or not finite, or
+// weights with no positive entry.
+inline Status copy_skin(const unsigned char* b, const Layout& l, float* skin, uint32_t* joints, int32_t* parents,
+                        char** names, char* chars) {
+  Status status = SPX_OK;
+  const unsigned char* r = b + l.off_skin + 8;
+  for (uint64_t i = 0; i < l.n; ++i, r += SPX_SKIN_RECORD) {
+    float weight_sum = 0;
+    for (int k = 0; k < 8; ++k) {
+      const float v = rdf32(r + 4 * k);
+      skin[i * 8 + k] = v;
+      if (!finite(v) || (k >= 3 && v < 0)) status = SPX_ERR_BAD_SKIN;
+      if (k >= 4 && finite(v)) weight_sum += v;
+    }
+    if (!(weight_sum > 0)) status = SPX_ERR_BAD_SKIN;
+    for (int k = 0; k < 4; ++k) {
+      joints[i * 4 + k] = rd32(r + 32 + 4 * k);
+      if (joints[i * 4 + k] >= l.joints) status = SPX_ERR_BAD_SKIN;
+    }
+  }
+  for (uint32_t j = 0; j < l.joints; ++j, r += 4) {
+    parents[j] = int32_t(rd32(r));
+    if (parents[j] < -1 || parents[j] >= int64_t(l.joints) || parents[j] == int32_t(j)) status = SPX_ERR_BAD_SKIN;
+  }
+  for (uint32_t j = 0; j < l.joints; ++j) {
+    const uint32_t len = rd32(r);
+    names[j] = chars;
+    std::memcpy(chars, r + 4, len);
+    chars[len] = '\0';
+    chars += len + 1;
+    r += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
+  }
+  return status;
 }
 
 // The sections copied into one block laid out as `spheres, names, sites, ss, chars` say;
@@ -321,21 +436,36 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
   Layout l;
   Status status = check_header(b, size, &l);
   if (status == SPX_OK) status = check_names(b, &l);
+  if (status == SPX_OK) status = check_skin_names(b, &l);
   if (status != SPX_OK) return status;
 
-  // One block: the spheres first (16-byte aligned, and a multiple of 16 bytes long), then the
-  // name pointers, sites, sphere sites (all 4-byte types) and the name characters.
-  const uint64_t pointer_bytes = uint64_t(l.p) * sizeof(char*);
-  const uint64_t total = l.sphere_bytes + pointer_bytes + l.site_bytes + l.ss_bytes + l.name_chars;
+  // One block: the spheres first (16-byte aligned, and a multiple of 16 bytes long), the skin's
+  // records (32 bytes each), then the name pointers (the poses', the joints'), sites, sphere
+  // sites, skin joints, parents (all 4-byte types) and the name characters.
+  const uint64_t skin_bytes = l.joints ? uint64_t(l.n) * 32 : 0, skin_joint_bytes = l.joints ? uint64_t(l.n) * 16 : 0;
+  const uint64_t pointer_bytes = (uint64_t(l.p) + l.joints) * sizeof(char*), parent_bytes = uint64_t(l.joints) * 4;
+  const uint64_t total = l.sphere_bytes + skin_bytes + pointer_bytes + l.site_bytes + l.ss_bytes + skin_joint_bytes +
+                         parent_bytes + l.name_chars + l.joint_name_chars;
   if (total > SIZE_MAX) return SPX_ERR_OUT_OF_MEMORY;
   unsigned char* block = static_cast<unsigned char*>(SPX_MALLOC(size_t(total)));
   if (!block) return SPX_ERR_OUT_OF_MEMORY;
-  float* spheres = reinterpret_cast<float*>(block);
-  char** names = reinterpret_cast<char**>(block + l.sphere_bytes);
-  float* sites = reinterpret_cast<float*>(block + l.sphere_bytes + pointer_bytes);
-  uint32_t* ss = reinterpret_cast<uint32_t*>(block + l.sphere_bytes + pointer_bytes + l.site_bytes);
-  char* chars = reinterpret_cast<char*>(block + l.sphere_bytes + pointer_bytes + l.site_bytes + l.ss_bytes);
+  unsigned char* at = block;
+  auto take = [&at](uint64_t bytes) {
+    unsigned char* here = at;
+    at += bytes;
+    return here;
+  };
+  float* spheres = reinterpret_cast<float*>(take(l.sphere_bytes));
+  float* skin = reinterpret_cast<float*>(take(skin_bytes));
+  char** names = reinterpret_cast<char**>(take(pointer_bytes));
+  float* sites = reinterpret_cast<float*>(take(l.site_bytes));
+  uint32_t* ss = reinterpret_cast<uint32_t*>(take(l.ss_bytes));
+  uint32_t* skin_joints = reinterpret_cast<uint32_t*>(take(skin_joint_bytes));
+  int32_t* parents = reinterpret_cast<int32_t*>(take(parent_bytes));
+  char* chars = reinterpret_cast<char*>(take(l.name_chars));
+  char* joint_chars = reinterpret_cast<char*>(at);
   status = copy_sections(b, l, spheres, names, sites, ss, chars);
+  if (status == SPX_OK && l.joints) status = copy_skin(b, l, skin, skin_joints, parents, names + l.p, joint_chars);
   if (status != SPX_OK) {
     SPX_FREE(block);
     return status;
@@ -346,9 +476,15 @@ inline Status load_memory(const void* data, size_t size, Proxy* out) {
   out->sites_ = sites;
   out->sphere_sites_ = ss;
   out->names_ = names;
+  if (l.joints) {
+    out->skin_ = skin;
+    out->skin_joints_ = skin_joints;
+    out->parents_ = parents;
+  }
   out->spheres_n_ = l.n;
   out->poses_n_ = l.p;
   out->sites_n_ = l.s;
+  out->joints_n_ = l.joints;
   return SPX_OK;
 }
 
@@ -509,6 +645,37 @@ inline Status blend_local_normalized(const Proxy& proxy, const float* normalized
     out[4 * size_t(j) + 1] = v[1];
     out[4 * size_t(j) + 2] = v[2];
     out[4 * size_t(j) + 3] = v[3] > 0 ? v[3] : 0.0f;
+  }
+  return SPX_OK;
+}
+
+// A rigged body's spheres in the frame the joint matrices describe: joint_count column-major
+// 4x4 matrices (16 floats each, the skin's joint order), x y z r per sphere out. The matrices
+// are checked (finite) every call; the output is left untouched on failure.
+inline Status skin(const Proxy& proxy, const float* joint_matrices, int joint_count, float* xyzr) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!proxy.has_skin()) return SPX_ERR_NO_SKIN;
+  if (!joint_matrices || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
+  if (joint_count < 0 || uint32_t(joint_count) != proxy.joint_count()) return SPX_ERR_JOINT_COUNT;
+  for (size_t k = 0; k < size_t(joint_count) * 16; ++k)
+    if (!detail::finite(joint_matrices[k])) return SPX_ERR_BAD_MATRICES;
+  const uint32_t n = proxy.sphere_count();
+  const float* SPX_RESTRICT s = proxy.skin_spheres();
+  const uint32_t* SPX_RESTRICT j = proxy.skin_joints();
+  float* SPX_RESTRICT out = xyzr;
+  for (uint32_t i = 0; i < n; ++i, s += 8, j += 4, out += 4) {
+    float x = 0, y = 0, z = 0;
+    for (int k = 0; k < 4; ++k) {
+      const float w = s[4 + k];
+      const float* SPX_RESTRICT m = joint_matrices + size_t(j[k]) * 16;
+      x += w * (m[0] * s[0] + m[4] * s[1] + m[8] * s[2] + m[12]);
+      y += w * (m[1] * s[0] + m[5] * s[1] + m[9] * s[2] + m[13]);
+      z += w * (m[2] * s[0] + m[6] * s[1] + m[10] * s[2] + m[14]);
+    }
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
+    out[3] = s[3];
   }
   return SPX_OK;
 }
