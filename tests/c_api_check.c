@@ -2,9 +2,11 @@
  * runtime-demo's format, three ways (split layout, xyzr, and the local blend with those weights
  * at every site, normalised once). tests/cli/bindings.sh compares every line with runtime-demo,
  * which calls the C++ header directly.
- *   c_api_check FILE.spx W0 W1 ...   */
+ *   c_api_check FILE.spx W0 W1 ...
+ *   c_api_check FILE.spx --skin M...   (the skin, as runtime-demo --skin prints it) */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "spx_c.h"
 
@@ -17,6 +19,22 @@ int main(int argc, char** argv) {
     return 1;
   }
   const uint32_t n = spx_sphere_count(proxy), p = spx_pose_count(proxy), sites = spx_site_count(proxy);
+  if (strcmp(argv[2], "--skin") == 0) {
+    const int values = argc - 3;
+    float* m = malloc(sizeof(float) * (size_t)(values > 0 ? values : 1));
+    float* out = malloc(sizeof(float) * 4 * n);
+    for (int i = 0; i < values; ++i) m[i] = strtof(argv[i + 3], NULL);
+    s = spx_skin(proxy, m, values / 16, out);
+    if (s == SPX_C_OK) {
+      printf("# %u spheres, %u joints\n# x y z r\n", n, spx_joint_count(proxy));
+      for (uint32_t j = 0; j < n; ++j) printf("%.9g %.9g %.9g %.9g\n", out[4 * j], out[4 * j + 1], out[4 * j + 2], out[4 * j + 3]);
+    } else {
+      fprintf(stderr, "Error: skin: %s\n", spx_status_string(s));
+    }
+    free(m), free(out);
+    spx_free(proxy);
+    return s != SPX_C_OK;
+  }
   const uint32_t count = (uint32_t)(argc - 2);
   float* w = malloc(sizeof(float) * count);
   float* c = malloc(sizeof(float) * 3 * n);

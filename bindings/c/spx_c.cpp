@@ -64,6 +64,12 @@ int spx_blend_global_xyzr(const spx_proxy* p, const float* w, uint32_t count, fl
 int spx_normalize_site_weights(const spx_proxy* p, const float* w, size_t count, float* normalized) {
   return spx::normalize_site_weights(get(p), w, count, normalized);
 }
+uint32_t spx_joint_count(const spx_proxy* p) { return get(p).joint_count(); }
+const char* spx_joint_name(const spx_proxy* p, uint32_t joint) { return get(p).joint_name(joint); }
+int32_t spx_joint_parent(const spx_proxy* p, uint32_t joint) { return get(p).joint_parent(joint); }
+int spx_skin(const spx_proxy* p, const float* joint_matrices, int joint_count, float* xyzr) {
+  return spx::skin(get(p), joint_matrices, joint_count, xyzr);
+}
 int spx_blend_local_normalized(const spx_proxy* p, const float* normalized, size_t count, float* xyzr) {
   return spx::blend_local_normalized(get(p), normalized, count, xyzr);
 }

@@ -55,6 +55,12 @@ SPX_C_API int spx_blend_global_xyzr(const spx_proxy* proxy, const float* weights
 SPX_C_API int spx_normalize_site_weights(const spx_proxy* proxy, const float* site_weights, size_t weight_count,
                                float* normalized);
 SPX_C_API int spx_blend_local_normalized(const spx_proxy* proxy, const float* normalized, size_t weight_count, float* xyzr);
+/* A rigged body's proxy: its joints (0 without a skin) and the skin, as spx::skin in
+ * spx_runtime.h: joint_count column-major 4x4 matrices in, x y z r per sphere out. */
+SPX_C_API uint32_t spx_joint_count(const spx_proxy* proxy);
+SPX_C_API const char* spx_joint_name(const spx_proxy* proxy, uint32_t joint);
+SPX_C_API int32_t spx_joint_parent(const spx_proxy* proxy, uint32_t joint);
+SPX_C_API int spx_skin(const spx_proxy* proxy, const float* joint_matrices, int joint_count, float* xyzr);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,7 @@
 //   proxy.pose_names, proxy.pose(2)            # (n, 4) float32: x y z r
 //   proxy.blend_global([0.5, 0.5, 0, 0, 0])    # (n, 4)
 //   proxy.blend_local(site_weights)            # site_weights: (site_count, pose_count)
+//   proxy.skin(M)                              # M: (joint_count, 4, 4), M[j] @ [x, y, z, 1]
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -75,7 +76,39 @@ PYBIND11_MODULE(spx, m) {
             check(spx::blend_local_normalized(p, normalized.data(), normalized.size(), out.mutable_data()), "blend_local");
             return out;
           },
-          py::arg("site_weights"), "pose_count weights per blend site, shape (site_count, pose_count)");
+          py::arg("site_weights"), "pose_count weights per blend site, shape (site_count, pose_count)")
+      .def_property_readonly("joint_count", &spx::Proxy::joint_count)
+      .def_property_readonly("joint_names",
+                             [](const spx::Proxy& p) {
+                               std::vector<std::string> names;
+                               for (uint32_t j = 0; j < p.joint_count(); ++j) names.push_back(p.joint_name(j));
+                               return names;
+                             })
+      .def_property_readonly("joint_parents",
+                             [](const spx::Proxy& p) {
+                               std::vector<int> parents;
+                               for (uint32_t j = 0; j < p.joint_count(); ++j) parents.push_back(p.joint_parent(j));
+                               return parents;
+                             })
+      .def(
+          "skin",
+          [](const spx::Proxy& p, const FloatArray& matrices) {
+            if (matrices.ndim() != 3 || matrices.shape(1) != 4 || matrices.shape(2) != 4)
+              throw py::value_error("skin: joint matrices must have shape (joint_count, 4, 4)");
+            // Ordinary (row-major) matrices in, column-major as the runtime takes them.
+            const size_t joints = size_t(matrices.shape(0));
+            std::vector<float> m(joints * 16);
+            const float* in = matrices.data();
+            for (size_t j = 0; j < joints; ++j)
+              for (int r = 0; r < 4; ++r)
+                for (int c = 0; c < 4; ++c) m[j * 16 + size_t(c * 4 + r)] = in[j * 16 + size_t(r * 4 + c)];
+            py::array_t<float> out({size_t(p.sphere_count()), size_t(4)});
+            check(spx::skin(p, m.data(), int(joints), out.mutable_data()), "skin");
+            return out;
+          },
+          py::arg("matrices"),
+          "The spheres of a rigged body in one frame: matrices (joint_count, 4, 4), each joint's global transform "
+          "times its inverse bind (M[j] @ [x, y, z, 1]); returns x y z r per sphere, shape (sphere_count, 4)");
   m.def(
       "load",
       [](const std::string& path) {

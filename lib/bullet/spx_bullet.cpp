@@ -35,15 +35,24 @@ bool SphereSetShape::is_sphere_set(const btCollisionShape* shape) {
 }
 
 void SphereSetShape::set_spheres(const float* centers, const float* radii, const btVector3& origin) {
+  place(centers, 3, radii, 1, origin);
+}
+
+void SphereSetShape::set_spheres_xyzr(const float* xyzr, const btVector3& origin) { place(xyzr, 4, xyzr + 3, 4, origin); }
+
+void SphereSetShape::place(const float* centers, size_t center_stride, const float* radii, size_t radius_stride,
+                           const btVector3& origin) {
   // A parked sphere: tiny, at the body's origin, where it never sticks out.
   constexpr btScalar kParked = btScalar(1e-4);
   btTransform t;
   t.setIdentity();
   for (size_t j = 0; j < balls_.size(); ++j) {
-    const bool on = radii[j] > 0;
-    radii_[j] = on ? radii[j] : 0;
-    balls_[j].setUnscaledRadius(on ? radii[j] : kParked);
-    t.setOrigin(on ? btVector3(centers[3 * j], centers[3 * j + 1], centers[3 * j + 2]) - origin : btVector3(0, 0, 0));
+    const float r = radii[j * radius_stride];
+    const float* c = centers + j * center_stride;
+    const bool on = r > 0;
+    radii_[j] = on ? r : 0;
+    balls_[j].setUnscaledRadius(on ? r : kParked);
+    t.setOrigin(on ? btVector3(c[0], c[1], c[2]) - origin : btVector3(0, 0, 0));
     updateChildTransform(int(j), t, false);
     centers_[int(j)] = t.getOrigin();
   }
@@ -52,7 +61,7 @@ void SphereSetShape::set_spheres(const float* centers, const float* radii, const
 
 namespace {
 
-thread_local std::vector<float> scratch_centers, scratch_radii;
+thread_local std::vector<float> scratch_centers, scratch_radii, scratch_xyzr;
 
 template <class Blend>
 Status blend_into(SphereSetShape& shape, const Proxy& proxy, const btVector3& origin, Blend&& blend) {
@@ -369,6 +378,15 @@ Status blend_global(SphereSetShape& shape, const Proxy& proxy, const float* weig
   return blend_into(shape, proxy, origin, [&](float* c, float* r) {
     return spx::blend_global(proxy, weights, weight_count, c, r);
   });
+}
+
+Status skin(SphereSetShape& shape, const Proxy& proxy, const float* joint_matrices, int joint_count,
+            const btVector3& origin) {
+  if (proxy.sphere_count() != shape.sphere_count()) return SPX_ERR_INVALID_ARGUMENT;
+  scratch_xyzr.resize(4 * size_t(proxy.sphere_count()));
+  const Status s = spx::skin(proxy, joint_matrices, joint_count, scratch_xyzr.data());
+  if (s == SPX_OK) shape.set_spheres_xyzr(scratch_xyzr.data(), origin);
+  return s;
 }
 
 Status blend_local(SphereSetShape& shape, const Proxy& proxy, const float* site_weights, size_t weight_count,

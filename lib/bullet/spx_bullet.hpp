@@ -50,10 +50,13 @@ class SphereSetShape : public btCompoundShape {
   // mass in that frame) is subtracted. A radius <= 0 parks the sphere, inactive, at the origin.
   // Refits the children's boxes, the tree and the compound's box.
   void set_spheres(const float* centers, const float* radii, const btVector3& origin = btVector3(0, 0, 0));
+  // The same from x y z r per sphere (the runtime's xyzr layout).
+  void set_spheres_xyzr(const float* xyzr, const btVector3& origin = btVector3(0, 0, 0));
 
   static constexpr const char* kName = "spx::SphereSet";
 
  private:
+  void place(const float* centers, size_t center_stride, const float* radii, size_t radius_stride, const btVector3& origin);
   std::vector<btSphereShape> balls_;  // children point into it: sized once, never reallocated
   btAlignedObjectArray<btVector3> centers_;  // aligned: btVector3 may use SSE
   std::vector<btScalar> radii_;
@@ -65,6 +68,9 @@ Status blend_global(SphereSetShape& shape, const Proxy& proxy, const float* weig
                     const btVector3& origin = btVector3(0, 0, 0));
 Status blend_local(SphereSetShape& shape, const Proxy& proxy, const float* site_weights, size_t weight_count,
                    const btVector3& origin = btVector3(0, 0, 0));
+// A rigged body's spheres skinned by the frame's joint matrices (spx::skin) into the shape.
+Status skin(SphereSetShape& shape, const Proxy& proxy, const float* joint_matrices, int joint_count,
+            const btVector3& origin = btVector3(0, 0, 0));
 
 // Sphere set against static plane, box and sphere set, both orders. Pairs that are not sphere
 // sets fall back to the dispatcher's configuration (Bullet's own algorithms).

@@ -29,23 +29,9 @@ struct WeldedBody {
   TriMesh rest;
 };
 
-// Welded vertices are numbered in order of first use by the triangles (unused ones last): the
-// order a mesh reader that welds face corners gives them back in, so that the OBJ files' vertex
-// order is the tools' and the skin's per-vertex weights stay with their vertices.
 WeldedBody weld_body(const Asset& asset) {
   WeldedBody body;
-  std::vector<Eigen::Vector3d> welded;
-  const std::vector<int> weld = weld_by_position(asset.rest(), welded);
-  std::vector<int> number(welded.size(), -1);
-  int next = 0;
-  for (const auto& t : asset.triangles())
-    for (int k = 0; k < 3; ++k)
-      if (number[size_t(weld[size_t(t[k])])] < 0) number[size_t(weld[size_t(t[k])])] = next++;
-  for (int& n : number)
-    if (n < 0) n = next++;
-  body.rest.vertices.resize(welded.size());
-  for (size_t v = 0; v < welded.size(); ++v) body.rest.vertices[size_t(number[v])] = welded[v];
-  for (int w : weld) body.weld.push_back(number[size_t(w)]);
+  body.weld = weld_by_position(asset.rest(), body.rest.vertices);
   for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
   return body;
 }
@@ -254,12 +240,14 @@ std::vector<PoseRequest> select_frames(const Asset& asset, const Body& body, con
   return kept;
 }
 
-// The rig of a clip's poses: the joints, the welded rest's weights (a welded vertex takes its
-// first file vertex's, as its position), and the joint matrices of the rest and every pose.
+// The rig of a clip's poses: the joints, the welded rest's vertices and weights (a welded vertex
+// takes its first file vertex's, as its position), and the joint matrices of the rest and
+// every pose.
 SkinFile skin_of(const Asset& asset, const WeldedBody& body, const std::vector<PoseRequest>& requests) {
   SkinFile skin;
   for (const AssetJoint& j : asset.joints()) skin.joints.push_back({j.name, j.parent, j.inverse_bind});
   const auto weights = asset.vertex_joints();
+  skin.vertex_positions = body.rest.vertices;
   skin.vertex_weights.resize(body.rest.vertices.size());
   std::vector<char> set(skin.vertex_weights.size(), 0);
   for (size_t i = 0; i < weights.size(); ++i) {

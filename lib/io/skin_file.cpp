@@ -1,6 +1,8 @@
 #include "io/skin_file.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "core/error.hpp"
 #include "core/version.hpp"
@@ -58,6 +60,8 @@ json skin_to_json(const SkinFile& skin) {
   json joints = json::array(), weights = json::array(), poses = json::array();
   for (const auto& j : skin.joints)
     joints.push_back({{"name", j.name}, {"parent", j.parent}, {"inverse_bind", matrix_to_json(j.inverse_bind)}});
+  json positions = json::array();
+  for (const auto& p : skin.vertex_positions) positions.push_back({p.x(), p.y(), p.z()});
   for (const auto& vw : skin.vertex_weights) {
     json pairs = json::array();
     for (const auto& [joint, w] : vw) pairs.insert(pairs.end(), {joint, w});
@@ -68,6 +72,7 @@ json skin_to_json(const SkinFile& skin) {
           {"version", kVersion},
           {"generator", std::string("spx ") + version_string()},
           {"joints", joints},
+          {"vertex_positions", positions},
           {"vertex_weights", weights},
           {"rest", {{"joint_matrices", matrices_to_json(skin.rest)}}},
           {"poses", poses},
@@ -96,6 +101,16 @@ SkinFile read_skin_file(const std::string& path) {
     if (!weights.is_array()) fail_input(path, "field 'vertex_weights' is not an array");
     for (size_t v = 0; v < weights.size(); ++v)
       skin.vertex_weights.push_back(weights_from_json(weights[v], joints.size(), "vertex " + std::to_string(v), path));
+    const json& positions = require(j, "vertex_positions", path);
+    if (!positions.is_array() || positions.size() != weights.size())
+      fail_input(path, "field 'vertex_positions' does not hold one position per weighted vertex");
+    for (size_t v = 0; v < positions.size(); ++v) {
+      const std::string what = "vertex_positions[" + std::to_string(v) + "]";
+      if (!positions[v].is_array() || positions[v].size() != 3) fail_input(path, what + " is not [x, y, z]");
+      Eigen::Vector3d p;
+      for (int k = 0; k < 3; ++k) p[k] = as_finite_number(positions[v][size_t(k)], what, path);
+      skin.vertex_positions.push_back(p);
+    }
     skin.rest = matrices_from_json(require(require(j, "rest", path), "joint_matrices", path), joints.size(),
                                    "rest joint_matrices", path);
     const json& poses = require(j, "poses", path);
@@ -110,6 +125,31 @@ SkinFile read_skin_file(const std::string& path) {
     skin.morph_channels = j.value("morph_channels", size_t(0));
     return skin;
   });
+}
+
+std::vector<JointWeights> weights_for_vertices(const SkinFile& skin, const std::vector<Eigen::Vector3d>& vertices,
+                                               double tolerance, const std::string& path) {
+  // The skin's vertices sorted by x; each mesh vertex looks in its x slab for the nearest.
+  const auto& at = skin.vertex_positions;
+  std::vector<size_t> order(at.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return at[a].x() < at[b].x(); });
+  std::vector<JointWeights> out;
+  for (size_t v = 0; v < vertices.size(); ++v) {
+    const Eigen::Vector3d& p = vertices[v];
+    auto lo = std::lower_bound(order.begin(), order.end(), p.x() - tolerance, [&](size_t i, double x) { return at[i].x() < x; });
+    size_t best = at.size();
+    double best_d = tolerance;
+    for (auto it = lo; it != order.end() && at[*it].x() <= p.x() + tolerance; ++it) {
+      const double d = (at[*it] - p).norm();
+      if (d <= best_d) best = *it, best_d = d;
+    }
+    if (best == at.size())
+      fail_input(path, "has no vertex at the rest mesh's vertex " + std::to_string(v) +
+                           " (is it the skin of another mesh, or of another rest pose?)");
+    out.push_back(skin.vertex_weights[best]);
+  }
+  return out;
 }
 
 }  // namespace spx

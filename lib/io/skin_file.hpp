@@ -31,7 +31,10 @@ struct SkinPose {
 
 struct SkinFile {
   std::vector<SkinJoint> joints;
-  std::vector<JointWeights> vertex_weights;  // per welded rest vertex (empty: no joint weighs it)
+  // Per welded rest vertex: where it is at rest (what pins the weights to a mesh read back in any
+  // vertex order) and its weights (empty: no joint weighs it).
+  std::vector<Eigen::Vector3d> vertex_positions;
+  std::vector<JointWeights> vertex_weights;
   JointMatrices rest;
   std::vector<SkinPose> poses;  // in poses.json's order
   size_t morph_channels = 0;    // the clip also drives morph weights, which a skin cannot follow
@@ -41,5 +44,11 @@ json skin_to_json(const SkinFile& skin);
 // Exit 2 naming `path` and the field when the document is not a valid skin: joint indices out
 // of range, weights or matrices not finite, a matrix count other than the joint count.
 SkinFile read_skin_file(const std::string& path);
+
+// The skin's weights for each of `vertices` (a rest mesh as a tool loaded it, in its own order):
+// the weights of the skin's vertex within `tolerance` of it. Exit 2 naming `path` when a vertex
+// has none (the skin is another mesh's).
+std::vector<JointWeights> weights_for_vertices(const SkinFile& skin, const std::vector<Eigen::Vector3d>& vertices,
+                                               double tolerance, const std::string& path);
 
 }  // namespace spx

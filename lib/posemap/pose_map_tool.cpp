@@ -1,5 +1,6 @@
 #include "posemap/pose_map_tool.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <set>
 
@@ -10,12 +11,16 @@
 namespace spx {
 namespace {
 
-// The rig must be the rest mesh's and the poses': a weight list per rest vertex, a pose each.
+// The rig must be the rest mesh's and the poses': weights found for every rest vertex (by its
+// position, whatever order the mesh was read in), a pose each.
 SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, size_t poses) {
   SkinFile skin = read_skin_file(path);
-  if (skin.vertex_weights.size() != rest.vertices.size())
-    fail_input(path, "weighs " + std::to_string(skin.vertex_weights.size()) + " vertices; the rest mesh has " +
-                         std::to_string(rest.vertices.size()));
+  // Positions went through OBJ text (9 significant digits): a little of the diagonal, and of the
+  // coordinates' size for a body far from the origin.
+  double far = 0;
+  for (const auto& p : rest.vertices) far = std::max(far, p.cwiseAbs().maxCoeff());
+  skin.vertex_weights = weights_for_vertices(skin, rest.vertices, 1e-6 * rest.diagonal() + 1e-8 * far, path);
+  skin.vertex_positions = rest.vertices;
   if (skin.poses.size() != poses)
     fail_input(path, "holds the joint matrices of " + std::to_string(skin.poses.size()) + " poses; " +
                          std::to_string(poses) + " poses are given (every pose must come with the rig, or none)");

@@ -1,5 +1,7 @@
-// Minimal host: load a .spx, blend with the global weights given, print the spheres.
+// Minimal host: load a .spx, blend with the global weights given (or skin a rigged body's
+// spheres with the joint matrices given), print the spheres.
 //   runtime-demo FILE.spx [w0 w1 ...]      (no weights: the rest pose)
+//   runtime-demo FILE.spx --skin m0 m1 ... (joint_count column-major 4x4 matrices)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -8,7 +10,9 @@
 #include "spx_runtime.h"
 
 int main(int argc, char** argv) {
-  const char* usage = "usage: runtime-demo FILE.spx [w0 w1 ...]  (no weights: the rest pose)\n";
+  const char* usage =
+      "usage: runtime-demo FILE.spx [w0 w1 ...]  (no weights: the rest pose)\n"
+      "       runtime-demo FILE.spx --skin m0 m1 ...  (16 numbers per joint, column-major)\n";
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     std::printf("%s", usage);
     return 0;
@@ -22,6 +26,22 @@ int main(int argc, char** argv) {
   if (status != spx::SPX_OK) {
     std::fprintf(stderr, "Error: %s: %s (status %d)\n", argv[1], spx::status_string(status), int(status));
     return 2;
+  }
+  if (argc >= 3 && std::strcmp(argv[2], "--skin") == 0) {
+    std::vector<float> matrices;
+    for (int i = 3; i < argc; ++i) matrices.push_back(std::strtof(argv[i], nullptr));
+    std::vector<float> xyzr(size_t(proxy.sphere_count()) * 4);
+    status = spx::skin(proxy, matrices.data(), int(matrices.size() / 16), xyzr.data());
+    if (status != spx::SPX_OK || matrices.size() % 16 != 0) {
+      std::fprintf(stderr, "Error: skin: %s (status %d; this file has %u joints)\n",
+                   matrices.size() % 16 ? "give 16 numbers per joint" : spx::status_string(status), int(status),
+                   proxy.joint_count());
+      return 1;
+    }
+    std::printf("# %u spheres, %u joints\n# x y z r\n", proxy.sphere_count(), proxy.joint_count());
+    for (uint32_t j = 0; j < proxy.sphere_count(); ++j)
+      std::printf("%.9g %.9g %.9g %.9g\n", xyzr[4 * j], xyzr[4 * j + 1], xyzr[4 * j + 2], xyzr[4 * j + 3]);
+    return 0;
   }
   std::vector<float> weights(proxy.pose_count(), 0.0f);
   if (argc == 2) {

@@ -47,8 +47,10 @@ if [ -n "$data" ] && [ -e "$data/rigged-simple/RiggedSimple.glb" ]; then
   check "skinned clip: skin.json schema" v skin.schema.json "$out/rigged/poses/skin.json"
   check "skinned clip: the skin has 2 joints, 2 poses and a weight per rest vertex" /usr/bin/python3 -c \
     "import json,sys; s=json.load(open(sys.argv[1])); n=sum(1 for l in open(sys.argv[2]) if l.startswith('v '));
-sys.exit(not (len(s['joints']) == 2 and len(s['poses']) == 2 and len(s['vertex_weights']) == n))" \
+sys.exit(not (len(s['joints']) == 2 and len(s['poses']) == 2 and len(s['vertex_weights']) == n == len(s['vertex_positions'])))" \
     "$out/rigged/poses/skin.json" "$out/rigged/poses/rest.obj"
+  check "skinned clip: the .spx has the skin" /usr/bin/python3 -c \
+    "import sys; b=open(sys.argv[1],'rb').read(); sys.exit(not (b[10] == 1 and b[38] == 1))" "$out/rigged/rigged.spx"
 fi
 echo "$passed passed, $fail failed"
 [ "$fail" = 0 ]

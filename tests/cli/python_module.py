@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The Python module against the C++ header: runtime-demo (the header, called from C++) prints the
 global blend exactly (%.9g round-trips float32); the module's blends must match value for value.
-usage: python_module.py MODULE_DIR RUNTIME_DEMO FILE.spx"""
+With a rigged body's SKINNED.spx too, proxy.skin(M) against runtime-demo --skin.
+usage: python_module.py MODULE_DIR RUNTIME_DEMO FILE.spx [SKINNED.spx]"""
 import subprocess
 import sys
 
@@ -56,5 +57,46 @@ try:
     expect(False, "a missing file must raise")
 except ValueError as e:
     expect(".missing" in str(e), f"message names the file: {e}")
+expect(proxy.joint_count == 0 and proxy.joint_names == [], "a proxy without a skin has no joints")
+try:
+    proxy.skin(np.tile(np.eye(4, dtype=np.float32), (1, 1, 1)))
+    expect(False, "skin on a proxy without one must raise")
+except ValueError as e:
+    expect("no skin" in str(e), f"message: {e}")
+
+if len(sys.argv) > 4:
+    rigged = spx.load(sys.argv[4])
+    joints = rigged.joint_count
+    expect(joints > 0 and len(rigged.joint_names) == joints and len(rigged.joint_parents) == joints, "joints")
+    for trial in range(3):
+        m = np.tile(np.eye(4), (joints, 1, 1))
+        for j in range(joints):
+            q = rng.normal(size=4)
+            q /= np.linalg.norm(q)
+            w, x, y, z = q
+            m[j, :3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+            m[j, :3, 3] = rng.normal(size=3)
+        m = m.astype(np.float32)
+        args = ["%.9g" % v for j in range(joints) for v in m[j].T.reshape(-1)]
+        out = subprocess.run([demo, sys.argv[4], "--skin"] + args, check=True, capture_output=True, text=True)
+        ref = np.array([line.split() for line in out.stdout.splitlines() if not line.startswith("#")],
+                       dtype=np.float64).astype(np.float32)
+        got = rigged.skin(m)
+        expect(got.shape == (rigged.sphere_count, 4) and got.dtype == np.float32, "skin array shape and type")
+        expect(np.array_equal(got, ref), f"skin trial {trial}: max diff {np.abs(got - ref).max()}")
+    try:
+        rigged.skin(np.zeros((joints + 1, 4, 4), dtype=np.float32))
+        expect(False, "a wrong joint count must raise")
+    except ValueError as e:
+        expect("joint" in str(e), f"message: {e}")
+    bad = np.tile(np.eye(4, dtype=np.float32), (joints, 1, 1))
+    bad[0, 0, 3] = np.nan
+    try:
+        rigged.skin(bad)
+        expect(False, "matrices that are not finite must raise")
+    except ValueError as e:
+        expect("finite" in str(e), f"message: {e}")
 print(f"{0 if failed else 1} passed, {failed} failed")
 sys.exit(1 if failed else 0)
