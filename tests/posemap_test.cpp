@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <fstream>
 #include <iomanip>
+#include <random>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -15,6 +16,7 @@
 #include "posemap/harmonic_map.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "posemap/posemap.hpp"
+#include "posemap/skinned_map.hpp"
 #include "synthetic/synthetic.hpp"
 #include "sdf/sdf.hpp"
 #include "test_util.hpp"
@@ -526,6 +528,35 @@ TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {
     TriMesh moved = rest;
     for (auto& v : moved.vertices) v = c + turn * (v - c).cwiseProduct(Eigen::Vector3d(1.1, 0.95, 1.0));
     expect_claim_holds(rest, {{"same", "same", rest}, {"moved", "moved", moved}}, name);
+  }
+}
+
+// The influence kept per sphere against a brute-force ranking: the 4 largest weights (ties to
+// the lower joint), never negative, renormalised over the kept positive ones.
+TEST(PoseMap, HeaviestFourKeepsTheLargestWeightsAsBruteForceDoes) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-0.2, 1);
+  for (int trial = 0; trial < 500; ++trial) {
+    const int joints = 1 + trial % 9;
+    Eigen::VectorXd w(joints);
+    for (int j = 0; j < joints; ++j) w[j] = trial % 7 == 0 ? std::round(4 * u(rng)) / 4 : u(rng);
+    const SkinInfluence s = heaviest_four(w);
+    std::vector<std::pair<double, int>> ranked;
+    for (int j = 0; j < joints; ++j) ranked.push_back({-w[j], j});
+    std::sort(ranked.begin(), ranked.end());
+    double total = 0;
+    for (int k = 0; k < std::min(4, joints); ++k) total += std::max(0.0, -ranked[size_t(k)].first);
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_GE(s.weight[size_t(k)], 0.0f);
+      if (!(total > 0)) continue;
+      if (k < joints) {
+        EXPECT_EQ(s.joint[size_t(k)], ranked[size_t(k)].second) << "trial " << trial;
+        EXPECT_FLOAT_EQ(s.weight[size_t(k)], float(std::max(0.0, -ranked[size_t(k)].first) / total));
+      } else {
+        EXPECT_EQ(s.weight[size_t(k)], 0.0f);
+      }
+    }
+    if (!(total > 0)) EXPECT_EQ(s.weight[0], 1.0f);
   }
 }
 

@@ -20,15 +20,10 @@ SkinInfluence heaviest_four(const Eigen::VectorXd& weights) {
     s.weight[0] = 1;
     return s;
   }
-  // Float weights whose float sum is 1: the last kept one takes what the others leave.
-  float rest = 1;
-  size_t last = 0;
-  for (size_t k = 0; k < keep; ++k)
-    if (weights[order[k]] > 0) last = k;
-  for (size_t k = 0; k <= last; ++k) {
+  // Rounded to float, as the runtime holds them; the tools skin with these very weights.
+  for (size_t k = 0; k < keep; ++k) {
     s.joint[k] = order[k];
-    s.weight[k] = k == last ? rest : float(std::max(0.0, weights[order[k]]) / total);
-    rest -= s.weight[k];
+    s.weight[k] = float(std::max(0.0, weights[order[k]]) / total);
   }
   return s;
 }

@@ -22,7 +22,7 @@ struct SkinInfluence {
 };
 
 // The 4 heaviest of `weights` (one per joint; ties to the lower joint), negatives dropped,
-// renormalised and rounded to float so that they sum to 1 as the runtime reads them.
+// renormalised and rounded to float, as the runtime holds them.
 SkinInfluence heaviest_four(const Eigen::VectorXd& weights);
 
 // sum_j w_j M_j x, in double.
