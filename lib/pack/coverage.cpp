@@ -113,4 +113,20 @@ std::vector<double> least_gaps(const CoverProblem& problem) {
   return out;
 }
 
+// A sphere of radius 0 in a pose only costs the host there. Candidates that are 0 in half the
+// poses or more are not offered: every pose of theirs is set to 0, so they cover nothing.
+// Returns how many of candidates [from..] were.
+size_t withdraw_mostly_absent(CoverProblem& problem, size_t from) {
+  const size_t poses = problem.spheres.size(), candidates = problem.candidate_count();
+  size_t dropped = 0;
+  for (size_t c = from; c < candidates; ++c) {
+    size_t absent = 0;
+    for (size_t k = 0; k < poses; ++k) absent += !(problem.spheres[k][c].radius > 0);
+    if (absent == 0 || 2 * absent < poses) continue;
+    for (size_t k = 0; k < poses; ++k) problem.spheres[k][c].radius = 0;
+    dropped += absent < poses;  // those 0 everywhere were never on offer
+  }
+  return dropped;
+}
+
 }  // namespace spx

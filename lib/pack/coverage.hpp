@@ -43,4 +43,9 @@ class GapTable {
 // covered at all (infinite where no candidate exists).
 std::vector<double> least_gaps(const CoverProblem& problem);
 
+// A sphere of radius 0 in a pose only costs the host there: candidates [from..] that are 0 in
+// half the poses or more are withdrawn (0 in every pose, so they cover nothing). Returns how
+// many were on offer before.
+size_t withdraw_mostly_absent(CoverProblem& problem, size_t from = 0);
+
 }  // namespace spx

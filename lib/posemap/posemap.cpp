@@ -23,28 +23,6 @@
 namespace spx {
 namespace {
 
-// A sphere of radius 0 in a pose only costs the host there. Candidates that are 0 in half the
-// poses or more are not offered: every pose of theirs is set to 0, so they cover nothing.
-// Returns how many of candidates [from..] were.
-size_t drop_mostly_absent(CoverProblem& problem, size_t from = 0) {
-  const size_t poses = problem.spheres.size(), candidates = problem.candidate_count();
-  size_t dropped = 0;
-  for (size_t c = from; c < candidates; ++c) {
-    size_t absent = 0;
-    for (size_t k = 0; k < poses; ++k) absent += !(problem.spheres[k][c].radius > 0);
-    if (absent == 0 || 2 * absent < poses) continue;
-    for (size_t k = 0; k < poses; ++k) problem.spheres[k][c].radius = 0;
-    dropped += absent < poses;  // those 0 everywhere were never on offer
-  }
-  return dropped;
-}
-
-// Sets the field to 0 (not a candidate center) wherever a sphere already covers it.
-void clear_covered(DenseField& field, const SphereSet& spheres) {
-  for (const auto& s : spheres)
-    if (s.radius > 0) clear_inside(field.values, field.shape, s.center, s.radius);
-}
-
 // pose-map's steps, in the order pose_map() takes them, and the state they share: the tets and
 // the map f, each pose's tet vertices and solid, and the proxy as it grows.
 class PoseMapper {
@@ -212,19 +190,7 @@ class PoseMapper {
   // Blend sites: the nearest rest tet vertex of each sphere (the paper's local blend).
   void assign_blend_sites() {
     const size_t n = rest_centers_.size();
-    std::vector<int> nearest(n, -1);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t s = r.begin(); s != r.end(); ++s) {
-        double best = std::numeric_limits<double>::infinity();
-        for (size_t v = 0; v < tets_.vertices.size(); ++v) {
-          const double d = (tets_.vertices[v] - rest_centers_[s]).squaredNorm();
-          if (d < best) {
-            best = d;
-            nearest[s] = int(v);
-          }
-        }
-      }
-    });
+    const std::vector<int> nearest = nearest_tet_vertices(tets_, rest_centers_);
     std::vector<int> site_of_vertex(tets_.vertices.size(), -1);
     std::vector<int> used(nearest);
     std::sort(used.begin(), used.end());
@@ -238,15 +204,7 @@ class PoseMapper {
 
   // A rigged body's proxy carries each sphere's influence and its one radius.
   void attach_skin() {
-    if (!skinned_) return;
-    for (const SkinJoint& j : skin_->joints) {
-      proxy_.skin.joints.push_back(j.name);
-      proxy_.skin.parents.push_back(j.parent);
-    }
-    for (size_t s = 0; s < rest_centers_.size(); ++s) {
-      const SkinInfluence influence = skinned_->influence(rest_centers_[s], f_->locator().locate(rest_centers_[s]));
-      proxy_.skin.spheres.push_back({influence.joint, influence.weight, influence.bind, proxy_.poses[0].spheres[s].radius});
-    }
+    if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres);
   }
 
   // Warnings for every radius 0, and the report: tets, map, per-pose errors and zero radii.
@@ -324,7 +282,7 @@ class PoseMapper {
         for (size_t i = 0; i < poses; ++i) joint.problem.spheres[i][s] = spheres[i].first;
       }
     });
-    joint.mostly_absent += drop_mostly_absent(joint.problem, from);
+    joint.mostly_absent += withdraw_mostly_absent(joint.problem, from);
   }
 
   // The tolerance (as a length, 0: none) and budget asked here, or else what sphere-pack was
@@ -376,19 +334,7 @@ class PoseMapper {
       }
       return out;
     }
-    const SkinInfluence influence = skinned_->influence(c, at);
-    double least = std::numeric_limits<double>::infinity();
-    for (size_t i = 0; i < solids_.size(); ++i) {
-      const Eigen::Vector3d center = i == 0 ? c : skin_point(influence, skinned_->matrices(i));
-      const PoseSolid::Radius radius = solids_[i].radius(center, cause);
-      out.push_back({{center, radius.value}, radius.zero});
-      least = std::min(least, radius.value);
-    }
-    for (auto& [sphere, zero] : out) {
-      sphere.radius = least;
-      if (least == 0 && zero == PoseSolid::Zero::none) zero = PoseSolid::Zero::another_pose;
-    }
-    return out;
+    return skinned_->spheres(c, at, solids_, cause);
   }
 
   // Packing in a pose's own field: the proxy's max radius, and the field bounding radii across
@@ -427,7 +373,9 @@ class PoseMapper {
   SphereSet gap_spheres_of_pose(size_t i, double min_radius, double target, size_t& lost, bool& met, double& reached) {
     DenseField field = pose_field(i + 1);
     release_field(i + 1);
-    clear_covered(field, proxy_.poses[i + 1].spheres);
+    // Not a candidate center where a mapped sphere already covers it.
+    for (const auto& s : proxy_.poses[i + 1].spheres)
+      if (s.radius > 0) clear_inside(field.values, field.shape, s.center, s.radius);
     PackOptions pack = pose_pack_options();
     pack.min_radius = min_radius;
     PackResult found = pack_spheres(field, pack, queries_[i + 1].get());

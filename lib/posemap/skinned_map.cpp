@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 namespace spx {
@@ -66,6 +67,39 @@ SkinInfluence SkinnedMap::influence(const Eigen::Vector3d& p, const TetLocator::
   SkinInfluence s = heaviest_four(w);
   s.bind = unskin_point(s, skin_.rest, p);
   return s;
+}
+
+std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen::Vector3d& c,
+                                                                     const TetLocator::Location& at,
+                                                                     const std::vector<PoseSolid>& solids,
+                                                                     bool cause) const {
+  const SkinInfluence s = influence(c, at);
+  std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
+  double least = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < solids.size(); ++i) {
+    const Eigen::Vector3d center = i == 0 ? c : skin_point(s, matrices(i));
+    const PoseSolid::Radius radius = solids[i].radius(center, cause);
+    out.push_back({{center, radius.value}, radius.zero});
+    least = std::min(least, radius.value);
+  }
+  for (auto& [sphere, zero] : out) {
+    sphere.radius = least;
+    if (least == 0 && zero == PoseSolid::Zero::none) zero = PoseSolid::Zero::another_pose;
+  }
+  return out;
+}
+
+ProxySkin SkinnedMap::proxy_skin(const SphereSet& rest) const {
+  ProxySkin out;
+  for (const SkinJoint& j : skin_.joints) {
+    out.joints.push_back(j.name);
+    out.parents.push_back(j.parent);
+  }
+  for (const Sphere& sphere : rest) {
+    const SkinInfluence s = influence(sphere.center, f_.locator().locate(sphere.center));
+    out.spheres.push_back({s.joint, s.weight, s.bind, sphere.radius});
+  }
+  return out;
 }
 
 std::vector<Eigen::Vector3d> SkinnedMap::deform_tets(size_t i) const {

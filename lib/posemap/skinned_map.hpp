@@ -9,8 +9,10 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "io/proxy_file.hpp"
 #include "io/skin_file.hpp"
 #include "posemap/harmonic_map.hpp"
+#include "posemap/pose_solid.hpp"
 
 namespace spx {
 
@@ -37,6 +39,13 @@ class SkinnedMap {
   SkinInfluence influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const;
   // Pose i's joint matrices (0: the rest).
   const JointMatrices& matrices(size_t i) const { return i == 0 ? skin_.rest : skin_.poses[i - 1].matrices; }
+  // The spheres rest center c (at `at`) becomes in every pose (0: the rest): skinned, each with
+  // one radius, the least of its radii by `solids` (one per pose) over the poses; why a radius
+  // is 0 if it is (`cause`: tell an outside centre from a hole's bound).
+  std::vector<std::pair<Sphere, PoseSolid::Zero>> spheres(const Eigen::Vector3d& c, const TetLocator::Location& at,
+                                                          const std::vector<PoseSolid>& solids, bool cause) const;
+  // The proxy's skin for `rest` (the rest pose's spheres, each radius the sphere's one radius).
+  ProxySkin proxy_skin(const SphereSet& rest) const;
   // Every tet vertex skinned into pose i (i >= 1) by its own influence.
   std::vector<Eigen::Vector3d> deform_tets(size_t i) const;
 

@@ -1,5 +1,9 @@
 #include "posemap/tet_mesh.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <limits>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Labeled_mesh_domain_3.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
@@ -314,6 +318,23 @@ TetMesh read_medit_tets(const std::string& path) {
   orient(m);
   find_tet_boundary(m);
   return m;
+}
+
+std::vector<int> nearest_tet_vertices(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<int> nearest(points.size(), -1);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t s = r.begin(); s != r.end(); ++s) {
+      double best = std::numeric_limits<double>::infinity();
+      for (size_t v = 0; v < tets.vertices.size(); ++v) {
+        const double d = (tets.vertices[v] - points[s]).squaredNorm();
+        if (d < best) {
+          best = d;
+          nearest[s] = int(v);
+        }
+      }
+    }
+  });
+  return nearest;
 }
 
 }  // namespace spx

@@ -32,4 +32,8 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& l
 // A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections).
 TetMesh read_medit_tets(const std::string& path);
 
+// For each point, the index of the nearest tet vertex (brute force, in parallel; ties to the
+// lower index).
+std::vector<int> nearest_tet_vertices(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points);
+
 }  // namespace spx
