@@ -24,6 +24,14 @@ void check(spx::Status s, const std::string& what) {
   if (s != spx::SPX_OK) throw py::value_error(what + ": " + spx::status_string(s));
 }
 
+// What `get` gives for 0..count-1, as a Python list.
+template <class Get>
+auto list_of(uint32_t count, Get get) -> std::vector<decltype(get(0u))> {
+  std::vector<decltype(get(0u))> out;
+  for (uint32_t i = 0; i < count; ++i) out.push_back(get(i));
+  return out;
+}
+
 py::array_t<float> rows(const float* data, size_t count, size_t width) {
   py::array_t<float> out({count, width});
   std::copy(data, data + count * width, out.mutable_data());
@@ -40,9 +48,7 @@ PYBIND11_MODULE(spx, m) {
       .def_property_readonly("site_count", &spx::Proxy::site_count)
       .def_property_readonly("pose_names",
                              [](const spx::Proxy& p) {
-                               std::vector<std::string> names;
-                               for (uint32_t i = 0; i < p.pose_count(); ++i) names.push_back(p.pose_name(i));
-                               return names;
+                               return list_of(p.pose_count(), [&](uint32_t i) { return std::string(p.pose_name(i)); });
                              })
       .def(
           "pose",
@@ -80,15 +86,11 @@ PYBIND11_MODULE(spx, m) {
       .def_property_readonly("joint_count", &spx::Proxy::joint_count)
       .def_property_readonly("joint_names",
                              [](const spx::Proxy& p) {
-                               std::vector<std::string> names;
-                               for (uint32_t j = 0; j < p.joint_count(); ++j) names.push_back(p.joint_name(j));
-                               return names;
+                               return list_of(p.joint_count(), [&](uint32_t j) { return std::string(p.joint_name(j)); });
                              })
       .def_property_readonly("joint_parents",
                              [](const spx::Proxy& p) {
-                               std::vector<int> parents;
-                               for (uint32_t j = 0; j < p.joint_count(); ++j) parents.push_back(p.joint_parent(j));
-                               return parents;
+                               return list_of(p.joint_count(), [&](uint32_t j) { return int(p.joint_parent(j)); });
                              })
       .def(
           "skin",

@@ -346,6 +346,13 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
 
 std::vector<Eigen::Vector3d> Asset::rest() const { return evaluate(Pose{}); }
 
+Asset::Pose Asset::clip_pose(size_t clip, double seconds) const {
+  Pose pose;
+  pose.clip = scene_->mAnimations[clip];
+  pose.ticks = seconds * clips_[clip].ticks_per_second;
+  return pose;
+}
+
 std::vector<Eigen::Vector3d> Asset::morph_target(size_t target) const {
   Pose pose;
   pose.target = int(target);
@@ -353,10 +360,7 @@ std::vector<Eigen::Vector3d> Asset::morph_target(size_t target) const {
 }
 
 std::vector<Eigen::Vector3d> Asset::at_time(size_t clip, double seconds) const {
-  Pose pose;
-  pose.clip = scene_->mAnimations[clip];
-  pose.ticks = seconds * clips_[clip].ticks_per_second;
-  return evaluate(pose);
+  return evaluate(clip_pose(clip, seconds));
 }
 
 std::vector<std::vector<std::pair<int, double>>> Asset::vertex_joints() const {
@@ -378,10 +382,7 @@ std::vector<std::vector<std::pair<int, double>>> Asset::vertex_joints() const {
 std::vector<Eigen::Matrix4d> Asset::rest_joint_matrices() const { return joint_matrices(Pose{}); }
 
 std::vector<Eigen::Matrix4d> Asset::joint_matrices(size_t clip, double seconds) const {
-  Pose pose;
-  pose.clip = scene_->mAnimations[clip];
-  pose.ticks = seconds * clips_[clip].ticks_per_second;
-  return joint_matrices(pose);
+  return joint_matrices(clip_pose(clip, seconds));
 }
 
 json Asset::inventory() const {

@@ -101,6 +101,7 @@ class Asset {
   void read_clips();
   int joint_of(const aiNode* node, const Eigen::Matrix4d& inverse_bind);
   void link_joint_parents();
+  Pose clip_pose(size_t clip, double seconds) const;
   std::vector<Eigen::Matrix4d> joint_matrices(const Pose& pose) const;
   std::vector<Eigen::Vector3d> evaluate(const Pose& pose) const;
 

@@ -87,7 +87,7 @@ std::string encode_spx(const ProxyModel& proxy) {
   put32(b, 56, uint32_t(b.size() - names_at));
   if (!proxy.skin.empty()) {
     if (proxy.skin.spheres.size() != n) fail_input("", "proxy's skin does not have one entry per sphere");
-    b[38] = detail::SPX_FLAG_SKIN;
+    put16(b, 38, detail::SPX_FLAG_SKIN);
     put32(b, 60, uint32_t(b.size()));
     append_skin(b, proxy.skin);
   }

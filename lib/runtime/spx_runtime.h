@@ -329,35 +329,48 @@ inline Status check_header(const unsigned char* b, size_t size, Layout* l) {
   return SPX_OK;
 }
 
-// Names: p length-prefixed strings that fill the names section; counts their characters.
-inline Status check_names(const unsigned char* b, Layout* l) {
-  const uint64_t end = uint64_t(l->off_names) + l->names_size;
-  uint64_t at = l->off_names;
-  l->name_chars = 0;
-  for (uint32_t i = 0; i < l->p; ++i) {
-    if (at + 4 > end) return SPX_ERR_BAD_SIZES;
+// `count` length-prefixed strings (each padded to 4 bytes) from `at` that end exactly at `end`;
+// `chars` gets their characters with a terminator each.
+inline bool check_name_list(const unsigned char* b, uint64_t at, uint64_t end, uint32_t count, uint64_t* chars) {
+  *chars = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (at + 4 > end) return false;
     const uint32_t len = rd32(b + at);
-    if (at + 4 + len > end) return SPX_ERR_BAD_SIZES;
-    l->name_chars += len + 1;
+    if (at + 4 + len > end) return false;
+    *chars += len + 1;
     at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
   }
-  return at == end ? SPX_OK : SPX_ERR_BAD_SIZES;
+  return at == end;
 }
 
-// The skin's joint names: J length-prefixed strings that fill the rest of its section.
+// The checked list copied: names[i] points at its terminated copy in `chars`. Returns the
+// position after the list.
+inline uint64_t copy_name_list(const unsigned char* b, uint64_t at, uint32_t count, char** names, char* chars) {
+  for (uint32_t i = 0; i < count; ++i) {
+    const uint32_t len = rd32(b + at);
+    names[i] = chars;
+    std::memcpy(chars, b + at + 4, len);
+    chars[len] = '\0';
+    chars += len + 1;
+    at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
+  }
+  return at;
+}
+
+// Names: p strings that fill the names section.
+inline Status check_names(const unsigned char* b, Layout* l) {
+  return check_name_list(b, l->off_names, uint64_t(l->off_names) + l->names_size, l->p, &l->name_chars) ? SPX_OK
+                                                                                                         : SPX_ERR_BAD_SIZES;
+}
+
+// The skin's joint names: J strings that fill the rest of its section.
 inline Status check_skin_names(const unsigned char* b, Layout* l) {
   l->joint_name_chars = 0;
   if (l->joints == 0) return SPX_OK;
-  const uint64_t end = uint64_t(l->off_skin) + l->skin_size;
-  uint64_t at = uint64_t(l->off_skin) + 8 + uint64_t(l->n) * SPX_SKIN_RECORD + uint64_t(l->joints) * 4;
-  for (uint32_t i = 0; i < l->joints; ++i) {
-    if (at + 4 > end) return SPX_ERR_BAD_SKIN;
-    const uint32_t len = rd32(b + at);
-    if (at + 4 + len > end) return SPX_ERR_BAD_SKIN;
-    l->joint_name_chars += len + 1;
-    at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
-  }
-  return at == end ? SPX_OK : SPX_ERR_BAD_SKIN;
+  const uint64_t at = uint64_t(l->off_skin) + 8 + uint64_t(l->n) * SPX_SKIN_RECORD + uint64_t(l->joints) * 4;
+  return check_name_list(b, at, uint64_t(l->off_skin) + l->skin_size, l->joints, &l->joint_name_chars)
+             ? SPX_OK
+             : SPX_ERR_BAD_SKIN;
 }
 
 // The skin's records, parents and names into `skin` (x y z r w0..w3 per sphere), `joints`,
@@ -385,14 +398,7 @@ inline Status copy_skin(const unsigned char* b, const Layout& l, float* skin, ui
     parents[j] = int32_t(rd32(r));
     if (parents[j] < -1 || parents[j] >= int64_t(l.joints) || parents[j] == int32_t(j)) status = SPX_ERR_BAD_SKIN;
   }
-  for (uint32_t j = 0; j < l.joints; ++j) {
-    const uint32_t len = rd32(r);
-    names[j] = chars;
-    std::memcpy(chars, r + 4, len);
-    chars[len] = '\0';
-    chars += len + 1;
-    r += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
-  }
+  copy_name_list(b, uint64_t(r - b), l.joints, names, chars);
   return status;
 }
 
@@ -415,15 +421,7 @@ inline Status copy_sections(const unsigned char* b, const Layout& l, float* sphe
     ss[i] = rd32(b + l.off_ss + uint64_t(i) * 4);
     if (ss[i] >= l.s) status = SPX_ERR_BAD_DATA;
   }
-  uint64_t at = l.off_names;
-  for (uint32_t i = 0; i < l.p; ++i) {
-    const uint32_t len = rd32(b + at);
-    names[i] = chars;
-    std::memcpy(chars, b + at + 4, len);
-    chars[len] = '\0';
-    chars += len + 1;
-    at += 4 + ((uint64_t(len) + 3) & ~uint64_t(3));
-  }
+  copy_name_list(b, l.off_names, l.p, names, chars);
   return status;
 }
 
