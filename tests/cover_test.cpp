@@ -161,6 +161,9 @@ TEST(Cover, CoverageRowsMatchBruteForce) {
         if (s.radius > 0) best = std::min(best, (p.samples[k][i] - s.center).norm() - s.radius);
       EXPECT_DOUBLE_EQ(least[k * 300 + i], best);
     }
+  const std::vector<uint32_t> some{599, 0, 300, 17};
+  const std::vector<double> least_some = least_gaps_of(p, some);
+  for (size_t n = 0; n < some.size(); ++n) EXPECT_DOUBLE_EQ(least_some[n], least[some[n]]) << "sample " << some[n];
 }
 
 CoverProblem problem_of(const TriMesh& mesh, int resolution, std::unique_ptr<MeshQuery>& query) {

@@ -16,6 +16,7 @@
 #include "posemap/harmonic_map.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "posemap/posemap.hpp"
+#include "posemap/pose_solid.hpp"
 #include "posemap/skinned_map.hpp"
 #include "synthetic/synthetic.hpp"
 #include "sdf/sdf.hpp"
@@ -557,6 +558,36 @@ TEST(PoseMap, HeaviestFourKeepsTheLargestWeightsAsBruteForceDoes) {
       }
     }
     if (!(total > 0)) EXPECT_EQ(s.weight[0], 1.0f);
+  }
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// The floor a pose's field puts under a radius (which lets a skinned sphere's one radius skip
+// poses) is never above the radius itself, by the exact rule, on a closed and an open mesh.
+TEST(PoseMap, RadiusFloorIsNeverAboveTheRadius) {
+  for (const std::string set : {"elephant", "cylinder"}) {
+    const TriMesh mesh = load_mesh(test::shared_data() + "/" + set + "/rest.obj").mesh;
+    const MeshQuery query(mesh);
+    const DenseField field = build_sdf(mesh, SdfOptions()).field;
+    const bool open = !find_defects(mesh).watertight();
+    const PoseSolid solid{&query, open ? &field : nullptr, 0.2 * mesh.diagonal(), &field};
+    Eigen::AlignedBox3d box;
+    for (const auto& v : mesh.vertices) box.extend(v);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0, 1);
+    size_t above_zero = 0;
+    for (int n = 0; n < 20000; ++n) {
+      const Eigen::Vector3d c = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      const double floor = solid.radius_floor(c), radius = solid.radius(c, false).value;
+      ASSERT_LE(floor, radius) << set << " at " << c.transpose();
+      above_zero += floor > 0;
+    }
+    EXPECT_GT(above_zero, 1000u) << set << ": the floor should bound most interior points";
   }
 }
 

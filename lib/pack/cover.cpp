@@ -21,10 +21,13 @@ constexpr int kMaxBudgetCovers = 60;
 
 namespace {
 
-size_t uncovered_samples(const Coverage& cov) {
+std::vector<uint32_t> uncovered_samples(const Coverage& cov) {
   std::vector<char> any(cov.sample_count, 0);
   for (uint32_t s : cov.samples) any[s] = 1;
-  return size_t(std::count(any.begin(), any.end(), 0));
+  std::vector<uint32_t> out;
+  for (size_t s = 0; s < any.size(); ++s)
+    if (!any[s]) out.push_back(uint32_t(s));
+  return out;
 }
 
 double largest_finite(const std::vector<double>& values) {
@@ -42,9 +45,11 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
   const Coverage cov = coverage_at(problem, delta);
   r.chosen = smallest_cover(cov, limits, 0, &r.lower_bound, log);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
-  r.uncoverable = uncovered_samples(cov);
-  // Only a tolerance out of reach needs the least delta that would do (a full scan).
-  r.least_reachable = r.uncoverable > 0 ? largest_finite(least_gaps(problem)) : delta;
+  const std::vector<uint32_t> bare = uncovered_samples(cov);
+  r.uncoverable = bare.size();
+  // A tolerance out of reach: the least delta that would do is set by the bare samples alone
+  // (every other is within delta).
+  r.least_reachable = std::max(delta, largest_finite(least_gaps_of(problem, bare)));
   r.evaluations = 1;
   log.detail("cover at " + num(delta) + ": " + std::to_string(r.chosen.size()) + " spheres (at least " +
              std::to_string(r.lower_bound) + "), " + std::to_string(cov.samples.size()) + " pairs");
@@ -147,7 +152,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
   improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log);
   best.lower_bound = lower_bound_of(best_cov, best.chosen.size());
-  best.uncoverable = uncovered_samples(best_cov);
+  best.uncoverable = uncovered_samples(best_cov).size();
   log.detail("budget " + std::to_string(max_spheres) + ": delta " + num(best.delta) + " with " +
              std::to_string(best.chosen.size()) + " spheres after " + std::to_string(best.evaluations) + " covers");
   return best;

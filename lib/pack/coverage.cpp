@@ -97,19 +97,40 @@ Coverage GapTable::at(double delta) const {
   return cov;
 }
 
+std::vector<double> least_gaps_of(const CoverProblem& problem, const std::vector<uint32_t>& samples) {
+  std::vector<uint32_t> pose_start(1, 0);
+  for (const auto& points : problem.samples) pose_start.push_back(pose_start.back() + uint32_t(points.size()));
+  std::vector<double> gaps(samples.size(), std::numeric_limits<double>::infinity());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, samples.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const size_t k = size_t(std::upper_bound(pose_start.begin(), pose_start.end(), samples[i]) - pose_start.begin()) - 1;
+      const Eigen::Vector3d& p = problem.samples[k][samples[i] - pose_start[k]];
+      for (const Sphere& s : problem.spheres[k])
+        if (s.radius > 0) gaps[i] = std::min(gaps[i], (p - s.center).norm() - s.radius);
+    }
+  });
+  return gaps;
+}
+
 std::vector<double> least_gaps(const CoverProblem& problem) {
-  std::vector<double> out;
-  for (size_t k = 0; k < problem.samples.size(); ++k) {
-    const auto& points = problem.samples[k];
-    const SphereSet& spheres = problem.spheres[k];
-    std::vector<double> gaps(points.size(), std::numeric_limits<double>::infinity());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i != r.end(); ++i)
-        for (const Sphere& s : spheres)
-          if (s.radius > 0) gaps[i] = std::min(gaps[i], (points[i] - s.center).norm() - s.radius);
+  std::vector<uint32_t> all(problem.sample_count());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
+  return least_gaps_of(problem, all);
+}
+
+std::vector<uint32_t> bare_samples(const std::vector<Eigen::Vector3d>& samples, const SphereSet& spheres, double delta) {
+  std::vector<uint32_t> out;
+  if (samples.empty()) return out;
+  const SampleGrid grid(samples);
+  std::vector<char> covered(samples.size(), 0);
+  for (const Sphere& s : spheres) {
+    if (!(s.radius > 0)) continue;
+    grid.near(s.center, s.radius + delta, [&](uint32_t i) {
+      if ((samples[i] - s.center).norm() - s.radius <= delta) covered[i] = 1;
     });
-    out.insert(out.end(), gaps.begin(), gaps.end());
   }
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (!covered[i]) out.push_back(uint32_t(i));
   return out;
 }
 

@@ -42,6 +42,13 @@ class GapTable {
 // For each sample, the smallest gap over every candidate: the least delta at which it can be
 // covered at all (infinite where no candidate exists).
 std::vector<double> least_gaps(const CoverProblem& problem);
+// The same for the listed samples only (stacked indices): where a cover leaves a few samples
+// bare, the least delta that reaches them costs a scan of those few, not of all.
+std::vector<double> least_gaps_of(const CoverProblem& problem, const std::vector<uint32_t>& samples);
+
+// The samples no sphere of `spheres` comes within `delta` of (gap > delta), ascending: what a
+// chosen set leaves bare in a pose the cover was not solved on.
+std::vector<uint32_t> bare_samples(const std::vector<Eigen::Vector3d>& samples, const SphereSet& spheres, double delta);
 
 // A sphere of radius 0 in a pose only costs the host there: candidates [from..] that are 0 in
 // half the poses or more are withdrawn (0 in every pose, so they cover nothing). Returns how

@@ -22,9 +22,11 @@ constexpr double kPolyakTarget = 1.05;
 
 }  // namespace
 
-std::vector<int> greedy_cover(const Coverage& cov) {
+std::vector<int> greedy_cover(const Coverage& cov, const std::vector<int>& start) {
   const size_t candidates = cov.start.size() - 1;
   std::vector<char> covered(cov.sample_count, 0);
+  for (int c : start)
+    for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) covered[cov.samples[n]] = 1;
   // Samples few candidates cover weigh more: a sphere that takes the only cover of a hard
   // sample early saves the spheres that would chase it late.
   std::vector<uint32_t> degree(cov.sample_count, 0);
@@ -41,7 +43,7 @@ std::vector<int> greedy_cover(const Coverage& cov) {
   };
   for (size_t c = 0; c < candidates; ++c)
     if (cov.row_size(c) > 0) queue.emplace(gain_of(c), -int(c));
-  std::vector<int> chosen;
+  std::vector<int> chosen(start);
   while (!queue.empty()) {
     const auto [gain, neg] = queue.top();
     queue.pop();
@@ -295,9 +297,18 @@ size_t lower_bound_of(const Coverage& cov, size_t upper) {
   return std::max(cover_lower_bound(cov), lagrangian_bound(cov, upper, steps));
 }
 
-std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t enough, size_t* lower_bound, Log& log) {
+std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t enough, size_t* lower_bound, Log& log,
+                                const std::vector<int>& start) {
   const ReducedCover reduced = reduce_cover(cov, limits.scan);
-  std::vector<int> chosen = greedy_cover(reduced.coverage);
+  // The start's candidates the reduction kept (one it dropped is dominated: greedy finds better).
+  std::vector<int> kept;
+  if (!start.empty()) {
+    std::vector<int> reduced_of(cov.start.size() - 1, -1);
+    for (size_t r = 0; r < reduced.candidate.size(); ++r) reduced_of[reduced.candidate[r]] = int(r);
+    for (int c : start)
+      if (reduced_of[size_t(c)] >= 0) kept.push_back(reduced_of[size_t(c)]);
+  }
+  std::vector<int> chosen = greedy_cover(reduced.coverage, kept);
   const size_t greedy = chosen.size();
   shrink_cover(reduced.coverage, chosen);
   const size_t shrunk = chosen.size();

@@ -22,8 +22,9 @@ Coverage covering_candidates(const Coverage& coverage);
 
 // Greedy set cover (most newly covered first, ties to the lower index), then removal of
 // spheres every one of whose samples another chosen sphere also covers. Samples no candidate
-// covers are skipped (the caller counts them). Returns candidate indices.
-std::vector<int> greedy_cover(const Coverage& coverage);
+// covers are skipped (the caller counts them). `start`: a partial cover to complete (a cover
+// of fewer samples, repaired). Returns candidate indices.
+std::vector<int> greedy_cover(const Coverage& coverage, const std::vector<int>& start = {});
 
 // The same cover problem made smaller without changing its optimum: a sample whose candidates
 // include all of another's is dropped (covering the other covers it), then a candidate whose
@@ -73,8 +74,11 @@ size_t lower_bound_of(const Coverage& coverage, size_t upper);
 
 // The fewest spheres found for `coverage`: the problem reduced (reduce_cover), greedy, shrunk,
 // then the row-weighting search, stopping at `enough` spheres. `lower_bound`, when given, gets
-// the larger of the two bounds. Returns candidate indices, ascending.
+// the larger of the two bounds. `start`: a cover of fewer samples to complete (warm start)
+// rather than starting from nothing. Returns candidate indices, ascending.
 std::vector<int> smallest_cover(const Coverage& coverage, SearchLimits limits, size_t enough, size_t* lower_bound,
-                                Log& log = Log::silent());
+                                Log& log = Log::silent(), const std::vector<int>& start = {});
+// A warm start's search: short, so that the cover stays near the one it started from.
+constexpr SearchLimits kWarmSearch{2000, 200000000};
 
 }  // namespace spx

@@ -209,4 +209,19 @@ Eigen::Vector3d HarmonicMap::map(const Eigen::Vector3d& p, const TetLocator::Loc
   return p + u;
 }
 
+std::vector<std::optional<Eigen::Vector3d>> undeform(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed,
+                                                     const std::vector<Eigen::Vector3d>& points) {
+  TetMesh posed = tets;
+  posed.vertices = deformed;
+  const TetLocator inverse(posed);
+  std::vector<std::optional<Eigen::Vector3d>> out;
+  for (const Eigen::Vector3d& p : points) {
+    const TetLocator::Location at = inverse.locate(p);
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) x += at.weights[k] * tets.vertices[size_t(tets.tets[size_t(at.tet)][k])];
+    out.push_back(at.outside > 0 ? std::nullopt : std::optional<Eigen::Vector3d>(x));
+  }
+  return out;
+}
+
 }  // namespace spx

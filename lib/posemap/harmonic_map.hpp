@@ -10,6 +10,8 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "core/log.hpp"
 #include "mesh/mesh.hpp"
@@ -29,6 +31,7 @@ class TetLocator {
     Eigen::Vector4d weights = Eigen::Vector4d::Zero();
     double outside = 0;  // distance to the tet mesh, 0 when inside
   };
+
   Location locate(const Eigen::Vector3d& p) const;
   const TetMesh& mesh() const { return mesh_; }
 
@@ -42,6 +45,11 @@ class TetLocator {
   std::vector<int> cell_start_, cell_tets_;
   std::unique_ptr<MeshQuery> boundary_;
 };
+
+// Points in a deformed copy of `tets` (its vertices `deformed`) taken back to `tets`:
+// barycentric in the deformed tet that holds each; nullopt where none does.
+std::vector<std::optional<Eigen::Vector3d>> undeform(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed,
+                                                     const std::vector<Eigen::Vector3d>& points);
 
 class HarmonicMap {
  public:

@@ -15,6 +15,7 @@ struct PoseSolid {
   const MeshQuery* mesh;
   const DenseField* holes;  // null for closed meshes
   double max_radius;
+  const DenseField* field = nullptr;  // the pose's own field where kept (floors under radii)
 
   // Why a radius is 0: the centre is outside, the holes bound it, it is on the surface, or (a
   // skinned sphere, one radius in every pose) it is 0 in another pose.
@@ -33,6 +34,11 @@ struct PoseSolid {
   // Distance is 1-Lipschitz: a voxel's depth less its offset to c bounds the depth at c; the
   // best of the 8 voxels around c, less the field's margin. Infinite for a closed mesh.
   double hole_bound(const Eigen::Vector3d& c) const;
+  // A floor under radius(c) from the pose's own field (0 without one): the same bound less a
+  // whole voxel (the field's distances are within a small fraction of one of the exact ones).
+  // A pose whose floor is above a sphere's least radius so far cannot lower it.
+  double radius_floor(const Eigen::Vector3d& c) const;
+  static constexpr double kFloorMargin = 1.0;  // voxels
 };
 
 }  // namespace spx

@@ -1,9 +1,9 @@
 #include "posemap/posemap.hpp"
 
 #include <array>
-#include <functional>
 #include <cmath>
 #include <memory>
+#include <tuple>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -16,6 +16,7 @@
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
+#include "posemap/joint_selection.hpp"
 #include "posemap/pose_solid.hpp"
 #include "posemap/skinned_map.hpp"
 #include "sdf/sdf.hpp"
@@ -64,12 +65,15 @@ class PoseMapper {
     for (const TriMesh* mesh : meshes_) queries_.push_back(std::make_unique<MeshQuery>(*mesh));
     open_solid_ = !find_defects(rest_).watertight();
     fields_.resize(meshes_.size());
-    if (open_solid_) {
-      StageTimer t(log_, "open-fields");
+    // Open meshes: the fields bound radii across the holes. Skinned: they put floors under every
+    // pose's radii, so that a sphere's one radius asks few poses.
+    if (open_solid_ || skinned_) {
+      StageTimer t(log_, "pose-fields");
       for (size_t i = 0; i < meshes_.size(); ++i) pose_field(i);
     }
     for (size_t i = 0; i < meshes_.size(); ++i)
-      solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius});
+      solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
+                         skinned_ ? &pose_field(i) : nullptr});
   }
 
   // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
@@ -84,61 +88,51 @@ class PoseMapper {
                                    "rest mesh and a pose swapped?)");
   }
 
-  // One sphere set for the rest and every pose: every candidate mapped into each pose (radius
-  // by the same rule), each pose's vertices and area samples to cover, one set cover. Returns
-  // the chosen candidates (rest pose) and the report's part.
+  // One sphere set for the rest and every pose (posemap/joint_selection.hpp). Returns the
+  // chosen candidates (rest pose) and the report's part.
   SphereSet select_jointly(const SphereSet& file_candidates, nlohmann::json& report) {
     // From here on every sphere, in every pose, is grown (the candidates and the result alike);
     // a skinned sphere is not, since the host can only skin it.
     grow_ = !skinned_;
-    JointProblem joint;
-    joint.candidates = file_candidates;
-    joint.problem.spheres.assign(meshes_.size(), SphereSet());
-    map_candidates(joint, 0);
-    for (const TriMesh* mesh : meshes_) {
-      joint.problem.samples.push_back(surface_samples(*mesh, opt_.area_samples, opt_.seed));
-      joint.problem.weighted.push_back(mesh->vertices.size());
-    }
-    const auto [target, budget] = selection_size();
-    add_pose_candidates(joint, target > 0 ? target : kDefaultTolerancePercent / 100 * rest_.diagonal());
-    const CoverProblem& problem = joint.problem;
-    Limit limit = Limit::tolerance;
-    const CoverResult cover = cover_for(problem, target, budget, limit, log_);
-    if (cover.uncoverable > 0)
-      log_.warn(std::to_string(cover.uncoverable) + " surface samples over the poses are farther than " +
+    JointSelectionOptions options;
+    std::tie(options.target, options.budget) = selection_size();
+    options.reach = options.target > 0 ? options.target : kDefaultTolerancePercent / 100 * rest_.diagonal();
+    options.area_samples = opt_.area_samples;
+    options.seed = opt_.seed;
+    Frames frames(*this);
+    const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
+    const CoverResult& cover = selection.cover;
+    const size_t uncoverable = cover.uncoverable + selection.bare_elsewhere;
+    if (uncoverable > 0)
+      log_.warn(std::to_string(uncoverable) + " surface samples over the poses are farther than " +
                 num(cover.delta) + " from every candidate sphere mapped there (thin parts at the field's "
                 "resolution; a finer sdf-build resolution gives candidates closer to them)");
-    // Largest first by the rest sphere each becomes (grown), as sphere-pack orders its spheres.
-    std::vector<int> order = cover.chosen;
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      return problem.spheres[0][size_t(a)].radius > problem.spheres[0][size_t(b)].radius;
-    });
-    SphereSet chosen;
-    for (int c : order) chosen.push_back(joint.candidates[size_t(c)]);
+    std::vector<std::string> selected_on;
+    for (size_t f : selection.frames) selected_on.push_back(proxy_pose_name(f));
     report = {{"method", skinned_ ? "one set cover over the rest and every pose of the spheres file's candidates, each "
                                     "skinned into every pose with one radius, the least over the poses"
                                   : "one set cover over the rest and every pose of the spheres file's candidates, each "
                                     "mapped into every pose and grown there to the largest inscribed sphere containing it"},
-              {"candidates", joint.candidates.size()},
-              {"candidates_from_poses", joint.added},
-              {"candidates_mostly_absent", joint.mostly_absent},
-              {"samples", problem.sample_count()},
-              {"target", target > 0 ? nlohmann::json(target) : nlohmann::json(nullptr)},
+              {"candidates", selection.candidates},
+              {"candidates_from_poses", selection.from_frames},
+              {"candidates_mostly_absent", selection.mostly_absent},
+              {"samples", selection.samples},
+              {"target", options.target > 0 ? nlohmann::json(options.target) : nlohmann::json(nullptr)},
               {"delta", cover.delta},
               {"lower_bound", cover.lower_bound},
-              {"uncoverable_samples", cover.uncoverable},
-              {"spheres", chosen.size()},
-              {"limited_by", limit_wording(limit)}};
-    log_.detail("joint selection: " + std::to_string(chosen.size()) + " of " + std::to_string(joint.candidates.size()) +
-                " candidates, delta " + num(cover.delta));
-    return chosen;
+              {"uncoverable_samples", uncoverable},
+              {"spheres", selection.chosen.size()},
+              {"limited_by", limit_wording(selection.limited_by)},
+              {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", selection.samples_elsewhere},
+                          {"checked", meshes_.size()}, {"rounds", selection.rounds}}}};
+    return selection.chosen;
   }
 
   // S_1..S_e: appends rest spheres to every pose, centers through f, and in every pose (the
   // rest too) the radius by the one rule of PoseSolid.
   void map_spheres(const SphereSet& rest_spheres) {
     if (proxy_.poses.empty()) {
-      proxy_.poses.push_back({stem_of(rest_source_), rest_source_, {}, {}});
+      proxy_.poses.push_back({proxy_pose_name(0), rest_source_, {}, {}});
       for (const PoseInput& input : poses_) proxy_.poses.push_back({input.name, input.source, {}, {}});
       zero_radius_.assign(proxy_.poses.size(), {0, 0, 0, 0});
     }
@@ -265,26 +259,6 @@ class PoseMapper {
   }
 
  private:
-  // The joint selection's pool and its cover problem as they grow.
-  struct JointProblem {
-    SphereSet candidates;  // rest pose
-    CoverProblem problem;
-    size_t added = 0, mostly_absent = 0;
-  };
-
-  // Candidates [from..] into every pose; those 0 in half the poses or more are withdrawn.
-  void map_candidates(JointProblem& joint, size_t from) const {
-    const size_t n = joint.candidates.size(), poses = meshes_.size();
-    for (auto& set : joint.problem.spheres) set.resize(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(from, n, 16), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t s = r.begin(); s != r.end(); ++s) {
-        const auto spheres = in_poses(joint.candidates[s].center, false);
-        for (size_t i = 0; i < poses; ++i) joint.problem.spheres[i][s] = spheres[i].first;
-      }
-    });
-    joint.mostly_absent += withdraw_mostly_absent(joint.problem, from);
-  }
-
   // The tolerance (as a length, 0: none) and budget asked here, or else what sphere-pack was
   // asked, or else the default tolerance.
   std::pair<double, size_t> selection_size() const {
@@ -294,26 +268,53 @@ class PoseMapper {
     return {kDefaultTolerancePercent / 100 * rest_.diagonal(), 0};
   }
 
-  // Where a pose stretches, no rest candidate may reach its surface: that pose's own inscribed
-  // spheres near the samples out of `reach` join the pool, mapped back to rest (the inverse map).
-  void add_pose_candidates(JointProblem& joint, double reach) {
-    const CoverProblem& problem = joint.problem;
-    std::vector<char> near(problem.sample_count(), 0);
-    for (uint32_t s : coverage_at(problem, reach).samples) near[s] = 1;
-    size_t offset = problem.samples[0].size();
-    for (size_t i = 1; i < meshes_.size(); ++i) {
-      std::vector<Eigen::Vector3d> far;
-      for (size_t s = 0; s < problem.samples[i].size(); ++s)
-        if (!near[offset + s]) far.push_back(problem.samples[i][s]);
-      offset += problem.samples[i].size();
-      if (far.empty()) continue;
-      size_t lost = 0;
-      const SphereSet back = map_back_to_rest(i - 1, pose_candidates_near(i - 1, far, reach), lost);
-      const size_t from = joint.candidates.size();
-      joint.candidates.insert(joint.candidates.end(), back.begin(), back.end());
-      map_candidates(joint, from);
-      joint.added += back.size();
+  // The map as the joint selection sees it.
+  class Frames : public SelectionFrames {
+   public:
+    explicit Frames(PoseMapper& m) : m_(m) {}
+    size_t frame_count() const override { return m_.meshes_.size(); }
+    const TriMesh& frame_mesh(size_t f) const override { return *m_.meshes_[f]; }
+    SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f, true); }
+    std::vector<std::vector<Eigen::Vector3d>> centers_in_frames(const SphereSet& rest) const override {
+      return m_.skinned_->centers(rest);
     }
+    bool one_radius() const override { return bool(m_.skinned_); }
+    std::vector<double> one_radii(const SphereSet& rest) const override {
+      return m_.skinned_->one_radii(rest, m_.solids_);
+    }
+    SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
+      size_t lost = 0;
+      return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach), lost);
+    }
+
+   private:
+    PoseMapper& m_;
+  };
+
+  std::string proxy_pose_name(size_t f) const { return f == 0 ? stem_of(rest_source_) : poses_[f - 1].name; }
+
+  // Rest spheres' centres carried into frame f (0: the rest), each with its radius there by
+  // that frame's own rule when `radius` (grown under joint selection; a skinned sphere's in f
+  // alone, before the least over frames).
+  SphereSet carry(const SphereSet& rest, size_t f, bool radius) const {
+    SphereSet out(rest.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t s = r.begin(); s != r.end(); ++s) {
+        const Eigen::Vector3d& c = rest[s].center;
+        Eigen::Vector3d center = c;
+        if (f > 0) {
+          const TetLocator::Location at = f_->locator().locate(c);
+          center = skinned_ ? skinned_->center(skinned_->influence(c, at), c, f) : f_->map(c, at, deformed_[f - 1]);
+        }
+        if (!radius)
+          out[s] = {center, 0};
+        else if (grow_)
+          out[s] = solids_[f].grown(center, false).first;
+        else
+          out[s] = {center, solids_[f].radius(center, false).value};
+      }
+    });
+    return out;
   }
 
   // The spheres a rest center c becomes in every pose (0: the rest): its center through f, its
@@ -351,9 +352,10 @@ class PoseMapper {
     if (!fields_[i]) fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], field_options()).field);
     return *fields_[i];
   }
-  // An open mesh's fields bound every radius to the end; a closed mesh's are asked once each.
+  // An open mesh's fields bound every radius to the end, and a skinned body's put floors under
+  // them; otherwise each is asked once.
   void release_field(size_t i) {
-    if (!open_solid_) fields_[i].reset();
+    if (!open_solid_ && !skinned_) fields_[i].reset();
   }
 
   SdfOptions field_options() const {
@@ -397,14 +399,20 @@ class PoseMapper {
     return map_back_to_rest(i, found.spheres, lost);
   }
 
-  // Pose i's own inscribed candidates (from its own field) that come within `reach` of any of
-  // `points` (samples of that pose no mapped candidate reaches), in pose coordinates.
+  // Pose i's own inscribed candidates (from its own field, found once) that come within `reach`
+  // of any of `points` (samples of that pose no mapped candidate reaches) and were not offered
+  // before, in pose coordinates.
   SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
-    const DenseField& field = pose_field(i + 1);
-    const SphereSet all = inscribed_candidates(field, *queries_[i + 1], candidate_options(pose_pack_options()));
-    release_field(i + 1);
+    if (pose_inscribed_.size() < poses_.size()) pose_inscribed_.resize(poses_.size());
+    auto& [all, offered] = pose_inscribed_[i];
+    if (offered.empty()) {
+      all = inscribed_candidates(pose_field(i + 1), *queries_[i + 1], candidate_options(pose_pack_options()));
+      release_field(i + 1);
+      offered.assign(all.size(), 0);
+    }
     std::vector<char> keep(all.size(), 0);
     tbb::parallel_for(size_t(0), all.size(), [&](size_t s) {
+      if (offered[s]) return;
       for (const auto& p : points)
         if ((p - all[s].center).norm() - all[s].radius <= reach) {
           keep[s] = 1;
@@ -413,27 +421,22 @@ class PoseMapper {
     });
     SphereSet out;
     for (size_t s = 0; s < all.size(); ++s)
-      if (keep[s]) out.push_back(all[s]);
+      if (keep[s]) {
+        out.push_back(all[s]);
+        offered[s] = 1;
+      }
     return out;
   }
 
-  // Through the inverse map: barycentric in pose i's deformed tets.
+  // Through the inverse map (barycentric in pose i's deformed tets); those that land outside
+  // the rest are counted in `lost`.
   SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t& lost) const {
-    TetMesh posed = tets_;
-    posed.vertices = deformed_[i];
-    const TetLocator inverse(posed);
+    std::vector<Eigen::Vector3d> centers;
+    for (const Sphere& s : in_pose) centers.push_back(s.center);
     SphereSet back;
-    lost = 0;
-    for (const Sphere& s : in_pose) {
-      const TetLocator::Location at = inverse.locate(s.center);
-      Eigen::Vector3d x = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 4; ++k) x += at.weights[k] * tets_.vertices[size_t(tets_.tets[size_t(at.tet)][k])];
-      if (at.outside > 0 || !queries_[0]->inside(x)) {
-        ++lost;
-        continue;
-      }
-      back.push_back({x, std::min(proxy_.max_radius, queries_[0]->distance(x))});
-    }
+    for (const auto& x : undeform(tets_, deformed_[i], centers))
+      if (x && queries_[0]->inside(*x)) back.push_back({*x, std::min(proxy_.max_radius, queries_[0]->distance(*x))});
+    lost = in_pose.size() - back.size();
     return back;
   }
 
@@ -454,6 +457,7 @@ class PoseMapper {
   bool open_solid_ = false;
   std::vector<std::unique_ptr<DenseField>> fields_;  // per pose, built when first asked
   std::vector<PoseSolid> solids_;
+  std::vector<std::pair<SphereSet, std::vector<char>>> pose_inscribed_;  // per pose: its own candidates, offered yet
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
   bool grow_ = false;                                    // spheres grown in every pose (joint selection)

@@ -1,6 +1,8 @@
 #include "posemap/skinned_map.hpp"
 
 #include <Eigen/LU>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <limits>
 #include <numeric>
@@ -77,7 +79,7 @@ std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen:
   std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
   double least = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < solids.size(); ++i) {
-    const Eigen::Vector3d center = i == 0 ? c : skin_point(s, matrices(i));
+    const Eigen::Vector3d center = this->center(s, c, i);
     const PoseSolid::Radius radius = solids[i].radius(center, cause);
     out.push_back({{center, radius.value}, radius.zero});
     least = std::min(least, radius.value);
@@ -86,6 +88,46 @@ std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen:
     sphere.radius = least;
     if (least == 0 && zero == PoseSolid::Zero::none) zero = PoseSolid::Zero::another_pose;
   }
+  return out;
+}
+
+double SkinnedMap::one_radius(const SkinInfluence& s, const Eigen::Vector3d& c,
+                              const std::vector<PoseSolid>& solids) const {
+  std::vector<std::pair<double, size_t>> floors(solids.size());
+  std::vector<Eigen::Vector3d> centers(solids.size());
+  for (size_t i = 0; i < solids.size(); ++i) {
+    centers[i] = center(s, c, i);
+    floors[i] = {solids[i].radius_floor(centers[i]), i};
+  }
+  std::sort(floors.begin(), floors.end());
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& [floor, i] : floors) {
+    if (floor >= least) break;
+    least = std::min(least, solids[i].radius(centers[i], false).value);
+  }
+  return least;
+}
+
+std::vector<double> SkinnedMap::one_radii(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
+  std::vector<double> out(rest.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t s = r.begin(); s != r.end(); ++s) {
+      const Eigen::Vector3d& c = rest[s].center;
+      out[s] = one_radius(influence(c, f_.locator().locate(c)), c, solids);
+    }
+  });
+  return out;
+}
+
+std::vector<std::vector<Eigen::Vector3d>> SkinnedMap::centers(const SphereSet& rest) const {
+  std::vector<std::vector<Eigen::Vector3d>> out(skin_.poses.size() + 1, std::vector<Eigen::Vector3d>(rest.size()));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t s = r.begin(); s != r.end(); ++s) {
+      const Eigen::Vector3d& c = rest[s].center;
+      const SkinInfluence in = influence(c, f_.locator().locate(c));
+      for (size_t i = 0; i < out.size(); ++i) out[i][s] = center(in, c, i);
+    }
+  });
   return out;
 }
 

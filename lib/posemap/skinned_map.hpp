@@ -37,6 +37,10 @@ class SkinnedMap {
 
   // The influence of rest point p, at `at` in the tets.
   SkinInfluence influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const;
+  // Rest point c (of influence s) in pose i (0: the rest, c itself).
+  Eigen::Vector3d center(const SkinInfluence& s, const Eigen::Vector3d& c, size_t i) const {
+    return i == 0 ? c : skin_point(s, matrices(i));
+  }
   // Pose i's joint matrices (0: the rest).
   const JointMatrices& matrices(size_t i) const { return i == 0 ? skin_.rest : skin_.poses[i - 1].matrices; }
   // The spheres rest center c (at `at`) becomes in every pose (0: the rest): skinned, each with
@@ -44,6 +48,14 @@ class SkinnedMap {
   // is 0 if it is (`cause`: tell an outside centre from a hole's bound).
   std::vector<std::pair<Sphere, PoseSolid::Zero>> spheres(const Eigen::Vector3d& c, const TetLocator::Location& at,
                                                           const std::vector<PoseSolid>& solids, bool cause) const;
+  // The one radius of rest centre c (influence s): the least of its radii by `solids` over
+  // every pose, the same as spheres() gives, but a pose is asked only where its floor
+  // (PoseSolid::radius_floor) is below the least so far, the lowest floors first.
+  double one_radius(const SkinInfluence& s, const Eigen::Vector3d& c, const std::vector<PoseSolid>& solids) const;
+  // one_radius of each rest centre (`rest`'s radii unused).
+  std::vector<double> one_radii(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
+  // Each rest centre in every pose ([pose][centre]; pose 0: the rest).
+  std::vector<std::vector<Eigen::Vector3d>> centers(const SphereSet& rest) const;
   // The proxy's skin for `rest` (the rest pose's spheres, each radius the sphere's one radius).
   ProxySkin proxy_skin(const SphereSet& rest) const;
   // Every tet vertex skinned into pose i (i >= 1) by its own influence.

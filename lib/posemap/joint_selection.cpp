@@ -1,0 +1,313 @@
+#include "posemap/joint_selection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "core/format.hpp"
+#include "pack/candidates.hpp"
+#include "pack/coverage.hpp"
+#include "pack/set_cover.hpp"
+
+namespace spx {
+namespace {
+
+// A check adds, besides the samples the chosen spheres leave bare, those they cover by less than
+// this share of delta: the next cover, free to move its spheres, would leave them bare.
+constexpr double kNearlyBare = 0.5;
+
+double largest_displacement(const TriMesh& a, const TriMesh& b) {
+  double out = 0;
+  for (size_t v = 0; v < a.vertices.size(); ++v) out = std::max(out, (a.vertices[v] - b.vertices[v]).squaredNorm());
+  return std::sqrt(out);
+}
+
+template <class T, class Index>
+std::vector<T> pick(const std::vector<T>& all, const std::vector<Index>& which) {
+  std::vector<T> out;
+  out.reserve(which.size());
+  for (Index i : which) out.push_back(all[size_t(i)]);
+  return out;
+}
+
+// The selection's state as it grows: the candidates (rest), the frames selected on whole, each
+// candidate's sphere there (not skinned) or its centre in every frame and its one radius
+// (skinned), and the samples of other frames added (skinned).
+class Selector {
+ public:
+  Selector(SelectionFrames& frames, const JointSelectionOptions& opt, Log& log)
+      : frames_(frames),
+        opt_(opt),
+        log_(log),
+        one_(frames.one_radius()),
+        own_(frames.frame_count()),
+        samples_(frames.frame_count()),
+        offered_(frames.frame_count()),
+        extra_(frames.frame_count()),
+        centers_(one_ ? frames.frame_count() : 0) {}
+
+  JointSelection run(const SphereSet& file_candidates) {
+    JointSelection out;
+    file_count_ = file_candidates.size();
+    add_candidates(file_candidates);
+    select_on_whole(spanning_frames(frames_, opt_.first_frames));
+    if (one_) offer_every_frame();
+    for (;;) {
+      ++out.rounds;
+      const CoverProblem problem = cover_problem(out.mostly_absent);
+      if (out.rounds == 1 || opt_.budget > 0)
+        out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_);
+      else
+        warm_cover(problem, out.cover);
+      std::vector<int> order = out.cover.chosen;
+      // Largest first by the rest sphere each becomes, as sphere-pack orders its spheres.
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return problem.spheres[0][size_t(a)].radius > problem.spheres[0][size_t(b)].radius;
+      });
+      out.chosen = pick(candidates_, order);
+      out.samples = problem.sample_count();
+      size_t more_samples = 0;
+      std::vector<size_t> more_frames;
+      if (active_.size() < frames_.frame_count()) {
+        if (one_)
+          more_samples = add_bare_samples(out.cover.chosen, out.cover.delta, out.bare_elsewhere);
+        else
+          more_frames = frames_left_bare(out.cover.chosen, out.cover.delta);
+      }
+      log_.detail("joint selection, round " + std::to_string(out.rounds) + ": " + std::to_string(out.chosen.size()) +
+                  " spheres selected on " + std::to_string(active_.size()) + " of " +
+                  std::to_string(frames_.frame_count()) + " frames and " + std::to_string(samples_elsewhere()) +
+                  " samples of the others; then " + std::to_string(more_samples) + " more samples, " +
+                  std::to_string(more_frames.size()) + " more frames");
+      if (more_samples == 0 && more_frames.empty()) break;
+      select_on_whole(more_frames);
+    }
+    out.candidates = candidates_.size();
+    out.from_frames = from_frames_;
+    out.frames = active_;
+    out.samples_elsewhere = samples_elsewhere();
+    return out;
+  }
+
+ private:
+  bool is_active(size_t f) const { return std::binary_search(active_.begin(), active_.end(), f); }
+
+  size_t samples_elsewhere() const {
+    size_t n = 0;
+    for (const auto& e : extra_) n += e.size();
+    return n;
+  }
+
+  const std::vector<Eigen::Vector3d>& samples(size_t f) {
+    if (samples_[f].empty()) samples_[f] = surface_samples(frames_.frame_mesh(f), opt_.area_samples, opt_.seed);
+    return samples_[f];
+  }
+
+  // Candidate c in frame f as the problem has it.
+  Sphere sphere(size_t c, size_t f) const { return one_ ? Sphere{centers_[f][c], radius_[c]} : own_[f][c]; }
+
+  // Tolerance mode, after the first round: the last cover completed for what was added, then
+  // searched briefly, so that it stays near the last one and the next check finds little new.
+  void warm_cover(const CoverProblem& problem, CoverResult& cover) {
+    const Coverage coverage = coverage_at(problem, cover.delta);
+    cover.chosen = smallest_cover(coverage, kWarmSearch, 0, nullptr, log_, cover.chosen);
+    std::vector<char> any(coverage.sample_count, 0);
+    for (uint32_t s : coverage.samples) any[s] = 1;
+    cover.uncoverable = size_t(std::count(any.begin(), any.end(), 0));
+  }
+
+  // More candidates: their spheres in the frames selected on or, skinned, their centres in every
+  // frame and their one radius.
+  void add_candidates(const SphereSet& more) {
+    candidates_.insert(candidates_.end(), more.begin(), more.end());
+    if (!one_) {
+      for (size_t f : active_) {
+        const SphereSet in = frames_.spheres_in(more, f);
+        own_[f].insert(own_[f].end(), in.begin(), in.end());
+      }
+      return;
+    }
+    const auto centers = frames_.centers_in_frames(more);
+    for (size_t f = 0; f < centers.size(); ++f) centers_[f].insert(centers_[f].end(), centers[f].begin(), centers[f].end());
+    const std::vector<double> radii = frames_.one_radii(more);
+    radius_.insert(radius_.end(), radii.begin(), radii.end());
+  }
+
+  // Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
+  // samples no candidate of the spheres file comes within reach of are offered their own
+  // candidates.
+  void select_on_whole(const std::vector<size_t>& more) {
+    if (more.empty()) return;
+    if (!one_)
+      for (size_t f : more) own_[f] = frames_.spheres_in(candidates_, f);
+    for (size_t f : more) extra_[f].clear();
+    active_.insert(active_.end(), more.begin(), more.end());
+    std::sort(active_.begin(), active_.end());
+    std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
+    for (size_t f : more) wanting.emplace_back(f, std::vector<uint32_t>());
+    for (auto& [f, which] : wanting) {
+      which.resize(samples(f).size());
+      std::iota(which.begin(), which.end(), 0u);
+    }
+    offer_frame_candidates(wanting);
+  }
+
+  // Skinned: every frame's samples far from the spheres file's candidates are offered that
+  // frame's own (what the one cover over every frame would be offered).
+  void offer_every_frame() {
+    std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
+    for (size_t f = 1; f < frames_.frame_count(); ++f) {
+      if (is_active(f)) continue;
+      std::vector<uint32_t> which(samples(f).size());
+      std::iota(which.begin(), which.end(), 0u);
+      wanting.emplace_back(f, std::move(which));
+    }
+    offer_frame_candidates(wanting);
+  }
+
+  // Of each frame's samples `which`, those no candidate of the spheres file comes within reach
+  // of (and not offered before) are offered that frame's own candidates near them: every
+  // frame's far samples found first, then the pool grows frame by frame.
+  void offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting) {
+    std::vector<std::vector<Eigen::Vector3d>> far(wanting.size());
+    size_t unused = 0;
+    const CoverProblem problem = cover_problem(unused);  // candidates mostly absent withdrawn
+    for (size_t n = 0; n < wanting.size(); ++n) {
+      const auto& [f, which] = wanting[n];
+      if (f == 0) continue;
+      const std::vector<Eigen::Vector3d> points = pick(samples(f), which);
+      const size_t k = size_t(std::lower_bound(active_.begin(), active_.end(), f) - active_.begin());
+      SphereSet file(file_count_);
+      for (size_t c = 0; c < file_count_; ++c) file[c] = is_active(f) ? problem.spheres[k][c] : sphere(c, f);
+      std::vector<char>& offered = offered_[f];
+      offered.resize(samples(f).size(), 0);
+      for (uint32_t s : bare_samples(points, file, opt_.reach))
+        if (!offered[which[s]]) {
+          offered[which[s]] = 1;
+          far[n].push_back(points[s]);
+        }
+    }
+    for (size_t n = 0; n < wanting.size(); ++n) {
+      if (far[n].empty()) continue;
+      const SphereSet back = frames_.frame_candidates(wanting[n].first, far[n], opt_.reach);
+      add_candidates(back);
+      from_frames_ += back.size();
+    }
+  }
+
+  // The frames selected on, whole, then (skinned) the samples added from the others, as one
+  // cover problem. Candidates mostly absent are withdrawn (counted).
+  CoverProblem cover_problem(size_t& mostly_absent) {
+    CoverProblem p;
+    auto add = [&](size_t f, std::vector<Eigen::Vector3d> points, size_t weighted) {
+      p.samples.push_back(std::move(points));
+      p.weighted.push_back(weighted);
+      SphereSet set(candidates_.size());
+      for (size_t c = 0; c < set.size(); ++c) set[c] = sphere(c, f);
+      p.spheres.push_back(std::move(set));
+    };
+    for (size_t f : active_) add(f, samples(f), frames_.frame_mesh(f).vertices.size());
+    for (size_t f = 0; f < extra_.size(); ++f)
+      if (!extra_[f].empty()) add(f, pick(samples(f), extra_[f]), 0);
+    mostly_absent = withdraw_mostly_absent(p);
+    return p;
+  }
+
+  // Skinned: the samples of the frames not selected on whole that the chosen spheres leave
+  // bare. Those far from the spheres file's candidates are offered their frame's own first;
+  // then those some candidate reaches join the problem, the rest are counted in
+  // `bare_elsewhere`. Returns how many joined.
+  size_t add_bare_samples(const std::vector<int>& chosen, double delta, size_t& bare_elsewhere) {
+    std::vector<std::pair<size_t, std::vector<uint32_t>>> bare;
+    for (size_t f = 0; f < frames_.frame_count(); ++f) {
+      if (is_active(f)) continue;
+      SphereSet spheres(chosen.size());
+      for (size_t s = 0; s < chosen.size(); ++s) spheres[s] = sphere(size_t(chosen[s]), f);
+      std::vector<uint32_t> which;
+      for (uint32_t b : bare_samples(samples(f), spheres, kNearlyBare * delta))
+        if (!std::binary_search(extra_[f].begin(), extra_[f].end(), b)) which.push_back(b);
+      if (!which.empty()) bare.emplace_back(f, std::move(which));
+    }
+    offer_frame_candidates(bare);
+    size_t added = 0;
+    bare_elsewhere = 0;
+    for (const auto& [f, which] : bare) {
+      SphereSet all(candidates_.size());
+      for (size_t c = 0; c < all.size(); ++c) all[c] = sphere(c, f);
+      const std::vector<uint32_t> out_of_reach = bare_samples(pick(samples(f), which), all, delta);
+      bare_elsewhere += out_of_reach.size();
+      for (size_t w = 0, o = 0; w < which.size(); ++w) {
+        if (o < out_of_reach.size() && out_of_reach[o] == w) {
+          ++o;
+          continue;
+        }
+        extra_[f].push_back(which[w]);
+        ++added;
+      }
+      std::sort(extra_[f].begin(), extra_[f].end());
+    }
+    return added;
+  }
+
+  // Not skinned: the frames not selected on where the chosen spheres (grown there) leave
+  // samples bare, the most first, at most frames_per_round.
+  std::vector<size_t> frames_left_bare(const std::vector<int>& chosen, double delta) {
+    const SphereSet rest = pick(candidates_, chosen);
+    std::vector<std::pair<size_t, size_t>> bare;  // (count, frame)
+    for (size_t f = 0; f < frames_.frame_count(); ++f) {
+      if (is_active(f)) continue;
+      const size_t n = bare_samples(samples(f), frames_.spheres_in(rest, f), delta).size();
+      if (n > 0) bare.emplace_back(n, f);
+    }
+    std::stable_sort(bare.begin(), bare.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<size_t> out;
+    for (size_t n = 0; n < bare.size() && n < opt_.frames_per_round; ++n) out.push_back(bare[n].second);
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+  SelectionFrames& frames_;
+  const JointSelectionOptions& opt_;
+  Log& log_;
+  const bool one_;                                     // skinned: one radius per sphere
+  SphereSet candidates_;                               // rest pose
+  std::vector<size_t> active_;                         // frames selected on whole, ascending
+  std::vector<SphereSet> own_;                         // not skinned, per frame selected on: each candidate's sphere
+  std::vector<std::vector<Eigen::Vector3d>> samples_;  // per frame, drawn when first asked
+  std::vector<std::vector<char>> offered_;             // per frame and sample: its frame's candidates offered
+  std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not selected on: its samples added
+  std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
+  std::vector<double> radius_;                         // skinned: each candidate's one radius
+  size_t from_frames_ = 0;
+  size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
+};
+
+}  // namespace
+
+std::vector<size_t> spanning_frames(const SelectionFrames& frames, size_t count) {
+  const size_t n = frames.frame_count();
+  std::vector<size_t> taken{0};
+  if (n <= count + 1) {
+    taken.resize(n);
+    std::iota(taken.begin(), taken.end(), size_t(0));
+    return taken;
+  }
+  std::vector<double> apart(n);
+  for (size_t f = 0; f < n; ++f) apart[f] = largest_displacement(frames.frame_mesh(f), frames.frame_mesh(0));
+  while (taken.size() < count + 1) {
+    const size_t next = size_t(std::max_element(apart.begin(), apart.end()) - apart.begin());
+    taken.push_back(next);
+    for (size_t f = 0; f < n; ++f)
+      apart[f] = std::min(apart[f], largest_displacement(frames.frame_mesh(f), frames.frame_mesh(next)));
+  }
+  std::sort(taken.begin(), taken.end());
+  return taken;
+}
+
+JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,
+                              Log& log) {
+  return Selector(frames, options, log).run(candidates);
+}
+
+}  // namespace spx

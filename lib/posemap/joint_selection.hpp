@@ -1,0 +1,70 @@
+#pragma once
+// pose-map's joint selection: one sphere set for the rest and every frame, chosen from rest
+// candidates mapped into the frames, as one set cover. A clip's frames are alike, so it does not
+// pay for each: it selects on a few frames that span the motion, checks every frame with the
+// spheres chosen, adds what they leave bare, and selects again until nothing is (constraint
+// generation). What is added: a frame whole, where each sphere has its own radius in each frame
+// (grown there, which costs a query per candidate); for a skinned body, whose spheres have one
+// radius and cost nothing to carry into a frame, only the bare samples, and each chosen
+// sphere's radius over every frame. Where every frame is selected on in the first round, that
+// is the one cover over all of them.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "core/log.hpp"
+#include "core/sphere.hpp"
+#include "mesh/mesh.hpp"
+#include "pack/cover.hpp"
+
+namespace spx {
+
+// What the selection asks of pose-map's map. Frame 0 is the rest.
+class SelectionFrames {
+ public:
+  virtual ~SelectionFrames() = default;
+  virtual size_t frame_count() const = 0;
+  virtual const TriMesh& frame_mesh(size_t frame) const = 0;
+  // Each rest centre's sphere in `frame` by that frame's own rule (grown there, or for a sphere
+  // with one radius in every frame, its radius in this frame alone).
+  virtual SphereSet spheres_in(const SphereSet& rest, size_t frame) const = 0;
+  // Skinned: each rest centre carried into every frame ([frame][centre]; no radius: cheap).
+  virtual std::vector<std::vector<Eigen::Vector3d>> centers_in_frames(const SphereSet& rest) const = 0;
+  // A skinned body: one radius per sphere, the least of its radii over every frame.
+  virtual bool one_radius() const = 0;
+  // That one radius of each rest centre.
+  virtual std::vector<double> one_radii(const SphereSet& rest) const = 0;
+  // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
+  // reaches), mapped back to the rest; each of them offered once.
+  virtual SphereSet frame_candidates(size_t frame, const std::vector<Eigen::Vector3d>& points, double reach) = 0;
+};
+
+struct JointSelectionOptions {
+  double target = 0;         // a length; 0: none (budget only)
+  size_t budget = 0;         // 0: none
+  double reach = 0;          // frame candidates are offered within this of a bare sample
+  size_t area_samples = 4000;
+  uint64_t seed = 1;
+  size_t first_frames = 6;   // poses selected on in the first round (those farthest apart)
+  size_t frames_per_round = 4;
+};
+
+struct JointSelection {
+  SphereSet chosen;  // rest spheres, largest first
+  CoverResult cover;
+  Limit limited_by = Limit::tolerance;
+  size_t candidates = 0, from_frames = 0, mostly_absent = 0, samples = 0;
+  std::vector<size_t> frames;   // the frames selected on, ascending (0: the rest)
+  size_t rounds = 0;
+  size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
+  size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
+};
+
+JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,
+                              Log& log = Log::silent());
+
+// The first round's frames: the rest, then up to `count` poses, each the farthest (largest
+// vertex displacement) from those already taken; ascending.
+std::vector<size_t> spanning_frames(const SelectionFrames& frames, size_t count);
+
+}  // namespace spx
