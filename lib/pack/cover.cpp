@@ -21,15 +21,6 @@ constexpr int kMaxBudgetCovers = 60;
 
 namespace {
 
-std::vector<uint32_t> uncovered_samples(const Coverage& cov) {
-  std::vector<char> any(cov.sample_count, 0);
-  for (uint32_t s : cov.samples) any[s] = 1;
-  std::vector<uint32_t> out;
-  for (size_t s = 0; s < any.size(); ++s)
-    if (!any[s]) out.push_back(uint32_t(s));
-  return out;
-}
-
 double largest_finite(const std::vector<double>& values) {
   double out = 0;
   for (double v : values)

@@ -326,6 +326,15 @@ std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t
   return chosen;
 }
 
+std::vector<uint32_t> uncovered_samples(const Coverage& cov) {
+  std::vector<char> any(cov.sample_count, 0);
+  for (uint32_t s : cov.samples) any[s] = 1;
+  std::vector<uint32_t> out;
+  for (size_t s = 0; s < any.size(); ++s)
+    if (!any[s]) out.push_back(uint32_t(s));
+  return out;
+}
+
 Coverage covering_candidates(const Coverage& cov) {
   const size_t candidates = cov.start.size() - 1;
   Coverage t;

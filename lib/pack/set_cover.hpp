@@ -17,6 +17,9 @@ struct Coverage {
   size_t row_size(size_t c) const { return start[c + 1] - start[c]; }
 };
 
+// The samples no candidate covers, ascending.
+std::vector<uint32_t> uncovered_samples(const Coverage& coverage);
+
 // The same pairs the other way round: for each sample, the candidates that cover it.
 Coverage covering_candidates(const Coverage& coverage);
 

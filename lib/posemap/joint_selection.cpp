@@ -104,6 +104,12 @@ class Selector {
     return samples_[f];
   }
 
+  std::vector<uint32_t> every_sample(size_t f) {
+    std::vector<uint32_t> out(samples(f).size());
+    std::iota(out.begin(), out.end(), 0u);
+    return out;
+  }
+
   // Candidate c in frame f as the problem has it.
   Sphere sphere(size_t c, size_t f) const { return one_ ? Sphere{centers_[f][c], radius_[c]} : own_[f][c]; }
 
@@ -112,9 +118,7 @@ class Selector {
   void warm_cover(const CoverProblem& problem, CoverResult& cover) {
     const Coverage coverage = coverage_at(problem, cover.delta);
     cover.chosen = smallest_cover(coverage, kWarmSearch, 0, nullptr, log_, cover.chosen);
-    std::vector<char> any(coverage.sample_count, 0);
-    for (uint32_t s : coverage.samples) any[s] = 1;
-    cover.uncoverable = size_t(std::count(any.begin(), any.end(), 0));
+    cover.uncoverable = uncovered_samples(coverage).size();
   }
 
   // More candidates: their spheres in the frames selected on or, skinned, their centres in every
@@ -128,10 +132,10 @@ class Selector {
       }
       return;
     }
-    const auto centers = frames_.centers_in_frames(more);
-    for (size_t f = 0; f < centers.size(); ++f) centers_[f].insert(centers_[f].end(), centers[f].begin(), centers[f].end());
-    const std::vector<double> radii = frames_.one_radii(more);
-    radius_.insert(radius_.end(), radii.begin(), radii.end());
+    const SkinnedMap::Carried carried = frames_.carry_skinned(more);
+    for (size_t f = 0; f < carried.centers.size(); ++f)
+      centers_[f].insert(centers_[f].end(), carried.centers[f].begin(), carried.centers[f].end());
+    radius_.insert(radius_.end(), carried.radii.begin(), carried.radii.end());
   }
 
   // Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
@@ -145,11 +149,7 @@ class Selector {
     active_.insert(active_.end(), more.begin(), more.end());
     std::sort(active_.begin(), active_.end());
     std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
-    for (size_t f : more) wanting.emplace_back(f, std::vector<uint32_t>());
-    for (auto& [f, which] : wanting) {
-      which.resize(samples(f).size());
-      std::iota(which.begin(), which.end(), 0u);
-    }
+    for (size_t f : more) wanting.emplace_back(f, every_sample(f));
     offer_frame_candidates(wanting);
   }
 
@@ -157,12 +157,8 @@ class Selector {
   // frame's own (what the one cover over every frame would be offered).
   void offer_every_frame() {
     std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
-    for (size_t f = 1; f < frames_.frame_count(); ++f) {
-      if (is_active(f)) continue;
-      std::vector<uint32_t> which(samples(f).size());
-      std::iota(which.begin(), which.end(), 0u);
-      wanting.emplace_back(f, std::move(which));
-    }
+    for (size_t f = 1; f < frames_.frame_count(); ++f)
+      if (!is_active(f)) wanting.emplace_back(f, every_sample(f));
     offer_frame_candidates(wanting);
   }
 
@@ -171,15 +167,22 @@ class Selector {
   // frame's far samples found first, then the pool grows frame by frame.
   void offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting) {
     std::vector<std::vector<Eigen::Vector3d>> far(wanting.size());
-    size_t unused = 0;
-    const CoverProblem problem = cover_problem(unused);  // candidates mostly absent withdrawn
+    // The file's candidates in the frames selected on, those mostly absent withdrawn as in the
+    // cover problem (a skinned candidate is absent everywhere or nowhere: other frames need none).
+    CoverProblem file_in_active;
+    for (size_t f : active_) {
+      SphereSet set(file_count_);
+      for (size_t c = 0; c < file_count_; ++c) set[c] = sphere(c, f);
+      file_in_active.spheres.push_back(std::move(set));
+    }
+    withdraw_mostly_absent(file_in_active);
     for (size_t n = 0; n < wanting.size(); ++n) {
       const auto& [f, which] = wanting[n];
       if (f == 0) continue;
       const std::vector<Eigen::Vector3d> points = pick(samples(f), which);
       const size_t k = size_t(std::lower_bound(active_.begin(), active_.end(), f) - active_.begin());
       SphereSet file(file_count_);
-      for (size_t c = 0; c < file_count_; ++c) file[c] = is_active(f) ? problem.spheres[k][c] : sphere(c, f);
+      for (size_t c = 0; c < file_count_; ++c) file[c] = is_active(f) ? file_in_active.spheres[k][c] : sphere(c, f);
       std::vector<char>& offered = offered_[f];
       offered.resize(samples(f).size(), 0);
       for (uint32_t s : bare_samples(points, file, opt_.reach))

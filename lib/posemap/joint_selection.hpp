@@ -16,6 +16,7 @@
 #include "core/sphere.hpp"
 #include "mesh/mesh.hpp"
 #include "pack/cover.hpp"
+#include "posemap/skinned_map.hpp"
 
 namespace spx {
 
@@ -25,15 +26,12 @@ class SelectionFrames {
   virtual ~SelectionFrames() = default;
   virtual size_t frame_count() const = 0;
   virtual const TriMesh& frame_mesh(size_t frame) const = 0;
-  // Each rest centre's sphere in `frame` by that frame's own rule (grown there, or for a sphere
-  // with one radius in every frame, its radius in this frame alone).
+  // Not skinned: each rest centre's sphere in `frame` by that frame's own rule (grown there).
   virtual SphereSet spheres_in(const SphereSet& rest, size_t frame) const = 0;
-  // Skinned: each rest centre carried into every frame ([frame][centre]; no radius: cheap).
-  virtual std::vector<std::vector<Eigen::Vector3d>> centers_in_frames(const SphereSet& rest) const = 0;
   // A skinned body: one radius per sphere, the least of its radii over every frame.
   virtual bool one_radius() const = 0;
-  // That one radius of each rest centre.
-  virtual std::vector<double> one_radii(const SphereSet& rest) const = 0;
+  // Skinned: each rest centre carried into every frame, and its one radius.
+  virtual SkinnedMap::Carried carry_skinned(const SphereSet& rest) const = 0;
   // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
   // reaches), mapped back to the rest; each of them offered once.
   virtual SphereSet frame_candidates(size_t frame, const std::vector<Eigen::Vector3d>& points, double reach) = 0;

@@ -274,13 +274,10 @@ class PoseMapper {
     explicit Frames(PoseMapper& m) : m_(m) {}
     size_t frame_count() const override { return m_.meshes_.size(); }
     const TriMesh& frame_mesh(size_t f) const override { return *m_.meshes_[f]; }
-    SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f, true); }
-    std::vector<std::vector<Eigen::Vector3d>> centers_in_frames(const SphereSet& rest) const override {
-      return m_.skinned_->centers(rest);
-    }
+    SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f); }
     bool one_radius() const override { return bool(m_.skinned_); }
-    std::vector<double> one_radii(const SphereSet& rest) const override {
-      return m_.skinned_->one_radii(rest, m_.solids_);
+    SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override {
+      return m_.skinned_->carry(rest, m_.solids_);
     }
     SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
       size_t lost = 0;
@@ -293,49 +290,36 @@ class PoseMapper {
 
   std::string proxy_pose_name(size_t f) const { return f == 0 ? stem_of(rest_source_) : poses_[f - 1].name; }
 
-  // Rest spheres' centres carried into frame f (0: the rest), each with its radius there by
-  // that frame's own rule when `radius` (grown under joint selection; a skinned sphere's in f
-  // alone, before the least over frames).
-  SphereSet carry(const SphereSet& rest, size_t f, bool radius) const {
+  // Not skinned: rest spheres carried into frame f (0: the rest) by in_pose.
+  SphereSet carry(const SphereSet& rest, size_t f) const {
     SphereSet out(rest.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t s = r.begin(); s != r.end(); ++s) {
         const Eigen::Vector3d& c = rest[s].center;
-        Eigen::Vector3d center = c;
-        if (f > 0) {
-          const TetLocator::Location at = f_->locator().locate(c);
-          center = skinned_ ? skinned_->center(skinned_->influence(c, at), c, f) : f_->map(c, at, deformed_[f - 1]);
-        }
-        if (!radius)
-          out[s] = {center, 0};
-        else if (grow_)
-          out[s] = solids_[f].grown(center, false).first;
-        else
-          out[s] = {center, solids_[f].radius(center, false).value};
+        out[s] = in_pose(c, f > 0 ? f_->locator().locate(c) : TetLocator::Location(), f, false).first;
       }
     });
     return out;
   }
 
-  // The spheres a rest center c becomes in every pose (0: the rest): its center through f, its
-  // radius by each pose's rule (then grown, under joint selection), and why a radius is 0 if it
-  // is. A skinned sphere keeps the least of its radii in every pose.
+  // Not skinned: rest center c (at `at` in the tets) in pose i (0: the rest): its center through
+  // f, its radius by the pose's rule (then grown, under joint selection), and why it is 0 if it is.
+  std::pair<Sphere, PoseSolid::Zero> in_pose(const Eigen::Vector3d& c, const TetLocator::Location& at, size_t i,
+                                             bool cause) const {
+    const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
+    if (grow_) return solids_[i].grown(center, cause);
+    const PoseSolid::Radius radius = solids_[i].radius(center, cause);
+    return {{center, radius.value}, radius.zero};
+  }
+
+  // The spheres a rest center c becomes in every pose (0: the rest), each by in_pose; a skinned
+  // sphere keeps the least of its radii in every pose.
   std::vector<std::pair<Sphere, PoseSolid::Zero>> in_poses(const Eigen::Vector3d& c, bool cause) const {
     const TetLocator::Location at = f_->locator().locate(c);
+    if (skinned_) return skinned_->spheres(c, at, solids_, cause);
     std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
-    if (!skinned_) {
-      for (size_t i = 0; i < solids_.size(); ++i) {
-        const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
-        if (grow_) {
-          out.push_back(solids_[i].grown(center, cause));
-          continue;
-        }
-        const PoseSolid::Radius radius = solids_[i].radius(center, cause);
-        out.push_back({{center, radius.value}, radius.zero});
-      }
-      return out;
-    }
-    return skinned_->spheres(c, at, solids_, cause);
+    for (size_t i = 0; i < solids_.size(); ++i) out.push_back(in_pose(c, at, i, cause));
+    return out;
   }
 
   // Packing in a pose's own field: the proxy's max radius, and the field bounding radii across

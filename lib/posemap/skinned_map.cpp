@@ -91,14 +91,12 @@ std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen:
   return out;
 }
 
-double SkinnedMap::one_radius(const SkinInfluence& s, const Eigen::Vector3d& c,
-                              const std::vector<PoseSolid>& solids) const {
+namespace {
+// The least of a sphere's radii by `solids` at its centre in each pose, asking a pose only where
+// its floor is below the least so far (lowest floors first).
+double least_radius(const std::vector<Eigen::Vector3d>& centers, const std::vector<PoseSolid>& solids) {
   std::vector<std::pair<double, size_t>> floors(solids.size());
-  std::vector<Eigen::Vector3d> centers(solids.size());
-  for (size_t i = 0; i < solids.size(); ++i) {
-    centers[i] = center(s, c, i);
-    floors[i] = {solids[i].radius_floor(centers[i]), i};
-  }
+  for (size_t i = 0; i < solids.size(); ++i) floors[i] = {solids[i].radius_floor(centers[i]), i};
   std::sort(floors.begin(), floors.end());
   double least = std::numeric_limits<double>::infinity();
   for (const auto& [floor, i] : floors) {
@@ -107,25 +105,18 @@ double SkinnedMap::one_radius(const SkinInfluence& s, const Eigen::Vector3d& c,
   }
   return least;
 }
+}  // namespace
 
-std::vector<double> SkinnedMap::one_radii(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
-  std::vector<double> out(rest.size());
+SkinnedMap::Carried SkinnedMap::carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
+  Carried out{std::vector<std::vector<Eigen::Vector3d>>(solids.size(), std::vector<Eigen::Vector3d>(rest.size())),
+              std::vector<double>(rest.size())};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t s = r.begin(); s != r.end(); ++s) {
-      const Eigen::Vector3d& c = rest[s].center;
-      out[s] = one_radius(influence(c, f_.locator().locate(c)), c, solids);
-    }
-  });
-  return out;
-}
-
-std::vector<std::vector<Eigen::Vector3d>> SkinnedMap::centers(const SphereSet& rest) const {
-  std::vector<std::vector<Eigen::Vector3d>> out(skin_.poses.size() + 1, std::vector<Eigen::Vector3d>(rest.size()));
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<Eigen::Vector3d> in_poses(solids.size());
     for (size_t s = r.begin(); s != r.end(); ++s) {
       const Eigen::Vector3d& c = rest[s].center;
       const SkinInfluence in = influence(c, f_.locator().locate(c));
-      for (size_t i = 0; i < out.size(); ++i) out[i][s] = center(in, c, i);
+      for (size_t i = 0; i < solids.size(); ++i) out.centers[i][s] = in_poses[i] = center(in, c, i);
+      out.radii[s] = least_radius(in_poses, solids);
     }
   });
   return out;

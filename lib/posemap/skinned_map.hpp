@@ -48,14 +48,15 @@ class SkinnedMap {
   // is 0 if it is (`cause`: tell an outside centre from a hole's bound).
   std::vector<std::pair<Sphere, PoseSolid::Zero>> spheres(const Eigen::Vector3d& c, const TetLocator::Location& at,
                                                           const std::vector<PoseSolid>& solids, bool cause) const;
-  // The one radius of rest centre c (influence s): the least of its radii by `solids` over
-  // every pose, the same as spheres() gives, but a pose is asked only where its floor
-  // (PoseSolid::radius_floor) is below the least so far, the lowest floors first.
-  double one_radius(const SkinInfluence& s, const Eigen::Vector3d& c, const std::vector<PoseSolid>& solids) const;
-  // one_radius of each rest centre (`rest`'s radii unused).
-  std::vector<double> one_radii(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
-  // Each rest centre in every pose ([pose][centre]; pose 0: the rest).
-  std::vector<std::vector<Eigen::Vector3d>> centers(const SphereSet& rest) const;
+  // Rest centres carried into every pose ([pose][centre]; pose 0: the rest), each with its one
+  // radius: the least of its radii by `solids` over every pose, the same as spheres() gives,
+  // but a pose is asked only where its floor (PoseSolid::radius_floor) is below the least so
+  // far, the lowest floors first. `rest`'s radii are unused.
+  struct Carried {
+    std::vector<std::vector<Eigen::Vector3d>> centers;
+    std::vector<double> radii;
+  };
+  Carried carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
   // The proxy's skin for `rest` (the rest pose's spheres, each radius the sphere's one radius).
   ProxySkin proxy_skin(const SphereSet& rest) const;
   // Every tet vertex skinned into pose i (i >= 1) by its own influence.
