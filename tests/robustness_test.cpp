@@ -177,6 +177,19 @@ TEST(FilesBetweenTools, JsonThatViolatesItsSchemaIsRejected) {
     write_file_atomic(dir + "/p.json", text);
     EXPECT_EQ(code_of([&] { read_proxy_file(dir + "/p.json"); }), ExitCode::bad_input) << text;
   }
+  // A skinned sphere with no positive weight would be written to a .spx the runtime refuses
+  // (SPX_ERR_BAD_SKIN): the reader refuses it first. The same sphere weighted is read.
+  ProxyModel skinned;
+  skinned.poses.push_back({"rest", "rest.obj", {{Eigen::Vector3d::Zero(), 1.0}}, {}});
+  skinned.sites = {Eigen::Vector3d::Zero()};
+  skinned.sphere_sites = {0};
+  skinned.skin.joints = {"root"};
+  skinned.skin.parents = {-1};
+  skinned.skin.spheres.push_back({{{0, 0, 0, 0}}, {{1, 0, 0, 0}}, Eigen::Vector3d::Zero(), 1.0});
+  json weighted = proxy_to_json(skinned);
+  EXPECT_EQ(code_of([&] { proxy_from_json(weighted, "f.json"); }), ExitCode::ok);
+  weighted["skin"]["spheres"][0]["weights"] = {0, 0, 0, 0};
+  EXPECT_EQ(code_of([&] { proxy_from_json(weighted, "f.json"); }), ExitCode::bad_input);
   // Fields of the wrong type end in our own error naming the file, never in the JSON library's
   // unnamed type error (fuzz.short found {"format": 625}).
   for (const std::string& text : std::vector<std::string>{R"({"format": 625})", R"({"format": ["spx-spheres"]})",

@@ -48,6 +48,9 @@ ProxySkin skin_from_json(const json& j, size_t sphere_count, const std::string& 
       s.weight[k] = float(as_finite_number(ws[k], what + ".weights", path));
       if (s.weight[k] < 0) fail_input(path, what + ".weights holds a negative weight");
     }
+    // As the runtime: a sphere no joint weighs cannot be skinned.
+    if (!(s.weight[0] + s.weight[1] + s.weight[2] + s.weight[3] > 0))
+      fail_input(path, what + ".weights has no positive weight");
     for (int k = 0; k < 3; ++k) s.center[k] = as_finite_number(c[size_t(k)], what + ".center", path);
     s.radius = require_number(spheres[i], "radius", path);
     if (s.radius < 0) fail_input(path, what + ".radius is negative");
