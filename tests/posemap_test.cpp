@@ -15,6 +15,9 @@
 #include "pack/pack.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "pack/sphere_pack_tool.hpp"
+#include "pack/candidates.hpp"
+#include "pack/coverage.hpp"
+#include "posemap/joint_selection.hpp"
 #include "posemap/posemap.hpp"
 #include "posemap/pose_solid.hpp"
 #include "posemap/skinned_map.hpp"
@@ -588,6 +591,71 @@ TEST(PoseMap, RadiusFloorIsNeverAboveTheRadius) {
       above_zero += floor > 0;
     }
     EXPECT_GT(above_zero, 1000u) << set << ": the floor should bound most interior points";
+  }
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// A clip of boxes for the selection over frames: frame f is the box moved by shift[f]; each
+// candidate moves with it, one radius throughout, except in `lost` where every candidate lands
+// far away, so that nothing reaches that frame's samples.
+class BoxClip : public SelectionFrames {
+ public:
+  BoxClip(std::vector<double> shift, size_t lost) : shift_(std::move(shift)), lost_(lost) {
+    for (double s : shift_) meshes_.push_back(test::box_mesh(Eigen::Vector3d::Constant(s), Eigen::Vector3d::Constant(1 + s)));
+  }
+  size_t frame_count() const override { return meshes_.size(); }
+  const TriMesh& frame_mesh(size_t f) const override { return meshes_[f]; }
+  SphereSet spheres_in(const SphereSet&, size_t) const override { return {}; }
+  bool one_radius() const override { return true; }
+  SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override {
+    SkinnedMap::Carried out;
+    for (size_t f = 0; f < meshes_.size(); ++f) {
+      out.centers.emplace_back();
+      for (const Sphere& s : rest)
+        out.centers.back().push_back(s.center + Eigen::Vector3d::Constant(f == lost_ ? 10.0 : shift_[f]));
+    }
+    for (const Sphere& s : rest) out.radii.push_back(s.radius);
+    return out;
+  }
+  SphereSet frame_candidates(size_t, const std::vector<Eigen::Vector3d>&, double) override { return {}; }
+
+ private:
+  std::vector<double> shift_;
+  size_t lost_;
+  std::vector<TriMesh> meshes_;
+};
+
+// Past the first round's frames, every other frame is checked: the spheres chosen cover every
+// sample of every frame some candidate reaches, and a frame nothing reaches is counted and
+// decides what the report says limited the selection.
+TEST(PoseMap, ClipSelectionCoversEveryFrameAndCountsWhatNothingReaches) {
+  // Frame 8 barely moves from the rest, so the first round (the rest and the 6 poses farthest
+  // apart) leaves it out.
+  const std::vector<double> shift{0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.001};
+  BoxClip frames(shift, 8);
+  SphereSet candidates;
+  for (double x : {0.25, 0.75})
+    for (double y : {0.25, 0.75})
+      for (double z : {0.25, 0.75}) candidates.push_back({Eigen::Vector3d(x, y, z), 0.25});
+  JointSelectionOptions options;
+  options.target = 0.3;
+  options.reach = 0.3;
+  options.area_samples = 200;
+  const JointSelection selection = select_jointly(frames, candidates, options);
+  EXPECT_FALSE(std::binary_search(selection.frames.begin(), selection.frames.end(), size_t(8)));
+  EXPECT_EQ(selection.cover.uncoverable, 0u);
+  EXPECT_EQ(selection.bare_elsewhere, frames.frame_mesh(8).vertices.size() + options.area_samples);
+  EXPECT_EQ(selection.limited_by, Limit::resolution) << "samples out of reach: the tolerance was not met";
+  for (size_t f = 0; f < 8; ++f) {
+    SphereSet in_frame;
+    for (const Sphere& s : selection.chosen) in_frame.push_back({s.center + Eigen::Vector3d::Constant(shift[f]), s.radius});
+    EXPECT_TRUE(bare_samples(surface_samples(frames.frame_mesh(f), options.area_samples, options.seed), in_frame,
+                             options.target).empty()) << "frame " << f;
   }
 }
 

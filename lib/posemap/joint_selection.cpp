@@ -83,6 +83,10 @@ class Selector {
       if (more_samples == 0 && more_frames.empty()) break;
       select_on_whole(more_frames);
     }
+    // What decided the size is the last round's: samples of other frames out of reach, or reached
+    // only after the first round, change whether the tolerance was met (cover_for's rule).
+    if (out.limited_by == Limit::tolerance || out.limited_by == Limit::resolution)
+      out.limited_by = out.cover.uncoverable + out.bare_elsewhere > 0 ? Limit::resolution : Limit::tolerance;
     out.candidates = candidates_.size();
     out.from_frames = from_frames_;
     out.frames = active_;
