@@ -8,6 +8,10 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "extract/asset.hpp"
+#include "extract/pose_extract_tool.hpp"
+#include "io/gltf_rig.hpp"
+#include "io/pose_manifest.hpp"
+#include "io/skin_file.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/winding_number.hpp"
 #include "mesh/mesh_query.hpp"
@@ -533,6 +537,65 @@ TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {
     for (auto& v : moved.vertices) v = c + turn * (v - c).cwiseProduct(Eigen::Vector3d(1.1, 0.95, 1.0));
     expect_claim_holds(rest, {{"same", "same", rest}, {"moved", "moved", moved}}, name);
   }
+}
+
+// A skinned sphere follows the harmonic influence, or its closest surface point's where that
+// keeps it larger over the clip (choose). On the robot's rigid parts, each on its own joint, the
+// harmonic extension blends the pelvis and the thighs through the shared tets, and spheres there
+// drift out of both. Checked against brute force over every pose (no floors, no early exit): the
+// radius choose gives is the least over the poses of the influence it picked, and no less than
+// either influence's.
+TEST(PoseMap, SkinnedSphereKeepsTheInfluenceThatKeepsItLarger) {
+  const std::string dir = test::temp_dir("robot-skin");
+  write_file_atomic(dir + "/robot.glb", encode_rig_glb(make_robot()));
+  PoseExtractOptions extract;
+  extract.animation = "0";
+  extract.every = 4;
+  json report;
+  pose_extract_files(dir + "/robot.glb", dir + "/poses", extract, Log::silent(), report);
+  const PoseManifest manifest = read_pose_manifest(dir + "/poses/poses.json");
+  const LoadedMesh loaded = load_mesh(dir + "/poses/rest.obj");
+  const TriMesh& rest = loaded.mesh;
+  std::vector<TriMesh> meshes{rest};
+  for (const auto& p : manifest.poses) meshes.push_back(load_pose(dir + "/poses/" + p.file, loaded));
+  SkinFile skin = read_skin_file(dir + "/poses/skin.json");
+  skin.vertex_weights = weights_for_vertices(skin, rest.vertices, 1e-6 * rest.diagonal(), "skin");
+  const TetMesh tets = tetrahedralize(rest, {});
+  const HarmonicMap f(tets, rest);
+  const SkinnedMap map(skin, f);
+  std::vector<std::unique_ptr<MeshQuery>> queries;
+  std::vector<DenseField> fields;
+  SdfOptions o;
+  o.voxel_size = rest.diagonal() / 64;
+  for (const TriMesh& m : meshes) {
+    queries.push_back(std::make_unique<MeshQuery>(m));
+    fields.push_back(build_sdf(m, o).field);
+  }
+  std::vector<PoseSolid> solids;
+  for (size_t i = 0; i < meshes.size(); ++i)
+    solids.push_back({queries[i].get(), &fields[i], std::numeric_limits<double>::infinity(), &fields[i]});
+  auto least = [&](const SkinInfluence& s, const Eigen::Vector3d& c) {
+    double out = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < solids.size(); ++i) out = std::min(out, solids[i].radius(map.center(s, c, i), false).value);
+    return out;
+  };
+  std::mt19937 rng(5);
+  const Eigen::AlignedBox3d box = rest.bounds();
+  std::uniform_real_distribution<double> u(0, 1);
+  size_t tried = 0, surface_wins = 0;
+  while (tried < 300) {
+    const Eigen::Vector3d c = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    if (!(solids[0].radius(c, false).value > 0)) continue;
+    const TetLocator::Location at = f.locator().locate(c);
+    if (at.tet < 0) continue;
+    ++tried;
+    const SkinnedMap::Choice chosen = map.choose(c, at, solids);
+    const double harmonic = least(map.influence(c, at), c), surface = least(map.surface_influence(c, *queries[0]), c);
+    EXPECT_EQ(chosen.radius, least(chosen.influence, c)) << c.transpose();
+    EXPECT_EQ(chosen.radius, std::max(harmonic, surface)) << c.transpose();
+    surface_wins += surface > harmonic;
+  }
+  EXPECT_GT(surface_wins, 10u);
 }
 
 // The influence kept per sphere against a brute-force ranking: the 4 largest weights (ties to

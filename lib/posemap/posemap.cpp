@@ -198,7 +198,7 @@ class PoseMapper {
 
   // A rigged body's proxy carries each sphere's influence and its one radius.
   void attach_skin() {
-    if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres);
+    if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres, solids_);
   }
 
   // Warnings for every radius 0, and the report: tets, map, per-pose errors and zero radii.

@@ -56,10 +56,10 @@ Eigen::Vector3d unskin_point(const SkinInfluence& s, const JointMatrices& rest, 
 }  // namespace
 
 SkinnedMap::SkinnedMap(const SkinFile& skin, const HarmonicMap& f) : skin_(skin), f_(f) {
-  Eigen::MatrixXd per_vertex = Eigen::MatrixXd::Zero(Eigen::Index(skin.vertex_weights.size()), Eigen::Index(skin.joints.size()));
+  vertex_weights_ = Eigen::MatrixXd::Zero(Eigen::Index(skin.vertex_weights.size()), Eigen::Index(skin.joints.size()));
   for (size_t v = 0; v < skin.vertex_weights.size(); ++v)
-    for (const auto& [j, w] : skin.vertex_weights[v]) per_vertex(Eigen::Index(v), j) += w;
-  tet_weights_ = f.extend(per_vertex);
+    for (const auto& [j, w] : skin.vertex_weights[v]) vertex_weights_(Eigen::Index(v), j) += w;
+  tet_weights_ = f.extend(vertex_weights_);
 }
 
 SkinInfluence SkinnedMap::influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const {
@@ -71,65 +71,90 @@ SkinInfluence SkinnedMap::influence(const Eigen::Vector3d& p, const TetLocator::
   return s;
 }
 
-std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen::Vector3d& c,
-                                                                     const TetLocator::Location& at,
-                                                                     const std::vector<PoseSolid>& solids,
-                                                                     bool cause) const {
-  const SkinInfluence s = influence(c, at);
-  std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
-  double least = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < solids.size(); ++i) {
-    const Eigen::Vector3d center = this->center(s, c, i);
-    const PoseSolid::Radius radius = solids[i].radius(center, cause);
-    out.push_back({{center, radius.value}, radius.zero});
-    least = std::min(least, radius.value);
-  }
-  for (auto& [sphere, zero] : out) {
-    sphere.radius = least;
-    if (least == 0 && zero == PoseSolid::Zero::none) zero = PoseSolid::Zero::another_pose;
-  }
-  return out;
+SkinInfluence SkinnedMap::surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest) const {
+  const ClosestPoint q = rest.closest(p);
+  const auto& t = rest.mesh().triangles[size_t(q.triangle)];
+  const Eigen::VectorXd w = q.barycentric[0] * vertex_weights_.row(t[0]).transpose() +
+                            q.barycentric[1] * vertex_weights_.row(t[1]).transpose() +
+                            q.barycentric[2] * vertex_weights_.row(t[2]).transpose();
+  SkinInfluence s = heaviest_four(w);
+  s.bind = unskin_point(s, skin_.rest, p);
+  return s;
 }
 
 namespace {
-// The least of a sphere's radii by `solids` at its centre in each pose, asking a pose only where
-// its floor is below the least so far (lowest floors first).
-double least_radius(const std::vector<Eigen::Vector3d>& centers, const std::vector<PoseSolid>& solids) {
-  std::vector<std::pair<double, size_t>> floors(solids.size());
-  for (size_t i = 0; i < solids.size(); ++i) floors[i] = {solids[i].radius_floor(centers[i]), i};
+bool same_weights(const SkinInfluence& a, const SkinInfluence& b) { return a.joint == b.joint && a.weight == b.weight; }
+
+// The least of the radii by `solids` of a sphere following `s` from rest centre c, asking a pose
+// only where its floor is below the least so far (lowest floors first); given up as soon as it
+// is at most `beaten` (the radius another influence keeps).
+double least_radius(const SkinnedMap& map, const SkinInfluence& s, const Eigen::Vector3d& c,
+                    const std::vector<PoseSolid>& solids, double rest_radius, double beaten) {
+  std::vector<std::pair<double, size_t>> floors;
+  std::vector<Eigen::Vector3d> centers(solids.size());
+  for (size_t i = 1; i < solids.size(); ++i) {
+    centers[i] = map.center(s, c, i);
+    floors.push_back({solids[i].radius_floor(centers[i]), i});
+  }
   std::sort(floors.begin(), floors.end());
-  double least = std::numeric_limits<double>::infinity();
+  double least = rest_radius;
   for (const auto& [floor, i] : floors) {
-    if (floor >= least) break;
+    if (floor >= least || least <= beaten) break;
     least = std::min(least, solids[i].radius(centers[i], false).value);
   }
   return least;
 }
 }  // namespace
 
+SkinnedMap::Choice SkinnedMap::choose(const Eigen::Vector3d& c, const TetLocator::Location& at,
+                                      const std::vector<PoseSolid>& solids) const {
+  const double rest_radius = solids[0].radius(c, false).value;
+  Choice harmonic{influence(c, at), 0};
+  harmonic.radius = least_radius(*this, harmonic.influence, c, solids, rest_radius, -1);
+  if (harmonic.radius >= rest_radius || !(rest_radius > 0)) return harmonic;
+  Choice surface{surface_influence(c, *solids[0].mesh), 0};
+  if (same_weights(surface.influence, harmonic.influence)) return harmonic;
+  surface.radius = least_radius(*this, surface.influence, c, solids, rest_radius, harmonic.radius);
+  return surface.radius > harmonic.radius ? surface : harmonic;
+}
+
+std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen::Vector3d& c,
+                                                                     const TetLocator::Location& at,
+                                                                     const std::vector<PoseSolid>& solids,
+                                                                     bool cause) const {
+  const Choice chosen = choose(c, at, solids);
+  std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
+  for (size_t i = 0; i < solids.size(); ++i) {
+    const Eigen::Vector3d center = this->center(chosen.influence, c, i);
+    const PoseSolid::Zero zero = solids[i].radius(center, cause).zero;
+    out.push_back({{center, chosen.radius},
+                   chosen.radius == 0 && zero == PoseSolid::Zero::none ? PoseSolid::Zero::another_pose : zero});
+  }
+  return out;
+}
+
 SkinnedMap::Carried SkinnedMap::carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
   Carried out{std::vector<std::vector<Eigen::Vector3d>>(solids.size(), std::vector<Eigen::Vector3d>(rest.size())),
               std::vector<double>(rest.size())};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<Eigen::Vector3d> in_poses(solids.size());
     for (size_t s = r.begin(); s != r.end(); ++s) {
       const Eigen::Vector3d& c = rest[s].center;
-      const SkinInfluence in = influence(c, f_.locator().locate(c));
-      for (size_t i = 0; i < solids.size(); ++i) out.centers[i][s] = in_poses[i] = center(in, c, i);
-      out.radii[s] = least_radius(in_poses, solids);
+      const Choice chosen = choose(c, f_.locator().locate(c), solids);
+      for (size_t i = 0; i < solids.size(); ++i) out.centers[i][s] = center(chosen.influence, c, i);
+      out.radii[s] = chosen.radius;
     }
   });
   return out;
 }
 
-ProxySkin SkinnedMap::proxy_skin(const SphereSet& rest) const {
+ProxySkin SkinnedMap::proxy_skin(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
   ProxySkin out;
   for (const SkinJoint& j : skin_.joints) {
     out.joints.push_back(j.name);
     out.parents.push_back(j.parent);
   }
   for (const Sphere& sphere : rest) {
-    const SkinInfluence s = influence(sphere.center, f_.locator().locate(sphere.center));
+    const SkinInfluence s = choose(sphere.center, f_.locator().locate(sphere.center), solids).influence;
     out.spheres.push_back({s.joint, s.weight, s.bind, sphere.radius});
   }
   return out;

@@ -5,6 +5,10 @@
 // place in a pose is linear blend skinning with that pose's joint matrices. The point is first
 // taken to the asset's own space (the host's) by the inverse of its blended rest matrix, so
 // that the host's joint matrices skin it as they skin its mesh.
+// Where parts overlap or weights jump (a robot's rigid parts, each on its own joint), the
+// extension blends joints that no vertex near the point blends, and a sphere there drifts out of
+// its part: such a sphere takes its closest surface point's weights instead when they keep it
+// larger over the poses (choose()).
 #include <array>
 #include <Eigen/Core>
 #include <vector>
@@ -35,37 +39,48 @@ class SkinnedMap {
   // `skin`'s vertex weights are the rest mesh's (one list per vertex of `f`'s rest mesh).
   SkinnedMap(const SkinFile& skin, const HarmonicMap& f);
 
-  // The influence of rest point p, at `at` in the tets.
+  // The harmonic influence of rest point p, at `at` in the tets.
   SkinInfluence influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const;
+  // The influence of rest point p's closest point on the rest mesh (`rest`).
+  SkinInfluence surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest) const;
+  // The influence a sphere centred at rest point c follows, and its one radius (the least of its
+  // radii by `solids`, one per pose, over every pose): the harmonic influence, or the surface's
+  // where that keeps a larger radius (the rest's radius bounds both, so a harmonic sphere that
+  // keeps it is final).
+  struct Choice {
+    SkinInfluence influence;
+    double radius = 0;
+  };
+  Choice choose(const Eigen::Vector3d& c, const TetLocator::Location& at, const std::vector<PoseSolid>& solids) const;
   // Rest point c (of influence s) in pose i (0: the rest, c itself).
   Eigen::Vector3d center(const SkinInfluence& s, const Eigen::Vector3d& c, size_t i) const {
     return i == 0 ? c : skin_point(s, matrices(i));
   }
   // Pose i's joint matrices (0: the rest).
   const JointMatrices& matrices(size_t i) const { return i == 0 ? skin_.rest : skin_.poses[i - 1].matrices; }
-  // The spheres rest center c (at `at`) becomes in every pose (0: the rest): skinned, each with
-  // one radius, the least of its radii by `solids` (one per pose) over the poses; why a radius
-  // is 0 if it is (`cause`: tell an outside centre from a hole's bound).
+  // The spheres rest center c (at `at`) becomes in every pose (0: the rest): skinned by choose(),
+  // each with its one radius; why a radius is 0 if it is (`cause`: tell an outside centre from a
+  // hole's bound).
   std::vector<std::pair<Sphere, PoseSolid::Zero>> spheres(const Eigen::Vector3d& c, const TetLocator::Location& at,
                                                           const std::vector<PoseSolid>& solids, bool cause) const;
-  // Rest centres carried into every pose ([pose][centre]; pose 0: the rest), each with its one
-  // radius: the least of its radii by `solids` over every pose, the same as spheres() gives,
-  // but a pose is asked only where its floor (PoseSolid::radius_floor) is below the least so
-  // far, the lowest floors first. `rest`'s radii are unused.
+  // Rest centres carried into every pose ([pose][centre]; pose 0: the rest) by choose(), each
+  // with its one radius, as spheres() gives them. `rest`'s radii are unused.
   struct Carried {
     std::vector<std::vector<Eigen::Vector3d>> centers;
     std::vector<double> radii;
   };
   Carried carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
-  // The proxy's skin for `rest` (the rest pose's spheres, each radius the sphere's one radius).
-  ProxySkin proxy_skin(const SphereSet& rest) const;
+  // The proxy's skin for `rest` (the rest pose's spheres, each radius the sphere's one radius),
+  // each sphere's influence by choose().
+  ProxySkin proxy_skin(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
   // Every tet vertex skinned into pose i (i >= 1) by its own influence.
   std::vector<Eigen::Vector3d> deform_tets(size_t i) const;
 
  private:
   const SkinFile& skin_;
   const HarmonicMap& f_;
-  Eigen::MatrixXd tet_weights_;  // a row per tet vertex, a column per joint
+  Eigen::MatrixXd vertex_weights_;  // a row per rest vertex, a column per joint
+  Eigen::MatrixXd tet_weights_;     // a row per tet vertex, a column per joint
 };
 
 }  // namespace spx
