@@ -66,7 +66,7 @@ json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, co
     SpherePackOptions opt;
     opt.pack.max_spheres = budget;
     opt.pack.field_bounds_radius = sdf.stats.bounded_by_holes;
-    if (tolerance_pct > 0) opt.tolerance = {tolerance_pct, true};
+    if (tolerance_pct > 0) opt.tolerance = tolerance_pct / 100 * diag;
     return select_by_cover(sdf.field, query, opt);
   };
   PackOptions greedy;

@@ -229,7 +229,8 @@ TEST(Cover, SpherePackReportsTheErrorItsFileHas) {
     SpherePackOptions opt;
     opt.pack.max_spheres = budget;
     json report;
-    sphere_pack_files(dir + "/car.vdb", dir + "/car.obj", dir + "/car.spheres.json", opt, Log::silent(), report);
+    sphere_pack_files(dir + "/car.vdb", dir + "/car.obj", dir + "/car.spheres.json", opt, Tolerance{}, Log::silent(),
+                      report);
     const SpheresFile file = read_spheres_file(dir + "/car.spheres.json");
     const ErrorStats measured = vertex_error(mesh.mesh, file.spheres);
     EXPECT_NEAR(report["cover"]["max_error"].get<double>(), measured.max, 1e-12);

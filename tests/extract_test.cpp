@@ -37,8 +37,10 @@ std::string run_chain(const std::string& rest, const std::vector<std::string>& p
   SdfOptions sdf;
   sdf.resolution = 64;
   sdf_build_files(rest, dir + "/rest.vdb", sdf, Log::silent(), report);
-  sphere_pack_files(dir + "/rest.vdb", rest, dir + "/rest.spheres.json", SpherePackOptions{}, Log::silent(), report);
-  pose_map_files(rest, poses, dir + "/rest.spheres.json", dir + "/proxy.json", PoseMapOptions{}, Log::silent(), report);
+  sphere_pack_files(dir + "/rest.vdb", rest, dir + "/rest.spheres.json", SpherePackOptions{}, Tolerance{},
+                    Log::silent(), report);
+  pose_map_files(rest, poses, dir + "/rest.spheres.json", dir + "/proxy.json", PoseMapOptions{}, PoseMapTolerances{},
+                 Log::silent(), report);
   proxy_export_files(dir + "/proxy.json", dir + "/proxy.spx", ExportOptions{}, Log::silent(), report);
   return dir + "/proxy.spx";
 }
@@ -157,10 +159,11 @@ TEST(PoseExtract, SkinnedProxyFollowsTheClipAsTheToolsMappedIt) {
   SdfOptions sdf;
   sdf.resolution = 64;
   sdf_build_files(rest, dir + "/rest.vdb", sdf, Log::silent(), report);
-  sphere_pack_files(dir + "/rest.vdb", rest, dir + "/rest.spheres.json", SpherePackOptions{}, Log::silent(), report);
+  sphere_pack_files(dir + "/rest.vdb", rest, dir + "/rest.spheres.json", SpherePackOptions{}, Tolerance{},
+                    Log::silent(), report);
   json map_report;
-  pose_map_files(rest, poses, dir + "/rest.spheres.json", dir + "/proxy.json", PoseMapOptions{}, Log::silent(), map_report,
-                 dir + "/poses/skin.json");
+  pose_map_files(rest, poses, dir + "/rest.spheres.json", dir + "/proxy.json", PoseMapOptions{}, PoseMapTolerances{},
+                 Log::silent(), map_report, dir + "/poses/skin.json");
   proxy_export_files(dir + "/proxy.json", dir + "/proxy.spx", ExportOptions{}, Log::silent(), report);
 
   const ProxyModel model = read_proxy_file(dir + "/proxy.json");

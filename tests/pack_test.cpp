@@ -173,7 +173,7 @@ TEST(SpherePack, PartsOutOfReachAreNamedWithTheResolutionThatReachesThem) {
     o.resolution = resolution;
     json sdf_report, report;
     sdf_build_files(dir + "/rest.obj", dir + "/rest.vdb", o, Log::silent(), sdf_report);
-    sphere_pack_files(dir + "/rest.vdb", "", dir + "/rest.spheres.json", {}, Log::silent(), report);
+    sphere_pack_files(dir + "/rest.vdb", "", dir + "/rest.spheres.json", {}, {}, Log::silent(), report);
     return report;
   };
   const json coarse = pack_at(24);

@@ -22,6 +22,7 @@
 #include "pack/candidates.hpp"
 #include "pack/coverage.hpp"
 #include "posemap/joint_selection.hpp"
+#include "posemap/pose_map_tool.hpp"
 #include "posemap/posemap.hpp"
 #include "posemap/pose_solid.hpp"
 #include "posemap/skinned_map.hpp"
@@ -200,7 +201,7 @@ TEST(PoseMap, AcceptsUserTetsAndStillMapsAffinePosesExactly) {
   PoseMapOptions opt;
   opt.tet_file = dir + "/rest.mesh";
   const PoseMapResult r = pose_map(rest, "rest", {{"turned", "", pose}}, spheres, opt);
-  EXPECT_EQ(r.report["tets"]["tetrahedra"].get<size_t>(), tets.tets.size());
+  EXPECT_EQ(r.summary.tetrahedra, tets.tets.size());
   for (size_t s = 0; s < spheres.spheres.size(); ++s)
     EXPECT_LT((r.proxy.poses[1].spheres[s].center - a * spheres.spheres[s].center).norm(), 1e-6 * pose.diagonal());
 
@@ -226,18 +227,18 @@ TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
   for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
   PoseMapOptions opt;
   opt.fill_gaps = true;
-  opt.fill_tolerance = {1.5, true};  // 1.5% of the diagonal
+  opt.fill_tolerance = 0.015 * car.rest.diagonal();
   const double target = 0.015 * car.rest.diagonal();
   const PoseMapResult r = pose_map(car.rest, "rest", poses, spheres, opt);
-  const auto& fill = r.report["fill_gaps"];
-  ASSERT_FALSE(fill.is_null());
-  EXPECT_GT(fill["spheres_after"].get<size_t>(), fill["spheres_before"].get<size_t>());
+  ASSERT_TRUE(r.summary.fill.has_value());
+  const GapFilling& fill = *r.summary.fill;
+  EXPECT_GT(fill.spheres_after, fill.spheres_before);
   for (size_t i = 0; i < poses.size(); ++i) {
-    const double before = fill["errors_before"][i + 1]["max"];
-    const double after = r.report["poses"][i + 1]["error"]["max"];
+    const double before = fill.errors_before[i + 1].max;
+    const double after = r.summary.errors[i + 1].max;
     EXPECT_LE(after, before + 1e-12) << poses[i].name;
     // 1.5% is within reach at 64 voxels on every car pose: the fill must get there.
-    EXPECT_TRUE(fill["poses"][i]["target_met"].get<bool>()) << poses[i].name;
+    EXPECT_TRUE(fill.poses[i].target_met) << poses[i].name;
     EXPECT_LE(after, target * (1 + 1e-9)) << poses[i].name;
     const MeshQuery q(poses[i].mesh);
     for (const auto& s : r.proxy.poses[i + 1].spheres)
@@ -293,7 +294,7 @@ TEST(PoseMap, EveryBodyIsMeshedAndAStillBodyKeepsItsRadii) {
     EXPECT_GT(at_rest.radius, 0.0);
   }
   EXPECT_GT(still, 3u);
-  EXPECT_EQ(r.report["poses"][1]["zero_radius"]["total"].get<size_t>(), 0u);
+  for (size_t cause : r.summary.zero_radius[1]) EXPECT_EQ(cause, 0u);
 }
 
 TEST(PoseMap, ABodyThatCannotBeMeshedIsNamed) {
@@ -309,10 +310,11 @@ TEST(PoseMap, ABodyThatCannotBeMeshedIsNamed) {
 
 // Counts the radius-0 spheres of each pose against the report, which splits them by cause.
 void expect_zero_radii_counted(const PoseMapResult& r) {
+  const json report = pose_map_report(r);
   for (size_t i = 0; i < r.proxy.poses.size(); ++i) {
     size_t zeros = 0;
     for (const auto& s : r.proxy.poses[i].spheres) zeros += s.radius == 0;
-    const auto& z = r.report["poses"][i]["zero_radius"];
+    const auto& z = report["poses"][i]["zero_radius"];
     EXPECT_EQ(z["total"].get<size_t>(), zeros) << r.proxy.poses[i].name;
     EXPECT_EQ(z["center_outside"].get<size_t>() + z["hole_bound"].get<size_t>() + z["other"].get<size_t>(), zeros);
     EXPECT_EQ(z["center_outside"].get<size_t>(), r.proxy.poses[i].outside.size());
@@ -330,7 +332,7 @@ void expect_rest_copy_keeps_radii(const std::string& file, int resolution, const
   std::vector<PoseInput> poses{{"copy", "copy.obj", rest}};
   for (const auto& p : extra_poses) poses.push_back({stem_of(p), p, load_pose(p, loaded)});
   const PoseMapResult r = pose_map(rest, file, poses, spheres, {});
-  EXPECT_TRUE(r.report["open_solid"].get<bool>());
+  EXPECT_TRUE(r.summary.open_solid);
   size_t positive = 0;
   for (size_t s = 0; s < spheres.spheres.size(); ++s) {
     EXPECT_EQ(r.proxy.poses[1].spheres[s].radius, r.proxy.poses[0].spheres[s].radius) << file << " sphere " << s;
@@ -370,7 +372,7 @@ TEST(PoseMap, RestRadiiComeFromTheSameSourceAsPoseRadii) {
     changed += m.radius != spheres.spheres[s].radius;
   }
   EXPECT_GT(changed, 0u);
-  EXPECT_EQ(r.report["radius_source"].get<std::string>(), "exact distance to each pose's mesh");
+  EXPECT_EQ(pose_map_report(r)["radius_source"].get<std::string>(), "exact distance to each pose's mesh");
 }
 
 }  // namespace
@@ -389,7 +391,7 @@ CoverSelection pack_rest(const TriMesh& rest, int resolution, const Tolerance& t
   const SdfResult sdf = build_sdf(rest, o);
   const MeshQuery query(rest);
   SpherePackOptions pack;
-  pack.tolerance = tolerance;
+  pack.tolerance = tolerance.length(rest.diagonal());
   pack.pack.field_bounds_radius = sdf.stats.bounded_by_holes;
   CoverSelection sel = select_by_cover(sdf.field, query, pack);
   file.spheres = sel.spheres;
@@ -403,7 +405,7 @@ void expect_joint_selection(const TriMesh& rest, const std::vector<PoseInput>& p
   SpheresFile file;
   const CoverSelection alone = pack_rest(rest, 96, {2, true}, file);
   PoseMapOptions opt;
-  opt.tolerance = {2, true};
+  opt.tolerance = 0.02 * rest.diagonal();
   const PoseMapResult r = pose_map(rest, what, poses, file, opt);
   const double target = 0.02 * rest.diagonal();
   const size_t n = r.proxy.sphere_count();
@@ -417,8 +419,9 @@ void expect_joint_selection(const TriMesh& rest, const std::vector<PoseInput>& p
       EXPECT_LE(s.radius, q.distance(s.center) + 1e-9) << what << " pose " << i;
     }
   }
-  EXPECT_EQ(r.report["selection"]["uncoverable_samples"].get<size_t>(), 0u) << what;
-  EXPECT_LE(r.report["selection"]["lower_bound"].get<size_t>(), n) << what;
+  ASSERT_TRUE(r.summary.selection.has_value()) << what;
+  EXPECT_EQ(r.summary.selection->cover.uncoverable + r.summary.selection->bare_elsewhere, 0u) << what;
+  EXPECT_LE(r.summary.selection->cover.lower_bound, n) << what;
   EXPECT_LE(double(n), 1.5 * double(alone.spheres.size())) << what << ": " << n << " jointly, " << alone.spheres.size()
                                                           << " for the rest alone";
   PoseMapOptions budget;
@@ -454,7 +457,7 @@ TEST(PoseMap, JointSelectionNeedsCandidates) {
   const SampleAsset barrel = make_barrel();
   const SpheresFile greedy = test::pack_file(barrel.rest, 32);  // no candidate pool
   PoseMapOptions opt;
-  opt.tolerance = {2, true};
+  opt.tolerance = 0.02 * barrel.rest.diagonal();
   EXPECT_THROW(pose_map(barrel.rest, "rest", {{"copy", "", barrel.rest}}, greedy, opt), OptionError);
 }
 
@@ -470,9 +473,9 @@ namespace {
 // centre is inside by the tools' rule, the exact winding number above 1/2.
 void expect_claim_holds(const TriMesh& rest, const std::vector<PoseInput>& poses, const std::string& what) {
   SpheresFile file;
-  const CoverSelection alone = pack_rest(rest, 64, {}, file);  // the default tolerance
+  const CoverSelection alone = pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);
   const PoseMapResult r = pose_map(rest, what, poses, file, {});
-  const json& selection = r.report["selection"];
+  const json selection = pose_map_report(r)["selection"];
   const double target = selection["target"].get<double>();
   EXPECT_EQ(target, alone.target) << what;
   const bool met = selection["limited_by"].get<std::string>() == "met the tolerance";
@@ -490,7 +493,7 @@ void expect_claim_holds(const TriMesh& rest, const std::vector<PoseInput>& poses
       worst = std::max(worst, std::abs(gap));
     }
     if (met) EXPECT_LE(worst, target * (1 + 1e-9)) << what << " pose " << i;
-    EXPECT_EQ(worst, r.report["poses"][i]["error"]["max"].get<double>()) << what << " pose " << i;
+    EXPECT_EQ(worst, r.summary.errors[i].max) << what << " pose " << i;
     for (size_t s = 0; s < n; ++s) {
       if (!(spheres[s].radius > 0)) {
         ++zero[s];

@@ -45,9 +45,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   tool.name_option("poses", "--pose");
   return tool.run(argc, argv, [&] {
-    opt.fill_tolerance = spx::parse_tolerance(fill_tolerance, "--fill-tolerance");
-    opt.tolerance = spx::parse_tolerance(tolerance, "--tolerance");
+    const spx::PoseMapTolerances tolerances{spx::parse_tolerance(tolerance, "--tolerance"),
+                                            spx::parse_tolerance(fill_tolerance, "--fill-tolerance")};
     spx::rest_and_poses(manifest, rest, poses, &skin);
-    spx::pose_map_files(rest, poses, spheres, output, opt, tool.log, tool.report, skin);
+    spx::pose_map_files(rest, poses, spheres, output, opt, tolerances, tool.log, tool.report, skin);
   });
 }

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     opt.method = method == "greedy" ? spx::PackMethod::greedy : spx::PackMethod::cover;
     opt.pack.refine_centers = !grid_centers;
-    opt.tolerance = spx::parse_tolerance(tolerance, "--tolerance");
-    spx::sphere_pack_files(input, mesh, output, opt, tool.log, tool.report);
+    spx::sphere_pack_files(input, mesh, output, opt, spx::parse_tolerance(tolerance, "--tolerance"), tool.log,
+                           tool.report);
   });
 }

@@ -19,4 +19,7 @@ struct Tolerance {
   double length(double diagonal) const { return percent ? value / 100 * diagonal : value; }
 };
 
+// The default tolerance as a length, for a mesh of this bounding-box diagonal.
+inline double default_tolerance(double diagonal) { return Tolerance{kDefaultTolerancePercent, true}.length(diagonal); }
+
 }  // namespace spx

@@ -3,14 +3,14 @@
 #include <algorithm>
 
 #include "core/error.hpp"
-#include "core/tolerance.hpp"
 
 namespace spx {
 
 // Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
 // tolerance or the budget, then the centers refined off the grid.
 CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt, Log& log) {
-  const double diagonal = mesh.mesh().diagonal();
+  if (!(opt.tolerance > 0) && opt.pack.max_spheres == 0)
+    fail_option("tolerance", "give a tolerance (a length) or a sphere budget: the cover method needs one");
   CoverSelection out;
   CoverProblem problem;
   {
@@ -24,13 +24,10 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   out.candidates = candidates.size();
   out.pool = candidates;
   out.samples = problem.sample_count();
-  const size_t budget = opt.pack.max_spheres;
-  out.tolerance = opt.tolerance.set() || budget > 0 ? opt.tolerance : Tolerance{kDefaultTolerancePercent, true};
   {
     StageTimer t(log, "cover");
-    if (out.tolerance.set()) out.target = out.tolerance.length(diagonal);
-    out.cover = cover_for(problem, out.target, budget, out.limited_by, log);
-    if (out.limited_by == Limit::tolerance && !opt.tolerance.set()) out.limited_by = Limit::default_tolerance;
+    out.target = opt.tolerance;
+    out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log);
   }
   for (int c : out.cover.chosen) out.spheres.push_back(candidates[size_t(c)]);
   if (!opt.pack.field_bounds_radius) {

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "core/log.hpp"
-#include "core/tolerance.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
 
@@ -16,7 +15,7 @@ enum class PackMethod { cover, greedy };
 struct SpherePackOptions {
   PackMethod method = PackMethod::cover;
   PackOptions pack;         // radius limits and the budget (pack.max_spheres) for both methods
-  Tolerance tolerance;      // the max vertex error asked for (both methods)
+  double tolerance = 0;     // the max vertex error asked for, a length (0: none; both methods)
   size_t area_samples = 4000;   // cover: surface samples besides every vertex
   size_t max_candidates = 12000;
   uint64_t seed = 1;
@@ -26,12 +25,12 @@ struct SpherePackOptions {
 struct CoverSelection {
   SphereSet spheres;           // largest first
   CoverResult cover;
-  Tolerance tolerance;         // the one in force (the default when no size was asked)
-  double target = 0;           // the tolerance as a length (0: budget alone)
+  double target = 0;           // the tolerance (0: budget alone)
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, samples = 0;
   SphereSet pool;              // every candidate (pose-map selects from them over every pose)
 };
+// Throws OptionError when `options` ask neither a tolerance nor a budget.
 CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& options,
                                Log& log = Log::silent());
 

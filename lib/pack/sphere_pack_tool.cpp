@@ -76,13 +76,14 @@ json tolerance_report(const Tolerance& tolerance, double target, bool is_default
           {"met", met},       {"max_error", max_error},    {"spheres", spheres},             {"limited_by", limited_by}};
 }
 
-// The paper's greedy packing; with a tolerance, the shortest prefix of the whole sequence
-// that meets it.
+// The paper's greedy packing; with a tolerance (`asked`, opt.tolerance as a length), the
+// shortest prefix of the whole sequence that meets it.
 SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const MeshQuery* mesh,
-                        const SpherePackOptions& opt, PackStats& stats, double& target, Log& log, json& report) {
+                        const SpherePackOptions& opt, const Tolerance& asked, PackStats& stats, Log& log,
+                        json& report) {
   PackOptions options = opt.pack;
-  const Tolerance& tolerance = opt.tolerance;
-  if (tolerance.set()) {
+  const double target = opt.tolerance;
+  if (target > 0) {
     // Pack the whole greedy sequence down to a fine floor, then keep the shortest prefix.
     options.max_spheres = 0;
     if (!(opt.pack.min_radius > 0)) options.min_radius = sdf.field.shape.voxel_size;
@@ -95,9 +96,8 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
   if (packed.spheres.empty())
     fail_input(input, "no sphere fits: the largest interior distance is below the min radius " +
                           num(packed.stats.min_radius));
-  if (tolerance.set()) {
+  if (target > 0) {
     StageTimer t(log, "tolerance");
-    target = tolerance.length(mesh->mesh().diagonal());
     const ToleranceResult tr = fewest_spheres_within(mesh->mesh(), packed.spheres, target);
     size_t keep = tr.count;
     std::string limit = tr.met ? "met the tolerance" : "the packing sequence ended before the tolerance was met";
@@ -116,7 +116,7 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
                     target, reached, keep, options.min_radius, sdf.field.shape.voxel_size);
       log.warn(msg);
     }
-    report["tolerance"] = tolerance_report(tolerance, target, false, tr.met, reached, keep, limit);
+    report["tolerance"] = tolerance_report(asked, target, false, tr.met, reached, keep, limit);
     report["tolerance"]["sequence_length"] = tr.max_error_by_count.size();
   }
   stats = packed.stats;
@@ -183,22 +183,23 @@ json parts_out_of_reach(const TriMesh& mesh, const SphereSet& candidates, double
 
 namespace {
 
-// select_by_cover, with its warnings and report.
+// select_by_cover, with its warnings and report; `in_force` is the tolerance opt.tolerance came
+// from (the default where `is_default`).
 SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
-                                   PackStats& stats, double& target, SphereSet& pool, Log& log, json& report) {
+                                   const Tolerance& in_force, bool is_default, PackStats& stats, SphereSet& pool,
+                                   Log& log, json& report) {
   const double h = sdf.field.shape.voxel_size;
   const CoverSelection sel = select_by_cover(sdf.field, mesh, opt, log);
   const SphereSet& spheres = sel.spheres;
   const CoverResult& cover = sel.cover;
-  const Tolerance& tolerance = sel.tolerance;
-  const std::string limit = limit_wording(sel.limited_by);
-  const size_t budget = opt.pack.max_spheres;
-  target = sel.target;
+  const double target = sel.target;
+  const std::string limit =
+      limit_wording(sel.limited_by == Limit::tolerance && is_default ? Limit::default_tolerance : sel.limited_by);
   pool = sel.pool;
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.mesh(), spheres);
-  const bool met = !tolerance.set() || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
-  if (tolerance.set() && cover.uncoverable > 0) {
+  const bool met = !(target > 0) || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
+  if (target > 0 && cover.uncoverable > 0) {
     const double resolution = field_resolution(sdf.field.shape);
     const double needed = resolution_reaching(resolution, cover.least_reachable, target);
     log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
@@ -228,9 +229,8 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
                      {"max_error", error.max},
                      {"median_error", error.median},
                      {"limited_by", limit}};
-  if (tolerance.set())
-    report["tolerance"] = tolerance_report(tolerance, target, !opt.tolerance.set() && budget == 0, met, error.max,
-                                           spheres.size(), limit);
+  if (target > 0)
+    report["tolerance"] = tolerance_report(in_force, target, is_default, met, error.max, spheres.size(), limit);
   return spheres;
 }
 
@@ -241,8 +241,8 @@ namespace {
 // --mesh, or else the mesh sdf-build recorded in the field (the cover method and a tolerance
 // need one); "" where neither is needed nor known.
 std::string mesh_for_field(const std::string& given, const LoadedSdf& sdf, const std::string& input,
-                           const SpherePackOptions& opt, Log& log) {
-  const bool needed = opt.method == PackMethod::cover || opt.tolerance.set();
+                           const SpherePackOptions& opt, bool tolerance_asked, Log& log) {
+  const bool needed = opt.method == PackMethod::cover || tolerance_asked;
   if (!given.empty() || !needed) return given;
   const std::string why = opt.method == PackMethod::cover
                               ? "is needed by the cover method (inscribed spheres take exact distances to it)"
@@ -261,15 +261,18 @@ std::string mesh_for_field(const std::string& given, const LoadedSdf& sdf, const
 }  // namespace
 
 void sphere_pack_files(const std::string& input, const std::string& given_mesh, const std::string& output,
-                       const SpherePackOptions& user, Log& log, json& report) {
+                       const SpherePackOptions& user, const Tolerance& asked, Log& log, json& report) {
   check_radius_limits(user.pack, 0);
   SpherePackOptions opt = user;
+  // The cover method with no size asked gives the fewest spheres within the default tolerance.
+  const bool is_default = opt.method == PackMethod::cover && !asked.set() && opt.pack.max_spheres == 0;
+  const Tolerance in_force = is_default ? Tolerance{kDefaultTolerancePercent, true} : asked;
   LoadedSdf sdf;
   {
     StageTimer t(log, "load");
     sdf = read_sdf_vdb(input);
   }
-  const std::string mesh_path = mesh_for_field(given_mesh, sdf, input, opt, log);
+  const std::string mesh_path = mesh_for_field(given_mesh, sdf, input, opt, asked.set(), log);
   auto open = sdf.metadata.find("spx_open_solid");
   opt.pack.field_bounds_radius = open != sdf.metadata.end() && open->second == "yes";
   if (opt.pack.field_bounds_radius) log.detail("open mesh: radii are also bounded by the field across its holes");
@@ -279,17 +282,20 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
     const LoadedMesh loaded = load_mesh(mesh_path);
     check_mesh_matches_field(loaded.mesh, mesh_path, sdf, input);
     mesh = about_file(mesh_path, [&] { return std::make_unique<MeshQuery>(loaded.mesh); });
-    if (opt.tolerance.set()) warn_if_tolerance_is_huge(opt.tolerance, loaded.mesh.diagonal(), log);
+    if (asked.set()) warn_if_tolerance_is_huge(asked, loaded.mesh.diagonal(), log);
+    // The tolerance becomes a length here, once, and travels down as one.
+    if (in_force.set()) opt.tolerance = in_force.length(loaded.mesh.diagonal());
   } else {
     log.detail("no mesh: radii come from the field (voxel accuracy)");
   }
   PackStats stats;
-  double target = 0;
   SphereSet pool;
   const SphereSet spheres =
       opt.method == PackMethod::greedy
-          ? select_greedy(sdf, input, mesh.get(), opt, stats, target, log, report)
-          : about_file(input, [&] { return select_by_cover_reported(sdf, *mesh, opt, stats, target, pool, log, report); });
+          ? select_greedy(sdf, input, mesh.get(), opt, asked, stats, log, report)
+          : about_file(input, [&] {
+              return select_by_cover_reported(sdf, *mesh, opt, in_force, is_default, stats, pool, log, report);
+            });
   stats.set_radius_range(spheres);
   SpheresFile file;
   file.spheres = spheres;
@@ -298,7 +304,7 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   file.min_radius = stats.min_radius > 0 ? stats.min_radius : stats.smallest;
   file.max_radius = stats.max_radius;
   file.radius_source = stats.radius_source;
-  file.tolerance = target;
+  file.tolerance = opt.tolerance;
   file.max_spheres = opt.pack.max_spheres;
   file.sdf = input;
   file.mesh = mesh_path;

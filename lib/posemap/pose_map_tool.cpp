@@ -27,11 +27,98 @@ SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, size_t
   return skin;
 }
 
+json error_list(const std::vector<ErrorStats>& errors) {
+  json out = json::array();
+  for (const ErrorStats& e : errors) out.push_back(e.to_json());
+  return out;
+}
+
+json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
+  if (!s.selection) return nullptr;
+  const JointSelection& sel = *s.selection;
+  std::vector<std::string> selected_on;
+  for (size_t f : sel.frames) selected_on.push_back(proxy.poses[f].name);
+  return {{"method", s.skinned ? "one set cover over the rest and every pose of the spheres file's candidates, each "
+                                 "skinned into every pose with one radius, the least over the poses"
+                               : "one set cover over the rest and every pose of the spheres file's candidates, each "
+                                 "mapped into every pose and grown there to the largest inscribed sphere containing it"},
+          {"candidates", sel.candidates},
+          {"candidates_from_poses", sel.from_frames},
+          {"candidates_mostly_absent", sel.mostly_absent},
+          {"samples", sel.samples},
+          {"target", s.selection_target > 0 ? json(s.selection_target) : json(nullptr)},
+          {"delta", sel.cover.delta},
+          {"lower_bound", sel.cover.lower_bound},
+          {"uncoverable_samples", sel.cover.uncoverable + sel.bare_elsewhere},
+          {"spheres", sel.chosen.size()},
+          {"limited_by", limit_wording(sel.limited_by)},
+          {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
+                      {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}}};
+}
+
+json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {
+  if (!s.fill) return nullptr;
+  const GapFilling& fill = *s.fill;
+  json poses = json::array();
+  for (size_t i = 0; i < fill.poses.size(); ++i) {
+    const GapFilling::Pose& p = fill.poses[i];
+    poses.push_back({{"pose", proxy.poses[i + 1].name}, {"added", p.added}, {"lost_outside_rest", p.lost_outside_rest},
+                     {"target_met", p.target_met}, {"max_error_reached", p.max_error_reached}});
+  }
+  return {{"min_radius", fill.min_radius}, {"target", fill.target}, {"poses", poses},
+          {"spheres_before", fill.spheres_before}, {"spheres_after", fill.spheres_after},
+          {"errors_before", error_list(fill.errors_before)}};
+}
+
 }  // namespace
 
+json pose_map_report(const PoseMapResult& result) {
+  const PoseMapSummary& s = result.summary;
+  const ProxyModel& proxy = result.proxy;
+  json poses = json::array();
+  for (size_t i = 0; i < proxy.poses.size(); ++i) {
+    const auto& [outside, holes, other, elsewhere] = s.zero_radius[i];
+    poses.push_back({{"name", proxy.poses[i].name},
+                     {"source", proxy.poses[i].source},
+                     {"outside", proxy.poses[i].outside},
+                     {"zero_radius",
+                      {{"total", outside + holes + other + elsewhere},
+                       {"center_outside", outside},
+                       {"hole_bound", holes},
+                       {"other", other},
+                       {"another_pose", elsewhere}}},
+                     {"error", s.errors[i].to_json()}});
+  }
+  return {{"tets",
+           {{"method", s.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},
+            {"source", s.tet_file},
+            {"vertices", s.tet_vertices},
+            {"tetrahedra", s.tetrahedra},
+            {"boundary_faces", s.boundary_faces},
+            {"unmeshed_bodies", s.unmeshed_bodies}}},
+          {"map",
+           {{"method", s.skinned ? "linear blend skinning: the surface's joint weights carried in by the harmonic "
+                                   "extension, the 4 heaviest kept per sphere; one radius per sphere, the least over "
+                                   "the rest and every pose"
+                                 : "harmonic extension of the surface motion (least squares), barycentric in tets"},
+            {"joints", s.joints},
+            {"data_points", s.data_points},
+            {"dropped_points", s.dropped_points},
+            {"centers_outside_tets", s.centers_outside_tets}}},
+          {"open_solid", s.open_solid},
+          {"radius_source", s.open_solid ? "exact distance to each pose's mesh, bounded across its holes by "
+                                           "that pose's own field"
+                                         : "exact distance to each pose's mesh"},
+          {"sphere_count", proxy.sphere_count()},
+          {"site_count", proxy.sites.size()},
+          {"poses", poses},
+          {"fill_gaps", fill_report(s, proxy)},
+          {"selection", selection_report(s, proxy)}};
+}
+
 void pose_map_files(const std::string& rest_path, const std::vector<std::string>& pose_paths,
-                    const std::string& spheres_path, const std::string& output, const PoseMapOptions& options,
-                    Log& log, json& report, const std::string& skin_path) {
+                    const std::string& spheres_path, const std::string& output, const PoseMapOptions& given,
+                    const PoseMapTolerances& tolerances, Log& log, json& report, const std::string& skin_path) {
   if (pose_paths.empty()) fail_option("poses", "give at least one example pose");
   LoadedMesh rest;
   std::vector<PoseInput> poses;
@@ -53,6 +140,11 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
     spheres = read_spheres_file(spheres_path);
     if (!skin_path.empty()) skin = read_matching_skin(skin_path, rest.mesh, poses.size());
   }
+  // The tolerances become lengths here, once, and travel down as lengths.
+  PoseMapOptions options = given;
+  const double diagonal = rest.mesh.diagonal();
+  if (tolerances.selection.set()) options.tolerance = tolerances.selection.length(diagonal);
+  if (tolerances.fill.set()) options.fill_tolerance = tolerances.fill.length(diagonal);
   PoseMapResult result = about_file(rest_path, [&] {
     return pose_map(rest.mesh, rest_path, poses, spheres, options, log, skin_path.empty() ? nullptr : &skin);
   });
@@ -62,13 +154,13 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   std::snprintf(line, sizeof line, "%s: %zu spheres x %zu poses, %zu blend sites", output.c_str(),
                 result.proxy.sphere_count(), result.proxy.poses.size(), result.proxy.sites.size());
   log.info(line);
-  for (const auto& pose : result.report["poses"]) {
-    std::snprintf(line, sizeof line, "  %-12s error median %.4g max %.4g, %zu centers outside",
-                  pose["name"].get<std::string>().c_str(), pose["error"]["median"].get<double>(),
-                  pose["error"]["max"].get<double>(), pose["outside"].size());
+  for (size_t i = 0; i < result.proxy.poses.size(); ++i) {
+    const ProxyPose& pose = result.proxy.poses[i];
+    std::snprintf(line, sizeof line, "  %-12s error median %.4g max %.4g, %zu centers outside", pose.name.c_str(),
+                  result.summary.errors[i].median, result.summary.errors[i].max, pose.outside.size());
     log.info(line);
   }
-  report.update(result.report);
+  report.update(pose_map_report(result));
   report["output"] = output;
   if (!skin_path.empty()) report["skin"] = skin_path;
 }

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "core/tolerance.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/inscribed.hpp"
@@ -88,15 +89,15 @@ class PoseMapper {
                                    "rest mesh and a pose swapped?)");
   }
 
-  // One sphere set for the rest and every pose (posemap/joint_selection.hpp). Returns the
-  // chosen candidates (rest pose) and the report's part.
-  SphereSet select_jointly(const SphereSet& file_candidates, nlohmann::json& report) {
+  // One sphere set for the rest and every pose (posemap/joint_selection.hpp), recorded in the
+  // summary. Returns the chosen candidates (rest pose).
+  SphereSet select_jointly(const SphereSet& file_candidates, PoseMapSummary& summary) {
     // From here on every sphere, in every pose, is grown (the candidates and the result alike);
     // a skinned sphere is not, since the host can only skin it.
     grow_ = !skinned_;
     JointSelectionOptions options;
     std::tie(options.target, options.budget) = selection_size();
-    options.reach = options.target > 0 ? options.target : kDefaultTolerancePercent / 100 * rest_.diagonal();
+    options.reach = options.target > 0 ? options.target : default_tolerance(rest_.diagonal());
     options.area_samples = opt_.area_samples;
     options.seed = opt_.seed;
     Frames frames(*this);
@@ -104,27 +105,15 @@ class PoseMapper {
     const CoverResult& cover = selection.cover;
     const size_t uncoverable = cover.uncoverable + selection.bare_elsewhere;
     if (uncoverable > 0)
-      log_.warn(std::to_string(uncoverable) + " surface samples over the poses are farther than " +
-                num(cover.delta) + " from every candidate sphere mapped there (thin parts at the field's "
-                "resolution; a finer sdf-build resolution gives candidates closer to them)");
-    std::vector<std::string> selected_on;
-    for (size_t f : selection.frames) selected_on.push_back(proxy_pose_name(f));
-    report = {{"method", skinned_ ? "one set cover over the rest and every pose of the spheres file's candidates, each "
-                                    "skinned into every pose with one radius, the least over the poses"
-                                  : "one set cover over the rest and every pose of the spheres file's candidates, each "
-                                    "mapped into every pose and grown there to the largest inscribed sphere containing it"},
-              {"candidates", selection.candidates},
-              {"candidates_from_poses", selection.from_frames},
-              {"candidates_mostly_absent", selection.mostly_absent},
-              {"samples", selection.samples},
-              {"target", options.target > 0 ? nlohmann::json(options.target) : nlohmann::json(nullptr)},
-              {"delta", cover.delta},
-              {"lower_bound", cover.lower_bound},
-              {"uncoverable_samples", uncoverable},
-              {"spheres", selection.chosen.size()},
-              {"limited_by", limit_wording(selection.limited_by)},
-              {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", selection.samples_elsewhere},
-                          {"checked", meshes_.size()}, {"rounds", selection.rounds}}}};
+      log_.warn(std::to_string(uncoverable) + " surface samples over the poses are farther than " + num(cover.delta) +
+                " from every candidate sphere mapped there " +
+                (skinned_ ? "(a skinned sphere keeps one radius, the least over the frames: where parts move "
+                            "against each other no candidate keeps one large enough, whatever the resolution; "
+                            "thin parts at the field's resolution also need a finer sdf-build resolution)"
+                          : "(thin parts at the field's resolution; a finer sdf-build resolution gives candidates "
+                            "closer to them)"));
+    summary.selection = selection;
+    summary.selection_target = options.target;
     return selection.chosen;
   }
 
@@ -158,27 +147,26 @@ class PoseMapper {
   }
 
   // The paper's future work: pack what each pose's mapped spheres leave uncovered, and map the
-  // new spheres back to the rest pose through the inverse map. Returns the report's part.
-  nlohmann::json fill_gaps() {
+  // new spheres back to the rest pose through the inverse map.
+  GapFilling fill_gaps() {
     StageTimer t(log_, "fill-gaps");
-    const size_t mapped_count = rest_centers_.size();
-    const nlohmann::json errors_before = pose_errors();
-    const double min_radius = opt_.fill_min_radius > 0 ? opt_.fill_min_radius : 0.75 * field_options().voxel_size;
-    double target = opt_.fill_tolerance.set() ? opt_.fill_tolerance.length(rest_.diagonal()) : spheres_.tolerance;
-    if (!(target > 0)) target = errors_before[0]["max"].get<double>();
-    nlohmann::json per_pose = nlohmann::json::array();
+    GapFilling out;
+    out.spheres_before = rest_centers_.size();
+    out.errors_before = pose_errors();
+    out.min_radius = opt_.fill_min_radius > 0 ? opt_.fill_min_radius : 0.75 * field_options().voxel_size;
+    out.target = opt_.fill_tolerance > 0 ? opt_.fill_tolerance : spheres_.tolerance;
+    if (!(out.target > 0)) out.target = out.errors_before[0].max;
     for (size_t i = 0; i < poses_.size(); ++i) {
-      size_t lost = 0;
-      bool met = false;
-      double reached = 0;
-      const SphereSet back = gap_spheres_of_pose(i, min_radius, target, lost, met, reached);
+      GapFilling::Pose pose;
+      const SphereSet back =
+          gap_spheres_of_pose(i, out.min_radius, out.target, pose.lost_outside_rest, pose.target_met, pose.max_error_reached);
       map_spheres(back);
-      per_pose.push_back({{"pose", poses_[i].name}, {"added", back.size()}, {"lost_outside_rest", lost},
-                          {"target_met", met}, {"max_error_reached", reached}});
+      pose.added = back.size();
+      out.poses.push_back(pose);
       log_.detail(poses_[i].name + ": " + std::to_string(back.size()) + " spheres fill its gaps");
     }
-    return {{"min_radius", min_radius}, {"target", target}, {"poses", per_pose}, {"spheres_before", mapped_count},
-            {"spheres_after", rest_centers_.size()}, {"errors_before", errors_before}};
+    out.spheres_after = rest_centers_.size();
+    return out;
   }
 
   // Blend sites: the nearest rest tet vertex of each sphere (the paper's local blend).
@@ -201,8 +189,8 @@ class PoseMapper {
     if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres, solids_);
   }
 
-  // Warnings for every radius 0, and the report: tets, map, per-pose errors and zero radii.
-  nlohmann::json report(const nlohmann::json& fill_report, const nlohmann::json& selection) const {
+  // Warnings for every radius 0, and the summary's tets, map, per-pose errors and zero radii.
+  void summarize(PoseMapSummary& out) const {
     for (size_t i = 0; i < proxy_.poses.size(); ++i) {
       const auto& [outside, holes, other, elsewhere] = zero_radius_[i];
       if (outside > 0)
@@ -215,57 +203,29 @@ class PoseMapper {
         log_.warn(proxy_.poses[i].source + ": " + std::to_string(elsewhere) +
                   " skinned spheres get radius 0 here because they have it in another pose");
     }
-    const nlohmann::json errors = pose_errors();
-    nlohmann::json pose_reports = nlohmann::json::array();
-    for (size_t i = 0; i < proxy_.poses.size(); ++i)
-      pose_reports.push_back({{"name", proxy_.poses[i].name},
-                              {"source", proxy_.poses[i].source},
-                              {"outside", proxy_.poses[i].outside},
-                              {"zero_radius",
-                               {{"total", zero_radius_[i][0] + zero_radius_[i][1] + zero_radius_[i][2] +
-                                              zero_radius_[i][3]},
-                                {"center_outside", zero_radius_[i][0]},
-                                {"hole_bound", zero_radius_[i][1]},
-                                {"other", zero_radius_[i][2]},
-                                {"another_pose", zero_radius_[i][3]}}},
-                              {"error", errors[i]}});
-    size_t outside_points = 0;
-    for (const auto& c : rest_centers_) outside_points += f_->locator().locate(c).outside > 0;
-    return {{"tets",
-             {{"method", opt_.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},
-              {"source", opt_.tet_file},
-              {"vertices", tets_.vertices.size()},
-              {"tetrahedra", tets_.tets.size()},
-              {"boundary_faces", tets_.boundary_faces.size()},
-              {"unmeshed_bodies", tets_.unmeshed_bodies}}},
-            {"map",
-             {{"method", skinned_ ? "linear blend skinning: the surface's joint weights carried in by the harmonic "
-                                    "extension, the 4 heaviest kept per sphere; one radius per sphere, the least over "
-                                    "the rest and every pose"
-                                  : "harmonic extension of the surface motion (least squares), barycentric in tets"},
-              {"joints", skin_ ? skin_->joints.size() : 0},
-              {"data_points", f_->data_points()},
-              {"dropped_points", f_->dropped_points()},
-              {"centers_outside_tets", outside_points}}},
-            {"open_solid", open_solid_},
-            {"radius_source", open_solid_ ? "exact distance to each pose's mesh, bounded across its holes by "
-                                            "that pose's own field"
-                                          : "exact distance to each pose's mesh"},
-            {"sphere_count", rest_centers_.size()},
-            {"site_count", proxy_.sites.size()},
-            {"poses", pose_reports},
-            {"fill_gaps", fill_report},
-            {"selection", selection}};
+    out.zero_radius = zero_radius_;
+    out.errors = pose_errors();
+    for (const auto& c : rest_centers_) out.centers_outside_tets += f_->locator().locate(c).outside > 0;
+    out.tet_file = opt_.tet_file;
+    out.tet_vertices = tets_.vertices.size();
+    out.tetrahedra = tets_.tets.size();
+    out.boundary_faces = tets_.boundary_faces.size();
+    out.unmeshed_bodies = tets_.unmeshed_bodies;
+    out.skinned = bool(skinned_);
+    out.joints = skin_ ? skin_->joints.size() : 0;
+    out.data_points = f_->data_points();
+    out.dropped_points = f_->dropped_points();
+    out.open_solid = open_solid_;
   }
 
  private:
   // The tolerance (as a length, 0: none) and budget asked here, or else what sphere-pack was
   // asked, or else the default tolerance.
   std::pair<double, size_t> selection_size() const {
-    if (opt_.tolerance.set()) return {opt_.tolerance.length(rest_.diagonal()), opt_.max_spheres};
+    if (opt_.tolerance > 0) return {opt_.tolerance, opt_.max_spheres};
     if (opt_.max_spheres > 0) return {0.0, opt_.max_spheres};
     if (spheres_.tolerance > 0 || spheres_.max_spheres > 0) return {spheres_.tolerance, spheres_.max_spheres};
-    return {kDefaultTolerancePercent / 100 * rest_.diagonal(), 0};
+    return {default_tolerance(rest_.diagonal()), 0};
   }
 
   // The map as the joint selection sees it.
@@ -348,9 +308,9 @@ class PoseMapper {
     return o;
   }
 
-  nlohmann::json pose_errors() const {
-    nlohmann::json out = nlohmann::json::array();
-    for (size_t i = 0; i < proxy_.poses.size(); ++i) out.push_back(vertex_error(*meshes_[i], proxy_.poses[i].spheres).to_json());
+  std::vector<ErrorStats> pose_errors() const {
+    std::vector<ErrorStats> out;
+    for (size_t i = 0; i < proxy_.poses.size(); ++i) out.push_back(vertex_error(*meshes_[i], proxy_.poses[i].spheres));
     return out;
   }
 
@@ -453,6 +413,8 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
                        const SpheresFile& spheres, const PoseMapOptions& opt, Log& log, const SkinFile* skin) {
   if (std::isnan(opt.max_radius) || opt.max_radius < 0) fail_option("max_radius", "must be a positive number");
   if (std::isnan(opt.fill_min_radius) || opt.fill_min_radius < 0) fail_option("fill_min_radius", "must be a positive number");
+  if (!(opt.tolerance >= 0)) fail_option("tolerance", "must be a positive length");
+  if (!(opt.fill_tolerance >= 0)) fail_option("fill_tolerance", "must be a positive length");
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
   PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
@@ -460,8 +422,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   mapper.solve_map();
   mapper.build_solids();
   mapper.check_rest_spheres_fit();
-  nlohmann::json selection = nullptr;
-  const bool joint = !opt.map_given && (opt.tolerance.set() || opt.max_spheres > 0 || !spheres.candidates.empty());
+  const bool joint = !opt.map_given && (opt.tolerance > 0 || opt.max_spheres > 0 || !spheres.candidates.empty());
   if (joint && spheres.candidates.empty())
     fail_option(opt.max_spheres > 0 ? "max_spheres" : "tolerance",
                 "needs a spheres file with candidates (sphere-pack's cover method)");
@@ -470,14 +431,14 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
     SphereSet rest_spheres = spheres.spheres;
     if (joint) {
       StageTimer s(log, "select");
-      rest_spheres = mapper.select_jointly(spheres.candidates, selection);
+      rest_spheres = mapper.select_jointly(spheres.candidates, result.summary);
     }
     mapper.map_spheres(rest_spheres);
   }
-  const nlohmann::json fill = opt.fill_gaps ? mapper.fill_gaps() : nlohmann::json(nullptr);
+  if (opt.fill_gaps) result.summary.fill = mapper.fill_gaps();
   mapper.assign_blend_sites();
   mapper.attach_skin();
-  result.report = mapper.report(fill, selection);
+  mapper.summarize(result.summary);
   return result;
 }
 

@@ -4,16 +4,18 @@
 // outside M_i is reported and its sphere gets radius 0 in that pose. Under joint selection each of those spheres, the rest's
 // too, is then grown to the largest inscribed sphere containing it (grow_inscribed), candidates
 // and result alike. Each sphere's blend site is its nearest rest tet vertex.
-#include <nlohmann/json.hpp>
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/log.hpp"
-#include "core/tolerance.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/union_distance.hpp"
 #include "io/spheres_file.hpp"
 #include "io/proxy_file.hpp"
 #include "io/skin_file.hpp"
+#include "posemap/joint_selection.hpp"
 #include "posemap/tet_mesh.hpp"
 
 namespace spx {
@@ -31,24 +33,56 @@ struct PoseMapOptions {
   // uncovered, and map the new centers back to the rest pose through the inverse map.
   bool fill_gaps = false;
   double fill_min_radius = 0;   // 0: 3/4 of a voxel of the spheres' field
-  // Each pose is filled until its max vertex error is at most this; 0: the spheres file's
-  // tolerance, or else the rest pose's own max error.
-  Tolerance fill_tolerance;
+  // Each pose is filled until its max vertex error is at most this length; 0: the spheres
+  // file's tolerance, or else the rest pose's own max error.
+  double fill_tolerance = 0;
   size_t fill_max_per_pose = 0; // 0: no limit
   // Joint selection: one sphere set chosen from the spheres file's candidates so that the rest
-  // and every pose meet a tolerance (or the least max error over all of them for a budget).
-  // With neither, and a file that has candidates, the file's own tolerance (or 2%) is used;
-  // `map_given` maps the file's spheres as they are instead (the paper's S_1..S_e).
-  Tolerance tolerance;
+  // and every pose meet a tolerance (a length), or the least max error over all of them for a
+  // budget. With neither, and a file that has candidates, the file's own tolerance and budget
+  // are used, or else the default tolerance; `map_given` maps the file's spheres as they are
+  // instead (the paper's S_1..S_e).
+  double tolerance = 0;
   size_t max_spheres = 0;
   bool map_given = false;
   size_t area_samples = 4000;
   uint64_t seed = 1;
 };
 
+// Gap filling (PoseMapOptions::fill_gaps): how far each pose got.
+struct GapFilling {
+  double min_radius = 0, target = 0;
+  struct Pose {
+    size_t added = 0, lost_outside_rest = 0;  // spheres added; found in the pose but mapped outside the rest
+    bool target_met = false;
+    double max_error_reached = 0;
+  };
+  std::vector<Pose> poses;  // per example pose
+  size_t spheres_before = 0, spheres_after = 0;
+  std::vector<ErrorStats> errors_before;  // per pose, the rest first
+};
+
+// What pose-map did besides the proxy, for the tool's report: the tets, the map, each pose's
+// radii and error, the joint selection and the gap filling.
+struct PoseMapSummary {
+  std::string tet_file;  // the user's tets, or empty: CGAL Mesh_3's
+  size_t tet_vertices = 0, tetrahedra = 0, boundary_faces = 0;
+  std::vector<std::string> unmeshed_bodies;
+  bool skinned = false;  // f is the skin (else the harmonic map)
+  size_t joints = 0, data_points = 0, dropped_points = 0, centers_outside_tets = 0;
+  bool open_solid = false;  // radii also bounded across the holes by each pose's field
+  // Per pose, the rest first: spheres of radius 0 by cause (centre outside, hole bound, on the
+  // surface, 0 in another pose), and the vertex error.
+  std::vector<std::array<size_t, 4>> zero_radius;
+  std::vector<ErrorStats> errors;
+  std::optional<JointSelection> selection;  // when selected jointly
+  double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
+  std::optional<GapFilling> fill;           // when asked
+};
+
 struct PoseMapResult {
   ProxyModel proxy;
-  nlohmann::json report;  // tets, map, per-pose errors and outside centers
+  PoseMapSummary summary;
 };
 
 // `skin` (the poses' rig, its poses in the order of `poses`; null: none) makes f the skin: each
