@@ -96,9 +96,10 @@ TEST(ProxyEval, BlendOfOnePoseIsThatPose) {
   EvalOptions opt;
   opt.blends = 5;
   const EvalResult r = evaluate_proxy(proxy, meshes, opt);
-  const double rest_max = r.report["poses"][0]["max"];
-  for (const auto& b : r.report["blends"]["samples"]) EXPECT_NEAR(b["max"].get<double>(), rest_max, 1e-5);
-  EXPECT_GT(r.report["runtime"]["blend_global_us_median"].get<double>(), 0);
+  const double rest_max = r.pose_measurements[0].error.abs.max;
+  ASSERT_EQ(r.blend_measurements.size(), 5u);
+  for (const Measurement& b : r.blend_measurements) EXPECT_NEAR(b.error.abs.max, rest_max, 1e-5);
+  EXPECT_GT(r.blend_global_us, 0);
 }
 
 }  // namespace

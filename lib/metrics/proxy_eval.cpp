@@ -85,14 +85,12 @@ std::vector<std::vector<float>> blend_weights(size_t poses, int count, unsigned 
 
 namespace {
 
-nlohmann::json evaluate_one(const PoseError& p, int coverage_samples) {
-  nlohmann::json j = surface_error(p.vertex_error).to_json();
-  j["name"] = p.name;
-  j["coverage"] = union_coverage(p.mesh, p.spheres, coverage_samples);
-  size_t zero = 0;
-  for (const auto& s : p.spheres) zero += s.radius <= 0;
-  j["zero_radius"] = zero;
-  return j;
+Measurement measure(const PoseError& p, int coverage_samples) {
+  Measurement m;
+  m.error = surface_error(p.vertex_error);
+  m.coverage = union_coverage(p.mesh, p.spheres, coverage_samples);
+  for (const auto& s : p.spheres) m.zero_radius += s.radius <= 0;
+  return m;
 }
 
 }  // namespace
@@ -103,16 +101,12 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
                              std::to_string(meshes.size() - 1) + " were given");
   if (opt.blends < 0) fail_option("blends", "must not be negative");
   EvalResult result;
-  nlohmann::json poses = nlohmann::json::array();
   for (size_t i = 0; i < meshes.size(); ++i) {
     PoseError p{proxy.poses[i].name, meshes[i], proxy.poses[i].spheres, {}};
     p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
-    nlohmann::json j = evaluate_one(p, opt.coverage_samples);
-    j["outside"] = proxy.poses[i].outside.size();
-    poses.push_back(j);
+    result.pose_measurements.push_back(measure(p, opt.coverage_samples));
     result.poses.push_back(std::move(p));
   }
-  result.report["poses"] = poses;
 
   // Blends, through the runtime reader on the bytes a host would load.
   const std::string bytes = encode_spx(proxy);
@@ -121,8 +115,6 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
   if (status != SPX_OK) fail_input("", std::string("runtime cannot load the proxy: ") + status_string(status));
   const uint32_t n = runtime.sphere_count();
   std::vector<float> centers(size_t(n) * 3), radii(n);
-  nlohmann::json blends = nlohmann::json::array();
-  std::vector<double> medians, maxima;
   for (const auto& w : blend_weights(meshes.size(), opt.blends, opt.seed)) {
     if (blend_global(runtime, w.data(), uint32_t(w.size()), centers.data(), radii.data()) != SPX_OK)
       fail_input("", "blend failed");
@@ -137,20 +129,10 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
       p.spheres.push_back({Eigen::Vector3d(centers[3 * s], centers[3 * s + 1], centers[3 * s + 2]), double(radii[s])});
     p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
     p.name = "blend-" + std::to_string(result.blends.size());
-    nlohmann::json j = evaluate_one(p, opt.coverage_samples);
-    j["weights"] = w;
-    medians.push_back(j["median"]);
-    maxima.push_back(j["max"]);
-    blends.push_back(j);
+    result.blend_measurements.push_back(measure(p, opt.coverage_samples));
+    result.blend_weights.push_back(w);
     result.blends.push_back(std::move(p));
   }
-  nlohmann::json b = {{"count", blends.size()}, {"samples", blends}};
-  if (!medians.empty()) {
-    std::sort(medians.begin(), medians.end());
-    b["median"] = medians[medians.size() / 2];
-    b["max"] = *std::max_element(maxima.begin(), maxima.end());
-  }
-  result.report["blends"] = b;
 
   // Runtime cost per frame: median time of a global blend, measured here.
   std::vector<double> times;
@@ -161,7 +143,7 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
     times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 20);
   }
   std::sort(times.begin(), times.end());
-  result.report["runtime"] = {{"blend_global_us_median", times[times.size() / 2]}, {"spheres", n}, {"poses", meshes.size()}};
+  result.blend_global_us = times[times.size() / 2];
   log.detail("global blend: " + std::to_string(times[times.size() / 2]) + " us");
   return result;
 }

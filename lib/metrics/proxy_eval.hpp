@@ -30,10 +30,21 @@ struct EvalOptions {
   int coverage_samples = 48;
 };
 
+// One mesh and its spheres measured: the error, the share of the interior covered, the spheres
+// of radius 0.
+struct Measurement {
+  SurfaceError error;
+  double coverage = 0;
+  size_t zero_radius = 0;
+};
+
 struct EvalResult {
   std::vector<PoseError> poses;   // rest first, then the examples
+  std::vector<Measurement> pose_measurements;
   std::vector<PoseError> blends;  // the blended meshes and spheres
-  nlohmann::json report;
+  std::vector<Measurement> blend_measurements;
+  std::vector<std::vector<float>> blend_weights;
+  double blend_global_us = 0;     // the median time of one global blend through the runtime
 };
 
 // `meshes` are M_0..M_e in the proxy's pose order. Blends go through the runtime header,

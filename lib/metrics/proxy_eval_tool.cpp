@@ -26,6 +26,46 @@ std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::v
   return meshes;
 }
 
+namespace {
+
+json measurement_json(const std::string& name, const Measurement& m) {
+  json j = m.error.to_json();
+  j["name"] = name;
+  j["coverage"] = m.coverage;
+  j["zero_radius"] = m.zero_radius;
+  return j;
+}
+
+}  // namespace
+
+json proxy_eval_report(const ProxyModel& proxy, const EvalResult& r) {
+  json poses = json::array();
+  for (size_t i = 0; i < r.poses.size(); ++i) {
+    json j = measurement_json(r.poses[i].name, r.pose_measurements[i]);
+    j["outside"] = proxy.poses[i].outside.size();
+    poses.push_back(j);
+  }
+  json samples = json::array();
+  std::vector<double> medians, maxima;
+  for (size_t b = 0; b < r.blends.size(); ++b) {
+    json j = measurement_json(r.blends[b].name, r.blend_measurements[b]);
+    j["weights"] = r.blend_weights[b];
+    medians.push_back(r.blend_measurements[b].error.abs.median);
+    maxima.push_back(r.blend_measurements[b].error.abs.max);
+    samples.push_back(j);
+  }
+  json blends = {{"count", samples.size()}, {"samples", samples}};
+  if (!medians.empty()) {
+    std::sort(medians.begin(), medians.end());
+    blends["median"] = medians[medians.size() / 2];
+    blends["max"] = *std::max_element(maxima.begin(), maxima.end());
+  }
+  return {{"poses", poses},
+          {"blends", blends},
+          {"runtime", {{"blend_global_us_median", r.blend_global_us}, {"spheres", proxy.sphere_count()},
+                       {"poses", proxy.poses.size()}}}};
+}
+
 void proxy_eval_files(const std::string& proxy_path, const std::string& rest_path, const std::vector<std::string>& pose_paths,
                       const EvalToolOptions& opt, Log& log, json& report) {
   std::string ext;
@@ -44,27 +84,29 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
     StageTimer t(log, "evaluate");
     r = about_file(proxy_path, [&] { return evaluate_proxy(proxy, meshes, opt.eval, log); });
   }
+  const json measured = proxy_eval_report(proxy, r);
   char line[256];
-  for (const auto& p : r.report["poses"]) {
-    std::snprintf(line, sizeof line, "%-12s median %.4g p95 %.4g max %.4g coverage %.3f", p["name"].get<std::string>().c_str(),
-                  p["median"].get<double>(), p["p95"].get<double>(), p["max"].get<double>(), p["coverage"].get<double>());
+  for (size_t i = 0; i < r.poses.size(); ++i) {
+    const Measurement& m = r.pose_measurements[i];
+    std::snprintf(line, sizeof line, "%-12s median %.4g p95 %.4g max %.4g coverage %.3f", r.poses[i].name.c_str(),
+                  m.error.abs.median, m.error.abs.p95, m.error.abs.max, m.coverage);
     log.info(line);
   }
-  if (r.report["blends"].contains("max")) {
+  if (measured["blends"].contains("max")) {
     std::snprintf(line, sizeof line, "%-12s median %.4g max %.4g over %d blends", "blends",
-                  r.report["blends"]["median"].get<double>(), r.report["blends"]["max"].get<double>(), opt.eval.blends);
+                  measured["blends"]["median"].get<double>(), measured["blends"]["max"].get<double>(), opt.eval.blends);
     log.info(line);
   }
   if (!opt.colors.empty()) {
     StageTimer t(log, "colors");
     double scale = opt.color_scale;
     if (!(scale > 0))
-      for (const auto& p : r.report["poses"]) scale = std::max(scale, p["max"].get<double>());
+      for (const Measurement& m : r.pose_measurements) scale = std::max(scale, m.error.abs.max);
     std::vector<PoseError> shown = r.poses;
     write_file_atomic(opt.colors, encode_error_scene(shown, ext, opt.color_pose, scale, 1.25 * meshes[0].bounds().sizes().x()));
     report["colors"] = {{"file", opt.colors}, {"scale", scale}};
   }
-  report.update(r.report);
+  report.update(measured);
   report["input"] = proxy_path;
   report["sphere_count"] = proxy.sphere_count();
 }

@@ -22,6 +22,10 @@ std::vector<TriMesh> load_pose_meshes(const std::string& rest, const std::vector
                                       const std::string& proxy_path, Log& log);
 
 // proxy-eval IN.proxy.json --rest REST --pose P... [--blends N] [--colors OUT] --report R.json
+// proxy-eval's report of `r`: per pose and per blend the error, coverage and zero radii, the
+// blends' median and max, the runtime's blend time.
+json proxy_eval_report(const ProxyModel& proxy, const EvalResult& r);
+
 void proxy_eval_files(const std::string& proxy_path, const std::string& rest, const std::vector<std::string>& poses,
                       const EvalToolOptions& options, Log& log, json& report);
 
