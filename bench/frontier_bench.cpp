@@ -41,7 +41,7 @@ double overshoot(const MeshQuery& mesh, const SphereSet& spheres) {
 json row(const std::string& method, const std::string& mode, double asked, const SphereSet& spheres, const MeshQuery& mesh,
          double seconds, size_t lower_bound) {
   const double diag = mesh.mesh().diagonal();
-  const ErrorStats e = vertex_error(mesh.mesh(), spheres);
+  const ErrorStats e = vertex_error(mesh.surface(), spheres);
   return {{"method", method},
           {"mode", mode},
           {"asked", asked},

@@ -10,6 +10,7 @@
 #include "mesh/defects.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
 #include "synthetic/synthetic.hpp"
 #include "test_util.hpp"
@@ -286,6 +287,59 @@ TEST(MeshQuery, ClosestPointMatchesBruteForce) {
                                     c.barycentric[2] * mesh.vertices[f[2]];
     EXPECT_LT((rebuilt - c.point).norm(), 1e-12);
   }
+}
+
+// The solid's boundary against brute force. Two closed boxes pressed into each other (two
+// pieces): the smaller's face inside the larger is a wall inside the solid, and the faces that
+// pass out of the larger bound only where they are out. Points on every triangle (a grid of
+// spacing s), each classified by the exact winding number a hair off both sides, give the
+// brute-force distance from a point inside to the boundary. MeshQuery's distance is never more
+// (spheres stay inside), and less only by about a piece where a triangle crosses the boundary;
+// the distance to every triangle, walls included, is far less at many of the points.
+TEST(SolidBoundary, DistancesAreToTheBoundaryAsBruteForceFindsIt) {
+  TriMesh mesh = test::box_mesh({0, 0, 0}, {2, 2, 2});
+  const TriMesh b = test::box_mesh({1.5, 0.5, 0.5}, {3, 1.5, 1.5});
+  for (const auto& t : b.triangles) mesh.triangles.push_back(t + Eigen::Vector3i::Constant(int(mesh.vertices.size())));
+  mesh.vertices.insert(mesh.vertices.end(), b.vertices.begin(), b.vertices.end());
+  const double s = 0.02, eps = 1e-7;
+  std::vector<Eigen::Vector3d> boundary;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d &p0 = mesh.vertices[size_t(t[0])], &p1 = mesh.vertices[size_t(t[1])],
+                          &p2 = mesh.vertices[size_t(t[2])];
+    const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0).normalized();
+    const int steps = int(std::ceil(std::max((p1 - p0).norm(), (p2 - p0).norm()) / s));
+    for (int i = 0; i < steps; ++i)
+      for (int j = 0; i + j < steps; ++j) {  // strictly inside the triangle: no edge lies on another's plane
+        const Eigen::Vector3d p = p0 + (p1 - p0) * (i + 0.3) / steps + (p2 - p0) * (j + 0.3) / steps;
+        if (winding_number_exact(mesh, p + eps * n) <= 0.5 || winding_number_exact(mesh, p - eps * n) <= 0.5)
+          boundary.push_back(p);
+      }
+  }
+  const MeshQuery query(mesh);
+  EXPECT_EQ(query.internal_walls(), 2u);  // the small box's face at x = 1.5
+  EXPECT_GT(query.split_triangles(), 0u);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> x(0, 3), yz(0, 2);
+  size_t tried = 0, walls_would_bound = 0;
+  while (tried < 300) {
+    const Eigen::Vector3d c(x(rng), yz(rng), yz(rng));
+    if (!query.inside(c)) continue;
+    ++tried;
+    double brute = std::numeric_limits<double>::infinity(), any = std::numeric_limits<double>::infinity();
+    for (const auto& p : boundary) brute = std::min(brute, (p - c).norm());
+    for (const auto& t : mesh.triangles)
+      any = std::min(any, (closest_point_on_triangle(c, mesh.vertices[size_t(t[0])], mesh.vertices[size_t(t[1])],
+                                                     mesh.vertices[size_t(t[2])]) - c).norm());
+    const double d = query.distance(c);
+    EXPECT_LE(d, brute + 1e-12) << c.transpose();
+    EXPECT_GE(d, brute - s - 2.0 / (1 << kWallSplitDepth)) << c.transpose();
+    EXPECT_NEAR(query.closest(c).distance, d, 1e-12);
+    walls_would_bound += any < brute - 0.3;
+  }
+  EXPECT_GT(walls_would_bound, 10u);
+  // A single closed surface is its own boundary.
+  const MeshQuery barrel(make_barrel().rest);
+  EXPECT_EQ(barrel.internal_walls() + barrel.split_triangles(), 0u);
 }
 
 // Inscribed spheres at random interior points of the barrel, grown: each grown sphere contains

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "mesh/defects.hpp"
+#include "mesh/solid_boundary.hpp"
 
 namespace spx {
 
@@ -28,13 +29,16 @@ struct MeshQuery::Tree {
 
 MeshQuery::MeshQuery(const TriMesh& mesh) : mesh_(mesh), wn_(mesh_), tree_(std::make_unique<Tree>()) {
   const double diag = mesh_.diagonal();
-  for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
-    if (is_degenerate(mesh_, static_cast<int>(t), diag)) continue;
-    const auto& f = mesh_.triangles[t];
-    tree_->triangles.emplace_back(to_cgal(mesh_.vertices[f[0]]), to_cgal(mesh_.vertices[f[1]]),
-                                  to_cgal(mesh_.vertices[f[2]]));
-    tree_->ids.push_back(static_cast<int>(t));
+  boundary_ = solid_boundary(mesh_, wn_);
+  const SolidBoundary& boundary = boundary_;
+  const TriMesh& kept = boundary.mesh;
+  for (size_t t = 0; t < kept.triangles.size(); ++t) {
+    if (is_degenerate(kept, static_cast<int>(t), diag)) continue;
+    const auto& f = kept.triangles[t];
+    tree_->triangles.emplace_back(to_cgal(kept.vertices[f[0]]), to_cgal(kept.vertices[f[1]]), to_cgal(kept.vertices[f[2]]));
+    tree_->ids.push_back(boundary.source[t]);
   }
+  if (!boundary.whole()) surface_ = solid_surface(mesh_, boundary);
   if (tree_->triangles.empty()) throw Error(ExitCode::bad_input, "", "mesh has no triangle with a non-zero area");
   tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
   tree_->tree.accelerate_distance_queries();
@@ -50,14 +54,23 @@ double MeshQuery::distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint
   return std::sqrt(tree_->tree.squared_distance(to_cgal(p), to_cgal(hint)));
 }
 
+namespace {
+Eigen::Vector3d corner(const Triangle& t, int k) { return {t.vertex(k).x(), t.vertex(k).y(), t.vertex(k).z()}; }
+}  // namespace
+
 ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
   const auto [point, primitive] = tree_->tree.closest_point_and_primitive(to_cgal(p));
   ClosestPoint out;
+  const Triangle& piece = *primitive;
   out.triangle = tree_->ids[static_cast<size_t>(primitive - tree_->triangles.cbegin())];
   const auto& f = mesh_.triangles[out.triangle];
-  // Recompute in our own terms to get barycentric coordinates that match the point.
-  out.point = closest_point_on_triangle(p, mesh_.vertices[f[0]], mesh_.vertices[f[1]], mesh_.vertices[f[2]],
-                                        &out.barycentric);
+  const Eigen::Vector3d &a = mesh_.vertices[f[0]], &b = mesh_.vertices[f[1]], &c = mesh_.vertices[f[2]];
+  // Recompute in our own terms to get barycentric coordinates that match the point: on the
+  // piece of the triangle that bounds, then in the whole triangle.
+  out.point = corner(piece, 0) == a && corner(piece, 1) == b && corner(piece, 2) == c
+                  ? closest_point_on_triangle(p, a, b, c, &out.barycentric)
+                  : closest_point_on_triangle(closest_point_on_triangle(p, corner(piece, 0), corner(piece, 1), corner(piece, 2)),
+                                              a, b, c, &out.barycentric);
   out.distance = (out.point - p).norm();
   (void)point;
   return out;

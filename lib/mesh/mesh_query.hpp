@@ -1,8 +1,11 @@
 #pragma once
 // Exact closest points (CGAL AABB tree) and robust inside tests (winding number) on one mesh.
+// Distances and closest points are to the solid's boundary: walls inside the solid (where
+// parts overlap; mesh/solid_boundary.hpp) are left out, since a sphere may cross them.
 #include <memory>
 
 #include "mesh/mesh.hpp"
+#include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
 
 namespace spx {
@@ -22,6 +25,13 @@ class MeshQuery {
   MeshQuery& operator=(const MeshQuery&) = delete;
 
   const TriMesh& mesh() const { return mesh_; }
+  // Triangles left out as walls inside the solid, and those kept in pieces (solid_boundary).
+  size_t internal_walls() const { return boundary_.internal; }
+  size_t split_triangles() const { return boundary_.split; }
+  // The solid's surface (solid_surface): the mesh less its walls inside the solid.
+  const TriMesh& surface() const { return boundary_.whole() ? mesh_ : surface_; }
+  // The solid's boundary (solid_boundary), for a field of the same mesh (build_sdf).
+  const SolidBoundary& boundary() const { return boundary_; }
   double distance(const Eigen::Vector3d& p) const;
   // The same, faster when `hint` is a surface point near the closest one.
   double distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint) const;
@@ -36,6 +46,8 @@ class MeshQuery {
   TriMesh mesh_;
   WindingNumber wn_;
   std::unique_ptr<Tree> tree_;
+  SolidBoundary boundary_;
+  TriMesh surface_;  // where the boundary is not whole
 };
 
 // The closest point of triangle abc to p, with its barycentric weights on request (Ericson,

@@ -9,13 +9,39 @@ namespace {
 
 constexpr double kFourPi = 4.0 * M_PI;
 
+// atan2 to about 1e-9 rad, for the fast evaluation's near field (the threshold's neighbourhood
+// is decided by exact(), which keeps std::atan2): the angle reduced to [0, pi/4] by the octant,
+// then to [0, pi/12] by atan(x) = pi/6 + atan((x sqrt3 - 1) / (x + sqrt3)), then the series.
+double fast_atan2(double y, double x) {
+  const double ay = std::abs(y), ax = std::abs(x);
+  const bool swap = ay > ax;
+  const double hi = swap ? ay : ax, lo = swap ? ax : ay;
+  if (hi == 0) return std::atan2(y, x);  // the signed zeros' cases
+  double t = lo / hi, base = 0;
+  constexpr double kTan15 = 0.26794919243112270, kSqrt3 = 1.7320508075688772;
+  if (t > kTan15) {
+    t = (t * kSqrt3 - 1) / (t + kSqrt3);
+    base = M_PI / 6;
+  }
+  const double t2 = t * t;
+  double a = base + t * (1 + t2 * (-1.0 / 3 + t2 * (1.0 / 5 + t2 * (-1.0 / 7 + t2 * (1.0 / 9 + t2 * (-1.0 / 11 + t2 / 13))))));
+  if (swap) a = M_PI / 2 - a;
+  if (x < 0) a = M_PI - a;
+  return y < 0 ? -a : a;
+}
+
 // Van Oosterom & Strackee: signed solid angle of triangle (a,b,c) seen from the origin.
-double solid_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+template <double (*Atan2)(double, double)>
+double solid_angle_with(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   const double la = a.norm(), lb = b.norm(), lc = c.norm();
   const double num = a.dot(b.cross(c));
   const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
   if (num == 0 && den <= 0) return 0;  // on the triangle's plane, outside or on it
-  return 2.0 * std::atan2(num, den);
+  return 2.0 * Atan2(num, den);
+}
+double std_atan2(double y, double x) { return std::atan2(y, x); }
+double solid_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return solid_angle_with<std_atan2>(a, b, c);
 }
 
 }  // namespace
@@ -149,7 +175,7 @@ double WindingNumber::operator()(const Eigen::Vector3d& q) const {
       sum += w / kFourPi;
     } else if (node.left < 0) {
       for (int i = node.first; i < node.first + node.count; ++i)
-        sum += solid_angle(a_[i] - q, b_[i] - q, c_[i] - q) / kFourPi;
+        sum += solid_angle_with<fast_atan2>(a_[i] - q, b_[i] - q, c_[i] - q) / kFourPi;
     } else {
       stack[top++] = node.left;
       stack[top++] = node.right;

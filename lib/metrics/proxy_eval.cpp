@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "io/spx_writer.hpp"
+#include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
 #include "runtime/spx_runtime.h"
 
@@ -85,10 +86,15 @@ std::vector<std::vector<float>> blend_weights(size_t poses, int count, unsigned 
 
 namespace {
 
-Measurement measure(const PoseError& p, int coverage_samples) {
+// `mesh` with its spheres measured: the error at the vertices of the solid's surface (walls
+// inside the solid are no part of it), coverage of the whole mesh's solid. `p` keeps the surface
+// and its vertices' errors (the colours).
+Measurement measure(const TriMesh& mesh, PoseError& p, int coverage_samples) {
+  p.mesh = solid_surface(mesh);
+  p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
   Measurement m;
   m.error = surface_error(p.vertex_error);
-  m.coverage = union_coverage(p.mesh, p.spheres, coverage_samples);
+  m.coverage = union_coverage(mesh, p.spheres, coverage_samples);
   for (const auto& s : p.spheres) m.zero_radius += s.radius <= 0;
   return m;
 }
@@ -102,9 +108,8 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
   if (opt.blends < 0) fail_option("blends", "must not be negative");
   EvalResult result;
   for (size_t i = 0; i < meshes.size(); ++i) {
-    PoseError p{proxy.poses[i].name, meshes[i], proxy.poses[i].spheres, {}};
-    p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
-    result.pose_measurements.push_back(measure(p, opt.coverage_samples));
+    PoseError p{proxy.poses[i].name, {}, proxy.poses[i].spheres, {}};
+    result.pose_measurements.push_back(measure(meshes[i], p, opt.coverage_samples));
     result.poses.push_back(std::move(p));
   }
 
@@ -118,18 +123,17 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
   for (const auto& w : blend_weights(meshes.size(), opt.blends, opt.seed)) {
     if (blend_global(runtime, w.data(), uint32_t(w.size()), centers.data(), radii.data()) != SPX_OK)
       fail_input("", "blend failed");
-    PoseError p;
-    p.mesh = meshes[0];
-    for (size_t v = 0; v < p.mesh.vertices.size(); ++v) {
+    TriMesh blended = meshes[0];
+    for (size_t v = 0; v < blended.vertices.size(); ++v) {
       Eigen::Vector3d x = Eigen::Vector3d::Zero();
       for (size_t i = 0; i < meshes.size(); ++i) x += double(w[i]) * meshes[i].vertices[v];
-      p.mesh.vertices[v] = x;
+      blended.vertices[v] = x;
     }
+    PoseError p;
     for (uint32_t s = 0; s < n; ++s)
       p.spheres.push_back({Eigen::Vector3d(centers[3 * s], centers[3 * s + 1], centers[3 * s + 2]), double(radii[s])});
-    p.vertex_error = union_signed_distance(p.mesh.vertices, p.spheres);
     p.name = "blend-" + std::to_string(result.blends.size());
-    result.blend_measurements.push_back(measure(p, opt.coverage_samples));
+    result.blend_measurements.push_back(measure(blended, p, opt.coverage_samples));
     result.blend_weights.push_back(w);
     result.blends.push_back(std::move(p));
   }

@@ -16,8 +16,8 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   {
     StageTimer t(log, "candidates");
     problem.spheres.push_back(inscribed_candidates(field, mesh, candidate_options(opt.pack, opt.max_candidates)));
-    problem.samples.push_back(surface_samples(mesh.mesh(), opt.area_samples, opt.seed));
-    problem.weighted.push_back(mesh.mesh().vertices.size());
+    problem.samples.push_back(surface_samples(mesh.surface(), opt.area_samples, opt.seed));
+    problem.weighted.push_back(mesh.surface().vertices.size());
   }
   const SphereSet& candidates = problem.spheres[0];
   if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");

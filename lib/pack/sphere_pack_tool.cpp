@@ -98,7 +98,7 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
                           num(packed.stats.min_radius));
   if (target > 0) {
     StageTimer t(log, "tolerance");
-    const ToleranceResult tr = fewest_spheres_within(mesh->mesh(), packed.spheres, target);
+    const ToleranceResult tr = fewest_spheres_within(mesh->surface(), packed.spheres, target);
     size_t keep = tr.count;
     std::string limit = tr.met ? "met the tolerance" : "the packing sequence ended before the tolerance was met";
     if (opt.pack.max_spheres > 0 && opt.pack.max_spheres < keep) {
@@ -197,7 +197,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
       limit_wording(sel.limited_by == Limit::tolerance && is_default ? Limit::default_tolerance : sel.limited_by);
   pool = sel.pool;
   // The error as proxy-eval measures it, at the vertices.
-  const ErrorStats error = vertex_error(mesh.mesh(), spheres);
+  const ErrorStats error = vertex_error(mesh.surface(), spheres);
   const bool met = !(target > 0) || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
   if (target > 0 && cover.uncoverable > 0) {
     const double resolution = field_resolution(sdf.field.shape);
@@ -208,7 +208,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
              num(cover.least_reachable) + "); a field of about " + num(needed) + " cells (sdf-build --resolution " +
              num(needed) + ") would reach them");
     report["resolution_needed"] = needed;
-    report["parts_out_of_reach"] = parts_out_of_reach(mesh.mesh(), sel.pool, target, resolution, log);
+    report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.pool, target, resolution, log);
   }
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
@@ -219,7 +219,9 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
                                 "spare budget and swaps toward the least total error; centres refined off the grid"},
                      {"candidates", sel.candidates},
                      {"samples", sel.samples},
-                     {"vertices", mesh.mesh().vertices.size()},
+                     {"vertices", mesh.surface().vertices.size()},
+                     {"internal_walls", mesh.internal_walls()},
+                     {"split_triangles", mesh.split_triangles()},
                      {"delta", cover.delta},
                      {"least_max_delta", cover.least_max_delta > 0 ? json(cover.least_max_delta) : json(nullptr)},
                      {"lower_bound", cover.lower_bound},

@@ -104,7 +104,7 @@ class Selector {
   }
 
   const std::vector<Eigen::Vector3d>& samples(size_t f) {
-    if (samples_[f].empty()) samples_[f] = surface_samples(frames_.frame_mesh(f), opt_.area_samples, opt_.seed);
+    if (samples_[f].empty()) samples_[f] = surface_samples(frames_.frame_surface(f), opt_.area_samples, opt_.seed);
     return samples_[f];
   }
 
@@ -214,7 +214,7 @@ class Selector {
       for (size_t c = 0; c < set.size(); ++c) set[c] = sphere(c, f);
       p.spheres.push_back(std::move(set));
     };
-    for (size_t f : active_) add(f, samples(f), frames_.frame_mesh(f).vertices.size());
+    for (size_t f : active_) add(f, samples(f), frames_.frame_surface(f).vertices.size());
     for (size_t f = 0; f < extra_.size(); ++f)
       if (!extra_[f].empty()) add(f, pick(samples(f), extra_[f]), 0);
     mostly_absent = withdraw_mostly_absent(p);

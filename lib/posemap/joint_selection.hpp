@@ -26,6 +26,8 @@ class SelectionFrames {
   virtual ~SelectionFrames() = default;
   virtual size_t frame_count() const = 0;
   virtual const TriMesh& frame_mesh(size_t frame) const = 0;
+  // Where the frame's samples are drawn: its mesh less walls inside the solid (solid_surface).
+  virtual const TriMesh& frame_surface(size_t frame) const { return frame_mesh(frame); }
   // Not skinned: each rest centre's sphere in `frame` by that frame's own rule (grown there).
   virtual SphereSet spheres_in(const SphereSet& rest, size_t frame) const = 0;
   // A skinned body: one radius per sphere, the least of its radii over every frame.

@@ -63,14 +63,19 @@ class PoseMapper {
   void build_solids() {
     meshes_.push_back(&rest_);
     for (const PoseInput& input : poses_) meshes_.push_back(&input.mesh);
-    for (const TriMesh* mesh : meshes_) queries_.push_back(std::make_unique<MeshQuery>(*mesh));
+    // Pose by pose in parallel (each also parallel inside, where its steps allow).
+    queries_.resize(meshes_.size());
+    {
+      StageTimer t(log_, "pose-queries");
+      tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) { queries_[i] = std::make_unique<MeshQuery>(*meshes_[i]); });
+    }
     open_solid_ = !find_defects(rest_).watertight();
     fields_.resize(meshes_.size());
     // Open meshes: the fields bound radii across the holes. Skinned: they put floors under every
     // pose's radii, so that a sphere's one radius asks few poses.
     if (open_solid_ || skinned_) {
       StageTimer t(log_, "pose-fields");
-      for (size_t i = 0; i < meshes_.size(); ++i) pose_field(i);
+      tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) { pose_field(i); });
     }
     for (size_t i = 0; i < meshes_.size(); ++i)
       solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
@@ -234,6 +239,7 @@ class PoseMapper {
     explicit Frames(PoseMapper& m) : m_(m) {}
     size_t frame_count() const override { return m_.meshes_.size(); }
     const TriMesh& frame_mesh(size_t f) const override { return *m_.meshes_[f]; }
+    const TriMesh& frame_surface(size_t f) const override { return m_.queries_[f]->surface(); }
     SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f); }
     bool one_radius() const override { return bool(m_.skinned_); }
     SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override {
@@ -293,7 +299,9 @@ class PoseMapper {
 
   // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
   const DenseField& pose_field(size_t i) {
-    if (!fields_[i]) fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], field_options()).field);
+    if (!fields_[i])
+      fields_[i] = std::make_unique<DenseField>(
+          build_sdf(*meshes_[i], field_options(), Log::silent(), &queries_[i]->boundary()).field);
     return *fields_[i];
   }
   // An open mesh's fields bound every radius to the end, and a skinned body's put floors under
@@ -310,7 +318,7 @@ class PoseMapper {
 
   std::vector<ErrorStats> pose_errors() const {
     std::vector<ErrorStats> out;
-    for (size_t i = 0; i < proxy_.poses.size(); ++i) out.push_back(vertex_error(*meshes_[i], proxy_.poses[i].spheres));
+    for (size_t i = 0; i < proxy_.poses.size(); ++i) out.push_back(vertex_error(queries_[i]->surface(), proxy_.poses[i].spheres));
     return out;
   }
 
@@ -325,10 +333,11 @@ class PoseMapper {
     PackOptions pack = pose_pack_options();
     pack.min_radius = min_radius;
     PackResult found = pack_spheres(field, pack, queries_[i + 1].get());
-    ToleranceResult enough = fewest_spheres_within(poses_[i].mesh, found.spheres, target, proxy_.poses[i + 1].spheres);
+    const TriMesh& surface = queries_[i + 1]->surface();
+    ToleranceResult enough = fewest_spheres_within(surface, found.spheres, target, proxy_.poses[i + 1].spheres);
     if (!enough.met) {
       // Out of reach at this voxel size: keep only the spheres that lower the max error.
-      const ToleranceResult best = fewest_spheres_within(poses_[i].mesh, found.spheres, enough.max_error * (1 + 1e-9),
+      const ToleranceResult best = fewest_spheres_within(surface, found.spheres, enough.max_error * (1 + 1e-9),
                                                          proxy_.poses[i + 1].spheres);
       enough.count = best.count;
     }

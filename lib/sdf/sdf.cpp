@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/solid_boundary.hpp"
 #include "sdf/edt.hpp"
 #include "sdf/sdf_work.hpp"
 #include "sdf/surface_layer.hpp"
@@ -365,7 +366,7 @@ void apply_sign(SdfWork& w) {
 
 }  // namespace
 
-SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
+SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const SolidBoundary* found) {
   SdfResult result;
   SdfStats& stats = result.stats;
   StageTimer prepare(log, "defects-and-order");
@@ -387,24 +388,43 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log) {
     if (stats.defects.watertight() && stats.defects.components == 1) sign_closed_surface(work);
     else sign_by_winding_numbers(work, opt.sign_every_voxel);
   }
+  // Distances are to the solid's boundary: walls inside it (overlapping parts) leave the layer,
+  // which is laid again from the boundary alone (mesh/solid_boundary.hpp); the sign stays the
+  // whole mesh's.
+  TriMesh bounding;
+  std::unique_ptr<SdfWork> outer;
+  {
+    StageTimer t(log, "internal-walls");
+    const SolidBoundary boundary = found ? SolidBoundary() : solid_boundary(mesh, WindingNumber(mesh));
+    const SolidBoundary& b = found ? *found : boundary;
+    stats.internal_walls = b.internal;
+    stats.split_triangles = b.split;
+    if (!b.whole() && !b.mesh.triangles.empty()) {
+      bounding = in_spatial_order(b.mesh, shape);
+      outer = std::make_unique<SdfWork>(bounding, shape, result.field, stats);
+      rasterize_layer(*outer);
+      for (size_t idx = 0; idx < shape.count(); ++idx) outer->flags[idx] |= work.flags[idx] & kInside;
+    }
+  }
+  SdfWork& w = outer ? *outer : work;
   // Interior distances: nearest surface voxel by an exact feature transform, then the exact
   // distance to the closest of the triangles around it.
-  const TriangleTable triangles(mesh);
+  const TriangleTable triangles(w.mesh);
   StageTimer edt(log, "feature-transform");
-  const GridVector<int32_t> nearest = nearest_seed_transform(shape, work.flags.data(), kLayer);
+  const GridVector<int32_t> nearest = nearest_seed_transform(shape, w.flags.data(), kLayer);
   edt.stop();
   {
     StageTimer t(log, "closest-triangles");
-    const std::vector<size_t> wanted = mark_wanted(work, nearest, opt.band);
-    closest_triangles(work, triangles, nearest, wanted);
+    const std::vector<size_t> wanted = mark_wanted(w, nearest, opt.band);
+    closest_triangles(w, triangles, nearest, wanted);
     t.stop();
     StageTimer r(log, "refine");
-    refine_by_neighbours(work, triangles, wanted);
+    refine_by_neighbours(w, triangles, wanted);
   }
   {
     StageTimer t(log, "values");
-    if (!stats.defects.watertight()) bound_across_holes(work);
-    apply_sign(work);
+    if (!stats.defects.watertight()) bound_across_holes(w);
+    apply_sign(w);
   }
   if (stats.interior_voxels == 0)
     fail_input("", "encloses no volume at this resolution (flat, open with no inside, or thinner than a voxel of " +
@@ -418,6 +438,8 @@ nlohmann::json SdfStats::to_json() const {
           {"surface_voxels", surface_voxels},
           {"interior_voxels", interior_voxels},
           {"winding_evaluations", winding_evaluations},
+          {"internal_walls", internal_walls},
+          {"split_triangles", split_triangles},
           {"bounded_by_holes", bounded_by_holes},
           {"estimated_memory_gib", estimated_memory_gib}};
 }

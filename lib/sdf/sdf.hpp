@@ -6,6 +6,7 @@
 #include "core/log.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/solid_boundary.hpp"
 #include "io/dense_field.hpp"
 
 namespace spx {
@@ -24,6 +25,8 @@ struct SdfStats {
   MeshDefects defects;
   std::string sign_method;
   size_t surface_voxels = 0, interior_voxels = 0, winding_evaluations = 0;  // surface: within a voxel of the mesh
+  size_t internal_walls = 0;   // triangles with the solid on both sides: no distance is taken to them
+  size_t split_triangles = 0;  // triangles partly inside the solid: distances to their bounding pieces
   double estimated_memory_gib = 0;
   bool bounded_by_holes = false;  // not watertight: distances also bounded across the holes
   nlohmann::json to_json() const;
@@ -34,6 +37,8 @@ struct SdfResult {
   SdfStats stats;
 };
 
-SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& options, Log& log = Log::silent());
+// `boundary`: the mesh's solid boundary where already found (MeshQuery::boundary()), or null.
+SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& options, Log& log = Log::silent(),
+                    const SolidBoundary* boundary = nullptr);
 
 }  // namespace spx
