@@ -180,10 +180,19 @@ size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
 }
 
 // Whether sorted a is a subset of sorted b.
+constexpr std::ptrdiff_t kMergeRatio = 8;
 bool is_subset(const uint32_t* a, const uint32_t* a_end, const uint32_t* b, const uint32_t* b_end) {
   if (a == a_end) return true;
   // Rows that are not subsets mostly differ at their ends or middle: test those first.
   if (*a < *b || *(a_end - 1) > *(b_end - 1) || !std::binary_search(b, b_end, a[(a_end - a) / 2])) return false;
+  // Rows of like length: one merge pass; a much longer b: a search per entry of a.
+  if (b_end - b < kMergeRatio * (a_end - a)) {
+    for (; a != a_end; ++a, ++b) {
+      while (b != b_end && *b < *a) ++b;
+      if (b == b_end || *b != *a) return false;
+    }
+    return true;
+  }
   for (; a != a_end; ++a) {
     b = std::lower_bound(b, b_end, *a);
     if (b == b_end || *b != *a) return false;

@@ -11,10 +11,12 @@ namespace spx {
 
 PoseSolid::Radius PoseSolid::radius(const Eigen::Vector3d& c, bool cause) const {
   // The field's bound first: it is cheap, and where it is 0 so is the radius. Where it is
-  // positive (an open mesh) it already puts c inside: some voxel's depth exceeds its offset to c.
+  // positive (an open mesh) it already puts c inside: some voxel's depth exceeds its offset to c;
+  // so does a positive floor (a kept field's depth, less a whole voxel).
   const double bound = hole_bound(c);
   if (!(bound > 0) && !cause) return {0, Zero::hole_bound};
-  if (!(holes && bound > 0) && !mesh->inside(c)) return {0, Zero::outside};
+  const bool surely_inside = (holes && bound > 0) || radius_floor(c) > 0;
+  if (!surely_inside && !mesh->inside(c)) return {0, Zero::outside};
   const double exact = std::min(max_radius, mesh->distance(c));
   const double r = std::min(exact, bound);
   if (r > 0) return {r, Zero::none};
