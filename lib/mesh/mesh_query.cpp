@@ -31,12 +31,12 @@ MeshQuery::MeshQuery(const TriMesh& mesh) : mesh_(mesh), wn_(mesh_), tree_(std::
   const double diag = mesh_.diagonal();
   boundary_ = solid_boundary(mesh_, wn_);
   const SolidBoundary& boundary = boundary_;
-  const TriMesh& kept = boundary.mesh;
+  const TriMesh& kept = boundary.whole() ? mesh_ : boundary.mesh;
   for (size_t t = 0; t < kept.triangles.size(); ++t) {
     if (is_degenerate(kept, static_cast<int>(t), diag)) continue;
     const auto& f = kept.triangles[t];
     tree_->triangles.emplace_back(to_cgal(kept.vertices[f[0]]), to_cgal(kept.vertices[f[1]]), to_cgal(kept.vertices[f[2]]));
-    tree_->ids.push_back(boundary.source[t]);
+    tree_->ids.push_back(boundary.whole() ? static_cast<int>(t) : boundary.source[t]);
   }
   if (!boundary.whole()) surface_ = solid_surface(mesh_, boundary);
   if (tree_->triangles.empty()) throw Error(ExitCode::bad_input, "", "mesh has no triangle with a non-zero area");

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 
 #include "mesh/components.hpp"
@@ -88,12 +89,7 @@ std::vector<uint8_t> near_another_piece(const TriMesh& mesh, double margin) {
 SolidBoundary solid_boundary(const TriMesh& mesh, const WindingNumber& wn) {
   SolidBoundary out;
   const MeshDefects defects = find_defects(mesh);
-  if (defects.watertight() && defects.components == 1) {
-    out.mesh = mesh;
-    out.source.resize(mesh.triangles.size());
-    for (size_t t = 0; t < out.source.size(); ++t) out.source[t] = int(t);
-    return out;
-  }
+  if (defects.watertight() && defects.components == 1) return out;
   const double diagonal = mesh.diagonal(), offset = kWallProbe * diagonal;
   const std::vector<uint8_t> probed = near_another_piece(mesh, 2 * offset);
   std::vector<Part> parts(mesh.triangles.size());
@@ -107,6 +103,7 @@ SolidBoundary solid_boundary(const TriMesh& mesh, const WindingNumber& wn) {
     parts[t].kind = probes == 0 ? Part::none : Part::pieces;
     bounding_pieces(c, n, offset, wn, 0, probes, parts[t].bounding);
   });
+  if (std::all_of(parts.begin(), parts.end(), [](const Part& p) { return p.kind == Part::whole; })) return out;
   out.mesh.vertices = mesh.vertices;
   for (size_t t = 0; t < parts.size(); ++t) {
     if (parts[t].kind == Part::whole) {

@@ -12,7 +12,7 @@
 
 namespace spx {
 
-// Probes sit this share of the bounding-box diagonal off either face of a triangle.
+// Probes sit this share of the bounding-box diagonal off a triangle, on the side its normal points to.
 constexpr double kWallProbe = 1e-5;
 // A triangle whose probes disagree is split in 4 (edge midpoints), down to this many times.
 constexpr int kWallSplitDepth = 3;
@@ -27,7 +27,8 @@ std::vector<Eigen::Vector3d> wall_probes(const Eigen::Vector3d& a, const Eigen::
 struct SolidBoundary {
   // The triangles that bound: whole where every probe bounds (the input's own vertices), in
   // pieces where the probes disagree (the bounding pieces, on vertices of their own, appended),
-  // left out where none does. Pieces still split at the last depth are kept.
+  // left out where none does. Pieces still split at the last depth are kept. Empty where the
+  // boundary is whole: the input itself.
   TriMesh mesh;
   std::vector<int> source;  // per triangle of `mesh`: the input triangle it is, or is part of
   size_t internal = 0;      // input triangles left out whole
