@@ -568,6 +568,10 @@ TEST(PoseMap, SkinnedOpenArticulatedSampleMeetsTheToleranceInEveryFrame) {
   ASSERT_TRUE(r.summary.selection.has_value());
   EXPECT_EQ(r.summary.selection->limited_by, Limit::tolerance);
   EXPECT_FALSE(r.proxy.skin.joints.empty());
+  // The walls it measured around are named, pose by pose (the pelvis inside the torso, the
+  // limbs' tubes reaching into the pelvis and the torso).
+  const json report = pose_map_report(r);
+  for (const auto& pose : report["poses"]) EXPECT_GT(pose["walls_inside"]["left_out"].get<size_t>(), 0u);
 }
 
 TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {

@@ -87,7 +87,8 @@ json pose_map_report(const PoseMapResult& result) {
                        {"hole_bound", holes},
                        {"other", other},
                        {"another_pose", elsewhere}}},
-                     {"error", s.errors[i].to_json()}});
+                     {"error", s.errors[i].to_json()},
+                     {"walls_inside", {{"left_out", s.walls[i].first}, {"split", s.walls[i].second}}}});
   }
   return {{"tets",
            {{"method", s.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},

@@ -210,6 +210,7 @@ class PoseMapper {
     }
     out.zero_radius = zero_radius_;
     out.errors = pose_errors();
+    for (const auto& q : queries_) out.walls.emplace_back(q->internal_walls(), q->split_triangles());
     for (const auto& c : rest_centers_) out.centers_outside_tets += f_->locator().locate(c).outside > 0;
     out.tet_file = opt_.tet_file;
     out.tet_vertices = tets_.vertices.size();

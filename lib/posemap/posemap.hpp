@@ -74,7 +74,9 @@ struct PoseMapSummary {
   // Per pose, the rest first: spheres of radius 0 by cause (centre outside, hole bound, on the
   // surface, 0 in another pose), and the vertex error.
   std::vector<std::array<size_t, 4>> zero_radius;
-  std::vector<ErrorStats> errors;
+  std::vector<ErrorStats> errors;  // on the solid's surface (mesh/solid_boundary.hpp)
+  // Per pose: triangles left out as walls inside the solid, and those kept in pieces.
+  std::vector<std::pair<size_t, size_t>> walls;
   std::optional<JointSelection> selection;  // when selected jointly
   double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
   std::optional<GapFilling> fill;           // when asked

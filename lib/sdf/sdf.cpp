@@ -383,17 +383,18 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
     StageTimer t(log, "surface-layer");
     rasterize_layer(work);
   }
+  const bool single_closed = stats.defects.watertight() && stats.defects.components == 1;
   {
     StageTimer t(log, "sign");
-    if (stats.defects.watertight() && stats.defects.components == 1) sign_closed_surface(work);
+    if (single_closed) sign_closed_surface(work);
     else sign_by_winding_numbers(work, opt.sign_every_voxel);
   }
   // Distances are to the solid's boundary: walls inside it (overlapping parts) leave the layer,
   // which is laid again from the boundary alone (mesh/solid_boundary.hpp); the sign stays the
-  // whole mesh's.
+  // whole mesh's. A single closed surface is its own boundary.
   TriMesh bounding;
   std::unique_ptr<SdfWork> outer;
-  {
+  if (!single_closed) {
     StageTimer t(log, "internal-walls");
     const SolidBoundary boundary = found ? SolidBoundary() : solid_boundary(mesh, WindingNumber(mesh));
     const SolidBoundary& b = found ? *found : boundary;
