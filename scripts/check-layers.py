@@ -19,9 +19,9 @@ ALLOWED = {
     "sdf": {"core", "mesh", "io"},
     "pack": {"core", "mesh", "io"},
     "posemap": {"core", "mesh", "io", "sdf", "pack"},
-    "metrics": {"core", "mesh", "io", "runtime"},
-    "export": {"core", "mesh", "io", "metrics", "runtime"},
     "extract": {"core", "mesh", "io"},
+    "metrics": {"core", "mesh", "io", "runtime", "extract"},
+    "export": {"core", "mesh", "io", "metrics", "runtime"},
     "synthetic": {"core", "mesh", "io"},
     "tool": {"core"},
 }

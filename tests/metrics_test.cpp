@@ -3,6 +3,7 @@
 #include <random>
 
 #include "metrics/proxy_eval.hpp"
+#include "metrics/simplex_fit.hpp"
 #include "mesh/union_distance.hpp"
 #include "synthetic/synthetic.hpp"
 #include "test_util.hpp"
@@ -100,6 +101,62 @@ TEST(ProxyEval, BlendOfOnePoseIsThatPose) {
   ASSERT_EQ(r.blend_measurements.size(), 5u);
   for (const Measurement& b : r.blend_measurements) EXPECT_NEAR(b.error.abs.max, rest_max, 1e-5);
   EXPECT_GT(r.blend_global_us, 0);
+}
+
+// The best-fit blend weights: against a dense search of the simplex (3 examples, some optima on
+// an edge or a vertex), and the KKT conditions on 40 examples, some affinely dependent.
+TEST(SimplexFit, MatchesBruteForceOnTheSimplex) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g;
+  for (int trial = 0; trial < 40; ++trial) {
+    Eigen::MatrixXd A(12, 3);
+    for (int i = 0; i < A.size(); ++i) A.data()[i] = g(rng);
+    Eigen::VectorXd v(12);
+    for (int i = 0; i < v.size(); ++i) v[i] = 2 * g(rng);
+    const Eigen::VectorXd w = simplex_least_squares(A.transpose() * A, A.transpose() * v);
+    ASSERT_EQ(w.size(), 3);
+    EXPECT_NEAR(w.sum(), 1, 1e-12);
+    EXPECT_GE(w.minCoeff(), 0);
+    double best = 1e300;
+    const int n = 400;
+    for (int a = 0; a <= n; ++a)
+      for (int b = 0; a + b <= n; ++b) {
+        const Eigen::Vector3d x(a / double(n), b / double(n), (n - a - b) / double(n));
+        best = std::min(best, (A * x - v).squaredNorm());
+      }
+    EXPECT_LE((A * w - v).squaredNorm(), best + 1e-12) << "trial " << trial;
+  }
+}
+
+TEST(SimplexFit, MeetsItsOptimalityConditions) {
+  std::mt19937 rng(12);
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd A(300, 40);
+  for (int i = 0; i < A.size(); ++i) A.data()[i] = g(rng);
+  A.col(7) = 0.5 * (A.col(3) + A.col(5));  // dependent examples
+  A.col(9) = A.col(3);
+  // A target inside the hull is reproduced exactly.
+  Eigen::VectorXd inside = Eigen::VectorXd::Zero(40);
+  inside[1] = 0.2, inside[2] = 0.3, inside[20] = 0.5;
+  const Eigen::VectorXd exact = simplex_least_squares(A.transpose() * A, A.transpose() * (A * inside));
+  EXPECT_LE((A * exact - A * inside).norm(), 1e-9 * (A * inside).norm());
+  // Far outside it: free weights share one gradient, the others' gradients are no lower.
+  Eigen::VectorXd v(300);
+  for (int i = 0; i < v.size(); ++i) v[i] = 3 * g(rng);
+  const Eigen::MatrixXd G = A.transpose() * A;
+  const Eigen::VectorXd w = simplex_least_squares(G, A.transpose() * v);
+  const Eigen::VectorXd grad = G * w - A.transpose() * v;
+  double lambda = 0;
+  int free_count = 0;
+  for (int i = 0; i < 40; ++i)
+    if (w[i] > 1e-12) lambda += grad[i], ++free_count;
+  ASSERT_GT(free_count, 1);
+  lambda /= free_count;
+  const double scale = grad.cwiseAbs().maxCoeff();
+  for (int i = 0; i < 40; ++i) {
+    if (w[i] > 1e-12) EXPECT_NEAR(grad[i], lambda, 1e-8 * scale) << i;
+    else EXPECT_GE(grad[i], lambda - 1e-8 * scale) << i;
+  }
 }
 
 }  // namespace

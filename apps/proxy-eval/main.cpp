@@ -21,10 +21,24 @@ int main(int argc, char** argv) {
   tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
   tool.app.add_option("--color-pose", opt.color_pose, "Pose written to a .ply (0 = rest)")->capture_default_str();
   tool.app.add_option("--color-scale", opt.color_scale, "Error shown as full red (default: the largest max error)");
+  auto& m = opt.motion;
+  auto* asset_opt = tool.app.add_option("--asset", m.asset, "Rigged asset the proxy was made from: measure the runtime's "
+                                        "skin over a clip of it (every frame asked for and half-way between)");
+  tool.app.add_option("--mesh", m.mesh, "With --asset: one mesh (or node) by name, as pose-extract --mesh")->needs(asset_opt);
+  tool.app.add_option("--animation", m.animation, "With --asset: the clip, by name or index")->needs(asset_opt);
+  tool.app.add_option("--every", m.every, "With --asset: every Nth frame of the clip")->capture_default_str()->needs(asset_opt);
+  tool.app.add_option("--times", m.times, "With --asset: these times in seconds instead")->needs(asset_opt);
+  tool.app.add_flag("!--no-between", m.between, "With --asset: only the times asked for, not half-way between them");
+  tool.app.add_option("--chart", m.chart, "With --asset: error over the clip as an SVG chart")->needs(asset_opt);
+  std::string tolerance;
+  tool.app.add_option("--tolerance", tolerance, "With --asset: the target, for ratios in the report (T or T% of the "
+                      "rest diagonal)")->needs(asset_opt);
   tool.name_option("poses", "--pose");
   tool.name_option("pose", "--color-pose");
   return tool.run(argc, argv, [&] {
-    spx::rest_and_poses(manifest, rest, poses);
+    m.tolerance = spx::parse_tolerance(tolerance, "--tolerance");
+    m.manifest = manifest;
+    if (!manifest.empty() || m.asset.empty()) spx::rest_and_poses(manifest, rest, poses);
     spx::proxy_eval_files(proxy, rest, poses, opt, tool.log, tool.report);
   });
 }

@@ -5,6 +5,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -402,6 +403,34 @@ json Asset::inventory() const {
   }
   return {{"meshes", meshes}, {"skins", skinned}, {"clips", clips}, {"morph_targets", targets_},
           {"unweighted_vertices", unweighted_}};
+}
+
+WeldedBody weld_body(const Asset& asset) {
+  WeldedBody body;
+  body.weld = weld_by_position(asset.rest(), body.rest.vertices);
+  for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
+  return body;
+}
+
+TriMesh welded_pose(const WeldedBody& body, const std::vector<Eigen::Vector3d>& file_positions, double tolerance,
+                    size_t& opened, const std::string& what, const std::string& input) {
+  TriMesh pose;
+  pose.triangles = body.rest.triangles;
+  pose.vertices.assign(body.rest.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
+  std::vector<char> set(pose.vertices.size(), 0);
+  opened = 0;
+  for (size_t i = 0; i < file_positions.size(); ++i) {
+    const Eigen::Vector3d& p = file_positions[i];
+    if (!p.allFinite()) fail_input(input, what + ": vertex " + std::to_string(i) + " is not finite (broken skin or keys)");
+    const size_t v = size_t(body.weld[i]);
+    if (!set[v]) {
+      pose.vertices[v] = p;
+      set[v] = 1;
+    } else if ((pose.vertices[v] - p).norm() > tolerance) {
+      ++opened;
+    }
+  }
+  return pose;
 }
 
 }  // namespace spx

@@ -118,4 +118,17 @@ class Asset {
   size_t vertex_count_ = 0, unweighted_ = 0;
 };
 
+// The body welded by position (as pose-extract writes it): file vertex -> welded vertex, and the
+// rest's triangles on welded vertices.
+struct WeldedBody {
+  std::vector<int> weld;
+  TriMesh rest;
+};
+WeldedBody weld_body(const Asset& asset);
+
+// A pose on the welded vertices (each takes its first file vertex's position); `opened` counts
+// rest-welded points that part in this pose. A vertex that is not finite fails naming `input`.
+TriMesh welded_pose(const WeldedBody& body, const std::vector<Eigen::Vector3d>& file_positions, double tolerance,
+                    size_t& opened, const std::string& what, const std::string& input);
+
 }  // namespace spx

@@ -66,19 +66,12 @@ json proxy_eval_report(const ProxyModel& proxy, const EvalResult& r) {
                        {"poses", proxy.poses.size()}}}};
 }
 
-void proxy_eval_files(const std::string& proxy_path, const std::string& rest_path, const std::vector<std::string>& pose_paths,
-                      const EvalToolOptions& opt, Log& log, json& report) {
-  std::string ext;
-  if (!opt.colors.empty()) {
-    ext = std::filesystem::path(opt.colors).extension().string();
-    if (ext != ".glb" && ext != ".ply") fail_usage(opt.colors, "colours go to .glb or .ply");
-  }
-  const ProxyModel proxy = read_proxy_file(proxy_path);
-  std::vector<TriMesh> meshes;
-  {
-    StageTimer t(log, "load");
-    meshes = load_pose_meshes(rest_path, pose_paths, proxy, proxy_path, log);
-  }
+namespace {
+
+// The proxy at its examples and blends between them, with error colours on request.
+void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, const std::vector<TriMesh>& meshes,
+                       const EvalToolOptions& opt, Log& log, json& report) {
+  const std::string ext = std::filesystem::path(opt.colors).extension().string();
   EvalResult r;
   {
     StageTimer t(log, "evaluate");
@@ -107,6 +100,32 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
     report["colors"] = {{"file", opt.colors}, {"scale", scale}};
   }
   report.update(measured);
+}
+
+}  // namespace
+
+void proxy_eval_files(const std::string& proxy_path, const std::string& rest_path, const std::vector<std::string>& pose_paths,
+                      const EvalToolOptions& opt, Log& log, json& report) {
+  if (!opt.colors.empty()) {
+    const std::string ext = std::filesystem::path(opt.colors).extension().string();
+    if (ext != ".glb" && ext != ".ply") fail_usage(opt.colors, "colours go to .glb or .ply");
+    if (rest_path.empty()) fail_option("colors", "colours are drawn on the examples: give --rest/--pose or --manifest");
+  }
+  if (rest_path.empty() && opt.motion.asset.empty())
+    fail_option("rest", "give the examples (--rest/--pose or --manifest), a clip (--asset), or both");
+  const ProxyModel proxy = read_proxy_file(proxy_path);
+  std::vector<TriMesh> meshes;
+  if (!rest_path.empty()) {
+    {
+      StageTimer t(log, "load");
+      meshes = load_pose_meshes(rest_path, pose_paths, proxy, proxy_path, log);
+    }
+    evaluate_examples(proxy, proxy_path, meshes, opt, log, report);
+  }
+  if (!opt.motion.asset.empty()) {
+    StageTimer t(log, "motion");
+    report["motion"] = about_file(proxy_path, [&] { return proxy_motion_report(proxy, meshes, opt.motion, log); });
+  }
   report["input"] = proxy_path;
   report["sphere_count"] = proxy.sphere_count();
 }

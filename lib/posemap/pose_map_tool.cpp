@@ -1,5 +1,6 @@
 #include "posemap/pose_map_tool.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cstdio>
 #include <set>
@@ -11,19 +12,47 @@
 namespace spx {
 namespace {
 
+// Pose k must be where the skin takes the rest with that pose's joint matrices (each vertex back
+// to the asset's space by its blended rest matrix, then blended by the pose's): a pose set that
+// mixes a clip's frames with other meshes is refused naming the first that is not.
+void check_pose_is_skinned(const SkinFile& skin, const TriMesh& rest, const PoseInput& pose, size_t k, double tolerance,
+                           const std::string& path) {
+  const auto blend = [](const JointWeights& w, const JointMatrices& m) {
+    Eigen::Matrix4d sum = Eigen::Matrix4d::Zero();
+    for (const auto& [joint, weight] : w) sum += weight * m[size_t(joint)];
+    return sum;
+  };
+  for (size_t v = 0; v < rest.vertices.size(); ++v) {
+    const JointWeights& w = skin.vertex_weights[v];
+    if (w.empty()) continue;  // no joint weighs it: it keeps its bind position
+    const Eigen::Matrix4d at_rest = blend(w, skin.rest);
+    if (!at_rest.fullPivLu().isInvertible()) continue;
+    const Eigen::Vector4d bind = at_rest.fullPivLu().solve(rest.vertices[v].homogeneous());
+    const double off = ((blend(w, skin.poses[k].matrices) * bind).head<3>() - pose.mesh.vertices[v]).norm();
+    if (off > tolerance)
+      fail_input(pose.source, "is not the skin of its joint matrices in " + path + " (pose " + std::to_string(k + 1) +
+                                  " '" + skin.poses[k].name + "': vertex " + std::to_string(v) + " is " + num(off) +
+                                  " away): every pose must come with the rig, or none");
+  }
+}
+
 // The rig must be the rest mesh's and the poses': weights found for every rest vertex (by its
-// position, whatever order the mesh was read in), a pose each.
-SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, size_t poses) {
+// position, whatever order the mesh was read in), a pose each, and each pose the skin of its
+// joint matrices.
+SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, const std::vector<PoseInput>& poses) {
   SkinFile skin = read_skin_file(path);
   // Positions went through OBJ text (9 significant digits): a little of the diagonal, and of the
   // coordinates' size for a body far from the origin.
   double far = 0;
   for (const auto& p : rest.vertices) far = std::max(far, p.cwiseAbs().maxCoeff());
-  skin.vertex_weights = weights_for_vertices(skin, rest.vertices, 1e-6 * rest.diagonal() + 1e-8 * far, path);
+  const double tolerance = 1e-6 * rest.diagonal() + 1e-8 * far;
+  skin.vertex_weights = weights_for_vertices(skin, rest.vertices, tolerance, path);
   skin.vertex_positions = rest.vertices;
-  if (skin.poses.size() != poses)
+  if (skin.poses.size() != poses.size())
     fail_input(path, "holds the joint matrices of " + std::to_string(skin.poses.size()) + " poses; " +
-                         std::to_string(poses) + " poses are given (every pose must come with the rig, or none)");
+                         std::to_string(poses.size()) + " poses are given (every pose must come with the rig, or none)");
+  if (skin.morph_channels == 0)  // a clip that also drives morph weights is more than its skin
+    for (size_t k = 0; k < poses.size(); ++k) check_pose_is_skinned(skin, rest, poses[k], k, 10 * tolerance, path);
   return skin;
 }
 
@@ -139,7 +168,7 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
       poses.push_back(std::move(pose));
     }
     spheres = read_spheres_file(spheres_path);
-    if (!skin_path.empty()) skin = read_matching_skin(skin_path, rest.mesh, poses.size());
+    if (!skin_path.empty()) skin = read_matching_skin(skin_path, rest.mesh, poses);
   }
   // The tolerances become lengths here, once, and travel down as lengths.
   PoseMapOptions options = given;

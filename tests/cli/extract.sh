@@ -51,6 +51,56 @@ sys.exit(not (len(s['joints']) == 2 and len(s['poses']) == 2 and len(s['vertex_w
     "$out/rigged/poses/skin.json" "$out/rigged/poses/rest.obj"
   check "skinned clip: the .spx has the skin" /usr/bin/python3 -c \
     "import sys; b=open(sys.argv[1],'rb').read(); sys.exit(not (b[10] == 1 and b[38] == 1))" "$out/rigged/rigged.spx"
+
+  # The whole clip as a host plays it (proxy-eval --asset): each frame and half-way between.
+  # At the 2 frames the chain saw, no sphere pokes out and the best-fit blend is that example's
+  # spheres, which the skin gives too (vertex orders of the asset and the OBJ poses agree).
+  rig="$data/rigged-simple/RiggedSimple.glb" r="$out/rigged"
+  "$bin/proxy-eval" "$r/rigged.proxy.json" --manifest "$r/poses/poses.json" --asset "$rig" --animation 0 \
+    --tolerance 2% --chart "$r/motion.svg" -q --report "$r/motion.json"
+  check "motion: report schema" v proxy-eval-report.schema.json "$r/motion.json"
+  check "motion: chart drawn" grep -q "<polyline" "$r/motion.svg"
+  check "motion: the frames seen, and between them" /usr/bin/python3 - "$r/motion.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))["motion"]
+rows, d = m["frames"], m["diagonal"]
+seen = [f for f in rows if f["seen"]]
+assert len(seen) == 2, len(seen)
+assert sum(f["between"] for f in rows) == sum(not f["between"] for f in rows) - 1
+for f in seen:
+    s, b = f["skinned"], f["best_fit_blend"]
+    assert s["overshoot"] <= 1e-5 * d and s["centers_outside"] == 0, f
+    assert s["max"] <= 1.25 * m["tolerance"], f
+    assert abs(b["max"] - s["max"]) <= 1e-4 * d, f
+assert m["summary"]["skinned"]["all"]["frames"] == len(rows) == m["times"]
+PY
+  expect_error() {  # expect_error CODE PATTERN command...: that exit code and one error line naming it
+    local code=$1 pattern=$2 err got
+    shift 2
+    err=$("$@" 2>&1 >/dev/null); got=$?
+    if [ "$got" = "$code" ] && [ "$(printf '%s\n' "$err" | grep -c '^Error:')" = 1 ] && printf '%s' "$err" | grep -q -- "$pattern"
+    then passed=$((passed + 1)); else echo "FAIL: $* -> exit $got (want $code): $err"; fail=$((fail + 1)); fi
+  }
+  set +e
+  expect_error 1 "asset.*no skin" "$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --asset "$rig" --animation 0
+  expect_error 2 "car-morph.glb: has no joint" "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$out/in/car-morph.glb" --animation 0
+  expect_error 1 "times" "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$rig" --animation 0 --times 99
+  # pose-map refuses a rig that does not fit its poses, naming the file and the field.
+  pm() { "$bin/pose-map" --rest "$r/poses/rest.obj" "$@" --spheres "$r/rest.spheres.json" -o "$out/bad.proxy.json"; }
+  poses=(--pose "$r/poses/pose-00.obj" --pose "$r/poses/pose-01.obj")
+  /usr/bin/python3 - "$r/poses/skin.json" "$out" <<'PY'
+import json, sys
+skin = json.load(open(sys.argv[1]))
+more = json.loads(json.dumps(skin)); more["poses"][1]["joint_matrices"].append(more["poses"][1]["joint_matrices"][0])
+json.dump(more, open(sys.argv[2] + "/skin-more-joints.json", "w"))
+skin["poses"][0]["joint_matrices"][0][0] = 123456789.25  # a unique token, then out of range
+open(sys.argv[2] + "/skin-infinite.json", "w").write(json.dumps(skin).replace("123456789.25", "1e999"))
+PY
+  expect_error 2 "skin-more-joints.json: pose '.*' joint_matrices does not hold one matrix per joint" pm "${poses[@]}" --skin "$out/skin-more-joints.json"
+  expect_error 2 "skin-infinite.json: .*1e999" pm "${poses[@]}" --skin "$out/skin-infinite.json"
+  expect_error 2 "rest.obj: is not the skin of its joint matrices" pm --pose "$r/poses/pose-00.obj" --pose "$r/poses/rest.obj" --skin "$r/poses/skin.json"
+  check "a refused rig leaves no proxy" test ! -e "$out/bad.proxy.json"
+  set -e
 fi
 echo "$passed passed, $fail failed"
 [ "$fail" = 0 ]

@@ -1,0 +1,159 @@
+#include "metrics/motion_eval.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <tbb/parallel_for.h>
+
+#include "core/error.hpp"
+#include "io/spx_writer.hpp"
+#include "mesh/mesh_query.hpp"
+#include "mesh/union_distance.hpp"
+#include "metrics/simplex_fit.hpp"
+#include "runtime/spx_runtime.h"
+
+namespace spx {
+
+const char* motion_runtime_name(int runtime) {
+  static const char* names[kMotionRuntimes] = {"skinned", "rigid_per_bone", "best_fit_blend"};
+  return names[runtime];
+}
+
+namespace {
+
+SphereSet from_xyzr(const std::vector<float>& xyzr) {
+  SphereSet s(xyzr.size() / 4);
+  for (size_t i = 0; i < s.size(); ++i)
+    s[i] = {Eigen::Vector3d(xyzr[4 * i], xyzr[4 * i + 1], xyzr[4 * i + 2]), double(xyzr[4 * i + 3])};
+  return s;
+}
+
+// `spheres` against the body `query` holds.
+FrameError measure_frame(const MeshQuery& query, const SphereSet& spheres) {
+  FrameError e;
+  const std::vector<double> d = union_signed_distance(query.surface().vertices, spheres);
+  const ErrorStats stats = summarize_abs(d);
+  e.median = stats.median;
+  e.max = stats.max;
+  for (const Sphere& s : spheres) {
+    if (!(s.radius > 0)) {
+      ++e.zero;
+      continue;
+    }
+    const double signed_distance = query.signed_distance(s.center);  // negative inside
+    e.overshoot = std::max(e.overshoot, s.radius + signed_distance);
+    e.outside += signed_distance > 0;
+  }
+  return e;
+}
+
+// The column-major floats a host hands spx::skin.
+std::vector<float> host_matrices(const std::vector<Eigen::Matrix4d>& joints) {
+  std::vector<float> m(16 * joints.size());
+  for (size_t j = 0; j < joints.size(); ++j) Eigen::Map<Eigen::Matrix4f>(m.data() + 16 * j) = joints[j].cast<float>();
+  return m;
+}
+
+// Each sphere fixed to its heaviest joint: its rest centre moved by that joint's matrix alone.
+std::vector<float> rigid_per_bone(const Proxy& runtime, const std::vector<float>& matrices) {
+  std::vector<float> out(4 * size_t(runtime.sphere_count()));
+  for (uint32_t i = 0; i < runtime.sphere_count(); ++i) {
+    const float* s = runtime.skin_spheres() + 8 * size_t(i);
+    const uint32_t* j = runtime.skin_joints() + 4 * size_t(i);
+    const int heaviest = int(std::max_element(s + 4, s + 8) - (s + 4));
+    const Eigen::Map<const Eigen::Matrix4f> m(matrices.data() + 16 * size_t(j[heaviest]));
+    const Eigen::Vector4f c = m * Eigen::Vector4f(s[0], s[1], s[2], 1);
+    for (int k = 0; k < 3; ++k) out[4 * i + k] = c[k];
+    out[4 * i + 3] = s[3];
+  }
+  return out;
+}
+
+// The examples' vertices as the columns of A, kept in Gram form: G = A'A, and b = A'v per frame.
+struct ExampleFit {
+  Eigen::MatrixXd A, G;
+  explicit ExampleFit(const std::vector<TriMesh>& examples) {
+    if (examples.empty()) return;
+    const size_t n = examples[0].vertices.size();
+    A.resize(Eigen::Index(3 * n), Eigen::Index(examples.size()));
+    for (size_t e = 0; e < examples.size(); ++e)
+      for (size_t v = 0; v < n; ++v) A.block<3, 1>(Eigen::Index(3 * v), Eigen::Index(e)) = examples[e].vertices[v];
+    G = A.transpose() * A;
+  }
+  Eigen::VectorXd weights(const TriMesh& frame) const {
+    Eigen::VectorXd v(A.rows());
+    for (size_t i = 0; i < frame.vertices.size(); ++i) v.segment<3>(Eigen::Index(3 * i)) = frame.vertices[i];
+    return simplex_least_squares(G, A.transpose() * v);
+  }
+};
+
+MotionRow measure_motion_frame(const Proxy& runtime, const MotionFrame& frame, const ExampleFit* fit) {
+  MotionRow row;
+  row.time = frame.time, row.seen = frame.seen, row.between = frame.between;
+  const MeshQuery query(frame.mesh);
+  const std::vector<float> matrices = host_matrices(frame.joints);
+  std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
+  const Status status = skin(runtime, matrices.data(), int(frame.joints.size()), xyzr.data());
+  if (status != SPX_OK) fail_input("", std::string("the runtime cannot skin the proxy: ") + status_string(status));
+  row.error[kSkinned] = measure_frame(query, from_xyzr(xyzr));
+  row.error[kRigid] = measure_frame(query, from_xyzr(rigid_per_bone(runtime, matrices)));
+  if (fit) {
+    const Eigen::VectorXd w = fit->weights(frame.mesh);
+    row.blend_weights.assign(w.data(), w.data() + w.size());
+    for (float& x : row.blend_weights) x = std::max(x, 0.0f);
+    if (blend_global_xyzr(runtime, row.blend_weights.data(), uint32_t(w.size()), xyzr.data()) != SPX_OK)
+      fail_input("", "the runtime cannot blend the proxy at the best-fit weights");
+    row.error[kBestBlend] = measure_frame(query, from_xyzr(xyzr));
+  }
+  return row;
+}
+
+// The median time of one spx::skin, as runtime-bench measures it.
+double time_skin(const Proxy& runtime, const std::vector<float>& matrices) {
+  std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
+  std::vector<double> times;
+  const int joints = int(matrices.size() / 16);
+  for (int rep = 0; rep < 31; ++rep) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < 20; ++k) skin(runtime, matrices.data(), joints, xyzr.data());
+    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 20);
+  }
+  std::nth_element(times.begin(), times.begin() + 15, times.end());
+  return times[15];
+}
+
+}  // namespace
+
+MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const std::function<MotionFrame(size_t)>& frame,
+                             const std::vector<TriMesh>& examples, Log& log) {
+  if (proxy.skin.empty()) fail_input("", "the proxy has no skin: a clip is measured on a rigged body's proxy");
+  if (!examples.empty() && examples.size() != proxy.poses.size())
+    fail_option("poses", "the proxy has " + std::to_string(proxy.poses.size()) + " poses, " +
+                             std::to_string(examples.size()) + " example meshes were given");
+  const std::string bytes = encode_spx(proxy);
+  Proxy runtime;
+  const Status status = load_memory(bytes.data(), bytes.size(), &runtime);
+  if (status != SPX_OK) fail_input("", std::string("runtime cannot load the proxy: ") + status_string(status));
+  const ExampleFit fit(examples);
+  MotionResult result;
+  result.blend = !examples.empty();
+  result.rows.resize(frame_count);
+  // In batches, so progress is reported from one thread; every row lands in its own slot.
+  const size_t batch = 16;
+  std::vector<float> first_matrices;
+  for (size_t first = 0; first < frame_count; first += batch) {
+    log.progress("measuring frames", first, frame_count);
+    tbb::parallel_for(first, std::min(frame_count, first + batch), [&](size_t i) {
+      const MotionFrame f = frame(i);
+      if (f.joints.size() != runtime.joint_count())
+        fail_input("", "frame at " + std::to_string(f.time) + " s has " + std::to_string(f.joints.size()) +
+                           " joint matrices; the proxy's skin has " + std::to_string(runtime.joint_count()));
+      result.rows[i] = measure_motion_frame(runtime, f, result.blend ? &fit : nullptr);
+      if (i == 0) first_matrices = host_matrices(f.joints);
+    });
+  }
+  if (frame_count) result.skin_us = time_skin(runtime, first_matrices);
+  return result;
+}
+
+}  // namespace spx

@@ -1,0 +1,206 @@
+#include "metrics/motion_eval_tool.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "extract/asset.hpp"
+#include "io/pose_manifest.hpp"
+#include "metrics/motion_chart.hpp"
+#include "metrics/motion_eval.hpp"
+
+namespace spx {
+namespace {
+
+struct ClipTimes {
+  std::vector<double> time;
+  std::vector<char> between;
+};
+
+// The times asked for, in order, with the half-way times between consecutive ones.
+ClipTimes clip_times(const AssetClip& clip, const MotionToolOptions& opt) {
+  if (opt.every < 1) fail_option("every", "must be at least 1");
+  std::vector<double> asked = opt.times;
+  if (asked.empty())
+    for (size_t f = 0; f < clip.frames.size(); f += size_t(opt.every)) asked.push_back(clip.frames[f]);
+  for (double t : asked)
+    if (!std::isfinite(t) || t < 0 || t > clip.end + 1e-9)
+      fail_option("times", std::to_string(t) + " s is outside the clip '" + clip.name + "' (0 to " +
+                               std::to_string(clip.end) + " s)");
+  std::sort(asked.begin(), asked.end());
+  asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
+  if (asked.empty()) fail_option("animation", "the clip '" + clip.name + "' has no frames");
+  ClipTimes out;
+  for (size_t i = 0; i < asked.size(); ++i) {
+    if (i > 0 && opt.between) out.time.push_back(0.5 * (asked[i - 1] + asked[i])), out.between.push_back(1);
+    out.time.push_back(asked[i]), out.between.push_back(0);
+  }
+  return out;
+}
+
+// The times of the clip's frames the proxy was made from, from its poses.json.
+std::vector<double> seen_times(const std::string& manifest_path, size_t clip) {
+  std::vector<double> seen;
+  if (manifest_path.empty()) return seen;
+  for (const ManifestPose& p : read_pose_manifest(manifest_path).poses)
+    if (p.source.value("kind", "") == "animation" && p.source.value("clip_index", -1) == int(clip))
+      seen.push_back(p.source.value("time", -1.0));
+  return seen;
+}
+
+// The asset's joint for each of the proxy's skin joints, by name.
+std::vector<int> joint_order(const Asset& asset, const ProxySkin& skin) {
+  std::vector<int> order;
+  for (const std::string& name : skin.joints) {
+    const auto& joints = asset.joints();
+    const auto it = std::find_if(joints.begin(), joints.end(), [&](const AssetJoint& j) { return j.name == name; });
+    if (it == joints.end())
+      fail_input(asset.path(), "has no joint '" + name + "', which the proxy's skin uses: not the asset the proxy was made from");
+    order.push_back(int(it - joints.begin()));
+  }
+  return order;
+}
+
+// The asset's welded vertex of each example vertex: the examples are read back from OBJ in their
+// own order. Examples given must be the asset's own welded rest and poses.
+std::vector<size_t> example_order(const std::vector<TriMesh>& examples, const WeldedBody& body, const std::string& asset) {
+  const auto& rest = body.rest.vertices;
+  std::vector<size_t> order(rest.size());
+  for (size_t v = 0; v < order.size(); ++v) order[v] = v;
+  if (examples.empty()) return order;
+  const auto& given = examples[0].vertices;
+  if (given.size() != rest.size())
+    fail_input(asset, "has " + std::to_string(rest.size()) + " welded vertices, the rest mesh " +
+                          std::to_string(given.size()) + ": not the asset the poses came from");
+  // Both sorted by position (as floats, as the OBJ holds them), then paired.
+  const auto by_position = [](const std::vector<Eigen::Vector3d>& p) {
+    std::vector<size_t> idx(p.size());
+    for (size_t v = 0; v < idx.size(); ++v) idx[v] = v;
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) {
+      const Eigen::Vector3f x = p[a].cast<float>(), y = p[b].cast<float>();
+      return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+    });
+    return idx;
+  };
+  const std::vector<size_t> mine = by_position(rest), theirs = by_position(given);
+  double worst = 0;
+  for (size_t k = 0; k < order.size(); ++k) {
+    order[theirs[k]] = mine[k];
+    worst = std::max(worst, (given[theirs[k]] - rest[mine[k]]).norm());
+  }
+  if (worst > 1e-5 * body.rest.diagonal())
+    fail_input(asset, "its bind pose is not the rest mesh (a vertex " + std::to_string(worst) +
+                          " away): not the asset the poses came from");
+  return order;
+}
+
+json frame_error_json(const FrameError& e) {
+  return {{"median", e.median}, {"max", e.max}, {"overshoot", e.overshoot}, {"centers_outside", e.outside},
+          {"zero_radius", e.zero}};
+}
+
+// Per runtime and group of frames: how many, the max error's median and worst, the worst
+// overshoot and the frames with a centre outside.
+json summary_json(const MotionResult& r, int runtime, const std::function<bool(const MotionRow&)>& in_group,
+                  double diagonal, double tolerance) {
+  std::vector<double> maxima;
+  double overshoot = 0;
+  size_t outside = 0;
+  for (const MotionRow& row : r.rows) {
+    if (!in_group(row)) continue;
+    const FrameError& e = row.error[size_t(runtime)];
+    maxima.push_back(e.max);
+    overshoot = std::max(overshoot, e.overshoot);
+    outside += e.outside > 0;
+  }
+  json j = {{"frames", maxima.size()}};
+  if (maxima.empty()) return j;
+  std::sort(maxima.begin(), maxima.end());
+  const double median = maxima[maxima.size() / 2], worst = maxima.back();
+  j.update({{"max_error_median", median}, {"max_error_worst", worst}, {"overshoot_worst", overshoot},
+            {"frames_with_centers_outside", outside},
+            {"percent_of_diagonal", {{"max_error_median", 100 * median / diagonal}, {"max_error_worst", 100 * worst / diagonal},
+                                     {"overshoot_worst", 100 * overshoot / diagonal}}}});
+  if (tolerance > 0) j["worst_over_tolerance"] = worst / tolerance;
+  return j;
+}
+
+void log_summary(const json& s, const char* runtime, const char* group, Log& log) {
+  if (s["frames"].get<size_t>() == 0) return;
+  const json& p = s["percent_of_diagonal"];
+  char line[320];
+  std::snprintf(line, sizeof line, "%-15s %-15s %4zu frames: max error median %.3f%% worst %.3f%%, overshoot %.3f%%, %zu with centres outside",
+                runtime, group, s["frames"].get<size_t>(), p["max_error_median"].get<double>(),
+                p["max_error_worst"].get<double>(), p["overshoot_worst"].get<double>(),
+                s["frames_with_centers_outside"].get<size_t>());
+  log.info(line);
+}
+
+}  // namespace
+
+json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& examples, const MotionToolOptions& opt,
+                         Log& log) {
+  if (proxy.skin.empty())
+    fail_option("asset", "the proxy has no skin: --asset measures a rigged body's proxy over a clip");
+  const Asset asset(opt.asset, opt.mesh);
+  const size_t clip = asset.find_clip(opt.animation);
+  const WeldedBody body = weld_body(asset);
+  const std::vector<size_t> order_of_vertices = example_order(examples, body, opt.asset);
+  const TriMesh& layout = examples.empty() ? body.rest : examples[0];
+  const std::vector<int> order = joint_order(asset, proxy.skin);
+  const ClipTimes times = clip_times(asset.clips()[clip], opt);
+  const std::vector<double> seen = seen_times(opt.manifest, clip);
+  const double diagonal = body.rest.diagonal(), seam = 1e-7 * diagonal;
+  const auto frame = [&](size_t i) {
+    MotionFrame f;
+    f.time = times.time[i];
+    f.between = times.between[i];
+    f.seen = std::any_of(seen.begin(), seen.end(), [&](double t) { return std::abs(t - f.time) < 1e-4; });
+    size_t opened = 0;
+    const std::string what = "clip '" + asset.clips()[clip].name + "' at " + std::to_string(f.time) + " s";
+    const TriMesh welded = welded_pose(body, asset.at_time(clip, f.time), seam, opened, what, opt.asset);
+    f.mesh.triangles = layout.triangles;
+    for (size_t v : order_of_vertices) f.mesh.vertices.push_back(welded.vertices[v]);
+    const std::vector<Eigen::Matrix4d> all = asset.joint_matrices(clip, f.time);
+    for (int j : order) f.joints.push_back(all[size_t(j)]);
+    return f;
+  };
+  const MotionResult r = evaluate_motion(proxy, times.time.size(), frame, examples, log);
+
+  const double tolerance = opt.tolerance.length(diagonal);
+  json rows = json::array();
+  for (const MotionRow& row : r.rows) {
+    json j = {{"time", row.time}, {"seen", row.seen}, {"between", row.between}};
+    for (int k = 0; k < kMotionRuntimes; ++k)
+      if (k != kBestBlend || r.blend) j[motion_runtime_name(k)] = frame_error_json(row.error[size_t(k)]);
+    rows.push_back(j);
+  }
+  const std::pair<const char*, std::function<bool(const MotionRow&)>> groups[] = {
+      {"frames_seen", [](const MotionRow& row) { return row.seen; }},
+      {"frames_unseen", [](const MotionRow& row) { return !row.seen && !row.between; }},
+      {"between_frames", [](const MotionRow& row) { return row.between; }},
+      {"all", [](const MotionRow&) { return true; }}};
+  json summary;
+  for (int k = 0; k < kMotionRuntimes; ++k) {
+    if (k == kBestBlend && !r.blend) continue;
+    for (const auto& g : groups) {
+      summary[motion_runtime_name(k)][g.first] = summary_json(r, k, g.second, diagonal, tolerance);
+      log_summary(summary[motion_runtime_name(k)][g.first], motion_runtime_name(k), g.first, log);
+    }
+  }
+  if (!r.blend) log.info("best-fit blend not measured: give the examples (--manifest) to compare with it");
+  json out = {{"asset", opt.asset}, {"clip", asset.clips()[clip].name}, {"clip_index", clip},
+              {"times", times.time.size()}, {"diagonal", diagonal}, {"spheres", proxy.sphere_count()},
+              {"joints", proxy.skin.joints.size()}, {"runtime", {{"skin_us_median", r.skin_us}}},
+              {"summary", summary}, {"frames", rows}};
+  if (tolerance > 0) out["tolerance"] = tolerance;
+  if (!opt.chart.empty()) {
+    write_file_atomic(opt.chart, motion_chart_svg(r, diagonal, tolerance, asset.clips()[clip].name));
+    out["chart"] = opt.chart;
+  }
+  return out;
+}
+
+}  // namespace spx
