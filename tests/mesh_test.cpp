@@ -8,6 +8,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "mesh/defects.hpp"
+#include "mesh/deforming_query.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/solid_boundary.hpp"
@@ -245,6 +246,60 @@ void check_winding_numbers(const TriMesh& mesh, int samples, double tolerance) {
     }
   }
   EXPECT_GT(checked, samples / 2);
+}
+
+// One hierarchy, many shapes: each shape's signed distances against brute force (every triangle)
+// and the exact winding number's side, on the box (corner and edge regions everywhere) and the
+// elephant, at rest and twisted about its vertical axis.
+void check_deforming_query(const TriMesh& rest, int points, unsigned seed) {
+  const DeformingQuery query(rest);
+  ASSERT_TRUE(query.closed());
+  const Eigen::AlignedBox3d box = rest.bounds();
+  const double diag = rest.diagonal();
+  for (double twist : {0.0, 0.6}) {
+    TriMesh shape = rest;
+    for (auto& v : shape.vertices) {
+      const double a = twist * (v.y() - box.min().y()) / box.sizes().y();
+      v = Eigen::Vector3d(std::cos(a) * v.x() + std::sin(a) * v.z(), v.y(), -std::sin(a) * v.x() + std::cos(a) * v.z());
+    }
+    const DeformingQuery::Shape s = query.shape(shape.vertices);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-0.1, 1.1), near(-0.02, 0.02);
+    std::uniform_int_distribution<size_t> vertex(0, shape.vertices.size() - 1);
+    int checked_sides = 0;
+    for (int i = 0; i < points; ++i) {
+      // Half in the box, half a hair from a vertex (its corner and edge regions).
+      const Eigen::Vector3d p =
+          i % 2 ? Eigen::Vector3d(box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng))))
+                : Eigen::Vector3d(shape.vertices[vertex(rng)] + diag * Eigen::Vector3d(near(rng), near(rng), near(rng)));
+      double brute = 1e300;
+      for (const auto& t : shape.triangles)
+        brute = std::min(brute, (p - closest_point_on_triangle(p, shape.vertices[size_t(t[0])], shape.vertices[size_t(t[1])],
+                                                               shape.vertices[size_t(t[2])])).norm());
+      const double d = s.signed_distance(p);
+      EXPECT_NEAR(std::abs(d), brute, 1e-12 * diag) << "twist " << twist << " point " << i;
+      const double w = winding_number_exact(shape, p);
+      if (brute < 1e-6 * diag || std::abs(w - std::round(w)) > 0.05 || w > 1.5 || w < -0.5) continue;
+      ++checked_sides;
+      EXPECT_EQ(d < 0, w > 0.5) << "twist " << twist << " point " << i << " w " << w;
+    }
+    EXPECT_GT(checked_sides, points * 3 / 4);
+  }
+}
+
+TEST(DeformingQuery, SignedDistancesMatchBruteForceInEveryShape) {
+  check_deforming_query(test::box_mesh({-1, -2, -0.5}, {1, 2, 0.5}), 2000, 3);
+  SPX_REQUIRE_SHARED_DATA();
+  check_deforming_query(load_mesh(test::shared_data() + "/elephant/rest.obj").mesh, 400, 4);
+}
+
+TEST(DeformingQuery, OpenMeshesAreNotClosed) {
+  TriMesh open = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  open.triangles.pop_back();
+  EXPECT_FALSE(DeformingQuery(open).closed());
+  TriMesh flipped = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
+  EXPECT_FALSE(DeformingQuery(flipped).closed());
 }
 
 TEST(WindingNumber, ClosedMeshIsOneInsideZeroOutside) {

@@ -18,6 +18,7 @@
 #include "mesh/solid_boundary.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
+#include "posemap/clip_radius.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "pack/candidates.hpp"
@@ -769,6 +770,69 @@ TEST(PoseMap, ClipSelectionCoversEveryFrameAndCountsWhatNothingReaches) {
     EXPECT_TRUE(bare_samples(surface_samples(frames.frame_mesh(f), options.area_samples, options.seed), in_frame,
                              options.target).empty()) << "frame " << f;
   }
+}
+
+// The clip between the poses: its meshes at the poses' own times are the extracted poses, and
+// the least radius over it is, sphere by sphere, what a MeshQuery of every clip mesh finds (the
+// refitted hierarchy and the pseudo-normals against trees and winding numbers built afresh).
+TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("clip-radius");
+  PoseExtractOptions opt;
+  opt.animation = "0";
+  opt.every = 3;
+  json report;
+  pose_extract_files(test::shared_data() + "/rigged-simple/RiggedSimple.glb", dir, opt, Log::silent(), report);
+  const PoseManifest manifest = read_pose_manifest(dir + "/poses.json");
+  const LoadedMesh rest = load_mesh(dir + "/rest.obj");
+  SkinFile skin = read_skin_file(dir + "/skin.json");
+  skin.vertex_weights = weights_for_vertices(skin, rest.mesh.vertices, 1e-6 * rest.mesh.diagonal(), dir);
+  ASSERT_FALSE(skin.clip.empty());
+  const ClipRadius clip(skin, rest.mesh, 1e30);
+  const double diag = rest.mesh.diagonal();
+  for (size_t k = 0; k < manifest.poses.size(); ++k) {
+    const double t = manifest.poses[k].source["time"].get<double>();
+    const size_t at = size_t(std::min_element(skin.clip.times.begin(), skin.clip.times.end(),
+                                              [&](double a, double b) { return std::abs(a - t) < std::abs(b - t); }) -
+                             skin.clip.times.begin());
+    const TriMesh pose = load_pose(dir + "/" + manifest.poses[k].file, rest), mine = clip.mesh_at(at);
+    for (size_t v = 0; v < pose.vertices.size(); ++v) ASSERT_LE((pose.vertices[v] - mine.vertices[v]).norm(), 1e-6 * diag);
+  }
+  // Spheres at random interior points, each following its nearest vertex's 4 heaviest joints.
+  std::mt19937 rng(5);
+  const WindingNumber wn(rest.mesh);
+  const Eigen::AlignedBox3d box = rest.mesh.bounds();
+  std::vector<SkinInfluence> influences;
+  std::vector<double> radius;
+  while (influences.size() < 60) {
+    std::uniform_real_distribution<double> u(0, 1);
+    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    if (!wn.inside(p)) continue;
+    size_t nearest = 0;
+    for (size_t v = 0; v < rest.mesh.vertices.size(); ++v)
+      if ((rest.mesh.vertices[v] - p).norm() < (rest.mesh.vertices[nearest] - p).norm()) nearest = v;
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
+    for (const auto& [j, x] : skin.vertex_weights[nearest]) w[j] += x;
+    SkinInfluence s = heaviest_four(w);
+    s.bind = p;  // the rest matrices of this asset are the identity where it is bound
+    influences.push_back(s);
+    radius.push_back(0.2 * diag);
+  }
+  const std::vector<double> least = clip.least(influences, radius);
+  std::vector<double> brute(radius);
+  for (size_t k = 0; k < clip.time_count(); ++k) {
+    const MeshQuery q(clip.mesh_at(k));
+    for (size_t i = 0; i < brute.size(); ++i) {
+      const Eigen::Vector3d c = skin_point(influences[i], skin.clip.matrices[k]);
+      brute[i] = std::min(brute[i], q.inside(c) ? q.distance(c) : 0.0);
+    }
+  }
+  size_t shrunk = 0;
+  for (size_t i = 0; i < least.size(); ++i) {
+    EXPECT_NEAR(least[i], brute[i], 1e-9 * diag) << "sphere " << i;
+    shrunk += least[i] < radius[i];
+  }
+  EXPECT_GT(shrunk, 30u);  // the clip really bounds them
 }
 
 }  // namespace

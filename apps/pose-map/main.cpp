@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
   tool.app.add_option("--max-spheres", opt.max_spheres,
                       "Select at most N spheres with the least max error over the rest and every pose")
       ->check(CLI::PositiveNumber);
+  tool.app.add_flag("--hold-over-clip", opt.hold_over_clip,
+                    "Rigged: each sphere's one radius also holds at every frame of the clip and half-way between "
+                    "(the skin's clip), not only at the poses");
   tool.app.add_flag("--map-given", opt.map_given,
                     "Map the spheres file's spheres as they are (the paper's S_1..S_e) instead of selecting");
   tool.app.add_option("--samples", opt.area_samples, "Selection: surface samples per pose besides every vertex")

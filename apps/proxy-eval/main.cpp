@@ -28,7 +28,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--animation", m.animation, "With --asset: the clip, by name or index")->needs(asset_opt);
   tool.app.add_option("--every", m.every, "With --asset: every Nth frame of the clip")->capture_default_str()->needs(asset_opt);
   tool.app.add_option("--times", m.times, "With --asset: these times in seconds instead")->needs(asset_opt);
-  tool.app.add_flag("!--no-between", m.between, "With --asset: only the times asked for, not half-way between them");
+  tool.app.add_option("--between", m.between, "With --asset: also this many times evenly between consecutive ones "
+                      "(0: none)")->capture_default_str()->needs(asset_opt);
   tool.app.add_option("--chart", m.chart, "With --asset: error over the clip as an SVG chart")->needs(asset_opt);
   std::string tolerance;
   tool.app.add_option("--tolerance", tolerance, "With --asset: the target, for ratios in the report (T or T% of the "

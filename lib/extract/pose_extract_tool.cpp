@@ -222,7 +222,16 @@ SkinFile skin_of(const Asset& asset, const WeldedBody& body, const std::vector<P
   }
   skin.rest = asset.rest_joint_matrices();
   for (const PoseRequest& r : requests) skin.poses.push_back({r.name, asset.joint_matrices(r.clip, r.time)});
-  skin.morph_channels = requests.empty() ? 0 : asset.clips()[requests.front().clip].morph_channels;
+  if (requests.empty()) return skin;
+  const AssetClip& clip = asset.clips()[requests.front().clip];
+  skin.morph_channels = clip.morph_channels;
+  // The whole clip, every frame and half-way between, for the radius rule over the motion.
+  skin.clip.name = clip.name;
+  for (size_t f = 0; f < clip.frames.size(); ++f) {
+    if (f > 0) skin.clip.times.push_back(0.5 * (clip.frames[f - 1] + clip.frames[f]));
+    skin.clip.times.push_back(clip.frames[f]);
+  }
+  for (double t : skin.clip.times) skin.clip.matrices.push_back(asset.joint_matrices(requests.front().clip, t));
   return skin;
 }
 

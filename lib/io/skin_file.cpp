@@ -54,6 +54,21 @@ JointWeights weights_from_json(const json& j, size_t joints, const std::string& 
   return out;
 }
 
+SkinClip clip_from_json(const json& j, size_t joints, const std::string& path) {
+  SkinClip clip;
+  clip.name = require_string(j, "name", path);
+  const json& times = require(j, "times", path);
+  const json& matrices = require(j, "joint_matrices", path);
+  if (!times.is_array() || !matrices.is_array() || times.size() != matrices.size())
+    fail_input(path, "field 'clip' does not hold one list of joint matrices per time");
+  for (size_t k = 0; k < times.size(); ++k) {
+    const std::string what = "clip time " + std::to_string(k);
+    clip.times.push_back(as_finite_number(times[k], what, path));
+    clip.matrices.push_back(matrices_from_json(matrices[k], joints, what + " joint_matrices", path));
+  }
+  return clip;
+}
+
 }  // namespace
 
 json skin_to_json(const SkinFile& skin) {
@@ -68,7 +83,7 @@ json skin_to_json(const SkinFile& skin) {
     weights.push_back(pairs);
   }
   for (const auto& p : skin.poses) poses.push_back({{"name", p.name}, {"joint_matrices", matrices_to_json(p.matrices)}});
-  return {{"format", kFormat},
+  json out = {{"format", kFormat},
           {"version", kVersion},
           {"generator", std::string("spx ") + version_string()},
           {"joints", joints},
@@ -77,6 +92,12 @@ json skin_to_json(const SkinFile& skin) {
           {"rest", {{"joint_matrices", matrices_to_json(skin.rest)}}},
           {"poses", poses},
           {"morph_channels", skin.morph_channels}};
+  if (!skin.clip.empty()) {
+    json matrices = json::array();
+    for (const auto& m : skin.clip.matrices) matrices.push_back(matrices_to_json(m));
+    out["clip"] = {{"name", skin.clip.name}, {"times", skin.clip.times}, {"joint_matrices", matrices}};
+  }
+  return out;
 }
 
 SkinFile read_skin_file(const std::string& path) {
@@ -123,6 +144,7 @@ SkinFile read_skin_file(const std::string& path) {
       skin.poses.push_back(std::move(pose));
     }
     skin.morph_channels = j.value("morph_channels", size_t(0));
+    if (j.contains("clip")) skin.clip = clip_from_json(j["clip"], joints.size(), path);
     return skin;
   });
 }

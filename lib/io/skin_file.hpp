@@ -29,6 +29,15 @@ struct SkinPose {
   JointMatrices matrices;
 };
 
+// The clip the poses came from, sampled densely (every frame and half-way between): what keeps a
+// skinned sphere's one radius over the whole motion, not only at the poses.
+struct SkinClip {
+  std::string name;
+  std::vector<double> times;          // seconds
+  std::vector<JointMatrices> matrices;  // per time
+  bool empty() const { return times.empty(); }
+};
+
 struct SkinFile {
   std::vector<SkinJoint> joints;
   // Per welded rest vertex: where it is at rest (what pins the weights to a mesh read back in any
@@ -38,6 +47,7 @@ struct SkinFile {
   JointMatrices rest;
   std::vector<SkinPose> poses;  // in poses.json's order
   size_t morph_channels = 0;    // the clip also drives morph weights, which a skin cannot follow
+  SkinClip clip;                // optional ("clip")
 };
 
 json skin_to_json(const SkinFile& skin);

@@ -19,9 +19,10 @@ struct ClipTimes {
   std::vector<char> between;
 };
 
-// The times asked for, in order, with the half-way times between consecutive ones.
+// The times asked for, in order, with `between` times evenly between consecutive ones.
 ClipTimes clip_times(const AssetClip& clip, const MotionToolOptions& opt) {
   if (opt.every < 1) fail_option("every", "must be at least 1");
+  if (opt.between < 0) fail_option("between", "must not be negative");
   std::vector<double> asked = opt.times;
   if (asked.empty())
     for (size_t f = 0; f < clip.frames.size(); f += size_t(opt.every)) asked.push_back(clip.frames[f]);
@@ -34,7 +35,10 @@ ClipTimes clip_times(const AssetClip& clip, const MotionToolOptions& opt) {
   if (asked.empty()) fail_option("animation", "the clip '" + clip.name + "' has no frames");
   ClipTimes out;
   for (size_t i = 0; i < asked.size(); ++i) {
-    if (i > 0 && opt.between) out.time.push_back(0.5 * (asked[i - 1] + asked[i])), out.between.push_back(1);
+    for (int k = 1; i > 0 && k <= opt.between; ++k) {
+      out.time.push_back(asked[i - 1] + (asked[i] - asked[i - 1]) * k / (opt.between + 1));
+      out.between.push_back(1);
+    }
     out.time.push_back(asked[i]), out.between.push_back(0);
   }
   return out;

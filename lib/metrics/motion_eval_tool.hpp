@@ -18,7 +18,7 @@ struct MotionToolOptions {
   std::string animation;       // clip by name or index
   int every = 1;               // every Nth frame of the clip (its distinct key times)
   std::vector<double> times;   // or these times, in seconds
-  bool between = true;         // also half-way between consecutive times
+  int between = 1;             // times evenly between consecutive ones (1: half-way; 0: none)
   std::string manifest;        // pose-extract's poses.json the proxy came from: which frames it saw
   std::string chart;           // OUT.svg: error over time (the paper's Figure 5)
   Tolerance tolerance;         // the target the errors are compared with (ratios in the report)

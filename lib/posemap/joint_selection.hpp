@@ -34,6 +34,11 @@ class SelectionFrames {
   virtual bool one_radius() const = 0;
   // Skinned: each rest centre carried into every frame, and its one radius.
   virtual SkinnedMap::Carried carry_skinned(const SphereSet& rest) const = 0;
+  // Skinned: the least of each radius and its radius over the whole clip (ClipRadius; the
+  // radii as given without a clip).
+  virtual std::vector<double> over_clip(const std::vector<SkinInfluence>&, const std::vector<double>& radius) const {
+    return radius;
+  }
   // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
   // reaches), mapped back to the rest; each of them offered once.
   virtual SphereSet frame_candidates(size_t frame, const std::vector<Eigen::Vector3d>& points, double reach) = 0;
@@ -58,6 +63,7 @@ struct JointSelection {
   size_t rounds = 0;
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
   size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
+  size_t clip_checked = 0, clip_shrunk = 0;  // chosen spheres held over the clip, and those it shrank
 };
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,

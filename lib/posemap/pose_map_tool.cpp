@@ -82,7 +82,8 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"spheres", sel.chosen.size()},
           {"limited_by", limit_wording(sel.limited_by)},
           {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
-                      {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}}};
+                      {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}},
+          {"clip", {{"spheres_held", sel.clip_checked}, {"spheres_shrunk", sel.clip_shrunk}}}};
 }
 
 json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {
@@ -129,9 +130,10 @@ json pose_map_report(const PoseMapResult& result) {
           {"map",
            {{"method", s.skinned ? "linear blend skinning: the surface's joint weights carried in by the harmonic "
                                    "extension, the 4 heaviest kept per sphere; one radius per sphere, the least over "
-                                   "the rest and every pose"
+                                   "the rest, every pose and the clip's times (map.clip)"
                                  : "harmonic extension of the surface motion (least squares), barycentric in tets"},
             {"joints", s.joints},
+            {"clip", {{"times", s.clip_times}, {"spheres_shrunk", s.clip_shrunk}}},
             {"data_points", s.data_points},
             {"dropped_points", s.dropped_points},
             {"centers_outside_tets", s.centers_outside_tets}}},

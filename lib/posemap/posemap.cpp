@@ -16,6 +16,7 @@
 #include "mesh/union_distance.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
+#include "posemap/clip_radius.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/pose_solid.hpp"
@@ -53,6 +54,13 @@ class PoseMapper {
     StageTimer t(log_, "harmonic");
     f_ = std::make_unique<HarmonicMap>(tets_, rest_, log_);
     if (skin_) skinned_ = std::make_unique<SkinnedMap>(*skin_, *f_);
+    // A clip that also drives morph weights is more than its skin: its frames cannot be rebuilt.
+    if (opt_.hold_over_clip && !skin_) fail_option("hold_over_clip", "needs poses with a rig (pose-extract --animation)");
+    if (opt_.hold_over_clip && skin_->clip.empty()) fail_option("hold_over_clip", "the skin has no clip (an older skin.json)");
+    if (opt_.hold_over_clip && skin_->morph_channels > 0)
+      log_.warn("the clip also drives morph weights: skinned radii hold at the poses, not between them");
+    else if (opt_.hold_over_clip)
+      clip_ = std::make_unique<ClipRadius>(*skin_, rest_, proxy_.max_radius);
     for (size_t i = 0; i < poses_.size(); ++i)
       deformed_.push_back(skinned_ ? skinned_->deform_tets(i + 1) : f_->deform(poses_[i].mesh));
   }
@@ -142,6 +150,7 @@ class PoseMapper {
         }
       }
     });
+    hold_over_clip(first, rest_spheres, cause);
     for (const auto& s : rest_spheres) rest_centers_.push_back(s.center);
     for (size_t i = 0; i < proxy_.poses.size(); ++i)
       for (size_t s = 0; s < n; ++s) {
@@ -149,6 +158,29 @@ class PoseMapper {
         ++zero_radius_[i][size_t(cause[i][s]) - 1];
         if (cause[i][s] == char(PoseSolid::Zero::outside)) proxy_.poses[i].outside.push_back(int(first + s));
       }
+  }
+
+  // Skinned: the spheres just mapped (from `first`) keep their one radius over the whole clip,
+  // in every pose (as the selection held its candidates: the same radii, bit for bit).
+  void hold_over_clip(size_t first, const SphereSet& rest_spheres, std::vector<std::vector<char>>& cause) {
+    if (!clip_) return;
+    const size_t n = rest_spheres.size();
+    std::vector<SkinInfluence> influences(n);
+    std::vector<double> radii(n);
+    tbb::parallel_for(size_t(0), n, [&](size_t s) {
+      const Eigen::Vector3d& c = rest_spheres[s].center;
+      influences[s] = skinned_->choose(c, f_->locator().locate(c), solids_).influence;
+      radii[s] = proxy_.poses[0].spheres[first + s].radius;
+    });
+    const std::vector<double> held = clip_->least(influences, radii);
+    for (size_t s = 0; s < n; ++s) {
+      if (!(held[s] < radii[s])) continue;
+      ++clip_shrunk_;
+      for (size_t i = 0; i < proxy_.poses.size(); ++i) {
+        proxy_.poses[i].spheres[first + s].radius = held[s];
+        if (held[s] == 0 && cause[i][s] == char(PoseSolid::Zero::none)) cause[i][s] = char(PoseSolid::Zero::another_pose);
+      }
+    }
   }
 
   // The paper's future work: pack what each pose's mapped spheres leave uncovered, and map the
@@ -218,6 +250,8 @@ class PoseMapper {
     out.boundary_faces = tets_.boundary_faces.size();
     out.unmeshed_bodies = tets_.unmeshed_bodies;
     out.skinned = bool(skinned_);
+    out.clip_times = clip_ ? clip_->time_count() : 0;
+    out.clip_shrunk = clip_shrunk_;
     out.joints = skin_ ? skin_->joints.size() : 0;
     out.data_points = f_->data_points();
     out.dropped_points = f_->dropped_points();
@@ -243,6 +277,10 @@ class PoseMapper {
     const TriMesh& frame_surface(size_t f) const override { return m_.queries_[f]->surface(); }
     SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f); }
     bool one_radius() const override { return bool(m_.skinned_); }
+    std::vector<double> over_clip(const std::vector<SkinInfluence>& influences,
+                                  const std::vector<double>& radius) const override {
+      return m_.clip_ ? m_.clip_->least(influences, radius) : radius;
+    }
     SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override {
       return m_.skinned_->carry(rest, m_.solids_);
     }
@@ -405,6 +443,8 @@ class PoseMapper {
   TetMesh tets_;
   std::unique_ptr<HarmonicMap> f_;
   std::unique_ptr<SkinnedMap> skinned_;  // f for a rigged body
+  std::unique_ptr<ClipRadius> clip_;     // its clip between the poses, where the skin has it
+  size_t clip_shrunk_ = 0;               // written spheres the clip shrank
   std::vector<std::vector<Eigen::Vector3d>> deformed_;  // per pose: tet vertices
   std::vector<const TriMesh*> meshes_;                  // rest, then the poses
   std::vector<std::unique_ptr<MeshQuery>> queries_;

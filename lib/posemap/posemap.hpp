@@ -45,6 +45,9 @@ struct PoseMapOptions {
   double tolerance = 0;
   size_t max_spheres = 0;
   bool map_given = false;
+  // Skinned, with the clip in the skin (pose-extract --animation): each sphere's one radius also
+  // the least over every frame of the clip and half-way between (posemap/clip_radius.hpp).
+  bool hold_over_clip = false;
   size_t area_samples = 4000;
   uint64_t seed = 1;
 };
@@ -69,6 +72,9 @@ struct PoseMapSummary {
   size_t tet_vertices = 0, tetrahedra = 0, boundary_faces = 0;
   std::vector<std::string> unmeshed_bodies;
   bool skinned = false;  // f is the skin (else the harmonic map)
+  // Skinned: times of the clip each radius also holds at (0: the poses alone), and the written
+  // spheres whose radius the clip lowered.
+  size_t clip_times = 0, clip_shrunk = 0;
   size_t joints = 0, data_points = 0, dropped_points = 0, centers_outside_tets = 0;
   bool open_solid = false;  // radii also bounded across the holes by each pose's field
   // Per pose, the rest first: spheres of radius 0 by cause (centre outside, hole bound, on the

@@ -68,6 +68,7 @@ class SkinnedMap {
   struct Carried {
     std::vector<std::vector<Eigen::Vector3d>> centers;
     std::vector<double> radii;
+    std::vector<SkinInfluence> influences;
   };
   Carried carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
   // The proxy's skin for `rest` (the rest pose's spheres, each radius the sphere's one radius),

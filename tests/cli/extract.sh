@@ -74,6 +74,21 @@ for f in seen:
     assert abs(b["max"] - s["max"]) <= 1e-4 * d, f
 assert m["summary"]["skinned"]["all"]["frames"] == len(rows) == m["times"]
 PY
+  # --hold-over-clip: the radius holds at every frame of the clip and half-way between (the
+  # times proxy-eval measures by default), not only at the 2 poses: no sphere pokes out anywhere.
+  "$bin/pose-map" --manifest "$r/poses/poses.json" --spheres "$r/rest.spheres.json" -o "$r/held.proxy.json" \
+    --hold-over-clip -q --report "$r/held.report.json"
+  check "held over the clip: report schema" v pose-map-report.schema.json "$r/held.report.json"
+  "$bin/proxy-eval" "$r/held.proxy.json" --manifest "$r/poses/poses.json" --asset "$rig" --animation 0 -q \
+    --report "$r/held-motion.json"
+  check "held over the clip: no sphere out at any time of the clip" /usr/bin/python3 - "$r/held-motion.json" "$r/held.report.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))["motion"]
+clip = json.load(open(sys.argv[2]))["map"]["clip"]
+assert clip["times"] == len(m["frames"]), (clip, len(m["frames"]))
+for f in m["frames"]:
+    assert f["skinned"]["overshoot"] <= 1e-6 * m["diagonal"] and f["skinned"]["centers_outside"] == 0, f
+PY
   expect_error() {  # expect_error CODE PATTERN command...: that exit code and one error line naming it
     local code=$1 pattern=$2 err got
     shift 2
