@@ -172,6 +172,7 @@ class Selector {
       centers_[f].insert(centers_[f].end(), carried.centers[f].begin(), carried.centers[f].end());
     radius_.insert(radius_.end(), carried.radii.begin(), carried.radii.end());
     influence_.insert(influence_.end(), carried.influences.begin(), carried.influences.end());
+    influence_.resize(radius_.size());  // frames that carry no influences have no clip either
     held_.resize(radius_.size(), 0);
   }
 
