@@ -7,31 +7,30 @@
 #include <numeric>
 #include <tuple>
 
+#include "mesh/defects.hpp"
 #include "mesh/mesh_query.hpp"
 
 namespace spx {
 
 DeformingQuery::DeformingQuery(const TriMesh& rest) : tri_(rest.triangles) {
-  // Edges: each undirected edge once; closed when each has one triangle crossing it each way.
+  closed_ = !tri_.empty() && find_defects(rest).watertight();
+  // Edges: each undirected edge once, for its pseudo-normal.
   struct Half {
     int lo, hi, tri, k;
-    bool forward;
   };
   std::vector<Half> halves;
   for (size_t t = 0; t < tri_.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const int a = tri_[t][k], b = tri_[t][(k + 1) % 3];
-      halves.push_back({std::min(a, b), std::max(a, b), int(t), k, a < b});
+      halves.push_back({std::min(a, b), std::max(a, b), int(t), k});
     }
   std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) {
     return std::tie(x.lo, x.hi, x.tri) < std::tie(y.lo, y.hi, y.tri);
   });
   edge_of_.resize(tri_.size());
-  closed_ = !tri_.empty();
   for (size_t i = 0; i < halves.size();) {
     size_t j = i;
     while (j < halves.size() && halves[j].lo == halves[i].lo && halves[j].hi == halves[i].hi) ++j;
-    if (j - i != 2 || halves[i].forward == halves[i + 1].forward) closed_ = false;
     for (size_t k = i; k < j; ++k) edge_of_[size_t(halves[k].tri)][size_t(halves[k].k)] = int(edges_);
     ++edges_;
     i = j;

@@ -13,8 +13,8 @@ namespace spx {
 class DeformingQuery {
  public:
   explicit DeformingQuery(const TriMesh& rest);
-  // Every edge shared by exactly two triangles that cross it in opposite directions: the
-  // pseudo-normal's sign is then exact. Otherwise shapes must not be asked.
+  // Watertight (find_defects): every edge shared by exactly two triangles crossing it in
+  // opposite directions, so the pseudo-normal's sign is exact. Otherwise shapes must not be asked.
   bool closed() const { return closed_; }
 
   // The mesh with `vertices` (one per rest vertex) for its triangles.

@@ -1,7 +1,6 @@
 #include "metrics/motion_eval.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <tbb/parallel_for.h>
 
@@ -9,6 +8,7 @@
 #include "io/spx_writer.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/union_distance.hpp"
+#include "metrics/proxy_eval.hpp"
 #include "metrics/simplex_fit.hpp"
 #include "runtime/spx_runtime.h"
 
@@ -108,20 +108,6 @@ MotionRow measure_motion_frame(const Proxy& runtime, const MotionFrame& frame, c
   return row;
 }
 
-// The median time of one spx::skin, as runtime-bench measures it.
-double time_skin(const Proxy& runtime, const std::vector<float>& matrices) {
-  std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
-  std::vector<double> times;
-  const int joints = int(matrices.size() / 16);
-  for (int rep = 0; rep < 31; ++rep) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < 20; ++k) skin(runtime, matrices.data(), joints, xyzr.data());
-    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 20);
-  }
-  std::nth_element(times.begin(), times.begin() + 15, times.end());
-  return times[15];
-}
-
 }  // namespace
 
 MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const std::function<MotionFrame(size_t)>& frame,
@@ -152,7 +138,9 @@ MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const 
       if (i == 0) first_matrices = host_matrices(f.joints);
     });
   }
-  if (frame_count) result.skin_us = time_skin(runtime, first_matrices);
+  std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
+  if (frame_count)
+    result.skin_us = median_call_us([&] { skin(runtime, first_matrices.data(), int(first_matrices.size() / 16), xyzr.data()); });
   return result;
 }
 

@@ -64,6 +64,17 @@ nlohmann::json SurfaceError::to_json() const {
           {"outside_fraction", outside_fraction}};
 }
 
+double median_call_us(const std::function<void()>& call) {
+  std::vector<double> times;
+  for (int rep = 0; rep < 31; ++rep) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < 20; ++k) call();
+    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 20);
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
 std::vector<std::vector<float>> blend_weights(size_t poses, int count, unsigned seed) {
   std::vector<std::vector<float>> out;
   for (size_t a = 0; a < poses && int(out.size()) < count; ++a)
@@ -139,16 +150,10 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
   }
 
   // Runtime cost per frame: median time of a global blend, measured here.
-  std::vector<double> times;
   const std::vector<float> w = blend_weights(meshes.size(), std::max<int>(1, int(meshes.size())), opt.seed).back();
-  for (int rep = 0; rep < 31; ++rep) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < 20; ++k) blend_global(runtime, w.data(), uint32_t(w.size()), centers.data(), radii.data());
-    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 20);
-  }
-  std::sort(times.begin(), times.end());
-  result.blend_global_us = times[times.size() / 2];
-  log.detail("global blend: " + std::to_string(times[times.size() / 2]) + " us");
+  result.blend_global_us =
+      median_call_us([&] { blend_global(runtime, w.data(), uint32_t(w.size()), centers.data(), radii.data()); });
+  log.detail("global blend: " + std::to_string(result.blend_global_us) + " us");
   return result;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // proxy-eval: how wrong a proxy is, as the paper measures it (vertex-to-union distance per pose,
 // its Figures 4-6), plus coverage of the interior and the blends a host shows at runtime.
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -51,6 +52,10 @@ struct EvalResult {
 // exactly as a host computes them.
 EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& meshes, const EvalOptions& options,
                           Log& log = Log::silent());
+
+// The median over 31 runs of one call's time in microseconds (each run the mean of 20 calls): how
+// the runtime's per-frame costs are reported.
+double median_call_us(const std::function<void()>& call);
 
 // Weight vectors over `poses` examples: midpoints of pairs first, then seeded random convex
 // combinations; `count` in all.

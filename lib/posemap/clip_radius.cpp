@@ -1,6 +1,5 @@
 #include "posemap/clip_radius.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <tbb/parallel_for.h>
 
@@ -8,34 +7,10 @@
 #include "mesh/winding_number.hpp"
 
 namespace spx {
-namespace {
-
-Eigen::Matrix4d blend(const JointWeights& w, const JointMatrices& m) {
-  Eigen::Matrix4d sum = Eigen::Matrix4d::Zero();
-  for (const auto& [joint, weight] : w) sum += weight * m[size_t(joint)];
-  return sum;
-}
-
-}  // namespace
-
 ClipRadius::ClipRadius(const SkinFile& skin, const TriMesh& rest, double max_radius)
-    : clip_(skin.clip), rest_(rest), max_radius_(max_radius), weights_(skin.vertex_weights), bind_(rest.vertices),
-      deforming_(rest) {
-  for (size_t v = 0; v < bind_.size(); ++v) {
-    if (weights_[v].empty()) continue;  // no joint weighs it: it stays where it is
-    const Eigen::Matrix4d at_rest = blend(weights_[v], skin.rest);
-    bind_[v] = at_rest.fullPivLu().solve(rest.vertices[v].homogeneous()).head<3>();
-  }
-}
+    : clip_(skin.clip), rest_(rest), max_radius_(max_radius), vertices_(skin, rest.vertices), deforming_(rest) {}
 
-TriMesh ClipRadius::mesh_at(size_t k) const {
-  TriMesh mesh;
-  mesh.triangles = rest_.triangles;
-  mesh.vertices.resize(bind_.size());
-  for (size_t v = 0; v < bind_.size(); ++v)
-    mesh.vertices[v] = weights_[v].empty() ? bind_[v] : (blend(weights_[v], clip_.matrices[k]) * bind_[v].homogeneous()).head<3>();
-  return mesh;
-}
+TriMesh ClipRadius::mesh_at(size_t k) const { return {vertices_.all(clip_.matrices[k]), rest_.triangles}; }
 
 std::vector<double> ClipRadius::radii_at(size_t k, const std::vector<SkinInfluence>& influences,
                                          const std::vector<double>& radius) const {

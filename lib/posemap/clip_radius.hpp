@@ -37,8 +37,7 @@ class ClipRadius {
   const SkinClip& clip_;
   const TriMesh& rest_;
   double max_radius_;
-  std::vector<JointWeights> weights_;
-  std::vector<Eigen::Vector3d> bind_;  // each rest vertex in the asset's space
+  SkinnedVertices vertices_;
   DeformingQuery deforming_;
 };
 

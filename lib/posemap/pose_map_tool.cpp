@@ -1,6 +1,5 @@
 #include "posemap/pose_map_tool.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cstdio>
 #include <set>
@@ -8,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/subject.hpp"
+#include "posemap/skinned_map.hpp"
 
 namespace spx {
 namespace {
@@ -15,20 +15,11 @@ namespace {
 // Pose k must be where the skin takes the rest with that pose's joint matrices (each vertex back
 // to the asset's space by its blended rest matrix, then blended by the pose's): a pose set that
 // mixes a clip's frames with other meshes is refused naming the first that is not.
-void check_pose_is_skinned(const SkinFile& skin, const TriMesh& rest, const PoseInput& pose, size_t k, double tolerance,
-                           const std::string& path) {
-  const auto blend = [](const JointWeights& w, const JointMatrices& m) {
-    Eigen::Matrix4d sum = Eigen::Matrix4d::Zero();
-    for (const auto& [joint, weight] : w) sum += weight * m[size_t(joint)];
-    return sum;
-  };
-  for (size_t v = 0; v < rest.vertices.size(); ++v) {
-    const JointWeights& w = skin.vertex_weights[v];
-    if (w.empty()) continue;  // no joint weighs it: it keeps its bind position
-    const Eigen::Matrix4d at_rest = blend(w, skin.rest);
-    if (!at_rest.fullPivLu().isInvertible()) continue;
-    const Eigen::Vector4d bind = at_rest.fullPivLu().solve(rest.vertices[v].homogeneous());
-    const double off = ((blend(w, skin.poses[k].matrices) * bind).head<3>() - pose.mesh.vertices[v]).norm();
+void check_pose_is_skinned(const SkinFile& skin, const SkinnedVertices& skinned, const PoseInput& pose, size_t k,
+                           double tolerance, const std::string& path) {
+  for (size_t v = 0; v < pose.mesh.vertices.size(); ++v) {
+    if (!skinned.bound(v)) continue;  // no joint weighs it: it keeps its bind position
+    const double off = (skinned.at(v, skin.poses[k].matrices) - pose.mesh.vertices[v]).norm();
     if (off > tolerance)
       fail_input(pose.source, "is not the skin of its joint matrices in " + path + " (pose " + std::to_string(k + 1) +
                                   " '" + skin.poses[k].name + "': vertex " + std::to_string(v) + " is " + num(off) +
@@ -51,8 +42,10 @@ SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, const 
   if (skin.poses.size() != poses.size())
     fail_input(path, "holds the joint matrices of " + std::to_string(skin.poses.size()) + " poses; " +
                          std::to_string(poses.size()) + " poses are given (every pose must come with the rig, or none)");
-  if (skin.morph_channels == 0)  // a clip that also drives morph weights is more than its skin
-    for (size_t k = 0; k < poses.size(); ++k) check_pose_is_skinned(skin, rest, poses[k], k, 10 * tolerance, path);
+  if (skin.morph_channels == 0) {  // a clip that also drives morph weights is more than its skin
+    const SkinnedVertices skinned(skin, rest.vertices);
+    for (size_t k = 0; k < poses.size(); ++k) check_pose_is_skinned(skin, skinned, poses[k], k, 10 * tolerance, path);
+  }
   return skin;
 }
 

@@ -140,17 +140,18 @@ class PoseMapper {
     }
     const size_t first = rest_centers_.size(), n = rest_spheres.size();
     for (auto& pose : proxy_.poses) pose.spheres.resize(first + n);
+    if (skinned_) influences_.resize(first + n);
     std::vector<std::vector<char>> cause(proxy_.poses.size(), std::vector<char>(n, 0));
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t s = r.begin(); s != r.end(); ++s) {
-        const auto spheres = in_poses(rest_spheres[s].center, true);
+        const auto spheres = in_poses(rest_spheres[s].center, true, skinned_ ? &influences_[first + s] : nullptr);
         for (size_t i = 0; i < proxy_.poses.size(); ++i) {
           proxy_.poses[i].spheres[first + s] = spheres[i].first;
           cause[i][s] = char(spheres[i].second);
         }
       }
     });
-    hold_over_clip(first, rest_spheres, cause);
+    hold_over_clip(first, n, cause);
     for (const auto& s : rest_spheres) rest_centers_.push_back(s.center);
     for (size_t i = 0; i < proxy_.poses.size(); ++i)
       for (size_t s = 0; s < n; ++s) {
@@ -162,16 +163,11 @@ class PoseMapper {
 
   // Skinned: the spheres just mapped (from `first`) keep their one radius over the whole clip,
   // in every pose (as the selection held its candidates: the same radii, bit for bit).
-  void hold_over_clip(size_t first, const SphereSet& rest_spheres, std::vector<std::vector<char>>& cause) {
+  void hold_over_clip(size_t first, size_t n, std::vector<std::vector<char>>& cause) {
     if (!clip_) return;
-    const size_t n = rest_spheres.size();
-    std::vector<SkinInfluence> influences(n);
+    const std::vector<SkinInfluence> influences(influences_.begin() + long(first), influences_.end());
     std::vector<double> radii(n);
-    tbb::parallel_for(size_t(0), n, [&](size_t s) {
-      const Eigen::Vector3d& c = rest_spheres[s].center;
-      influences[s] = skinned_->choose(c, f_->locator().locate(c), solids_).influence;
-      radii[s] = proxy_.poses[0].spheres[first + s].radius;
-    });
+    for (size_t s = 0; s < n; ++s) radii[s] = proxy_.poses[0].spheres[first + s].radius;
     const std::vector<double> held = clip_->least(influences, radii);
     for (size_t s = 0; s < n; ++s) {
       if (!(held[s] < radii[s])) continue;
@@ -223,7 +219,7 @@ class PoseMapper {
 
   // A rigged body's proxy carries each sphere's influence and its one radius.
   void attach_skin() {
-    if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres, solids_);
+    if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres, influences_);
   }
 
   // Warnings for every radius 0, and the summary's tets, map, per-pose errors and zero radii.
@@ -319,9 +315,10 @@ class PoseMapper {
 
   // The spheres a rest center c becomes in every pose (0: the rest), each by in_pose; a skinned
   // sphere keeps the least of its radii in every pose.
-  std::vector<std::pair<Sphere, PoseSolid::Zero>> in_poses(const Eigen::Vector3d& c, bool cause) const {
+  std::vector<std::pair<Sphere, PoseSolid::Zero>> in_poses(const Eigen::Vector3d& c, bool cause,
+                                                           SkinInfluence* followed) const {
     const TetLocator::Location at = f_->locator().locate(c);
-    if (skinned_) return skinned_->spheres(c, at, solids_, cause);
+    if (skinned_) return skinned_->spheres(c, at, solids_, cause, followed);
     std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
     for (size_t i = 0; i < solids_.size(); ++i) out.push_back(in_pose(c, at, i, cause));
     return out;
@@ -443,6 +440,7 @@ class PoseMapper {
   TetMesh tets_;
   std::unique_ptr<HarmonicMap> f_;
   std::unique_ptr<SkinnedMap> skinned_;  // f for a rigged body
+  std::vector<SkinInfluence> influences_;  // skinned: the influence each written sphere follows
   std::unique_ptr<ClipRadius> clip_;     // its clip between the poses, where the skin has it
   size_t clip_shrunk_ = 0;               // written spheres the clip shrank
   std::vector<std::vector<Eigen::Vector3d>> deformed_;  // per pose: tet vertices

@@ -42,6 +42,35 @@ Eigen::Vector3d skin_point(const SkinInfluence& s, const JointMatrices& m) {
 }
 
 namespace {
+Eigen::Matrix4d blend(const JointWeights& w, const JointMatrices& m) {
+  Eigen::Matrix4d sum = Eigen::Matrix4d::Zero();
+  for (const auto& [joint, weight] : w) sum += weight * m[size_t(joint)];
+  return sum;
+}
+}  // namespace
+
+SkinnedVertices::SkinnedVertices(const SkinFile& skin, const std::vector<Eigen::Vector3d>& rest)
+    : weights_(skin.vertex_weights), bind_(rest), bound_(rest.size(), 0) {
+  for (size_t v = 0; v < rest.size(); ++v) {
+    if (weights_[v].empty()) continue;
+    const Eigen::FullPivLU<Eigen::Matrix4d> at_rest(blend(weights_[v], skin.rest));
+    if (!at_rest.isInvertible()) continue;
+    bind_[v] = at_rest.solve(rest[v].homogeneous()).head<3>();
+    bound_[v] = 1;
+  }
+}
+
+Eigen::Vector3d SkinnedVertices::at(size_t v, const JointMatrices& m) const {
+  return bound_[v] ? Eigen::Vector3d((blend(weights_[v], m) * bind_[v].homogeneous()).head<3>()) : bind_[v];
+}
+
+std::vector<Eigen::Vector3d> SkinnedVertices::all(const JointMatrices& m) const {
+  std::vector<Eigen::Vector3d> out(bind_.size());
+  for (size_t v = 0; v < out.size(); ++v) out[v] = at(v, m);
+  return out;
+}
+
+namespace {
 // p taken to the asset's space: the inverse of s's blended rest matrix (an affine map).
 Eigen::Vector3d unskin_point(const SkinInfluence& s, const JointMatrices& rest, const Eigen::Vector3d& p) {
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
@@ -120,9 +149,10 @@ SkinnedMap::Choice SkinnedMap::choose(const Eigen::Vector3d& c, const TetLocator
 
 std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen::Vector3d& c,
                                                                      const TetLocator::Location& at,
-                                                                     const std::vector<PoseSolid>& solids,
-                                                                     bool cause) const {
+                                                                     const std::vector<PoseSolid>& solids, bool cause,
+                                                                     SkinInfluence* followed) const {
   const Choice chosen = choose(c, at, solids);
+  if (followed) *followed = chosen.influence;
   std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
   for (size_t i = 0; i < solids.size(); ++i) {
     const Eigen::Vector3d center = this->center(chosen.influence, c, i);
@@ -148,16 +178,14 @@ SkinnedMap::Carried SkinnedMap::carry(const SphereSet& rest, const std::vector<P
   return out;
 }
 
-ProxySkin SkinnedMap::proxy_skin(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
+ProxySkin SkinnedMap::proxy_skin(const SphereSet& rest, const std::vector<SkinInfluence>& influences) const {
   ProxySkin out;
   for (const SkinJoint& j : skin_.joints) {
     out.joints.push_back(j.name);
     out.parents.push_back(j.parent);
   }
-  for (const Sphere& sphere : rest) {
-    const SkinInfluence s = choose(sphere.center, f_.locator().locate(sphere.center), solids).influence;
-    out.spheres.push_back({s.joint, s.weight, s.bind, sphere.radius});
-  }
+  for (size_t i = 0; i < rest.size(); ++i)
+    out.spheres.push_back({influences[i].joint, influences[i].weight, influences[i].bind, rest[i].radius});
   return out;
 }
 

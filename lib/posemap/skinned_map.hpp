@@ -34,6 +34,24 @@ SkinInfluence heaviest_four(const Eigen::VectorXd& weights);
 // sum_j w_j M_j x, in double.
 Eigen::Vector3d skin_point(const SkinInfluence& s, const JointMatrices& m);
 
+// A mesh's vertices as the skin moves them, every weight kept (as pose-extract skins the asset):
+// each rest vertex is taken back to the asset's space by the inverse of its blended rest matrix,
+// then blended by any pose's matrices. A vertex no joint weighs, or whose blended rest matrix is
+// singular, is not bound and stays where it is.
+class SkinnedVertices {
+ public:
+  // `skin`'s vertex weights are `rest`'s, one list per vertex.
+  SkinnedVertices(const SkinFile& skin, const std::vector<Eigen::Vector3d>& rest);
+  bool bound(size_t v) const { return bound_[v]; }
+  Eigen::Vector3d at(size_t v, const JointMatrices& m) const;
+  std::vector<Eigen::Vector3d> all(const JointMatrices& m) const;
+
+ private:
+  const std::vector<JointWeights>& weights_;
+  std::vector<Eigen::Vector3d> bind_;
+  std::vector<char> bound_;
+};
+
 class SkinnedMap {
  public:
   // `skin`'s vertex weights are the rest mesh's (one list per vertex of `f`'s rest mesh).
@@ -60,9 +78,10 @@ class SkinnedMap {
   const JointMatrices& matrices(size_t i) const { return i == 0 ? skin_.rest : skin_.poses[i - 1].matrices; }
   // The spheres rest center c (at `at`) becomes in every pose (0: the rest): skinned by choose(),
   // each with its one radius; why a radius is 0 if it is (`cause`: tell an outside centre from a
-  // hole's bound).
+  // hole's bound); `followed` gets the influence chosen.
   std::vector<std::pair<Sphere, PoseSolid::Zero>> spheres(const Eigen::Vector3d& c, const TetLocator::Location& at,
-                                                          const std::vector<PoseSolid>& solids, bool cause) const;
+                                                          const std::vector<PoseSolid>& solids, bool cause,
+                                                          SkinInfluence* followed) const;
   // Rest centres carried into every pose ([pose][centre]; pose 0: the rest) by choose(), each
   // with its one radius, as spheres() gives them. `rest`'s radii are unused.
   struct Carried {
@@ -71,9 +90,9 @@ class SkinnedMap {
     std::vector<SkinInfluence> influences;
   };
   Carried carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
-  // The proxy's skin for `rest` (the rest pose's spheres, each radius the sphere's one radius),
-  // each sphere's influence by choose().
-  ProxySkin proxy_skin(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
+  // The proxy's skin: the joints, and each of `rest`'s spheres (its radius the one radius) with
+  // the influence it follows (one per sphere, as spheres() chose them).
+  ProxySkin proxy_skin(const SphereSet& rest, const std::vector<SkinInfluence>& influences) const;
   // Every tet vertex skinned into pose i (i >= 1) by its own influence.
   std::vector<Eigen::Vector3d> deform_tets(size_t i) const;
 
