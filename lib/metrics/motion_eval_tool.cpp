@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "extract/asset.hpp"
 #include "io/pose_manifest.hpp"
+#include "mesh/pose_match.hpp"
 #include "metrics/motion_chart.hpp"
 #include "metrics/motion_eval.hpp"
 
@@ -68,7 +69,8 @@ std::vector<int> joint_order(const Asset& asset, const ProxySkin& skin) {
 }
 
 // The asset's welded vertex of each example vertex: the examples are read back from OBJ in their
-// own order. Examples given must be the asset's own welded rest and poses.
+// own order, matched to the asset's by their triangles (mesh/pose_match). Examples given must be
+// the asset's own welded rest and poses.
 std::vector<size_t> example_order(const std::vector<TriMesh>& examples, const WeldedBody& body, const std::string& asset) {
   const auto& rest = body.rest.vertices;
   std::vector<size_t> order(rest.size());
@@ -78,21 +80,11 @@ std::vector<size_t> example_order(const std::vector<TriMesh>& examples, const We
   if (given.size() != rest.size())
     fail_input(asset, "has " + std::to_string(rest.size()) + " welded vertices, the rest mesh " +
                           std::to_string(given.size()) + ": not the asset the poses came from");
-  // Both sorted by position (as floats, as the OBJ holds them), then paired.
-  const auto by_position = [](const std::vector<Eigen::Vector3d>& p) {
-    std::vector<size_t> idx(p.size());
-    for (size_t v = 0; v < idx.size(); ++v) idx[v] = v;
-    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) {
-      const Eigen::Vector3f x = p[a].cast<float>(), y = p[b].cast<float>();
-      return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
-    });
-    return idx;
-  };
-  const std::vector<size_t> mine = by_position(rest), theirs = by_position(given);
+  const std::vector<int> to_example = match_pose_vertices(examples[0], body.rest, asset);
   double worst = 0;
-  for (size_t k = 0; k < order.size(); ++k) {
-    order[theirs[k]] = mine[k];
-    worst = std::max(worst, (given[theirs[k]] - rest[mine[k]]).norm());
+  for (size_t v = 0; v < rest.size(); ++v) {
+    order[size_t(to_example[v])] = v;
+    worst = std::max(worst, (given[size_t(to_example[v])] - rest[v]).norm());
   }
   if (worst > 1e-5 * body.rest.diagonal())
     fail_input(asset, "its bind pose is not the rest mesh (a vertex " + std::to_string(worst) +
