@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
   tool.app.add_flag("--hold-over-clip", opt.hold_over_clip,
                     "Rigged: each sphere's one radius also holds at every frame of the clip and half-way between "
                     "(the skin's clip), not only at the poses");
+  std::string clip_overshoot;
+  tool.app.add_option("--clip-overshoot", clip_overshoot,
+                      "With --hold-over-clip: how far a sphere may poke out at the clip's times between the poses "
+                      "(length, or T% of the rest diagonal; default 0.25%)");
   tool.app.add_flag("--map-given", opt.map_given,
                     "Map the spheres file's spheres as they are (the paper's S_1..S_e) instead of selecting");
   tool.app.add_option("--samples", opt.area_samples, "Selection: surface samples per pose besides every vertex")
@@ -49,7 +53,8 @@ int main(int argc, char** argv) {
   tool.name_option("poses", "--pose");
   return tool.run(argc, argv, [&] {
     const spx::PoseMapTolerances tolerances{spx::parse_tolerance(tolerance, "--tolerance"),
-                                            spx::parse_tolerance(fill_tolerance, "--fill-tolerance")};
+                                            spx::parse_tolerance(fill_tolerance, "--fill-tolerance"),
+                                            spx::parse_tolerance(clip_overshoot, "--clip-overshoot")};
     spx::rest_and_poses(manifest, rest, poses, &skin);
     spx::pose_map_files(rest, poses, spheres, output, opt, tolerances, tool.log, tool.report, skin);
   });

@@ -7,6 +7,11 @@ namespace spx {
 // share of the mesh's bounding-box diagonal ("model no more than a scene needs").
 constexpr double kDefaultTolerancePercent = 2.0;
 
+// pose-map --hold-over-clip: between the poses, at the clip's other times, a sphere may poke out
+// by this share of the diagonal (at the poses themselves, not at all). Radii that hold exactly at
+// every time of a fast clip leave folding joints (a trunk, a knee) to the smallest spheres.
+constexpr double kDefaultClipOvershootPercent = 0.25;
+
 // A field's distances may exceed the exact ones by a small fraction of a voxel (the interior
 // transform picks the best of nearby triangles, and depths between voxels are bounded by
 // Lipschitz steps): a radius bounded by a field keeps this many voxels clear.

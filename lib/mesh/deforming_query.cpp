@@ -9,6 +9,7 @@
 
 #include "mesh/defects.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/winding_number.hpp"
 
 namespace spx {
 
@@ -31,10 +32,19 @@ DeformingQuery::DeformingQuery(const TriMesh& rest) : tri_(rest.triangles) {
   for (size_t i = 0; i < halves.size();) {
     size_t j = i;
     while (j < halves.size() && halves[j].lo == halves[i].lo && halves[j].hi == halves[i].hi) ++j;
-    for (size_t k = i; k < j; ++k) edge_of_[size_t(halves[k].tri)][size_t(halves[k].k)] = int(edges_);
-    ++edges_;
+    for (size_t k = i; k < j; ++k) edge_of_[size_t(halves[k].tri)][size_t(halves[k].k)] = int(edge_tris_.size());
+    // A closed mesh's edge has two triangles; others are never asked for a sign.
+    edge_tris_.push_back({halves[i].tri, halves[j - 1].tri});
     i = j;
   }
+  corner_start_.assign(rest.vertices.size() + 1, 0);
+  for (const Eigen::Vector3i& t : tri_)
+    for (int k = 0; k < 3; ++k) ++corner_start_[size_t(t[k]) + 1];
+  for (size_t v = 0; v < rest.vertices.size(); ++v) corner_start_[v + 1] += corner_start_[v];
+  corners_.resize(3 * tri_.size());
+  std::vector<int> fill(corner_start_.begin(), corner_start_.end() - 1);
+  for (size_t t = 0; t < tri_.size(); ++t)
+    for (int k = 0; k < 3; ++k) corners_[size_t(fill[size_t(tri_[t][k])]++)] = {int(t), k};
   std::vector<Eigen::Vector3d> centroid(tri_.size());
   for (size_t t = 0; t < tri_.size(); ++t)
     centroid[t] = (rest.vertices[size_t(tri_[t][0])] + rest.vertices[size_t(tri_[t][1])] + rest.vertices[size_t(tri_[t][2])]) / 3;
@@ -78,30 +88,34 @@ DeformingQuery::Shape DeformingQuery::shape(std::vector<Eigen::Vector3d> vertice
     }
     s.box_[n] = box;
   }
-  // Pseudo-normals: faces; edges, the sum of their two faces' unit normals; vertices, the
-  // faces' unit normals weighted by the angle at the vertex.
-  s.face_n_.resize(tri_.size());
-  s.edge_n_.assign(edges_, Eigen::Vector3d::Zero());
-  s.vertex_n_.assign(s.v_.size(), Eigen::Vector3d::Zero());
-  for (size_t t = 0; t < tri_.size(); ++t) {
-    const Eigen::Vector3d n = (s.v_[size_t(tri_[t][1])] - s.v_[size_t(tri_[t][0])])
-                                  .cross(s.v_[size_t(tri_[t][2])] - s.v_[size_t(tri_[t][0])])
-                                  .normalized();
-    s.face_n_[t] = n;
-    for (int k = 0; k < 3; ++k) {
-      s.edge_n_[size_t(edge_of_[t][size_t(k)])] += n;
-      const Eigen::Vector3d& p = s.v_[size_t(tri_[t][k])];
-      const Eigen::Vector3d e1 = s.v_[size_t(tri_[t][(k + 1) % 3])] - p, e2 = s.v_[size_t(tri_[t][(k + 2) % 3])] - p;
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      s.vertex_n_[size_t(tri_[t][k])] += angle * n;
-    }
-  }
   return s;
 }
 
+Eigen::Vector3d DeformingQuery::Shape::face_normal(int t) const {
+  const Eigen::Vector3i& f = q_->tri_[size_t(t)];
+  return (v_[size_t(f[1])] - v_[size_t(f[0])]).cross(v_[size_t(f[2])] - v_[size_t(f[0])]).normalized();
+}
+
+// The faces' unit normals weighted by the angle at the vertex.
+Eigen::Vector3d DeformingQuery::Shape::vertex_normal(int v) const {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (int c = q_->corner_start_[size_t(v)]; c < q_->corner_start_[size_t(v) + 1]; ++c) {
+    const auto [t, k] = q_->corners_[size_t(c)];
+    const Eigen::Vector3i& f = q_->tri_[size_t(t)];
+    const Eigen::Vector3d& p = v_[size_t(f[k])];
+    const Eigen::Vector3d e1 = v_[size_t(f[(k + 1) % 3])] - p, e2 = v_[size_t(f[(k + 2) % 3])] - p;
+    n += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * face_normal(t);
+  }
+  return n;
+}
+
 double DeformingQuery::Shape::signed_distance(const Eigen::Vector3d& p) const {
+  return signed_distance_within(p, std::numeric_limits<double>::infinity());
+}
+
+double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, double bound) const {
   const DeformingQuery& q = *q_;
-  double best = std::numeric_limits<double>::infinity();
+  double best = bound * bound;
   int best_tri = -1;
   Eigen::Vector3d best_point = Eigen::Vector3d::Zero(), best_bary = Eigen::Vector3d::Zero();
   // Depth first, nearer child first, pruned by the boxes' distances.
@@ -131,19 +145,86 @@ double DeformingQuery::Shape::signed_distance(const Eigen::Vector3d& p) const {
   if (best_tri < 0) return std::numeric_limits<double>::infinity();
   // The closest feature's pseudo-normal: a corner (two coordinates 0), an edge (one), the face.
   const Eigen::Vector3i& f = q.tri_[size_t(best_tri)];
-  Eigen::Vector3d n = face_n_[size_t(best_tri)];
+  Eigen::Vector3d n = face_normal(best_tri);
   const int zeros = int(best_bary[0] == 0) + int(best_bary[1] == 0) + int(best_bary[2] == 0);
   if (zeros == 2) {
     int k = 0;
     best_bary.maxCoeff(&k);
-    n = vertex_n_[size_t(f[k])];
+    n = vertex_normal(f[k]);
   } else if (zeros == 1) {
     int opposite = 0;
     best_bary.minCoeff(&opposite);  // the edge from corner opposite+1 to opposite+2
-    n = edge_n_[size_t(q.edge_of_[size_t(best_tri)][size_t((opposite + 1) % 3)])];
+    const auto [a, b] = q.edge_tris_[size_t(q.edge_of_[size_t(best_tri)][size_t((opposite + 1) % 3)])];
+    n = face_normal(a) + face_normal(b);
   }
   const double d = std::sqrt(best);
   return (p - best_point).dot(n) < 0 ? -d : d;
+}
+
+namespace {
+
+// Where the ray enters and leaves the box, or nothing if it misses it (slabs; `inv` = 1 / dir).
+bool ray_hits_box(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& p, const Eigen::Vector3d& inv) {
+  double near = 0, far = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    double t0 = (box.min()[a] - p[a]) * inv[a], t1 = (box.max()[a] - p[a]) * inv[a];
+    if (t0 > t1) std::swap(t0, t1);
+    near = std::max(near, t0), far = std::min(far, t1);
+  }
+  return near <= far;
+}
+
+// Barycentric coordinates this close to 0, or a determinant this small against the triangle's
+// size, make a crossing's count uncertain.
+constexpr double kGraze = 1e-9;
+
+}  // namespace
+
+std::optional<int> DeformingQuery::Shape::crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const {
+  const DeformingQuery& q = *q_;
+  const Eigen::Vector3d inv = dir.cwiseInverse();
+  int count = 0;
+  std::array<int, 128> stack;
+  int top = 0;
+  if (!q.nodes_.empty()) stack[size_t(top++)] = 0;
+  while (top > 0) {
+    const int n = stack[size_t(--top)];
+    if (!ray_hits_box(box_[size_t(n)], p, inv)) continue;
+    const Node& node = q.nodes_[size_t(n)];
+    if (node.left >= 0) {
+      stack[size_t(top++)] = node.left, stack[size_t(top++)] = node.right;
+      continue;
+    }
+    for (int i = node.first; i < node.first + node.count; ++i) {
+      // Moller-Trumbore.
+      const Eigen::Vector3i& f = q.tri_[size_t(q.order_[size_t(i)])];
+      const Eigen::Vector3d &a = v_[size_t(f[0])], e1 = v_[size_t(f[1])] - a, e2 = v_[size_t(f[2])] - a;
+      const Eigen::Vector3d h = dir.cross(e2);
+      const double det = e1.dot(h), scale = e1.cross(e2).norm();
+      const Eigen::Vector3d s = p - a;
+      const Eigen::Vector3d qv = s.cross(e1);
+      if (std::abs(det) <= kGraze * scale) {
+        // In the triangle's plane: uncertain only if the ray could touch it.
+        if (std::abs(s.dot(e1.cross(e2))) <= kGraze * scale * (s.norm() + e1.norm())) return std::nullopt;
+        continue;
+      }
+      const double u = s.dot(h) / det, v = dir.dot(qv) / det, t = e2.dot(qv) / det;
+      if (u < -kGraze || v < -kGraze || u + v > 1 + kGraze || t < 0) continue;
+      if (u < kGraze || v < kGraze || u + v > 1 - kGraze || t <= kGraze) return std::nullopt;
+      count += det < 0 ? 1 : -1;  // det = dir . (e1 x e2) negated: < 0 where the ray leaves
+    }
+  }
+  return count;
+}
+
+bool DeformingQuery::Shape::inside(const Eigen::Vector3d& p) const {
+  // Directions no mesh's edges line up with.
+  static const std::array<Eigen::Vector3d, 3> kDirections{Eigen::Vector3d(0.5773, 0.5871, 0.5675).normalized(),
+                                                          Eigen::Vector3d(-0.6123, 0.3307, 0.7182).normalized(),
+                                                          Eigen::Vector3d(0.2419, -0.9013, 0.3594).normalized()};
+  for (const Eigen::Vector3d& dir : kDirections)
+    if (const std::optional<int> n = crossings(p, dir)) return *n > 0;
+  return winding_number_exact(TriMesh{v_, q_->tri_}, p) > 0.5;
 }
 
 }  // namespace spx

@@ -4,6 +4,7 @@
 // and inside is told by the closest point's angle-weighted pseudo-normal (Baerentzen and Aanaes
 // 2005), exact for a closed, consistently oriented, edge-manifold mesh. A MeshQuery per frame
 // would rebuild its trees and its winding-number expansions every time.
+#include <optional>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -22,13 +23,26 @@ class DeformingQuery {
    public:
     // Negative inside, |value| the exact distance.
     double signed_distance(const Eigen::Vector3d& p) const;
+    // The same where some surface point is nearer than `bound`, else +infinity: the search skips
+    // every box at `bound` or farther, which is most of them for a point deep inside.
+    double signed_distance_within(const Eigen::Vector3d& p, double bound) const;
+    // Winding number > 1/2, as the exact sum of solid angles says (winding_number_exact) but
+    // counted along a ray through the hierarchy: the triangles it crosses, +1 leaving through a
+    // front face, -1 entering. Where parts pass through each other the count still says inside.
+    // A ray that grazes an edge is cast again another way, and after a few, the exact sum decides.
+    bool inside(const Eigen::Vector3d& p) const;
 
    private:
     friend class DeformingQuery;
+    // The signed count of crossings along p + s dir (s > 0); nullopt where the ray grazes an
+    // edge or a triangle's plane, and the count could be off by one.
+    std::optional<int> crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const;
     const DeformingQuery* q_ = nullptr;
     std::vector<Eigen::Vector3d> v_;
-    std::vector<Eigen::AlignedBox3d> box_;              // per node
-    std::vector<Eigen::Vector3d> face_n_, vertex_n_, edge_n_;  // pseudo-normals
+    std::vector<Eigen::AlignedBox3d> box_;  // per node
+    // Pseudo-normals, of the closest feature only (most of a shape's features are never closest).
+    Eigen::Vector3d face_normal(int t) const;
+    Eigen::Vector3d vertex_normal(int v) const;
   };
   Shape shape(std::vector<Eigen::Vector3d> vertices) const;
 
@@ -41,7 +55,9 @@ class DeformingQuery {
 
   std::vector<Eigen::Vector3i> tri_;
   std::vector<std::array<int, 3>> edge_of_;  // per triangle, edge k (from corner k to k+1)
-  size_t edges_ = 0;
+  std::vector<std::array<int, 2>> edge_tris_;  // per edge, its two triangles
+  std::vector<int> corner_start_;              // per vertex + 1, offsets into corners_
+  std::vector<std::pair<int, int>> corners_;   // (triangle, corner) at each vertex
   std::vector<int> order_;                   // triangles in tree order
   std::vector<Node> nodes_;                  // parents before children
   bool closed_ = false;

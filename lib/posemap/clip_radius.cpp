@@ -1,52 +1,65 @@
 #include "posemap/clip_radius.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
 #include <tbb/parallel_for.h>
 
 #include "mesh/mesh_query.hpp"
-#include "mesh/winding_number.hpp"
 
 namespace spx {
-ClipRadius::ClipRadius(const SkinFile& skin, const TriMesh& rest, double max_radius)
-    : clip_(skin.clip), rest_(rest), max_radius_(max_radius), vertices_(skin, rest.vertices), deforming_(rest) {}
+ClipRadius::ClipRadius(const SkinFile& skin, const TriMesh& rest, double max_radius, double overshoot)
+    : overshoot_(overshoot),
+      clip_(skin.clip),
+      rest_(rest),
+      max_radius_(max_radius),
+      vertices_(skin, rest.vertices),
+      deforming_(rest) {}
 
 TriMesh ClipRadius::mesh_at(size_t k) const { return {vertices_.all(clip_.matrices[k]), rest_.triangles}; }
 
-std::vector<double> ClipRadius::radii_at(size_t k, const std::vector<SkinInfluence>& influences,
-                                         const std::vector<double>& radius) const {
-  std::vector<double> r(influences.size(), 0.0);
-  const auto fill = [&](const auto& signed_distance) {
-    for (size_t i = 0; i < r.size(); ++i) {
-      if (!(radius[i] > 0)) continue;
-      const double d = signed_distance(skin_point(influences[i], clip_.matrices[k]));
-      r[i] = d < 0 ? std::min(max_radius_, -d) : 0.0;
-    }
-  };
-  if (deforming_.closed()) {
-    // Where parts of the body pass through each other (legs in a stride) the closest surface can
-    // be a wall inside the solid, and its pseudo-normal says outside: the exact winding number
-    // decides those.
-    const TriMesh mesh = mesh_at(k);
-    const DeformingQuery::Shape shape = deforming_.shape(mesh.vertices);
-    fill([&](const Eigen::Vector3d& c) {
-      const double d = shape.signed_distance(c);
-      return d >= 0 && winding_number_exact(mesh, c) > 0.5 ? -d : d;
-    });
-  } else {
-    const MeshQuery query(mesh_at(k));
-    fill([&](const Eigen::Vector3d& c) { return query.inside(c) ? -query.distance(c) : 1.0; });
-  }
-  return r;
+// A few times skinned at once: their meshes built in parallel, then each sphere walks them in
+// order. A block of this many costs a few MB.
+constexpr size_t kTimesAtOnce = 16;
+
+struct ClipRadius::Time {
+  std::optional<DeformingQuery::Shape> shape;  // a closed mesh
+  std::unique_ptr<MeshQuery> query;            // another
+};
+
+double ClipRadius::least_at(const Time& time, const Eigen::Vector3d& c, double r) const {
+  if (time.query) return time.query->inside(c) ? std::min(r, time.query->distance(c) + overshoot_) : 0.0;
+  // Only a surface nearer than r less the overshoot lowers r: the search looks no farther.
+  const double bound = r - overshoot_;
+  const double d = bound > 0 ? time.shape->signed_distance_within(c, bound) : std::numeric_limits<double>::infinity();
+  if (d < 0) return -d + overshoot_;
+  // Nothing nearer: the centre is inside or out (a jump between times). Or the closest surface
+  // says outside, which where parts of the body pass through each other (legs in a stride) can
+  // be a wall inside the solid. The winding number decides.
+  if (!time.shape->inside(c)) return 0.0;
+  return std::isfinite(d) ? d + overshoot_ : r;
 }
 
 std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influences, const std::vector<double>& radius) const {
-  const size_t n = influences.size(), times = time_count();
-  std::vector<std::vector<double>> at(times);  // [time][sphere], reduced in order below
-  tbb::parallel_for(size_t(0), times, [&](size_t k) { at[k] = radii_at(k, influences, radius); });
   std::vector<double> out(radius);
-  for (size_t k = 0; k < times; ++k)
-    for (size_t i = 0; i < n; ++i)
-      if (out[i] > 0) out[i] = std::min(out[i], at[k][i]);
+  for (double& r : out) r = r > 0 ? std::min(r, max_radius_) : 0.0;
+  for (size_t first = 0; first < time_count(); first += kTimesAtOnce) {
+    const size_t count = std::min(kTimesAtOnce, time_count() - first);
+    std::vector<Time> block(count);
+    tbb::parallel_for(size_t(0), count, [&](size_t t) {
+      Time& time = block[t];
+      if (deforming_.closed())
+        time.shape.emplace(deforming_.shape(vertices_.all(clip_.matrices[first + t])));
+      else
+        time.query = std::make_unique<MeshQuery>(mesh_at(first + t));
+    });
+    tbb::parallel_for(size_t(0), out.size(), [&](size_t i) {
+      for (size_t t = 0; t < count && out[i] > 0; ++t)
+        out[i] = least_at(block[t], skin_point(influences[i], clip_.matrices[first + t]), out[i]);
+    });
+  }
   return out;
 }
 

@@ -15,24 +15,28 @@ namespace spx {
 
 class ClipRadius {
  public:
-  // `skin`'s vertex weights are `rest`'s, one list per vertex.
-  ClipRadius(const SkinFile& skin, const TriMesh& rest, double max_radius);
+  // `skin`'s vertex weights are `rest`'s, one list per vertex. At the clip's times a sphere may
+  // poke out by up to `overshoot` (a length; its centre stays inside).
+  ClipRadius(const SkinFile& skin, const TriMesh& rest, double max_radius, double overshoot = 0);
   size_t time_count() const { return clip_.times.size(); }
 
-  // The least of radius[i] and sphere i's radius at every time of the clip, the sphere following
-  // influences[i] (its bind point in the asset's space). Frames are skinned one at a time (two
-  // threads), so memory stays that of two meshes; a closed mesh's hierarchy is refitted to each
-  // (DeformingQuery), another is queried afresh (MeshQuery, winding numbers: far slower).
+  // The least of radius[i] and sphere i's radius (its depth plus the overshoot allowed; 0 where its
+  // centre is outside) at every time of the clip, the sphere following
+  // influences[i] (its bind point in the asset's space). The times are walked in order, a few
+  // skinned at once, so memory stays that of a few meshes; each sphere's search there is bounded
+  // by its least radius so far, which for a sphere the time does not shrink visits a few boxes.
+  // A closed mesh's hierarchy is refitted to each time (DeformingQuery), another is queried
+  // afresh (MeshQuery, winding numbers: far slower). Independent of the thread count.
   std::vector<double> least(const std::vector<SkinInfluence>& influences, const std::vector<double>& radius) const;
 
   // The rest mesh skinned at clip time k, as pose-extract skins the asset.
   TriMesh mesh_at(size_t k) const;
 
  private:
-  // Sphere i's radius at time k, for every sphere whose radius is positive (else 0).
-  std::vector<double> radii_at(size_t k, const std::vector<SkinInfluence>& influences,
-                               const std::vector<double>& radius) const;
-
+  struct Time;  // one time's mesh and what queries it
+  // The least of `r` and the radius of a sphere centred at c at that time.
+  double least_at(const Time& time, const Eigen::Vector3d& c, double r) const;
+  double overshoot_ = 0;
 
   const SkinClip& clip_;
   const TriMesh& rest_;

@@ -13,10 +13,6 @@
 namespace spx {
 namespace {
 
-// A radius the clip lowers by less than this share of the reach (the tolerance) is not worth
-// another round of the cover.
-constexpr double kClipNoise = 1e-3;
-
 // A check adds, besides the samples the chosen spheres leave bare, those they cover by less than
 // this share of delta: the next cover, free to move its spheres, would leave them bare.
 constexpr double kNearlyBare = 0.5;
@@ -71,7 +67,6 @@ class Selector {
       });
       out.chosen = pick(candidates_, order);
       out.samples = problem.sample_count();
-      const size_t shrunk = one_ ? hold_over_clip(out.cover.chosen, out) : 0;
       size_t more_samples = 0;
       std::vector<size_t> more_frames;
       if (active_.size() < frames_.frame_count()) {
@@ -84,9 +79,8 @@ class Selector {
                   " spheres selected on " + std::to_string(active_.size()) + " of " +
                   std::to_string(frames_.frame_count()) + " frames and " + std::to_string(samples_elsewhere()) +
                   " samples of the others; then " + std::to_string(more_samples) + " more samples, " +
-                  std::to_string(more_frames.size()) + " more frames, " + std::to_string(shrunk) +
-                  " spheres shrunk by the clip");
-      if (more_samples == 0 && more_frames.empty() && shrunk == 0) break;
+                  std::to_string(more_frames.size()) + " more frames");
+      if (more_samples == 0 && more_frames.empty()) break;
       select_on_whole(more_frames);
     }
     // What decided the size is the last round's: samples of other frames out of reach, or reached
@@ -97,6 +91,7 @@ class Selector {
     out.from_frames = from_frames_;
     out.frames = active_;
     out.samples_elsewhere = samples_elsewhere();
+    out.clip_shrunk = clip_shrunk_;
     return out;
   }
 
@@ -118,31 +113,6 @@ class Selector {
     std::vector<uint32_t> out(samples(f).size());
     std::iota(out.begin(), out.end(), 0u);
     return out;
-  }
-
-  // Skinned: the chosen spheres not yet held over the clip take their least radius over it; a
-  // sphere it shrinks covers less, so the next round covers again. Returns how many shrank by
-  // more than kClipNoise of the reach: at the poses' own times the clip's meshes are the poses'
-  // up to their OBJ digits, and a radius lower by that much covers as well.
-  size_t hold_over_clip(const std::vector<int>& chosen, JointSelection& out) {
-    std::vector<size_t> fresh;
-    for (int c : chosen)
-      if (!held_[size_t(c)]) fresh.push_back(size_t(c));
-    if (fresh.empty()) return 0;
-    std::vector<SkinInfluence> influences;
-    std::vector<double> radii;
-    for (size_t c : fresh) influences.push_back(influence_[c]), radii.push_back(radius_[c]);
-    const std::vector<double> held = frames_.over_clip(influences, radii);
-    size_t shrunk = 0;
-    for (size_t k = 0; k < fresh.size(); ++k) {
-      held_[fresh[k]] = 1;
-      if (held[k] >= radius_[fresh[k]]) continue;
-      if (radius_[fresh[k]] - held[k] > kClipNoise * opt_.reach) ++shrunk;
-      radius_[fresh[k]] = held[k];
-    }
-    out.clip_checked += fresh.size();
-    out.clip_shrunk += shrunk;
-    return shrunk;
   }
 
   // Candidate c in frame f as the problem has it.
@@ -170,10 +140,13 @@ class Selector {
     const SkinnedMap::Carried carried = frames_.carry_skinned(more);
     for (size_t f = 0; f < carried.centers.size(); ++f)
       centers_[f].insert(centers_[f].end(), carried.centers[f].begin(), carried.centers[f].end());
-    radius_.insert(radius_.end(), carried.radii.begin(), carried.radii.end());
+    // Held over the clip before any cover sees them: a cover of radii that hold only at the poses
+    // would be undone sphere by sphere, each replaced by another not yet held.
+    const std::vector<double> held = frames_.over_clip(carried.influences, carried.radii);
+    for (size_t i = 0; i < held.size(); ++i) clip_shrunk_ += held[i] < carried.radii[i];
+    radius_.insert(radius_.end(), held.begin(), held.end());
     influence_.insert(influence_.end(), carried.influences.begin(), carried.influences.end());
     influence_.resize(radius_.size());  // frames that carry no influences have no clip either
-    held_.resize(radius_.size(), 0);
   }
 
   // Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
@@ -321,8 +294,8 @@ class Selector {
   std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
   std::vector<double> radius_;                         // skinned: each candidate's one radius
   std::vector<SkinInfluence> influence_;               // skinned: the influence each follows
-  std::vector<char> held_;                             // skinned: its radius already held over the clip
   size_t from_frames_ = 0;
+  size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
 };
 

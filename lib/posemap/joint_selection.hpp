@@ -5,9 +5,9 @@
 // spheres chosen, adds what they leave bare, and selects again until nothing is (constraint
 // generation). What is added: a frame whole, where each sphere has its own radius in each frame
 // (grown there, which costs a query per candidate); for a skinned body, whose spheres have one
-// radius and cost nothing to carry into a frame, only the bare samples, and each chosen
-// sphere's radius over every frame. Where every frame is selected on in the first round, that
-// is the one cover over all of them.
+// radius and cost nothing to carry into a frame, only the bare samples. A skinned candidate's one
+// radius is held over the whole clip (over_clip) as it is offered, before any cover sees it.
+// Where every frame is selected on in the first round, that is the one cover over all of them.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -63,7 +63,7 @@ struct JointSelection {
   size_t rounds = 0;
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
   size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
-  size_t clip_checked = 0, clip_shrunk = 0;  // chosen spheres held over the clip, and those it shrank
+  size_t clip_shrunk = 0;       // skinned: candidates whose one radius the clip lowered
 };
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,

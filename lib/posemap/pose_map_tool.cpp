@@ -76,7 +76,7 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"limited_by", limit_wording(sel.limited_by)},
           {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
                       {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}},
-          {"clip", {{"spheres_held", sel.clip_checked}, {"spheres_shrunk", sel.clip_shrunk}}}};
+          {"clip", {{"candidates_shrunk", sel.clip_shrunk}}}};
 }
 
 json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {
@@ -126,7 +126,10 @@ json pose_map_report(const PoseMapResult& result) {
                                    "the rest, every pose and the clip's times (map.clip)"
                                  : "harmonic extension of the surface motion (least squares), barycentric in tets"},
             {"joints", s.joints},
-            {"clip", {{"times", s.clip_times}, {"spheres_shrunk", s.clip_shrunk}}},
+            {"clip", s.clip_times > 0 ? json{{"times", s.clip_times},
+                                               {"overshoot", s.clip_overshoot},
+                                               {"spheres_shrunk", s.clip_shrunk}}
+                                        : json(nullptr)},
             {"data_points", s.data_points},
             {"dropped_points", s.dropped_points},
             {"centers_outside_tets", s.centers_outside_tets}}},
@@ -170,6 +173,9 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   const double diagonal = rest.mesh.diagonal();
   if (tolerances.selection.set()) options.tolerance = tolerances.selection.length(diagonal);
   if (tolerances.fill.set()) options.fill_tolerance = tolerances.fill.length(diagonal);
+  options.clip_overshoot = (tolerances.clip_overshoot.set() ? tolerances.clip_overshoot
+                                                            : Tolerance{kDefaultClipOvershootPercent, true})
+                               .length(diagonal);
   PoseMapResult result = about_file(rest_path, [&] {
     return pose_map(rest.mesh, rest_path, poses, spheres, options, log, skin_path.empty() ? nullptr : &skin);
   });

@@ -12,7 +12,7 @@ namespace spx {
 // The tolerances as the user gave them (a length, or a share of the rest's diagonal; unset:
 // none): pose_map_files turns them into the options' lengths.
 struct PoseMapTolerances {
-  Tolerance selection, fill;
+  Tolerance selection, fill, clip_overshoot;
 };
 
 // pose-map's report: the tets, the map, each pose's zero radii and error, the joint selection

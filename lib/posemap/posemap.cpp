@@ -60,7 +60,7 @@ class PoseMapper {
     if (opt_.hold_over_clip && skin_->morph_channels > 0)
       log_.warn("the clip also drives morph weights: skinned radii hold at the poses, not between them");
     else if (opt_.hold_over_clip)
-      clip_ = std::make_unique<ClipRadius>(*skin_, rest_, proxy_.max_radius);
+      clip_ = std::make_unique<ClipRadius>(*skin_, rest_, proxy_.max_radius, opt_.clip_overshoot);
     for (size_t i = 0; i < poses_.size(); ++i)
       deformed_.push_back(skinned_ ? skinned_->deform_tets(i + 1) : f_->deform(poses_[i].mesh));
   }
@@ -248,6 +248,7 @@ class PoseMapper {
     out.skinned = bool(skinned_);
     out.clip_times = clip_ ? clip_->time_count() : 0;
     out.clip_shrunk = clip_shrunk_;
+    out.clip_overshoot = clip_ ? opt_.clip_overshoot : 0;
     out.joints = skin_ ? skin_->joints.size() : 0;
     out.data_points = f_->data_points();
     out.dropped_points = f_->dropped_points();

@@ -46,8 +46,10 @@ struct PoseMapOptions {
   size_t max_spheres = 0;
   bool map_given = false;
   // Skinned, with the clip in the skin (pose-extract --animation): each sphere's one radius also
-  // the least over every frame of the clip and half-way between (posemap/clip_radius.hpp).
+  // the least over every frame of the clip and half-way between (posemap/clip_radius.hpp), there
+  // its depth plus `clip_overshoot` (a length; at the poses themselves, the depth alone).
   bool hold_over_clip = false;
+  double clip_overshoot = 0;
   size_t area_samples = 4000;
   uint64_t seed = 1;
 };
@@ -75,6 +77,7 @@ struct PoseMapSummary {
   // Skinned: times of the clip each radius also holds at (0: the poses alone), and the written
   // spheres whose radius the clip lowered.
   size_t clip_times = 0, clip_shrunk = 0;
+  double clip_overshoot = 0;  // how far a sphere may poke out at the clip's times (a length)
   size_t joints = 0, data_points = 0, dropped_points = 0, centers_outside_tets = 0;
   bool open_solid = false;  // radii also bounded across the holes by each pose's field
   // Per pose, the rest first: spheres of radius 0 by cause (centre outside, hole bound, on the
