@@ -380,6 +380,17 @@ std::vector<std::vector<std::pair<int, double>>> Asset::vertex_joints() const {
   return out;
 }
 
+std::vector<size_t> Asset::joints_named(const std::vector<std::string>& names) const {
+  std::vector<size_t> out;
+  for (const std::string& name : names) {
+    const auto it = std::find_if(joints_.begin(), joints_.end(), [&](const AssetJoint& j) { return j.name == name; });
+    if (it == joints_.end())
+      fail_input(path_, "has no joint '" + name + "', which the proxy's skin uses: not the asset the proxy was made from");
+    out.push_back(size_t(it - joints_.begin()));
+  }
+  return out;
+}
+
 std::vector<Eigen::Matrix4d> Asset::rest_joint_matrices() const { return joint_matrices(Pose{}); }
 
 std::vector<Eigen::Matrix4d> Asset::joint_matrices(size_t clip, double seconds) const {

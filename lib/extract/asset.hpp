@@ -86,6 +86,9 @@ class Asset {
   // (empty for skinned vertices no joint weighs).
   const std::vector<AssetJoint>& joints() const { return joints_; }
   std::vector<std::vector<std::pair<int, double>>> vertex_joints() const;
+  // The joint of each name (a proxy's skin joints), as a host binds a skeleton by name. Exit 2
+  // naming the file where one is missing: not the asset the proxy was made from.
+  std::vector<size_t> joints_named(const std::vector<std::string>& names) const;
   // Every joint's matrix at rest, and in clip `clip` at `seconds`.
   std::vector<Eigen::Matrix4d> rest_joint_matrices() const;
   std::vector<Eigen::Matrix4d> joint_matrices(size_t clip, double seconds) const;

@@ -55,19 +55,6 @@ std::vector<double> seen_times(const std::string& manifest_path, size_t clip) {
   return seen;
 }
 
-// The asset's joint for each of the proxy's skin joints, by name.
-std::vector<int> joint_order(const Asset& asset, const ProxySkin& skin) {
-  std::vector<int> order;
-  for (const std::string& name : skin.joints) {
-    const auto& joints = asset.joints();
-    const auto it = std::find_if(joints.begin(), joints.end(), [&](const AssetJoint& j) { return j.name == name; });
-    if (it == joints.end())
-      fail_input(asset.path(), "has no joint '" + name + "', which the proxy's skin uses: not the asset the proxy was made from");
-    order.push_back(int(it - joints.begin()));
-  }
-  return order;
-}
-
 // The asset's welded vertex of each example vertex: the examples are read back from OBJ in their
 // own order, matched to the asset's by their triangles (mesh/pose_match). Examples given must be
 // the asset's own welded rest and poses.
@@ -145,7 +132,7 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
   const WeldedBody body = weld_body(asset);
   const std::vector<size_t> order_of_vertices = example_order(examples, body, opt.asset);
   const TriMesh& layout = examples.empty() ? body.rest : examples[0];
-  const std::vector<int> order = joint_order(asset, proxy.skin);
+  const std::vector<size_t> order = asset.joints_named(proxy.skin.joints);
   const ClipTimes times = clip_times(asset.clips()[clip], opt);
   const std::vector<double> seen = seen_times(opt.manifest, clip);
   const double diagonal = body.rest.diagonal(), seam = 1e-7 * diagonal;
@@ -160,7 +147,7 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
     f.mesh.triangles = layout.triangles;
     for (size_t v : order_of_vertices) f.mesh.vertices.push_back(welded.vertices[v]);
     const std::vector<Eigen::Matrix4d> all = asset.joint_matrices(clip, f.time);
-    for (int j : order) f.joints.push_back(all[size_t(j)]);
+    for (size_t j : order) f.joints.push_back(all[j]);
     return f;
   };
   const MotionResult r = evaluate_motion(proxy, times.time.size(), frame, examples, log);

@@ -26,18 +26,11 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// The asset's joint for each of the proxy's skin joints, by name, as a host binds its skeleton.
+// The asset's joint for each of the proxy's skin joints, as a host binds its skeleton: by name.
 std::vector<size_t> joint_order(const Asset& asset, const Proxy& proxy) {
-  std::vector<size_t> order;
-  for (uint32_t j = 0; j < proxy.joint_count(); ++j) {
-    const std::string name = proxy.joint_name(j);
-    const auto& joints = asset.joints();
-    const auto it = std::find_if(joints.begin(), joints.end(), [&](const AssetJoint& a) { return a.name == name; });
-    if (it == joints.end())
-      fail_input(asset.path(), "has no joint '" + name + "', which the proxy's skin uses: not the proxy's asset");
-    order.push_back(size_t(it - joints.begin()));
-  }
-  return order;
+  std::vector<std::string> names;
+  for (uint32_t j = 0; j < proxy.joint_count(); ++j) names.emplace_back(proxy.joint_name(j));
+  return asset.joints_named(names);
 }
 
 class Scene {
