@@ -1,5 +1,6 @@
 #include "extract/pose_extract_tool.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -205,6 +206,9 @@ std::vector<PoseRequest> select_frames(const Asset& asset, const Body& body, con
   return kept;
 }
 
+// Times a second the clip's skin samples between keys at least (skin.json's clip).
+constexpr double kClipRate = 60;
+
 // The rig of a clip's poses: the joints, the welded rest's vertices and weights (a welded vertex
 // takes its first file vertex's, as its position), and the joint matrices of the rest and
 // every pose.
@@ -225,10 +229,16 @@ SkinFile skin_of(const Asset& asset, const WeldedBody& body, const std::vector<P
   if (requests.empty()) return skin;
   const AssetClip& clip = asset.clips()[requests.front().clip];
   skin.morph_channels = clip.morph_channels;
-  // The whole clip, every frame and half-way between, for the radius rule over the motion.
+  // The whole clip for the radius rule over the motion: every key, and between keys at least
+  // half-way and as often as a host at kClipRate Hz samples it (keys far apart leave the
+  // skeleton to interpolate through many frames).
   skin.clip.name = clip.name;
   for (size_t f = 0; f < clip.frames.size(); ++f) {
-    if (f > 0) skin.clip.times.push_back(0.5 * (clip.frames[f - 1] + clip.frames[f]));
+    if (f > 0) {
+      const double from = clip.frames[f - 1], gap = clip.frames[f] - from;
+      const int steps = std::max(2, int(std::ceil(gap * kClipRate - 1e-6)));
+      for (int k = 1; k < steps; ++k) skin.clip.times.push_back(from + gap * k / steps);
+    }
     skin.clip.times.push_back(clip.frames[f]);
   }
   for (double t : skin.clip.times) skin.clip.matrices.push_back(asset.joint_matrices(requests.front().clip, t));

@@ -29,8 +29,9 @@ struct SkinPose {
   JointMatrices matrices;
 };
 
-// The clip the poses came from, sampled densely (every frame and half-way between): what keeps a
-// skinned sphere's one radius over the whole motion, not only at the poses.
+// The clip the poses came from, sampled densely (every key, and between keys half-way and at
+// least 60 times a second): what keeps a skinned sphere's one radius over the whole motion, not
+// only at the poses.
 struct SkinClip {
   std::string name;
   std::vector<double> times;          // seconds

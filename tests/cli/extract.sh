@@ -85,12 +85,20 @@ PY
 import json, sys
 m = json.load(open(sys.argv[1]))["motion"]
 clip = json.load(open(sys.argv[2]))["map"]["clip"]
-assert clip["times"] == len(m["frames"]), (clip, len(m["frames"]))
+assert clip["times"] >= len(m["frames"]), (clip, len(m["frames"]))  # 60 Hz between keys
 assert clip["overshoot"] > 0, clip  # the default allowance between the poses
 for f in m["frames"]:
     s = f["skinned"]
     allowed = 1e-6 * m["diagonal"] + (0 if f["seen"] else clip["overshoot"])
     assert s["overshoot"] <= allowed and s["centers_outside"] == 0, (f, allowed)
+PY
+  check "skin.json's clip: every key, and 60 Hz or finer between them" /usr/bin/python3 - "$r/poses/skin.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))["clip"]
+t = c["times"]
+assert t == sorted(t) and len(t) == len(c["joint_matrices"]), c.keys()
+assert all(b - a <= 1 / 60 + 1e-9 for a, b in zip(t, t[1:])), max(b - a for a, b in zip(t, t[1:]))
+assert len(t) > 100  # RiggedSimple's 3 keys are 1.04 s apart
 PY
   # The character host plays the clip in Bullet with the proxy's spheres skinned every frame.
   host=$build/samples/character-host
