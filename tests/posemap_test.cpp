@@ -469,28 +469,34 @@ TEST(PoseMap, JointSelectionNeedsCandidates) {
 namespace spx {
 namespace {
 
-// The robot sample's walk through pose-extract (every `every`th frame) with its rig, the
+// A rigged asset's clip through pose-extract (every `every`th frame) into `dir`, with its rig, the
 // skin's weights found for the rest as pose-map finds them.
-struct RobotClip {
+struct ExtractedClip {
+  PoseManifest manifest;
   LoadedMesh rest;
   std::vector<PoseInput> poses;
   SkinFile skin;
 };
-RobotClip robot_clip(int every) {
-  const std::string dir = test::temp_dir("robot-clip-" + std::to_string(every));
-  write_file_atomic(dir + "/robot.glb", encode_rig_glb(make_robot()));
+ExtractedClip extract_clip(const std::string& asset, const std::string& dir, int every) {
   PoseExtractOptions extract;
   extract.animation = "0";
   extract.every = every;
   json report;
-  pose_extract_files(dir + "/robot.glb", dir + "/poses", extract, Log::silent(), report);
-  RobotClip clip;
-  clip.rest = load_mesh(dir + "/poses/rest.obj");
-  for (const auto& p : read_pose_manifest(dir + "/poses/poses.json").poses)
-    clip.poses.push_back({p.name, p.file, load_pose(dir + "/poses/" + p.file, clip.rest)});
-  clip.skin = read_skin_file(dir + "/poses/skin.json");
+  pose_extract_files(asset, dir, extract, Log::silent(), report);
+  ExtractedClip clip;
+  clip.manifest = read_pose_manifest(dir + "/poses.json");
+  clip.rest = load_mesh(dir + "/rest.obj");
+  for (const auto& p : clip.manifest.poses) clip.poses.push_back({p.name, p.file, load_pose(dir + "/" + p.file, clip.rest)});
+  clip.skin = read_skin_file(dir + "/skin.json");
   clip.skin.vertex_weights = weights_for_vertices(clip.skin, clip.rest.mesh.vertices, 1e-6 * clip.rest.mesh.diagonal(), "skin");
   return clip;
+}
+
+// The robot sample's walk.
+ExtractedClip robot_clip(int every) {
+  const std::string dir = test::temp_dir("robot-clip-" + std::to_string(every));
+  write_file_atomic(dir + "/robot.glb", encode_rig_glb(make_robot()));
+  return extract_clip(dir + "/robot.glb", dir + "/poses", every);
 }
 
 // Open and multi-part bodies at the defaults: the selection's claim is true of the file. Each
@@ -563,7 +569,7 @@ TEST(PoseMap, OpenArticulatedSampleMeetsItsClaimInEveryFrame) {
 // each. Parts overlap and move against each other at every joint (the thighs sweep through the
 // pelvis): radii are to the solid's boundary, not to the walls inside it, so every frame is met.
 TEST(PoseMap, SkinnedOpenArticulatedSampleMeetsTheToleranceInEveryFrame) {
-  const RobotClip clip = robot_clip(4);
+  const ExtractedClip clip = robot_clip(4);
   // At the tools' default resolution (at 64 cells the robot's thin parts hold too few candidates).
   const PoseMapResult r = expect_claim_holds(clip.rest.mesh, clip.poses, "skinned robot", &clip.skin, 128);
   ASSERT_TRUE(r.summary.selection.has_value());
@@ -605,7 +611,7 @@ TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {
 // radius choose gives is the least over the poses of the influence it picked, and no less than
 // either influence's.
 TEST(PoseMap, SkinnedSphereKeepsTheInfluenceThatKeepsItLarger) {
-  const RobotClip clip = robot_clip(4);
+  const ExtractedClip clip = robot_clip(4);
   const TriMesh& rest = clip.rest.mesh;
   std::vector<TriMesh> meshes{rest};
   for (const PoseInput& p : clip.poses) meshes.push_back(p.mesh);
@@ -777,16 +783,11 @@ TEST(PoseMap, ClipSelectionCoversEveryFrameAndCountsWhatNothingReaches) {
 // refitted hierarchy and the pseudo-normals against trees and winding numbers built afresh).
 TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
   SPX_REQUIRE_SHARED_DATA();
-  const std::string dir = test::temp_dir("clip-radius");
-  PoseExtractOptions opt;
-  opt.animation = "0";
-  opt.every = 3;
-  json report;
-  pose_extract_files(test::shared_data() + "/rigged-simple/RiggedSimple.glb", dir, opt, Log::silent(), report);
-  const PoseManifest manifest = read_pose_manifest(dir + "/poses.json");
-  const LoadedMesh rest = load_mesh(dir + "/rest.obj");
-  SkinFile skin = read_skin_file(dir + "/skin.json");
-  skin.vertex_weights = weights_for_vertices(skin, rest.mesh.vertices, 1e-6 * rest.mesh.diagonal(), dir);
+  const ExtractedClip extracted =
+      extract_clip(test::shared_data() + "/rigged-simple/RiggedSimple.glb", test::temp_dir("clip-radius"), 3);
+  const PoseManifest& manifest = extracted.manifest;
+  const LoadedMesh& rest = extracted.rest;
+  const SkinFile& skin = extracted.skin;
   ASSERT_FALSE(skin.clip.empty());
   const ClipRadius clip(skin, rest.mesh, 1e30);
   const double diag = rest.mesh.diagonal();
@@ -795,7 +796,8 @@ TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
     const size_t at = size_t(std::min_element(skin.clip.times.begin(), skin.clip.times.end(),
                                               [&](double a, double b) { return std::abs(a - t) < std::abs(b - t); }) -
                              skin.clip.times.begin());
-    const TriMesh pose = load_pose(dir + "/" + manifest.poses[k].file, rest), mine = clip.mesh_at(at);
+    const TriMesh& pose = extracted.poses[k].mesh;
+    const TriMesh mine = clip.mesh_at(at);
     for (size_t v = 0; v < pose.vertices.size(); ++v) ASSERT_LE((pose.vertices[v] - mine.vertices[v]).norm(), 1e-6 * diag);
   }
   // Spheres at random interior points, each following its nearest vertex's 4 heaviest joints.

@@ -145,7 +145,7 @@ double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, d
   if (best_tri < 0) return std::numeric_limits<double>::infinity();
   // The closest feature's pseudo-normal: a corner (two coordinates 0), an edge (one), the face.
   const Eigen::Vector3i& f = q.tri_[size_t(best_tri)];
-  Eigen::Vector3d n = face_normal(best_tri);
+  Eigen::Vector3d n;
   const int zeros = int(best_bary[0] == 0) + int(best_bary[1] == 0) + int(best_bary[2] == 0);
   if (zeros == 2) {
     int k = 0;
@@ -156,6 +156,8 @@ double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, d
     best_bary.minCoeff(&opposite);  // the edge from corner opposite+1 to opposite+2
     const auto [a, b] = q.edge_tris_[size_t(q.edge_of_[size_t(best_tri)][size_t((opposite + 1) % 3)])];
     n = face_normal(a) + face_normal(b);
+  } else {
+    n = face_normal(best_tri);
   }
   const double d = std::sqrt(best);
   return (p - best_point).dot(n) < 0 ? -d : d;
@@ -163,7 +165,7 @@ double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, d
 
 namespace {
 
-// Where the ray enters and leaves the box, or nothing if it misses it (slabs; `inv` = 1 / dir).
+// Whether the ray meets the box (slabs; `inv` = 1 / dir).
 bool ray_hits_box(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& p, const Eigen::Vector3d& inv) {
   double near = 0, far = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {
@@ -199,13 +201,13 @@ std::optional<int> DeformingQuery::Shape::crossings(const Eigen::Vector3d& p, co
       // Moller-Trumbore.
       const Eigen::Vector3i& f = q.tri_[size_t(q.order_[size_t(i)])];
       const Eigen::Vector3d &a = v_[size_t(f[0])], e1 = v_[size_t(f[1])] - a, e2 = v_[size_t(f[2])] - a;
-      const Eigen::Vector3d h = dir.cross(e2);
-      const double det = e1.dot(h), scale = e1.cross(e2).norm();
+      const Eigen::Vector3d h = dir.cross(e2), n = e1.cross(e2);
+      const double det = e1.dot(h), scale = n.norm();
       const Eigen::Vector3d s = p - a;
       const Eigen::Vector3d qv = s.cross(e1);
       if (std::abs(det) <= kGraze * scale) {
-        // In the triangle's plane: uncertain only if the ray could touch it.
-        if (std::abs(s.dot(e1.cross(e2))) <= kGraze * scale * (s.norm() + e1.norm())) return std::nullopt;
+        // Along the triangle's plane: uncertain only if the ray lies in it.
+        if (std::abs(s.dot(n)) <= kGraze * scale * (s.norm() + e1.norm())) return std::nullopt;
         continue;
       }
       const double u = s.dot(h) / det, v = dir.dot(qv) / det, t = e2.dot(qv) / det;

@@ -145,8 +145,6 @@ class Selector {
     const std::vector<double> held = frames_.over_clip(carried.influences, carried.radii);
     for (size_t i = 0; i < held.size(); ++i) clip_shrunk_ += held[i] < carried.radii[i];
     radius_.insert(radius_.end(), held.begin(), held.end());
-    influence_.insert(influence_.end(), carried.influences.begin(), carried.influences.end());
-    influence_.resize(radius_.size());  // frames that carry no influences have no clip either
   }
 
   // Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
@@ -293,7 +291,6 @@ class Selector {
   std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not selected on: its samples added
   std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
   std::vector<double> radius_;                         // skinned: each candidate's one radius
-  std::vector<SkinInfluence> influence_;               // skinned: the influence each follows
   size_t from_frames_ = 0;
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's

@@ -62,19 +62,19 @@ class Scene {
     std::mt19937 rng(opt_.seed);
     const int frames = int(std::lround(opt_.seconds / opt_.dt));
     const int drop_every = std::max(1, int(std::lround(opt_.drop_every / opt_.dt)));
-    std::vector<double> to_mesh;
+    std::vector<double> to_mesh, animate, skin, step;
     for (int f = 0; f < frames; ++f) {
       const double t = clip_seconds_ > 0 ? std::fmod(f * opt_.dt, clip_seconds_) : 0.0;
       auto start = std::chrono::steady_clock::now();
       matrices_at(t);
-      stats.animate_ms.push_back(ms_since(start));
+      animate.push_back(ms_since(start));
       start = std::chrono::steady_clock::now();
       skin_body();
-      stats.skin_ms.push_back(ms_since(start));
+      skin.push_back(ms_since(start));
       if (f % drop_every == 0 && stats.objects_dropped < opt_.objects) drop_object(stats.objects_dropped++, rng);
       start = std::chrono::steady_clock::now();
       world_->stepSimulation(btScalar(opt_.dt), 1, btScalar(opt_.dt));
-      stats.step_ms.push_back(ms_since(start));
+      step.push_back(ms_since(start));
       const size_t before = to_mesh.size();
       const bool check = opt_.check_every > 0 && f % opt_.check_every == 0;
       const uint64_t points = body_contacts(check ? &to_mesh : nullptr, t);
@@ -83,6 +83,7 @@ class Scene {
       stats.contacts_checked += to_mesh.size() - before;
     }
     stats.frames = frames;
+    stats.animate_ms = median(animate), stats.skin_ms = median(skin), stats.step_ms = median(step);
     count_objects(stats);
     stats.contact_to_mesh_median = median(to_mesh);
     stats.contact_to_mesh_max = to_mesh.empty() ? 0.0 : *std::max_element(to_mesh.begin(), to_mesh.end());

@@ -31,7 +31,7 @@ struct SceneOptions {
 struct RunStats {
   int frames = 0;
   double clip_seconds = 0;
-  std::vector<double> animate_ms, skin_ms, step_ms;  // per frame
+  double animate_ms = 0, skin_ms = 0, step_ms = 0;  // per frame, the median
   uint64_t body_contacts = 0;       // contact points between the body and the objects, summed over frames
   int frames_with_contact = 0;
   int objects_dropped = 0, objects_on_body = 0, objects_fell_off = 0;

@@ -2,7 +2,6 @@
 // skinned each frame by the clip's joint matrices, while boxes and balls fall on it.
 //   character-host BODY.spx --asset ASSET.glb [--animation N] [--seconds S] [--objects K]
 //                  [--json OUT.json]
-#include <algorithm>
 #include <cstdio>
 
 #include "character_host.hpp"
@@ -13,16 +12,6 @@
 #include "tool/tool.hpp"
 
 using namespace spx;
-
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   Tool tool("character-host", "A rigged body plays its clip in Bullet, its spheres skinned every frame, while "
@@ -45,17 +34,18 @@ int main(int argc, char** argv) {
     const Asset asset(asset_path, "");
     opt.clip = asset.find_clip(animation);
     const character::RunStats r = character::run_scene(asset, proxy, opt);
-    const double animate = median(r.animate_ms), skin = median(r.skin_ms), step = median(r.step_ms);
     char line[256];
     std::snprintf(line, sizeof line, "%u spheres, %u joints, clip of %.2f s played for %d frames", proxy.sphere_count(),
                 proxy.joint_count(), r.clip_seconds, r.frames);
     tool.log.info(line);
-    std::snprintf(line, sizeof line, "per frame (median ms): animation %.3f, skin %.4f, step %.3f", animate, skin, step);
+    std::snprintf(line, sizeof line, "per frame (median ms): animation %.3f, skin %.4f, step %.3f", r.animate_ms,
+                  r.skin_ms, r.step_ms);
     tool.log.info(line);
     std::snprintf(line, sizeof line, "objects: %d dropped, %d on the body at the end, %d off it; %d frames with contact",
                 r.objects_dropped, r.objects_on_body, r.objects_fell_off, r.frames_with_contact);
     tool.log.info(line);
-    std::snprintf(line, sizeof line, "contacts against the skinned mesh: %llu checked, median %.4f m, max %.4f m from its surface",
+    std::snprintf(line, sizeof line,
+                  "contacts against the skinned mesh: %llu checked, median %.4f m, max %.4f m from its surface",
                 static_cast<unsigned long long>(r.contacts_checked), r.contact_to_mesh_median, r.contact_to_mesh_max);
     tool.log.info(line);
     json result = {{"generator", std::string("character-host (spx) ") + version_string()},
@@ -66,7 +56,7 @@ int main(int argc, char** argv) {
                    {"clip_seconds", r.clip_seconds},
                    {"frames", r.frames},
                    {"dt_s", opt.dt},
-                   {"per_frame_ms_median", {{"animation", animate}, {"skin", skin}, {"step", step}}},
+                   {"per_frame_ms_median", {{"animation", r.animate_ms}, {"skin", r.skin_ms}, {"step", r.step_ms}}},
                    {"objects", {{"dropped", r.objects_dropped}, {"on_body", r.objects_on_body},
                                 {"off_body", r.objects_fell_off}}},
                    {"body_contacts", r.body_contacts},
