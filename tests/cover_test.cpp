@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "core/atomic_file.hpp"
@@ -121,6 +122,27 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
     EXPECT_LE(searched.size(), start) << "trial " << trial;
     EXPECT_EQ(searched.size(), best) << "trial " << trial;
 
+    // The samples the reduction kept: a cover of them covers every sample some candidate covers,
+    // since each other's candidates include all of some kept sample's.
+    std::vector<uint32_t> kept;
+    smallest_cover(c, {2000, 1000000000}, 0, nullptr, Log::silent(), {}, &kept);
+    EXPECT_EQ(kept, r.sample) << "trial " << trial;
+    const Coverage by_sample = covering_candidates(c);
+    auto column = [&](uint32_t s) {
+      return std::vector<uint32_t>(by_sample.samples.begin() + by_sample.start[s],
+                                   by_sample.samples.begin() + by_sample.start[s + 1]);
+    };
+    for (uint32_t s = 0; s < samples; ++s) {
+      if (by_sample.row_size(s) == 0) continue;
+      const std::vector<uint32_t> mine = column(s);
+      bool implied = false;
+      for (uint32_t k : kept) {
+        const std::vector<uint32_t> theirs = column(k);
+        implied = implied || std::includes(mine.begin(), mine.end(), theirs.begin(), theirs.end());
+      }
+      EXPECT_TRUE(implied) << "trial " << trial << ": sample " << s << " is neither kept nor implied by one kept";
+    }
+
     size_t bound = 0;
     const std::vector<int> smallest = smallest_cover(c, {2000, 1000000000}, 0, &bound);
     EXPECT_TRUE(covers_all(c, smallest)) << "trial " << trial;
@@ -128,6 +150,35 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
     EXPECT_LE(bound, best) << "trial " << trial;
   }
   EXPECT_GT(reduced_smaller, 100u) << "the reduction should drop dominated candidates";
+}
+
+// Candidates offered again from alike frames: distinct_centres keeps, in order, each centre at
+// least the spacing from every centre kept before (the old ones and those it took), and drops
+// only those nearer; against a brute-force scan of every pair.
+TEST(Cover, DistinctCentresAgainstBruteForce) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 50; ++trial) {
+    SphereSet old(size_t(trial % 5) * 10), more(200);
+    for (auto* set : {&old, &more})
+      for (Sphere& s : *set) s = {Eigen::Vector3d(u(rng), u(rng), u(rng)), 0.1};
+    const double spacing = 0.05 + 0.1 * u(rng);
+    const std::vector<size_t> taken = distinct_centres(old, more, spacing);
+    std::vector<Eigen::Vector3d> before;
+    for (const Sphere& s : old) before.push_back(s.center);
+    size_t next = 0;
+    for (size_t i = 0; i < more.size(); ++i) {
+      bool near = false;
+      for (const auto& b : before) near = near || (b - more[i].center).norm() < spacing;
+      const bool kept = next < taken.size() && taken[next] == i;
+      EXPECT_EQ(kept, !near) << "trial " << trial << ", candidate " << i;
+      if (kept) {
+        before.push_back(more[i].center);
+        ++next;
+      }
+    }
+    EXPECT_EQ(next, taken.size()) << "trial " << trial;
+  }
 }
 
 // The coverage rows against a brute-force scan of every (candidate, sample) pair.

@@ -719,14 +719,11 @@ TEST(PoseMap, RadiusFloorIsNeverAboveTheRadius) {
 namespace spx {
 namespace {
 
-// A clip of boxes for the selection over frames: frame f is the box moved by shift[f]; each
-// candidate moves with it, one radius throughout, except in `lost` where every candidate lands
-// far away, so that nothing reaches that frame's samples.
-class BoxClip : public SelectionFrames {
+// A clip of box meshes for the selection over frames: each rest candidate becomes in_frame() in
+// every frame, one radius throughout; no frame offers candidates of its own.
+class MovingClip : public SelectionFrames {
  public:
-  BoxClip(std::vector<double> shift, size_t lost) : shift_(std::move(shift)), lost_(lost) {
-    for (double s : shift_) meshes_.push_back(test::box_mesh(Eigen::Vector3d::Constant(s), Eigen::Vector3d::Constant(1 + s)));
-  }
+  explicit MovingClip(std::vector<TriMesh> meshes) : meshes_(std::move(meshes)) {}
   size_t frame_count() const override { return meshes_.size(); }
   const TriMesh& frame_mesh(size_t f) const override { return meshes_[f]; }
   SphereSet spheres_in(const SphereSet&, size_t) const override { return {}; }
@@ -735,18 +732,35 @@ class BoxClip : public SelectionFrames {
     SkinnedMap::Carried out;
     for (size_t f = 0; f < meshes_.size(); ++f) {
       out.centers.emplace_back();
-      for (const Sphere& s : rest)
-        out.centers.back().push_back(s.center + Eigen::Vector3d::Constant(f == lost_ ? 10.0 : shift_[f]));
+      for (const Sphere& s : rest) out.centers.back().push_back(in_frame(s, f).center);
     }
     for (const Sphere& s : rest) out.radii.push_back(s.radius);
     return out;
   }
   SphereSet frame_candidates(size_t, const std::vector<Eigen::Vector3d>&, double) override { return {}; }
+  virtual Sphere in_frame(const Sphere& s, size_t f) const = 0;
 
  private:
+  std::vector<TriMesh> meshes_;
+};
+
+// Frame f is the box moved by shift[f], and each candidate with it, except in `lost` where every
+// candidate lands far away, so that nothing reaches that frame's samples.
+class BoxClip : public MovingClip {
+ public:
+  BoxClip(std::vector<double> shift, size_t lost) : MovingClip(boxes(shift)), shift_(std::move(shift)), lost_(lost) {}
+  Sphere in_frame(const Sphere& s, size_t f) const override {
+    return {s.center + Eigen::Vector3d::Constant(f == lost_ ? 10.0 : shift_[f]), s.radius};
+  }
+
+ private:
+  static std::vector<TriMesh> boxes(const std::vector<double>& shift) {
+    std::vector<TriMesh> out;
+    for (double s : shift) out.push_back(test::box_mesh(Eigen::Vector3d::Constant(s), Eigen::Vector3d::Constant(1 + s)));
+    return out;
+  }
   std::vector<double> shift_;
   size_t lost_;
-  std::vector<TriMesh> meshes_;
 };
 
 // Past the first round's frames, every other frame is checked: the spheres chosen cover every
@@ -776,6 +790,55 @@ TEST(PoseMap, ClipSelectionCoversEveryFrameAndCountsWhatNothingReaches) {
     EXPECT_TRUE(bare_samples(surface_samples(frames.frame_mesh(f), options.area_samples, options.seed), in_frame,
                              options.target).empty()) << "frame " << f;
   }
+}
+
+// A clip that stretches a box along x by stretch[f], the candidates' centres with it, their radii
+// kept: each frame's samples lie otherwise against the spheres, so the selection takes rounds.
+class StretchClip : public MovingClip {
+ public:
+  explicit StretchClip(std::vector<double> stretch) : MovingClip(boxes(stretch)), stretch_(std::move(stretch)) {}
+  Sphere in_frame(const Sphere& s, size_t f) const override {
+    return {Eigen::Vector3d(s.center.x() * stretch_[f], s.center.y(), s.center.z()), s.radius};
+  }
+
+ private:
+  static std::vector<TriMesh> boxes(const std::vector<double>& stretch) {
+    std::vector<TriMesh> out;
+    for (double a : stretch) out.push_back(test::box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(a, 1, 1)));
+    return out;
+  }
+  std::vector<double> stretch_;
+};
+
+// Over many frames the problem keeps, round to round, only the samples its reduction kept; the
+// spheres chosen still cover every sample of every frame, the frames it dropped samples of too.
+TEST(PoseMap, CompactedClipSelectionStillCoversEveryFrame) {
+  std::vector<double> stretch;
+  for (int f = 0; f < 24; ++f) stretch.push_back(1 + 0.6 * std::abs(std::sin(0.37 * f)));
+  StretchClip frames(stretch);
+  SphereSet candidates;
+  for (int n : {5, 7})
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k)
+          candidates.push_back({Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) / n, 0.5 / n});
+  JointSelectionOptions options;
+  options.target = 0.09;
+  options.reach = 0.09;
+  options.area_samples = 300;
+  const JointSelection selection = select_jointly(frames, candidates, options);
+  EXPECT_GE(selection.rounds, 3u) << "the check should find samples the first round's frames leave bare";
+  size_t every = 0;
+  for (size_t f = 0; f < stretch.size(); ++f) {
+    const std::vector<Eigen::Vector3d> samples = surface_samples(frames.frame_mesh(f), options.area_samples, options.seed);
+    every += samples.size();
+    SphereSet in_frame;
+    for (const Sphere& s : selection.chosen) in_frame.push_back(frames.in_frame(s, f));
+    const size_t bare = bare_samples(samples, in_frame, options.target).size();
+    EXPECT_EQ(bare, 0u) << "frame " << f;
+  }
+  EXPECT_EQ(selection.cover.uncoverable + selection.bare_elsewhere, 0u);
+  EXPECT_LT(selection.samples, every / 4) << "the last problem should hold a few of the clip's samples";
 }
 
 // The clip between the poses: its meshes at the poses' own times are the extracted poses, and

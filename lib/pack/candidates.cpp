@@ -8,6 +8,7 @@
 
 #include "core/random.hpp"
 #include "core/tolerance.hpp"
+#include "pack/sample_grid.hpp"
 
 namespace spx {
 namespace {
@@ -102,6 +103,32 @@ std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_sa
     const Eigen::Vector3i& f = mesh.triangles[t];
     out.push_back((1 - a) * mesh.vertices[size_t(f[0])] + a * (1 - b) * mesh.vertices[size_t(f[1])] +
                   a * b * mesh.vertices[size_t(f[2])]);
+  }
+  return out;
+}
+
+std::vector<size_t> distinct_centres(const SphereSet& kept, const SphereSet& more, double spacing) {
+  std::vector<Eigen::Vector3d> old, fresh;
+  for (const Sphere& s : kept) old.push_back(s.center);
+  for (const Sphere& s : more) fresh.push_back(s.center);
+  std::vector<char> near_old(more.size(), 0);
+  if (!old.empty()) {
+    const detail::SampleGrid grid(old);
+    tbb::parallel_for(size_t(0), more.size(), [&](size_t i) {
+      grid.near(fresh[i], spacing, [&](uint32_t j) { near_old[i] |= (old[j] - fresh[i]).norm() < spacing; });
+    });
+  }
+  std::vector<size_t> out;
+  if (fresh.empty()) return out;
+  const detail::SampleGrid grid(fresh);
+  std::vector<char> taken(more.size(), 0);
+  for (size_t i = 0; i < more.size(); ++i) {
+    if (near_old[i]) continue;
+    bool near = false;
+    grid.near(fresh[i], spacing, [&](uint32_t j) { near |= taken[j] && (fresh[j] - fresh[i]).norm() < spacing; });
+    if (near) continue;
+    taken[i] = 1;
+    out.push_back(i);
   }
   return out;
 }

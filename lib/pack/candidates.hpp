@@ -33,6 +33,11 @@ CandidateOptions candidate_options(const PackOptions& pack, size_t max_candidate
 // largest inscribed sphere containing it (options.growth).
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& options);
 
+// Of `more`, those whose centre is at least `spacing` from every centre of `kept` and of those of
+// `more` taken before it (in order): candidates offered again and again from alike poses of a
+// clip, mapped back to the rest, land on one another. Returns indices into `more`, ascending.
+std::vector<size_t> distinct_centres(const SphereSet& kept, const SphereSet& more, double spacing);
+
 // Every vertex of `mesh`, then `area_samples` points drawn uniformly by area (seeded).
 std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed);
 

@@ -34,7 +34,7 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
   CoverResult r;
   r.delta = delta;
   const Coverage cov = coverage_at(problem, delta);
-  r.chosen = smallest_cover(cov, limits, 0, &r.lower_bound, log);
+  r.chosen = smallest_cover(cov, limits, 0, &r.lower_bound, log, {}, &r.kept_samples);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
   const std::vector<uint32_t> bare = uncovered_samples(cov);
   r.uncoverable = bare.size();

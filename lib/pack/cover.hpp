@@ -42,6 +42,8 @@ struct CoverResult {
   size_t uncoverable = 0;      // samples no candidate covers at `delta` (then the tolerance is out of reach)
   double least_reachable = 0;  // the smallest delta at which every sample can be covered
   int evaluations = 0;         // covers solved
+  // Tolerance mode: the samples the reduction kept; a cover of them covers every sample.
+  std::vector<uint32_t> kept_samples;
 };
 
 // Budget mode: after the greedy bisection, this many bisections over the deltas up to

@@ -307,8 +307,9 @@ size_t lower_bound_of(const Coverage& cov, size_t upper) {
 }
 
 std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t enough, size_t* lower_bound, Log& log,
-                                const std::vector<int>& start) {
+                                const std::vector<int>& start, std::vector<uint32_t>* kept_samples) {
   const ReducedCover reduced = reduce_cover(cov, limits.scan);
+  if (kept_samples) *kept_samples = reduced.sample;
   // The start's candidates the reduction kept (one it dropped is dominated: greedy finds better).
   std::vector<int> kept;
   if (!start.empty()) {

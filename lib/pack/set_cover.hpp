@@ -78,9 +78,11 @@ size_t lower_bound_of(const Coverage& coverage, size_t upper);
 // The fewest spheres found for `coverage`: the problem reduced (reduce_cover), greedy, shrunk,
 // then the row-weighting search, stopping at `enough` spheres. `lower_bound`, when given, gets
 // the larger of the two bounds. `start`: a cover of fewer samples to complete (warm start)
-// rather than starting from nothing. Returns candidate indices, ascending.
+// rather than starting from nothing. `kept_samples`, when given, gets the samples the reduction
+// kept (any cover of those covers every sample), ascending. Returns candidate indices, ascending.
 std::vector<int> smallest_cover(const Coverage& coverage, SearchLimits limits, size_t enough, size_t* lower_bound,
-                                Log& log = Log::silent(), const std::vector<int>& start = {});
+                                Log& log = Log::silent(), const std::vector<int>& start = {},
+                                std::vector<uint32_t>* kept_samples = nullptr);
 // A warm start's search: short, so that the cover stays near the one it started from.
 constexpr SearchLimits kWarmSearch{2000, 200000000};
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 #include "core/format.hpp"
@@ -16,6 +17,10 @@ namespace {
 // A check adds, besides the samples the chosen spheres leave bare, those they cover by less than
 // this share of delta: the next cover, free to move its spheres, would leave them bare.
 constexpr double kNearlyBare = 0.5;
+// Where the problem is compacted each round a round costs little, and the check adds only those
+// covered by less than this share: on 48 frames of the elephant's walk a quarter as many samples
+// over more rounds, in less time and memory, and no more spheres.
+constexpr double kNearlyBareCompacted = 0.75;
 
 double largest_displacement(const TriMesh& a, const TriMesh& b) {
   double out = 0;
@@ -45,6 +50,7 @@ class Selector {
         samples_(frames.frame_count()),
         offered_(frames.frame_count()),
         extra_(frames.frame_count()),
+        held_(frames.frame_count()),
         centers_(one_ ? frames.frame_count() : 0) {}
 
   JointSelection run(const SphereSet& file_candidates) {
@@ -71,7 +77,8 @@ class Selector {
       std::vector<size_t> more_frames;
       if (active_.size() < frames_.frame_count()) {
         if (one_)
-          more_samples = add_bare_samples(out.cover.chosen, out.cover.delta, out.bare_elsewhere);
+          more_samples = add_bare_samples(out.cover.chosen, out.cover.delta, out.bare_elsewhere,
+                                          compacting() ? kept_by_frame(out.cover.kept_samples) : nullptr);
         else
           more_frames = frames_left_bare(out.cover.chosen, out.cover.delta);
       }
@@ -98,14 +105,34 @@ class Selector {
  private:
   bool is_active(size_t f) const { return std::binary_search(active_.begin(), active_.end(), f); }
 
+  // Skinned, tolerance: after each round the problem keeps only the samples its reduction kept
+  // (a cover of those covers the rest), so that a round costs what the hard samples of the clip
+  // cost, not what all its frames do. The candidates stay (each frame's were offered up front).
+  bool compacting() const { return one_ && opt_.budget == 0; }
+
+  // The reduction's kept samples (stacked indices of the last problem) by frame.
+  std::unique_ptr<std::vector<std::vector<uint32_t>>> kept_by_frame(const std::vector<uint32_t>& kept) const {
+    auto out = std::make_unique<std::vector<std::vector<uint32_t>>>(frames_.frame_count());
+    size_t part = 0, first = 0;
+    for (uint32_t s : kept) {
+      while (s >= first + layout_[part].second.size()) first += layout_[part++].second.size();
+      (*out)[layout_[part].first].push_back(layout_[part].second[s - first]);
+    }
+    for (auto& list : *out) std::sort(list.begin(), list.end());
+    return out;
+  }
+
   size_t samples_elsewhere() const {
     size_t n = 0;
-    for (const auto& e : extra_) n += e.size();
+    for (size_t f = 0; f < extra_.size(); ++f) n += is_active(f) ? 0 : extra_[f].size();
     return n;
   }
 
   const std::vector<Eigen::Vector3d>& samples(size_t f) {
-    if (samples_[f].empty()) samples_[f] = surface_samples(frames_.frame_surface(f), opt_.area_samples, opt_.seed);
+    if (samples_[f].empty()) {
+      samples_[f] = surface_samples(frames_.frame_surface(f), opt_.area_samples, opt_.seed);
+      held_[f].assign(samples_[f].size(), 0);
+    }
     return samples_[f];
   }
 
@@ -122,7 +149,7 @@ class Selector {
   // searched briefly, so that it stays near the last one and the next check finds little new.
   void warm_cover(const CoverProblem& problem, CoverResult& cover) {
     const Coverage coverage = coverage_at(problem, cover.delta);
-    cover.chosen = smallest_cover(coverage, kWarmSearch, 0, nullptr, log_, cover.chosen);
+    cover.chosen = smallest_cover(coverage, kWarmSearch, 0, nullptr, log_, cover.chosen, &cover.kept_samples);
     cover.uncoverable = uncovered_samples(coverage).size();
   }
 
@@ -154,7 +181,10 @@ class Selector {
     if (more.empty()) return;
     if (!one_)
       for (size_t f : more) own_[f] = frames_.spheres_in(candidates_, f);
-    for (size_t f : more) extra_[f].clear();
+    for (size_t f : more) {
+      extra_[f].clear();
+      held_[f].assign(samples(f).size(), 1);
+    }
     active_.insert(active_.end(), more.begin(), more.end());
     std::sort(active_.begin(), active_.end());
     std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
@@ -202,7 +232,9 @@ class Selector {
     }
     for (size_t n = 0; n < wanting.size(); ++n) {
       if (far[n].empty()) continue;
-      const SphereSet back = frames_.frame_candidates(wanting[n].first, far[n], opt_.reach);
+      SphereSet back = frames_.frame_candidates(wanting[n].first, far[n], opt_.reach);
+      // Skinned, a clip's alike frames offer much the same spheres again: one per place.
+      if (one_ && opt_.spacing > 0) back = pick(back, distinct_centres(candidates_, back, opt_.spacing));
       add_candidates(back);
       from_frames_ += back.size();
     }
@@ -212,36 +244,46 @@ class Selector {
   // cover problem. Candidates mostly absent are withdrawn (counted).
   CoverProblem cover_problem(size_t& mostly_absent) {
     CoverProblem p;
-    auto add = [&](size_t f, std::vector<Eigen::Vector3d> points, size_t weighted) {
-      p.samples.push_back(std::move(points));
+    layout_.clear();
+    auto add = [&](size_t f, std::vector<uint32_t> which, size_t weighted) {
+      p.samples.push_back(pick(samples(f), which));
+      layout_.emplace_back(f, std::move(which));
       p.weighted.push_back(weighted);
       SphereSet set(candidates_.size());
       for (size_t c = 0; c < set.size(); ++c) set[c] = sphere(c, f);
       p.spheres.push_back(std::move(set));
     };
-    for (size_t f : active_) add(f, samples(f), frames_.frame_surface(f).vertices.size());
+    if (whole_)
+      for (size_t f : active_) add(f, every_sample(f), frames_.frame_surface(f).vertices.size());
     for (size_t f = 0; f < extra_.size(); ++f)
-      if (!extra_[f].empty()) add(f, pick(samples(f), extra_[f]), 0);
+      if (!extra_[f].empty()) add(f, extra_[f], 0);
     mostly_absent = withdraw_mostly_absent(p);
     return p;
   }
 
-  // Skinned: the samples of the frames not selected on whole that the chosen spheres leave
-  // bare. Those far from the spheres file's candidates are offered their frame's own first;
-  // then those some candidate reaches join the problem, the rest are counted in
-  // `bare_elsewhere`. Returns how many joined.
-  size_t add_bare_samples(const std::vector<int>& chosen, double delta, size_t& bare_elsewhere) {
+  // Skinned: the samples the chosen spheres leave bare, or cover by less than kNearlyBare of
+  // delta, that the problem does not hold (one it held before only if bare outright). Those far
+  // from the spheres file's candidates are offered their frame's own first; then those some
+  // candidate reaches join the problem, the rest are counted in `bare_elsewhere`. `kept`
+  // (compacting): the samples the last problem's reduction kept, by frame; the problem becomes
+  // those and the samples joining. Returns how many joined.
+  size_t add_bare_samples(const std::vector<int>& chosen, double delta, size_t& bare_elsewhere,
+                          std::unique_ptr<std::vector<std::vector<uint32_t>>> kept) {
     std::vector<std::pair<size_t, std::vector<uint32_t>>> bare;
     for (size_t f = 0; f < frames_.frame_count(); ++f) {
-      if (is_active(f)) continue;
+      if (whole_ && is_active(f)) continue;
       SphereSet spheres(chosen.size());
       for (size_t s = 0; s < chosen.size(); ++s) spheres[s] = sphere(size_t(chosen[s]), f);
+      const std::vector<uint32_t> outright = bare_samples(samples(f), spheres, delta);
       std::vector<uint32_t> which;
-      for (uint32_t b : bare_samples(samples(f), spheres, kNearlyBare * delta))
-        if (!std::binary_search(extra_[f].begin(), extra_[f].end(), b)) which.push_back(b);
+      for (uint32_t b : bare_samples(samples(f), spheres, (compacting() ? kNearlyBareCompacted : kNearlyBare) * delta))
+        if (!std::binary_search(extra_[f].begin(), extra_[f].end(), b) &&
+            (!held_[f][b] || std::binary_search(outright.begin(), outright.end(), b)))
+          which.push_back(b);
       if (!which.empty()) bare.emplace_back(f, std::move(which));
     }
     offer_frame_candidates(bare);
+    std::vector<std::vector<uint32_t>> joining(frames_.frame_count());
     size_t added = 0;
     bare_elsewhere = 0;
     for (const auto& [f, which] : bare) {
@@ -254,9 +296,18 @@ class Selector {
           ++o;
           continue;
         }
-        extra_[f].push_back(which[w]);
+        joining[f].push_back(which[w]);
+        held_[f][which[w]] = 1;
         ++added;
       }
+    }
+    if (added == 0) return 0;
+    if (kept) {
+      whole_ = false;
+      extra_ = std::move(*kept);
+    }
+    for (size_t f = 0; f < extra_.size(); ++f) {
+      extra_[f].insert(extra_[f].end(), joining[f].begin(), joining[f].end());
       std::sort(extra_[f].begin(), extra_[f].end());
     }
     return added;
@@ -288,7 +339,10 @@ class Selector {
   std::vector<SphereSet> own_;                         // not skinned, per frame selected on: each candidate's sphere
   std::vector<std::vector<Eigen::Vector3d>> samples_;  // per frame, drawn when first asked
   std::vector<std::vector<char>> offered_;             // per frame and sample: its frame's candidates offered
-  std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not selected on: its samples added
+  std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not whole: its samples in the problem
+  std::vector<std::vector<char>> held_;                // per frame and sample: it has been in the problem
+  bool whole_ = true;                                  // the frames selected on are whole in the problem
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> layout_;  // the last problem's samples: (frame, which)
   std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
   std::vector<double> radius_;                         // skinned: each candidate's one radius
   size_t from_frames_ = 0;

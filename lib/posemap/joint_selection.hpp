@@ -5,7 +5,10 @@
 // spheres chosen, adds what they leave bare, and selects again until nothing is (constraint
 // generation). What is added: a frame whole, where each sphere has its own radius in each frame
 // (grown there, which costs a query per candidate); for a skinned body, whose spheres have one
-// radius and cost nothing to carry into a frame, only the bare samples. A skinned candidate's one
+// radius and cost nothing to carry into a frame, only the bare samples; and then (tolerance
+// mode) the problem keeps from round to round only the samples its reduction kept, so a round
+// costs what the clip's hard samples cost, not what all its frames do. A clip's alike frames
+// offer much the same candidates: one per place is kept (`spacing`). A skinned candidate's one
 // radius is held over the whole clip (over_clip) as it is offered, before any cover sees it.
 // Where every frame is selected on in the first round, that is the one cover over all of them.
 #include <Eigen/Core>
@@ -48,6 +51,7 @@ struct JointSelectionOptions {
   double target = 0;         // a length; 0: none (budget only)
   size_t budget = 0;         // 0: none
   double reach = 0;          // frame candidates are offered within this of a bare sample
+  double spacing = 0;        // skinned: a frame candidate within this of one offered (at rest) is not
   size_t area_samples = 4000;
   uint64_t seed = 1;
   size_t first_frames = 6;   // poses selected on in the first round (those farthest apart)

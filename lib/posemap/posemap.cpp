@@ -26,6 +26,10 @@
 namespace spx {
 namespace {
 
+// Skinned: a frame's own candidate within this many voxels (at rest) of one offered is not (at 48
+// frames of the elephant's walk, a quarter as many candidates and no more spheres).
+constexpr double kFrameCandidateSpacing = 0.5;
+
 // pose-map's steps, in the order pose_map() takes them, and the state they share: the tets and
 // the map f, each pose's tet vertices and solid, and the proxy as it grows.
 class PoseMapper {
@@ -111,6 +115,7 @@ class PoseMapper {
     JointSelectionOptions options;
     std::tie(options.target, options.budget) = selection_size();
     options.reach = options.target > 0 ? options.target : default_tolerance(rest_.diagonal());
+    options.spacing = kFrameCandidateSpacing * field_options().voxel_size;
     options.area_samples = opt_.area_samples;
     options.seed = opt_.seed;
     Frames frames(*this);
