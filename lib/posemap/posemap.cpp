@@ -115,7 +115,8 @@ class PoseMapper {
     JointSelectionOptions options;
     std::tie(options.target, options.budget) = selection_size();
     options.reach = options.target > 0 ? options.target : default_tolerance(rest_.diagonal());
-    options.spacing = kFrameCandidateSpacing * field_options().voxel_size;
+    // Not on open parts: half a voxel is much of a wall there (the robot's walk lost 50 samples).
+    options.spacing = open_solid_ ? 0.0 : kFrameCandidateSpacing * field_options().voxel_size;
     options.area_samples = opt_.area_samples;
     options.seed = opt_.seed;
     Frames frames(*this);
