@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <numeric>
 
 #include "core/format.hpp"
@@ -78,7 +77,7 @@ class Selector {
       if (active_.size() < frames_.frame_count()) {
         if (one_)
           more_samples = add_bare_samples(out.cover.chosen, out.cover.delta, out.bare_elsewhere,
-                                          compacting() ? kept_by_frame(out.cover.kept_samples) : nullptr);
+                                          compacting() ? &out.cover.kept_samples : nullptr);
         else
           more_frames = frames_left_bare(out.cover.chosen, out.cover.delta);
       }
@@ -111,14 +110,14 @@ class Selector {
   bool compacting() const { return one_ && opt_.budget == 0; }
 
   // The reduction's kept samples (stacked indices of the last problem) by frame.
-  std::unique_ptr<std::vector<std::vector<uint32_t>>> kept_by_frame(const std::vector<uint32_t>& kept) const {
-    auto out = std::make_unique<std::vector<std::vector<uint32_t>>>(frames_.frame_count());
+  std::vector<std::vector<uint32_t>> kept_by_frame(const std::vector<uint32_t>& kept) const {
+    std::vector<std::vector<uint32_t>> out(frames_.frame_count());
     size_t part = 0, first = 0;
     for (uint32_t s : kept) {
       while (s >= first + layout_[part].second.size()) first += layout_[part++].second.size();
-      (*out)[layout_[part].first].push_back(layout_[part].second[s - first]);
+      out[layout_[part].first].push_back(layout_[part].second[s - first]);
     }
-    for (auto& list : *out) std::sort(list.begin(), list.end());
+    for (auto& list : out) std::sort(list.begin(), list.end());
     return out;
   }
 
@@ -265,21 +264,27 @@ class Selector {
   // delta, that the problem does not hold (one it held before only if bare outright). Those far
   // from the spheres file's candidates are offered their frame's own first; then those some
   // candidate reaches join the problem, the rest are counted in `bare_elsewhere`. `kept`
-  // (compacting): the samples the last problem's reduction kept, by frame; the problem becomes
-  // those and the samples joining. Returns how many joined.
+  // (compacting): the samples the last problem's reduction kept; the problem becomes those and
+  // the samples joining. Returns how many joined.
   size_t add_bare_samples(const std::vector<int>& chosen, double delta, size_t& bare_elsewhere,
-                          std::unique_ptr<std::vector<std::vector<uint32_t>>> kept) {
+                          const std::vector<uint32_t>* kept) {
     std::vector<std::pair<size_t, std::vector<uint32_t>>> bare;
     for (size_t f = 0; f < frames_.frame_count(); ++f) {
       if (whole_ && is_active(f)) continue;
       SphereSet spheres(chosen.size());
       for (size_t s = 0; s < chosen.size(); ++s) spheres[s] = sphere(size_t(chosen[s]), f);
-      const std::vector<uint32_t> outright = bare_samples(samples(f), spheres, delta);
+      const std::vector<uint32_t> nearly =
+          bare_samples(samples(f), spheres, (compacting() ? kNearlyBareCompacted : kNearlyBare) * delta);
+      // Of those, the bare outright: a scan of the few, not of every sample again.
+      const std::vector<uint32_t> outright = bare_samples(pick(samples(f), nearly), spheres, delta);
       std::vector<uint32_t> which;
-      for (uint32_t b : bare_samples(samples(f), spheres, (compacting() ? kNearlyBareCompacted : kNearlyBare) * delta))
-        if (!std::binary_search(extra_[f].begin(), extra_[f].end(), b) &&
-            (!held_[f][b] || std::binary_search(outright.begin(), outright.end(), b)))
+      for (size_t n = 0, o = 0; n < nearly.size(); ++n) {
+        const uint32_t b = nearly[n];
+        const bool is_outright = o < outright.size() && outright[o] == n;
+        o += is_outright;
+        if (!std::binary_search(extra_[f].begin(), extra_[f].end(), b) && (!held_[f][b] || is_outright))
           which.push_back(b);
+      }
       if (!which.empty()) bare.emplace_back(f, std::move(which));
     }
     offer_frame_candidates(bare);
@@ -304,7 +309,7 @@ class Selector {
     if (added == 0) return 0;
     if (kept) {
       whole_ = false;
-      extra_ = std::move(*kept);
+      extra_ = kept_by_frame(*kept);
     }
     for (size_t f = 0; f < extra_.size(); ++f) {
       extra_[f].insert(extra_[f].end(), joining[f].begin(), joining[f].end());
