@@ -1,5 +1,7 @@
 #include "posemap/joint_selection.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -65,12 +67,16 @@ class Selector {
         out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_);
       else
         warm_cover(problem, out.cover);
+      // A radius the check lowers was counted on as larger: cover the same problem again.
+      if (one_ && lower_unchecked_radii(out.cover.chosen, out)) continue;
       std::vector<int> order = out.cover.chosen;
       // Largest first by the rest sphere each becomes, as sphere-pack orders its spheres.
       std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
         return problem.spheres[0][size_t(a)].radius > problem.spheres[0][size_t(b)].radius;
       });
       out.chosen = pick(candidates_, order);
+      if (one_)
+        for (size_t n = 0; n < order.size(); ++n) out.chosen[n].radius = radius_[size_t(order[n])];
       out.samples = problem.sample_count();
       size_t more_samples = 0;
       std::vector<size_t> more_frames;
@@ -152,6 +158,31 @@ class Selector {
     cover.uncoverable = uncovered_samples(coverage).size();
   }
 
+  // Skinned: each chosen candidate's one radius, not checked before, checked against its exact
+  // radius in every frame (the carry skips frames by their fields' floors, which may be a
+  // fraction of a voxel high). Returns whether any was lowered.
+  bool lower_unchecked_radii(const std::vector<int>& chosen, JointSelection& out) {
+    std::vector<size_t> unchecked;
+    for (int c : chosen)
+      if (!checked_[size_t(c)]) unchecked.push_back(size_t(c));
+    std::vector<double> least(unchecked.size());
+    tbb::parallel_for(size_t(0), unchecked.size(), [&](size_t n) {
+      const size_t c = unchecked[n];
+      least[n] = radius_[c];
+      for (size_t f = 0; f < frames_.frame_count() && least[n] > 0; ++f)
+        least[n] = std::min(least[n], frames_.exact_radius(centers_[f][c], f));
+    });
+    size_t lowered = 0;
+    for (size_t n = 0; n < unchecked.size(); ++n) {
+      checked_[unchecked[n]] = 1;
+      lowered += least[n] < radius_[unchecked[n]];
+      radius_[unchecked[n]] = least[n];
+    }
+    out.radii_checked += unchecked.size();
+    out.radii_lowered += lowered;
+    return lowered > 0;
+  }
+
   // More candidates: their spheres in the frames selected on or, skinned, their centres in every
   // frame and their one radius.
   void add_candidates(const SphereSet& more) {
@@ -171,6 +202,7 @@ class Selector {
     const std::vector<double> held = frames_.over_clip(carried.influences, carried.radii);
     for (size_t i = 0; i < held.size(); ++i) clip_shrunk_ += held[i] < carried.radii[i];
     radius_.insert(radius_.end(), held.begin(), held.end());
+    checked_.resize(radius_.size(), 0);
   }
 
   // Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
@@ -350,6 +382,7 @@ class Selector {
   std::vector<std::pair<size_t, std::vector<uint32_t>>> layout_;  // the last problem's samples: (frame, which)
   std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
   std::vector<double> radius_;                         // skinned: each candidate's one radius
+  std::vector<char> checked_;                          // skinned: its radius checked in every frame
   size_t from_frames_ = 0;
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's

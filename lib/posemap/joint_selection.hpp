@@ -37,6 +37,9 @@ class SelectionFrames {
   virtual bool one_radius() const = 0;
   // Skinned: each rest centre carried into every frame, and its one radius.
   virtual SkinnedMap::Carried carry_skinned(const SphereSet& rest) const = 0;
+  // Skinned: the radius at `center` in `frame`, exact (carry_skinned's radii skip frames by
+  // estimates; the chosen ones are checked against this in every frame).
+  virtual double exact_radius(const Eigen::Vector3d& center, size_t frame) const = 0;
   // Skinned: the least of each radius and its radius over the whole clip (ClipRadius; the
   // radii as given without a clip).
   virtual std::vector<double> over_clip(const std::vector<SkinInfluence>&, const std::vector<double>& radius) const {
@@ -59,7 +62,7 @@ struct JointSelectionOptions {
 };
 
 struct JointSelection {
-  SphereSet chosen;  // rest spheres, largest first
+  SphereSet chosen;  // rest spheres, largest first (skinned: each with its one radius)
   CoverResult cover;
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, from_frames = 0, mostly_absent = 0, samples = 0;
@@ -68,6 +71,8 @@ struct JointSelection {
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
   size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
   size_t clip_shrunk = 0;       // skinned: candidates whose one radius the clip lowered
+  size_t radii_checked = 0;     // skinned: chosen candidates whose one radius was checked in every frame
+  size_t radii_lowered = 0;     // of those, the radii the check lowered (each lowering covers again)
 };
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,

@@ -76,7 +76,8 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"limited_by", limit_wording(sel.limited_by)},
           {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
                       {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}},
-          {"clip", {{"candidates_shrunk", sel.clip_shrunk}}}};
+          {"clip", {{"candidates_shrunk", sel.clip_shrunk}}},
+          {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered}}}};
 }
 
 json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {

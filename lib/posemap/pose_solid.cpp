@@ -9,13 +9,14 @@
 
 namespace spx {
 
-PoseSolid::Radius PoseSolid::radius(const Eigen::Vector3d& c, bool cause) const {
+PoseSolid::Radius PoseSolid::radius_at(const Eigen::Vector3d& c, bool cause, bool trust_floor) const {
   // The field's bound first: it is cheap, and where it is 0 so is the radius. Where it is
   // positive (an open mesh) it already puts c inside: some voxel's depth exceeds its offset to c;
-  // so does a positive floor (a kept field's depth, less a whole voxel).
+  // so does a floor past a whole voxel (the field's distances are within a fraction of one).
   const double bound = hole_bound(c);
   if (!(bound > 0) && !cause) return {0, Zero::hole_bound};
-  const bool surely_inside = (holes && bound > 0) || radius_floor(c) > 0;
+  const bool surely_inside =
+      (holes && bound > 0) || (trust_floor && field && radius_floor(c) > field->shape.voxel_size);
   if (!surely_inside && !mesh->inside(c)) return {0, Zero::outside};
   const double exact = std::min(max_radius, mesh->distance(c));
   const double r = std::min(exact, bound);
@@ -55,7 +56,8 @@ double PoseSolid::hole_bound(const Eigen::Vector3d& c) const {
 
 double PoseSolid::radius_floor(const Eigen::Vector3d& c) const {
   if (!field) return 0;
-  return std::clamp(depth_bound(*field, c) - kFloorMargin * field->shape.voxel_size, 0.0, max_radius);
+  // Across an open mesh's holes the radius is also at most the hole bound.
+  return std::clamp(std::min(depth_bound(*field, c), hole_bound(c)), 0.0, max_radius);
 }
 
 }  // namespace spx

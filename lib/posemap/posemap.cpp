@@ -287,11 +287,11 @@ class PoseMapper {
     SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override {
       return m_.skinned_->carry(rest, m_.solids_);
     }
+    double exact_radius(const Eigen::Vector3d& c, size_t f) const override { return m_.solids_[f].exact_radius(c, false).value; }
     SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
       size_t lost = 0;
       return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach), lost);
     }
-
    private:
     PoseMapper& m_;
   };

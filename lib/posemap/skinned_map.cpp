@@ -153,12 +153,19 @@ std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen:
                                                                      SkinInfluence* followed) const {
   const Choice chosen = choose(c, at, solids);
   if (followed) *followed = chosen.influence;
+  // choose() skips the poses whose floors are above its radius: the radius written is checked
+  // against every pose exactly.
+  double radius = chosen.radius;
   std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
   for (size_t i = 0; i < solids.size(); ++i) {
     const Eigen::Vector3d center = this->center(chosen.influence, c, i);
-    const PoseSolid::Zero zero = solids[i].radius(center, cause).zero;
-    out.push_back({{center, chosen.radius},
-                   chosen.radius == 0 && zero == PoseSolid::Zero::none ? PoseSolid::Zero::another_pose : zero});
+    const PoseSolid::Radius exact = solids[i].exact_radius(center, cause);
+    radius = std::min(radius, exact.value);
+    out.push_back({{center, 0}, exact.zero});
+  }
+  for (auto& [sphere, zero] : out) {
+    sphere.radius = radius;
+    if (radius == 0 && zero == PoseSolid::Zero::none) zero = PoseSolid::Zero::another_pose;
   }
   return out;
 }

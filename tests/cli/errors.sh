@@ -10,25 +10,7 @@ fail=0 passed=0
 "$bin/sdf-build" "$out/in/rest.obj" -o "$out/rest.vdb" --resolution 32 -q
 "$bin/sphere-pack" "$out/rest.vdb" -o "$out/s.json" --method greedy -q
 
-# expect CODE PATTERN OUTPUT -- command...: exit code, one stderr line matching, no OUTPUT file.
-expect() {
-  local code=$1 pattern=$2 output=$3
-  shift 4
-  local err
-  err=$("$@" 2>&1 >/dev/null)
-  local got=$?
-  local lines
-  lines=$(printf '%s' "$err" | grep -c '^Error:')
-  if [ "$got" != "$code" ] || ! printf '%s' "$err" | grep -q -- "$pattern" || [ "$lines" != 1 ] ||
-     { [ -n "$output" ] && [ -e "$output" ]; }; then
-    echo "FAIL: $* -> exit $got (want $code), stderr: $err"
-    fail=$((fail + 1))
-  else
-    passed=$((passed + 1))
-  fi
-  # No temporary files left in the output folder.
-  if ls -a "$out" | grep -q '\.tmp\.'; then echo "FAIL: temp file left by $*"; fail=$((fail + 1)); fi
-}
+source "$(dirname "$0")/expect.sh"
 
 expect 2 "Error: $out/missing.obj: cannot open" "$out/x.vdb" -- "$bin/sdf-build" "$out/missing.obj" -o "$out/x.vdb"
 : >"$out/empty.obj"

@@ -13,6 +13,7 @@ check() {  # check MESSAGE COMMAND...
   shift
   if "$@"; then passed=$((passed + 1)); else echo "FAIL: $msg"; fail=$((fail + 1)); fi
 }
+source "$src/tests/cli/expect.sh"
 v() { /usr/bin/python3 "$src/tests/cli/validate_json.py" "$src/schemas" "$@" >/dev/null; }
 
 "$bin/sample-gen" car -o "$out/in" -q
@@ -114,20 +115,13 @@ assert math.isfinite(h["contact_to_mesh_m"]["max"]) and h["contact_to_mesh_m"]["
 assert h["joints"] == 2 and h["spheres"] > 0, h
 PY
   fi
-  expect_error() {  # expect_error CODE PATTERN command...: that exit code and one error line naming it
-    local code=$1 pattern=$2 err got
-    shift 2
-    err=$("$@" 2>&1 >/dev/null); got=$?
-    if [ "$got" = "$code" ] && [ "$(printf '%s\n' "$err" | grep -c '^Error:')" = 1 ] && printf '%s' "$err" | grep -q -- "$pattern"
-    then passed=$((passed + 1)); else echo "FAIL: $* -> exit $got (want $code): $err"; fail=$((fail + 1)); fi
-  }
   set +e
-  expect_error 1 "asset.*no skin" "$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --asset "$rig" --animation 0
-  expect_error 2 "car-morph.glb: has no joint" "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$out/in/car-morph.glb" --animation 0
-  expect_error 1 "times" "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$rig" --animation 0 --times 99
+  expect 1 "asset.*no skin" "" -- "$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --asset "$rig" --animation 0
+  expect 2 "car-morph.glb: has no joint" "" -- "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$out/in/car-morph.glb" --animation 0
+  expect 1 "times" "" -- "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$rig" --animation 0 --times 99
   if [ -x "$host" ]; then
-    expect_error 2 "car-morph.glb: has no joint" "$host" "$r/rigged.spx" --asset "$out/in/car-morph.glb"
-    expect_error 2 "rigged.proxy.json: .*spx" "$host" "$r/rigged.proxy.json" --asset "$rig"
+    expect 2 "car-morph.glb: has no joint" "" -- "$host" "$r/rigged.spx" --asset "$out/in/car-morph.glb"
+    expect 2 "rigged.proxy.json: .*spx" "" -- "$host" "$r/rigged.proxy.json" --asset "$rig"
   fi
   # pose-map refuses a rig that does not fit its poses, naming the file and the field.
   pm() { "$bin/pose-map" --rest "$r/poses/rest.obj" "$@" --spheres "$r/rest.spheres.json" -o "$out/bad.proxy.json"; }
@@ -140,10 +134,9 @@ json.dump(more, open(sys.argv[2] + "/skin-more-joints.json", "w"))
 skin["poses"][0]["joint_matrices"][0][0] = 123456789.25  # a unique token, then out of range
 open(sys.argv[2] + "/skin-infinite.json", "w").write(json.dumps(skin).replace("123456789.25", "1e999"))
 PY
-  expect_error 2 "skin-more-joints.json: pose '.*' joint_matrices does not hold one matrix per joint" pm "${poses[@]}" --skin "$out/skin-more-joints.json"
-  expect_error 2 "skin-infinite.json: .*1e999" pm "${poses[@]}" --skin "$out/skin-infinite.json"
-  expect_error 2 "rest.obj: is not the skin of its joint matrices" pm --pose "$r/poses/pose-00.obj" --pose "$r/poses/rest.obj" --skin "$r/poses/skin.json"
-  check "a refused rig leaves no proxy" test ! -e "$out/bad.proxy.json"
+  expect 2 "skin-more-joints.json: pose '.*' joint_matrices does not hold one matrix per joint" "$out/bad.proxy.json" -- pm "${poses[@]}" --skin "$out/skin-more-joints.json"
+  expect 2 "skin-infinite.json: .*1e999" "$out/bad.proxy.json" -- pm "${poses[@]}" --skin "$out/skin-infinite.json"
+  expect 2 "rest.obj: is not the skin of its joint matrices" "$out/bad.proxy.json" -- pm --pose "$r/poses/pose-00.obj" --pose "$r/poses/rest.obj" --skin "$r/poses/skin.json"
   set -e
 fi
 echo "$passed passed, $fail failed"

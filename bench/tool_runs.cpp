@@ -1,0 +1,158 @@
+#include "tool_runs.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+extern char** environ;
+
+namespace spx::bench {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return json::parse(in);
+}
+
+// The pose-map report's sphere count.
+size_t spheres_in_report(const std::string& report) { return read_json(report).at("sphere_count").get<size_t>(); }
+
+}  // namespace
+
+std::string tools_dir_beside_this_program() {
+  return (fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "apps").string();
+}
+
+ToolRun run_tool(const std::string& tools_dir, const std::vector<std::string>& argv) {
+  std::vector<std::string> args = argv;
+  args[0] = tools_dir + "/" + argv[0];
+  std::vector<char*> c_args;
+  for (std::string& a : args) c_args.push_back(a.data());
+  c_args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  const auto start = std::chrono::steady_clock::now();
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, c_args[0], &actions, nullptr, c_args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  std::string command;
+  for (const std::string& a : argv) command += (command.empty() ? "" : " ") + a;
+  if (spawned != 0) throw std::runtime_error("cannot start " + args[0]);
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  ToolRun out;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.peak_gib = double(usage.ru_maxrss) / (1024.0 * 1024.0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("failed: " + command);
+  return out;
+}
+
+json route_case(const std::string& tools, const std::string& name, const std::string& rest,
+                const std::vector<std::string>& poses, const std::string& work, int repeats) {
+  const std::string dir = work + "/" + name;
+  fs::create_directories(dir);
+  std::vector<std::string> pose_args;
+  for (const std::string& p : poses) {
+    pose_args.push_back("--pose");
+    pose_args.push_back(p);
+  }
+  struct Route {
+    std::string name;
+    std::vector<std::string> pack, map;
+    std::vector<double> sdf, pack_s, map_s, total;
+    double peak = 0;
+    size_t spheres = 0;
+  };
+  std::vector<Route> routes = {{"paper", {"--method", "greedy"}, {"--map-given"}, {}, {}, {}, {}},
+                               {"default", {}, {}, {}, {}, {}, {}}};
+  for (int r = 0; r < repeats; ++r)
+    for (Route& route : routes) {
+      const std::string field = dir + "/" + route.name + ".vdb", spheres = dir + "/" + route.name + ".spheres.json";
+      const std::string report = dir + "/" + route.name + ".report.json";
+      std::vector<std::string> pack{"sphere-pack", field, "-o", spheres, "--mesh", rest, "-q"};
+      pack.insert(pack.end(), route.pack.begin(), route.pack.end());
+      std::vector<std::string> map{"pose-map", "--rest", rest, "--spheres", spheres, "-o",
+                                   dir + "/" + route.name + ".proxy.json", "--report", report, "-q"};
+      map.insert(map.end(), pose_args.begin(), pose_args.end());
+      map.insert(map.end(), route.map.begin(), route.map.end());
+      const ToolRun sdf = run_tool(tools, {"sdf-build", rest, "-o", field, "-q"});
+      const ToolRun packed = run_tool(tools, pack);
+      const ToolRun mapped = run_tool(tools, map);
+      route.sdf.push_back(sdf.seconds);
+      route.pack_s.push_back(packed.seconds);
+      route.map_s.push_back(mapped.seconds);
+      route.total.push_back(sdf.seconds + packed.seconds + mapped.seconds);
+      route.peak = std::max({route.peak, sdf.peak_gib, packed.peak_gib, mapped.peak_gib});
+      route.spheres = spheres_in_report(report);
+    }
+  json out = {{"mesh", name}, {"poses", poses.size()}};
+  for (const Route& route : routes)
+    out[route.name] = {{"sdf_s", median(route.sdf)},     {"pack_s", median(route.pack_s)},
+                       {"pose_map_s", median(route.map_s)}, {"total_s", median(route.total)},
+                       {"peak_gib", route.peak},           {"spheres", route.spheres}};
+  // The ratio of the medians of per-repeat ratios: each pair ran side by side.
+  std::vector<double> ratios;
+  for (int r = 0; r < repeats; ++r) ratios.push_back(routes[1].total[size_t(r)] / routes[0].total[size_t(r)]);
+  out["default_over_paper"] = median(ratios);
+  std::fprintf(stderr, "%s: paper route %.2f s, default route %.2f s (%.2fx)\n", name.c_str(),
+               out["paper"]["total_s"].get<double>(), out["default"]["total_s"].get<double>(), median(ratios));
+  return out;
+}
+
+json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vector<size_t>& frames,
+                 const std::string& work, int repeats) {
+  const std::string dir = work + "/" + clip.name;
+  fs::create_directories(dir);
+  json rows = json::array();
+  std::string field, spheres;
+  for (size_t n : frames) {
+    const std::string poses = dir + "/frames-" + std::to_string(n);
+    std::vector<std::string> extract{"pose-extract", clip.asset, "-o", poses, "-q"};
+    extract.insert(extract.end(), clip.extract.begin(), clip.extract.end());
+    const std::vector<std::string> which = clip.frames_option(n);
+    extract.insert(extract.end(), which.begin(), which.end());
+    run_tool(tools, extract);
+    if (field.empty()) {  // every extraction has the same rest
+      field = dir + "/rest.vdb";
+      spheres = dir + "/rest.spheres.json";
+      run_tool(tools, {"sdf-build", poses + "/rest.obj", "-o", field, "-q"});
+      run_tool(tools, {"sphere-pack", field, "-o", spheres, "--mesh", poses + "/rest.obj", "-q"});
+    }
+    std::vector<double> seconds;
+    double peak = 0;
+    const std::string report = poses + "/report.json";
+    for (int r = 0; r < (n > 64 ? 1 : repeats); ++r) {
+      const ToolRun run = run_tool(tools, {"pose-map", "--manifest", poses + "/poses.json", "--spheres", spheres, "-o",
+                                           poses + "/proxy.json", "--report", report, "-q"});
+      seconds.push_back(run.seconds);
+      peak = std::max(peak, run.peak_gib);
+    }
+    rows.push_back({{"frames", n}, {"pose_map_s", median(seconds)}, {"runs", seconds.size()}, {"peak_gib", peak},
+                    {"spheres", spheres_in_report(report)}});
+    std::fprintf(stderr, "%s, %zu frames: pose-map %.2f s, %.2f GiB\n", clip.name.c_str(), n, median(seconds), peak);
+  }
+  for (json& row : rows) row["over_first"] = row["pose_map_s"].get<double>() / rows[0]["pose_map_s"].get<double>();
+  return {{"clip", clip.name}, {"rows", rows}};
+}
+
+}  // namespace spx::bench

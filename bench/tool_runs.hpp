@@ -1,0 +1,41 @@
+#pragma once
+// The toolchain timed as a user runs it: each tool a whole process (posix_spawn), its wall time
+// and its own peak memory (wait4's rusage), side by side in one run.
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace spx::bench {
+
+struct ToolRun {
+  double seconds = 0;
+  double peak_gib = 0;
+};
+
+// Runs `tools_dir`/argv[0] with the rest of argv, output discarded; throws naming the command
+// if it does not exit 0.
+ToolRun run_tool(const std::string& tools_dir, const std::vector<std::string>& argv);
+
+// The folder of this program's sibling tools (build/<preset>/apps).
+std::string tools_dir_beside_this_program();
+
+// The chain on a rest mesh and its poses (files), twice per repeat alternating: the paper's
+// route (greedy packing, pose-map mapping those spheres as given) and the default route
+// (coverage selection, joint selection), each stage a process. Medians per stage and of the
+// totals, the ratio, each route's peak memory and sphere count.
+nlohmann::json route_case(const std::string& tools, const std::string& name, const std::string& rest,
+                          const std::vector<std::string>& poses, const std::string& work, int repeats);
+
+// pose-map at the defaults on `frames` frames of one clip (pose-extract with `extract` plus
+// --select N or the times it gives), for each count: median time and peak memory of `repeats`
+// runs (1 past 64 frames), spheres. The rest's field and spheres are built once.
+struct ClipSweep {
+  std::string name, asset;
+  std::vector<std::string> extract;                                   // pose-extract options besides -o
+  std::function<std::vector<std::string>(size_t n)> frames_option;  // the options that take n frames
+};
+nlohmann::json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vector<size_t>& frames,
+                           const std::string& work, int repeats);
+
+}  // namespace spx::bench

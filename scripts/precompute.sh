@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# Precompute speed: every stage on real meshes against its baseline (bench/precompute_bench.cpp),
+# the default route against the paper's, and pose-map over more and more frames of a clip; then
+# the tables and the chart of time against frames and against triangles.
+#   bash scripts/precompute.sh [OUT_DIR] [precompute-bench options...]
+#   (default docs/; the JSON lands in build/precompute.json)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+out=${1:-$root/docs}
+shift || true
+bash "$root/scripts/setup.sh"
+bash "$root/scripts/build.sh" >/dev/null
+command -v gnuplot >/dev/null || { sudo=""; [ "$(id -u)" -eq 0 ] || sudo=sudo;
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends gnuplot-nox >/dev/null; }
+json=$root/build/precompute.json
+"$root/build/release/bench/precompute-bench" --data "$root/../shared/data" --json "$json" "$@"
+mkdir -p "$out"
+data=$root/build/precompute
+rm -rf "$data" && mkdir -p "$data"
+/usr/bin/python3 - "$json" "$data" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+d = sys.argv[2]
+print("| cells | voxels | ours | OpenVDB filled | speedup (medians) | least speedup of a pair | ours max / mean error (voxels) |")
+print("|---|---|---|---|---|---|---|")
+for c in r["sdf"]:
+    print("| %d | %.2f M | %.2f s | %.2f s | %.2fx | %.2fx | %.2f / %.3f |" % (
+        c["resolution"], c["voxels"] / 1e6, c["sdf_s"], c["openvdb_filled_s"], c["speedup_vs_openvdb"],
+        c.get("least_pair_speedup", c["speedup_vs_openvdb"]), c["against_exact"]["ours_max_error_voxels"],
+        c["against_exact"]["ours_mean_error_voxels"]))
+if r.get("routes"):
+    print("\n| asset | triangles | poses | paper route: sdf + pack + pose-map (spheres) | default route (spheres) | default / paper | peak memory paper / default |")
+    print("|---|---|---|---|---|---|---|")
+    with open(d + "/routes.dat", "w") as f:
+        for x in r["routes"]:
+            p, q = x["paper"], x["default"]
+            print("| %s | %d | %d | %.2f + %.2f + %.2f = %.2f s (%d) | %.2f + %.2f + %.2f = %.2f s (%d) | %.2fx | %.2f / %.2f GiB |" % (
+                x["mesh"], x["triangles"], x["poses"], p["sdf_s"], p["pack_s"], p["pose_map_s"], p["total_s"], p["spheres"],
+                q["sdf_s"], q["pack_s"], q["pose_map_s"], q["total_s"], q["spheres"], x["default_over_paper"],
+                p["peak_gib"], q["peak_gib"]))
+            f.write("%d %.4f %.4f \"%s\"\n" % (x["triangles"], p["total_s"], q["total_s"], x["mesh"]))
+for s in r.get("frame_sweeps", []):
+    print("\n%s (%d triangles): pose-map at the defaults\n" % (s["clip"], s["triangles"]))
+    print("| frames | time | against the first row | peak memory | spheres |")
+    print("|---|---|---|---|---|")
+    with open("%s/%s.dat" % (d, s["clip"]), "w") as f:
+        for row in s["rows"]:
+            print("| %d | %.2f s%s | %.2fx | %.2f GiB | %d |" % (row["frames"], row["pose_map_s"],
+                  "" if row["runs"] > 1 else " (1 run)", row["over_first"], row["peak_gib"], row["spheres"]))
+            f.write("%d %.4f %.4f\n" % (row["frames"], row["pose_map_s"], row["peak_gib"]))
+PY
+clips=$(/usr/bin/python3 -c "import json,sys; print(' '.join(s['clip'] for s in json.load(open(sys.argv[1])).get('frame_sweeps', [])))" "$json")
+[ -n "$clips" ] || { echo "data: $json"; exit 0; }
+for term in svg png; do
+  plot="" sep="" i=1
+  for c in $clips; do
+    plot="$plot$sep'$data/$c.dat' using 1:2 with linespoints lw 2 lc $i pt 7 title '$c'"
+    sep=", " i=$((i + 1))
+  done
+  gnuplot <<GP
+set terminal $([ $term = svg ] && echo "svg size 1100,450 dynamic" || echo "pngcairo size 1100,450")
+set output "$out/precompute.$term"
+set multiplot layout 1,2
+set grid
+set key top left
+set title "pose-map at the defaults over one clip"
+set xlabel "frames"
+set ylabel "seconds (median)"
+plot $plot
+set title "the whole chain, 4 poses"
+set logscale xy
+set xlabel "triangles"
+set ylabel "seconds (median)"
+plot '$data/routes.dat' using 1:2 with linespoints lw 2 pt 6 dt 2 title "paper's route (greedy, mapped as given)", \
+     '$data/routes.dat' using 1:3 with linespoints lw 2 pt 7 title "default route (cover, joint selection)", \
+     '$data/routes.dat' using 1:3:4 with labels offset 0,1 notitle
+unset multiplot
+GP
+done
+echo "chart: $out/precompute.svg (and .png); data: $json"

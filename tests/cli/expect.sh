@@ -1,0 +1,20 @@
+# Sourced by the CLI tests. Counts in the caller's `passed` and `fail`; `out` is its output folder.
+# expect CODE PATTERN OUTPUT -- command...: the command exits CODE with one "Error:" line on
+# stderr that matches PATTERN, leaves no OUTPUT file ("" for none), and no temporary file in $out.
+expect() {
+  local code=$1 pattern=$2 output=$3
+  shift 4
+  local err
+  err=$("$@" 2>&1 >/dev/null)
+  local got=$?
+  local lines
+  lines=$(printf '%s' "$err" | grep -c '^Error:')
+  if [ "$got" != "$code" ] || ! printf '%s' "$err" | grep -q -- "$pattern" || [ "$lines" != 1 ] ||
+     { [ -n "$output" ] && [ -e "$output" ]; }; then
+    echo "FAIL: $* -> exit $got (want $code), stderr: $err"
+    fail=$((fail + 1))
+  else
+    passed=$((passed + 1))
+  fi
+  if ls -a "$out" | grep -q '\.tmp\.'; then echo "FAIL: temp file left by $*"; fail=$((fail + 1)); fi
+}
