@@ -283,6 +283,13 @@ void run(const Plan& plan) {
   const std::string& data = plan.data;
   const int repeats = plan.repeats;
   json result = {{"generator", std::string("precompute-bench (spx) ") + spx::version_string()}, {"repeats", repeats}};
+  // The tools first: a child's peak memory (ru_maxrss) starts from this process's own at the
+  // spawn, which the in-process cases below raise.
+  if (plan.routes) {
+    const std::string tools = bench::tools_dir_beside_this_program();
+    result["routes"] = route_cases(plan, tools);
+    result["frame_sweeps"] = frame_sweeps(plan, tools);
+  }
   const TriMesh armadillo = load_mesh(data + "/static/armadillo.obj").mesh;
   json sdf = json::array();
   for (int res : plan.resolutions)
@@ -301,11 +308,6 @@ void run(const Plan& plan) {
     chains.push_back(chain_case("car", car.rest, car_poses, repeats));
   }
   result["chains"] = chains;
-  if (plan.routes) {
-    const std::string tools = bench::tools_dir_beside_this_program();
-    result["routes"] = route_cases(plan, tools);
-    result["frame_sweeps"] = frame_sweeps(plan, tools);
-  }
   write_json_atomic(plan.out, result);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The toolchain timed as a user runs it: each tool a whole process (posix_spawn), its wall time
-// and its own peak memory (wait4's rusage), side by side in one run.
+// and its own peak memory (wait4's rusage, which starts from the spawning process's own: spawn
+// before growing), side by side in one run.
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>

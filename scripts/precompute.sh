@@ -68,12 +68,14 @@ set xlabel "frames"
 set ylabel "seconds (median)"
 plot $plot
 set title "the whole chain, 4 poses"
+set key bottom right
 set logscale xy
+set yrange [0.1:100]
 set xlabel "triangles"
 set ylabel "seconds (median)"
 plot '$data/routes.dat' using 1:2 with linespoints lw 2 pt 6 dt 2 title "paper's route (greedy, mapped as given)", \
      '$data/routes.dat' using 1:3 with linespoints lw 2 pt 7 title "default route (cover, joint selection)", \
-     '$data/routes.dat' using 1:3:4 with labels offset 0,1 notitle
+     '$data/routes.dat' using 1:3:4 with labels offset 0,1.2 notitle
 unset multiplot
 GP
 done
