@@ -38,19 +38,19 @@ double peak_rss_gib() {
   return double(u.ru_maxrss) / (1024.0 * 1024.0);
 }
 
+double seconds_of(const std::function<void()>& fn) {
+  const auto t0 = std::chrono::steady_clock::now();
+  fn();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 // Median seconds of `repeats` runs of fn.
 double median_seconds(int repeats, const std::function<void()>& fn) {
   std::vector<double> t;
-  for (int r = 0; r < repeats; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    fn();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  for (int r = 0; r < repeats; ++r) t.push_back(seconds_of(fn));
+  return bench::median(t);
 }
 
-// OpenVDB's own signed distance field with the interior completely filled (the baseline).
 openvdb::FloatGrid::Ptr openvdb_filled(const TriMesh& mesh, double h, int band) {
   std::vector<openvdb::Vec3s> points;
   for (const auto& v : mesh.vertices) points.emplace_back(float(v.x() / h), float(v.y() / h), float(v.z() / h));
@@ -72,14 +72,12 @@ json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int 
   std::vector<double> ratios;
   std::vector<double> t_ours_runs, t_base_runs;
   for (int r = 0; r < repeats; ++r) {
-    t_ours_runs.push_back(median_seconds(1, [&] { ours = build_sdf(mesh, opt); }));
+    t_ours_runs.push_back(seconds_of([&] { ours = build_sdf(mesh, opt); }));
     const double h = ours.field.shape.voxel_size;
-    t_base_runs.push_back(median_seconds(1, [&] { base = openvdb_filled(mesh, h, opt.band); }));
+    t_base_runs.push_back(seconds_of([&] { base = openvdb_filled(mesh, h, opt.band); }));
     ratios.push_back(t_base_runs.back() / t_ours_runs.back());
   }
-  std::sort(t_ours_runs.begin(), t_ours_runs.end());
-  std::sort(t_base_runs.begin(), t_base_runs.end());
-  const double t_ours = t_ours_runs[t_ours_runs.size() / 2], t_base = t_base_runs[t_base_runs.size() / 2];
+  const double t_ours = bench::median(t_ours_runs), t_base = bench::median(t_base_runs);
   const double least_ratio = *std::min_element(ratios.begin(), ratios.end());
   const double h = ours.field.shape.voxel_size;
   // Accuracy against the baseline over the interior: sign agreement and distance difference.
@@ -267,7 +265,7 @@ json frame_sweeps(const Plan& plan, const std::string& tools) {
   const bench::ClipSweep bend{"RiggedSimple", simple, {"--animation", "0"}, [end](size_t n) {
                                 std::string times;
                                 for (size_t k = 0; k < n; ++k)
-                                  times += (k ? "," : "") + std::to_string(0.999 * end * double(k) / double(n - 1));
+                                  times += (k ? "," : "") + std::to_string(n > 1 ? 0.999 * end * double(k) / double(n - 1) : 0.0);
                                 return std::vector<std::string>{"--times", times};
                               }};
   for (const bench::ClipSweep& clip : {walk, bend}) {

@@ -19,12 +19,12 @@ namespace spx::bench {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0 : values[values.size() / 2];
 }
+
+namespace {
 
 json read_json(const std::string& path) {
   std::ifstream in(path);

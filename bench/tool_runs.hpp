@@ -9,6 +9,9 @@
 
 namespace spx::bench {
 
+// The middle value (the upper of the two middle ones for an even count; 0 for none).
+double median(std::vector<double> values);
+
 struct ToolRun {
   double seconds = 0;
   double peak_gib = 0;
