@@ -53,8 +53,17 @@ json row(const std::string& method, const std::string& mode, double asked, const
           {"seconds", seconds}};
 }
 
+// What the cover chose from: candidates by origin and the least delta any cover reaches.
+json with_candidates(json row, const CoverSelection& r, double diag) {
+  row["candidates"] = r.candidates;
+  row["tangent_candidates"] = r.candidates - r.voxel_candidates;
+  row["chosen_tangent"] = r.chosen_tangent;
+  row["least_reachable_pct"] = 100 * r.cover.least_reachable / diag;
+  return row;
+}
+
 json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, const std::vector<size_t>& budgets,
-                const std::vector<double>& tolerances, Log& log) {
+                const std::vector<double>& tolerances, bool tangent, Log& log) {
   SdfOptions o;
   o.resolution = resolution;
   const SdfResult sdf = build_sdf(mesh, o);
@@ -66,6 +75,7 @@ json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, co
     SpherePackOptions opt;
     opt.pack.max_spheres = budget;
     opt.pack.field_bounds_radius = sdf.stats.bounded_by_holes;
+    opt.tangent_candidates = tangent;
     if (tolerance_pct > 0) opt.tolerance = tolerance_pct / 100 * diag;
     return select_by_cover(sdf.field, query, opt);
   };
@@ -74,7 +84,7 @@ json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, co
   for (size_t n : budgets) {
     auto t0 = std::chrono::steady_clock::now();
     const CoverSelection r = cover(n, 0);
-    rows.push_back(row("cover", "budget", double(n), r.spheres, query, seconds_since(t0), r.cover.lower_bound));
+    rows.push_back(with_candidates(row("cover", "budget", double(n), r.spheres, query, seconds_since(t0), r.cover.lower_bound), r, diag));
     t0 = std::chrono::steady_clock::now();
     PackOptions g = greedy;
     g.max_spheres = n;
@@ -87,7 +97,7 @@ json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, co
     const double target = t / 100 * diag;
     auto t0 = std::chrono::steady_clock::now();
     const CoverSelection r = cover(0, t);
-    rows.push_back(row("cover", "tolerance", t, r.spheres, query, seconds_since(t0), r.cover.lower_bound));
+    rows.push_back(with_candidates(row("cover", "tolerance", t, r.spheres, query, seconds_since(t0), r.cover.lower_bound), r, diag));
     t0 = std::chrono::steady_clock::now();
     PackOptions g = greedy;
     g.min_radius = sdf.field.shape.voxel_size;
@@ -111,12 +121,14 @@ int main(int argc, char** argv) {
   std::vector<size_t> budgets = {16, 32, 64, 128, 256};
   std::vector<double> tolerances = {1, 2, 5};
   std::vector<std::string> only;
+  bool voxels_only = false;
   tool.app.add_option("--data", data, "The shared data folder");
   tool.app.add_option("--json", out, "Write the results here")->required();
   tool.app.add_option("--resolution", resolution, "Field cells along the longest side")->capture_default_str();
   tool.app.add_option("--budgets", budgets, "Sphere budgets")->capture_default_str();
   tool.app.add_option("--tolerances", tolerances, "Tolerances in % of the diagonal")->capture_default_str();
   tool.app.add_option("--mesh", only, "Only these meshes (bunny, knight, fertility, elephant, armadillo, car, cube)");
+  tool.app.add_flag("--voxel-candidates-only", voxels_only, "The cover without the candidates tangent at the samples");
   return tool.run(argc, argv, [&] {
     struct Case { std::string name, path; };
     const std::vector<Case> cases = {{"bunny", "static/bunny.off"},         {"knight", "static/decimated-knight.off"},
@@ -127,7 +139,7 @@ int main(int argc, char** argv) {
     for (const Case& c : cases) {
       if (!only.empty() && std::find(only.begin(), only.end(), c.name) == only.end()) continue;
       const TriMesh mesh = c.path.empty() ? make_car().rest : load_mesh(data + "/" + c.path).mesh;
-      meshes.push_back(bench_mesh(c.name, mesh, resolution, budgets, tolerances, tool.log));
+      meshes.push_back(bench_mesh(c.name, mesh, resolution, budgets, tolerances, !voxels_only, tool.log));
       tool.log.info(c.name + " done");
     }
     write_json_atomic(out, {{"generator", std::string("frontier-bench (spx) ") + version_string()},

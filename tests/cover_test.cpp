@@ -1,13 +1,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numeric>
 #include <random>
 
 #include "core/atomic_file.hpp"
 #include "io/spheres_file.hpp"
 #include "io/vdb_io.hpp"
 #include "mesh/union_distance.hpp"
+#include "mesh/inscribed.hpp"
 #include "pack/cover.hpp"
+#include "pack/select.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "sdf/sdf.hpp"
 #include "synthetic/synthetic.hpp"
@@ -295,6 +298,168 @@ TEST(Cover, SpherePackReportsTheErrorItsFileHas) {
     }
     const MeshQuery q(mesh.mesh);
     for (const Sphere& s : file.spheres) EXPECT_LE(s.radius, q.distance(s.center) + 1e-12);
+  }
+}
+
+// Representatives against brute force: largest first, a candidate is left out exactly when an
+// earlier kept one nearly contains it in both poses; and then every sample's gap to some kept
+// candidate is within the slack of its gap to the one left out.
+TEST(Cover, RepresentativesMatchBruteForce) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  CoverProblem p;
+  p.spheres.resize(2);
+  p.samples.resize(2);
+  for (int c = 0; c < 400; ++c) {
+    const Eigen::Vector3d at(u(rng), u(rng), u(rng));
+    const double r = c % 7 == 0 ? 0.0 : 0.02 + 0.2 * u(rng) * u(rng);
+    p.spheres[0].push_back({at, r});
+    p.spheres[1].push_back({at + 0.01 * Eigen::Vector3d(u(rng), u(rng), u(rng)), c % 11 == 0 ? 0.0 : r * (0.9 + 0.2 * u(rng))});
+  }
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 200; ++i) p.samples[size_t(k)].emplace_back(2 * u(rng) - 0.5, 2 * u(rng) - 0.5, 2 * u(rng) - 0.5);
+  const double slack = 0.03;
+  const std::vector<char> got = representatives(p, slack);
+  std::vector<size_t> order(400);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return p.spheres[0][a].radius > p.spheres[0][b].radius; });
+  std::vector<char> want(400, 0);
+  size_t left_out = 0;
+  for (size_t n = 0; n < order.size(); ++n) {
+    const size_t a = order[n];
+    bool held = false;
+    for (size_t m = 0; m < n && !held && p.spheres[0][a].radius > 0; ++m) {
+      const size_t b = order[m];
+      if (!want[b]) continue;
+      bool all = true;
+      for (int k = 0; k < 2; ++k) {
+        const Sphere &sa = p.spheres[size_t(k)][a], &sb = p.spheres[size_t(k)][b];
+        if (sa.radius > 0 && (!(sb.radius > 0) || (sa.center - sb.center).norm() + sa.radius - sb.radius > slack)) all = false;
+      }
+      held = all;
+    }
+    want[a] = !held;
+    left_out += held;
+  }
+  EXPECT_EQ(got, want);
+  EXPECT_GT(left_out, 20u) << "too few left out for the test to mean much";
+  for (size_t a = 0; a < 400; ++a) {
+    if (got[a]) continue;
+    for (int k = 0; k < 2; ++k)
+      for (const Eigen::Vector3d& q : p.samples[size_t(k)]) {
+        const Sphere& sa = p.spheres[size_t(k)][a];
+        if (!(sa.radius > 0)) continue;
+        double best = std::numeric_limits<double>::infinity();
+        for (size_t b = 0; b < 400; ++b) {
+          const Sphere& sb = p.spheres[size_t(k)][b];
+          if (got[b] && sb.radius > 0) best = std::min(best, (q - sb.center).norm() - sb.radius);
+        }
+        ASSERT_LE(best, (q - sa.center).norm() - sa.radius + slack + 1e-12);
+      }
+  }
+}
+
+// Brute force over every triangle: the distance from p to the mesh, and whether p is inside
+// (winding number from the triangles' solid angles, van Oosterom and Strackee).
+double brute_distance(const TriMesh& mesh, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : mesh.triangles)
+    best = std::min(best, (closest_point_on_triangle(p, mesh.vertices[size_t(t[0])], mesh.vertices[size_t(t[1])],
+                                                     mesh.vertices[size_t(t[2])]) - p).norm());
+  return best;
+}
+bool brute_inside(const TriMesh& mesh, const Eigen::Vector3d& p) {
+  double angle = 0;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices[size_t(t[0])] - p, b = mesh.vertices[size_t(t[1])] - p,
+                          c = mesh.vertices[size_t(t[2])] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    angle += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
+  }
+  return angle / (4 * M_PI) > 0.5;
+}
+
+// Every sample has a candidate that passes through it (within kTouchSlack of the diagonal:
+// float rounding), whatever the field's resolution; every candidate is inscribed (center inside
+// and radius at most the distance to every triangle). On the car (flat panels meeting at sharp
+// edges and corners) and the barrel (curved), with a coarse field.
+TEST(Candidates, EverySampleIsReachedByItsOwnInscribedCandidate) {
+  for (const TriMesh& mesh : {make_car().rest, make_barrel().rest}) {
+    SdfOptions o;
+    o.resolution = 24;
+    const SdfResult sdf = build_sdf(mesh, o);
+    const MeshQuery query(mesh);
+    const SurfaceSamples samples = sample_surface(mesh, 300, 1);
+    const TangentCandidates t = tangent_candidates(query, mesh, samples, sdf.field, deepest_radius(sdf.field), {});
+    EXPECT_EQ(t.unreached, 0u);
+    const double diag = mesh.diagonal();
+    for (const Sphere& s : t.spheres) {
+      ASSERT_TRUE(brute_inside(mesh, s.center)) << s.center.transpose();
+      ASSERT_LE(s.radius, brute_distance(mesh, s.center) * (1 + 1e-9)) << s.center.transpose();
+    }
+    for (size_t i = 0; i < samples.points.size(); ++i) {
+      double gap = std::numeric_limits<double>::infinity();
+      for (const Sphere& s : t.spheres) gap = std::min(gap, (samples.points[i] - s.center).norm() - s.radius);
+      ASSERT_LE(gap, kTouchSlack * diag * (1 + 1e-6)) << "sample " << i << " at " << samples.points[i].transpose();
+    }
+  }
+}
+
+// The shrinking ball against brute force: on a slab 0.02 thick and on a sphere of flat faces,
+// the offset of the ball tangent at a face's middle is the largest t whose ball at p + t n
+// holds no point of a triangle other than the face's own neighbours (bisected over every
+// triangle), and the radius is the distance from its center.
+TEST(Candidates, TangentBallIsTheLargestThatFits) {
+  for (const TriMesh& mesh : {test::box_mesh({0, 0, 0}, {1, 1, 0.02}), test::uv_sphere(1, 24, 48)}) {
+    const MeshQuery query(mesh);
+    for (size_t face = 0; face < mesh.triangles.size(); face += 97) {
+      const Eigen::Vector3i& f = mesh.triangles[face];
+      const std::vector<Eigen::Vector3d> own = {mesh.vertices[size_t(f[0])], mesh.vertices[size_t(f[1])],
+                                                mesh.vertices[size_t(f[2])]};
+      const Eigen::Vector3d p = (own[0] + own[1] + own[2]) / 3, n = -(own[1] - own[0]).cross(own[2] - own[0]).normalized();
+      auto fits = [&](double t) {
+        for (const auto& g : mesh.triangles) {
+          const Eigen::Vector3d a = mesh.vertices[size_t(g[0])], b = mesh.vertices[size_t(g[1])], c = mesh.vertices[size_t(g[2])];
+          if (std::any_of(own.begin(), own.end(), [&](const Eigen::Vector3d& k) { return k == a || k == b || k == c; })) continue;
+          if ((closest_point_on_triangle(p + t * n, a, b, c) - p - t * n).norm() < t) return false;
+        }
+        return true;
+      };
+      double lo = 0, hi = 10;
+      for (int step = 0; step < 60; ++step) (fits(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+      const Sphere s = tangent_ball(query, p, n, own, 10, 1e-9);
+      EXPECT_NEAR((s.center - p).norm(), lo, 1e-6 * lo) << "face " << face;
+      EXPECT_NEAR(s.radius, brute_distance(mesh, s.center), 1e-12);
+    }
+  }
+  const Sphere s = tangent_ball(MeshQuery(test::box_mesh({0, 0, 0}, {1, 1, 0.02})), {0.5, 0.4, 0}, {0, 0, 1},
+                                {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 10, 1e-9);
+  EXPECT_NEAR(s.radius, 0.01, 1e-12);
+}
+
+// A tolerance finer than the field's voxels: the voxels' candidates cannot reach some samples
+// (the report would name a finer resolution); with the tangent candidates the cover meets it,
+// and the max vertex error measured independently is within it, with no sphere past the surface.
+TEST(Candidates, ToleranceFinerThanTheFieldIsMet) {
+  const TriMesh mesh = make_barrel().rest;
+  SdfOptions o;
+  o.resolution = 10;
+  const SdfResult sdf = build_sdf(mesh, o);
+  const MeshQuery query(mesh);
+  SpherePackOptions opt;
+  opt.tolerance = 0.004 * mesh.diagonal();
+  opt.area_samples = 500;
+  opt.tangent_candidates = false;
+  const CoverSelection voxels = select_by_cover(sdf.field, query, opt);
+  EXPECT_GT(voxels.cover.uncoverable, 0u) << "the field alone should fall short here";
+  opt.tangent_candidates = true;
+  const CoverSelection both = select_by_cover(sdf.field, query, opt);
+  EXPECT_EQ(both.cover.uncoverable, 0u);
+  EXPECT_GT(both.chosen_tangent, 0u);
+  EXPECT_LE(vertex_error(mesh, both.spheres).max, opt.tolerance * (1 + 1e-9));
+  for (const Sphere& s : both.spheres) {
+    EXPECT_TRUE(brute_inside(mesh, s.center));
+    EXPECT_LE(s.radius, brute_distance(mesh, s.center) * (1 + 1e-9));
   }
 }
 

@@ -164,19 +164,25 @@ namespace spx {
 namespace {
 
 // Where the tolerance is out of reach, the parts whose vertices no candidate reaches are named
-// with the resolution that would reach them, and a field of that resolution does.
-TEST(SpherePack, PartsOutOfReachAreNamedWithTheResolutionThatReachesThem) {
+// with what would reach them. The robot's thin open parts at a coarse field (every radius also
+// bounded by the field across the holes): the resolution that would, and a field of that
+// resolution does. The car, closed, at a field too coarse for its voxels' candidates alone: its
+// samples' own candidates meet the tolerance; where nothing can (spheres no smaller than a large
+// --min-radius) the parts are named with no resolution, which would not help.
+TEST(SpherePack, PartsOutOfReachAreNamedWithWhatWouldReachThem) {
   const std::string dir = test::temp_dir("reach");
-  write_file_atomic(dir + "/rest.obj", to_obj(test::rest_of(*test::robot_asset(dir))));
-  auto pack_at = [&](int resolution) {
+  write_file_atomic(dir + "/robot.obj", to_obj(test::rest_of(*test::robot_asset(dir))));
+  write_file_atomic(dir + "/car.obj", to_obj(make_car().rest));
+  auto pack_at = [&](const std::string& name, int resolution, const SpherePackOptions& opt, Tolerance tolerance = {}) {
     SdfOptions o;
     o.resolution = resolution;
     json sdf_report, report;
-    sdf_build_files(dir + "/rest.obj", dir + "/rest.vdb", o, Log::silent(), sdf_report);
-    sphere_pack_files(dir + "/rest.vdb", "", dir + "/rest.spheres.json", {}, {}, Log::silent(), report);
+    sdf_build_files(dir + "/" + name + ".obj", dir + "/" + name + ".vdb", o, Log::silent(), sdf_report);
+    sphere_pack_files(dir + "/" + name + ".vdb", "", dir + "/" + name + ".spheres.json", opt, tolerance, Log::silent(),
+                      report);
     return report;
   };
-  const json coarse = pack_at(24);
+  const json coarse = pack_at("robot", 24, {});
   ASSERT_TRUE(coarse.contains("parts_out_of_reach"));
   const json& parts = coarse["parts_out_of_reach"];
   ASSERT_GT(parts.size(), 2u);
@@ -188,9 +194,30 @@ TEST(SpherePack, PartsOutOfReachAreNamedWithTheResolutionThatReachesThem) {
     finest = std::max(finest, part["resolution_needed"].get<double>());
   }
   EXPECT_LE(finest, coarse["resolution_needed"].get<double>());
-  const json fine = pack_at(int(finest));
+  const json fine = pack_at("robot", int(finest), {});
   EXPECT_FALSE(fine.contains("parts_out_of_reach"));
   EXPECT_TRUE(fine["tolerance"]["met"].get<bool>());
+
+  const Tolerance tight{0.4, true};
+  SpherePackOptions voxels_only;
+  voxels_only.tangent_candidates = false;
+  const json car_voxels = pack_at("car", 16, voxels_only, tight);
+  EXPECT_TRUE(car_voxels.contains("resolution_needed"));
+  EXPECT_FALSE(car_voxels["tolerance"]["met"].get<bool>());
+  const json car = pack_at("car", 16, {}, tight);
+  EXPECT_FALSE(car.contains("parts_out_of_reach"));
+  EXPECT_TRUE(car["tolerance"]["met"].get<bool>());
+  EXPECT_GT(car["cover"]["chosen_from"]["samples"].get<size_t>(), 0u);
+  EXPECT_EQ(car["cover"]["candidates_from"]["samples_unreached"].get<size_t>(), 0u);
+
+  SpherePackOptions blunt;
+  blunt.pack.min_radius = 0.03 * make_car().rest.diagonal();
+  const json far = pack_at("car", 16, blunt, tight);
+  ASSERT_TRUE(far.contains("parts_out_of_reach"));
+  EXPECT_FALSE(far.contains("resolution_needed"));
+  EXPECT_FALSE(far["tolerance"]["met"].get<bool>());
+  EXPECT_GT(far["cover"]["candidates_from"]["samples_unreached"].get<size_t>(), 0u);
+  for (const json& part : far["parts_out_of_reach"]) EXPECT_FALSE(part.contains("resolution_needed"));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // coordinate origin + (i,j,k), whose center is at world position voxel_size * (origin + (i,j,k)).
 // Memory layout is OpenVDB's LayoutZYX (z fastest), so the block can be handed to tools::Dense.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -76,5 +77,21 @@ struct DenseField {
   float background = 0;       // value of voxels far outside (positive)
   std::vector<float> values;  // signed distance, negative inside
 };
+
+// A lower bound on the depth of c in the field's solid (0 outside its block): distance is
+// 1-Lipschitz, so the deepest of the 8 voxels around c less its offset to c.
+inline double depth_bound(const DenseField& field, const Eigen::Vector3d& c) {
+  const GridShape& g = field.shape;
+  const Eigen::Vector3d at = c / g.voxel_size - g.origin.cast<double>();
+  const Eigen::Vector3i lo = at.array().floor().cast<int>();
+  double best = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+    if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
+    const double depth = -field.values[g.index(v.x(), v.y(), v.z())];
+    best = std::max(best, depth - (g.world(v.x(), v.y(), v.z()) - c).norm());
+  }
+  return best;
+}
 
 }  // namespace spx

@@ -1,6 +1,7 @@
 #include "mesh/inscribed.hpp"
 
 #include <algorithm>
+#include <vector>
 #include <limits>
 
 namespace spx {
@@ -37,6 +38,62 @@ Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, double max_ra
   const Eigen::Vector3d center = p.point + lo * normal;
   if (bound && !mesh.inside(center)) return sphere;
   return {center, radius};
+}
+
+Sphere tangent_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward,
+                    const std::vector<Eigen::Vector3d>& own_corners, double start_radius, double min_radius) {
+  double r = start_radius;
+  for (int step = 0; step < 64 && r >= min_radius; ++step) {
+    const Eigen::Vector3d c = point + r * inward;
+    ClosestPoint q = mesh.closest(c);
+    const double reach = r * (1 - 1e-9);
+    if (q.distance >= reach) break;
+    // Blocked by the point's own faces: what counts is the nearest point past them.
+    const Eigen::Vector3i& f = mesh.mesh().triangles[size_t(q.triangle)];
+    const auto& v = mesh.mesh().vertices;
+    if (std::any_of(own_corners.begin(), own_corners.end(), [&](const Eigen::Vector3d& k) {
+          return k == v[size_t(f[0])] || k == v[size_t(f[1])] || k == v[size_t(f[2])];
+        })) {
+      q = mesh.closest_apart(c, reach, own_corners);
+      if (q.triangle < 0) break;
+    }
+    // The ball tangent at `point` through q: |point + r' n - q| = r'. q lies inside the current
+    // ball, so it is ahead of the tangent plane and r' < r.
+    const Eigen::Vector3d d = q.point - point;
+    const double ahead = inward.dot(d);
+    const double next = ahead > 0 ? 0.5 * d.squaredNorm() / ahead : 0;
+    r = next < r ? next : 0.5 * (r + q.distance);  // rounding: still shrink
+  }
+  if (!(r >= min_radius)) return {point, 0};
+  const Eigen::Vector3d c = point + r * inward;
+  if (!mesh.inside(c)) return {point, 0};
+  return {c, mesh.distance(c)};
+}
+
+Sphere touching_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward, double slack,
+                     double max_offset, double min_radius) {
+  auto gap = [&](double t) { return t - mesh.distance(point + t * inward); };
+  double lo = 0, hi = max_offset;
+  if (gap(hi) > slack) {
+    // Bisect in log scale first (the offset spans orders of magnitude), then linearly.
+    double t = hi;
+    while (t > min_radius && gap(t) > slack) {
+      hi = t;
+      t *= 0.125;
+    }
+    if (!(t > min_radius)) return {point, 0};
+    lo = t;
+    for (int step = 0; step < 24 && hi - lo > 1e-3 * lo; ++step) {
+      const double mid = 0.5 * (lo + hi);
+      (gap(mid) <= slack ? lo : hi) = mid;
+    }
+  } else {
+    lo = hi;
+  }
+  const Eigen::Vector3d c = point + lo * inward;
+  const double radius = mesh.distance(c);
+  if (!(radius >= min_radius) || !mesh.inside(c)) return {point, 0};
+  return {c, radius};
 }
 
 }  // namespace spx

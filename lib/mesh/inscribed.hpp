@@ -1,6 +1,7 @@
 #pragma once
 // Growing an inscribed sphere to the largest one that contains it.
 #include <functional>
+#include <vector>
 
 #include "core/sphere.hpp"
 #include "mesh/mesh_query.hpp"
@@ -17,6 +18,26 @@ namespace spx {
 // distance) or cannot grow; the radius is always the rule's value at the returned center.
 Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, double max_radius, double growth,
                       const std::function<double(const Eigen::Vector3d&)>& bound = {});
+
+// The largest inscribed ball tangent to the surface at `point` (the shrinking ball of Ma et al.
+// 2012, on exact closest points): its center on the ray from `point` along `inward`, shrunk from
+// `start_radius` until no surface point lies inside it. Points on triangles that have one of
+// `own_corners` as a corner do not shrink it: at a vertex of a curved mesh those faces meet at a
+// corner that no ball touches, and the ball is kept that the smooth surface would allow. The
+// radius is then the exact distance from the center (the ball is inside and touches the point
+// up to that corner's sagitta). Returns radius 0 where the ball shrinks below `min_radius` or
+// its center is not inside (a sharp edge, a flipped normal).
+Sphere tangent_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward,
+                    const std::vector<Eigen::Vector3d>& own_corners, double start_radius, double min_radius);
+
+// The largest inscribed ball whose center lies on the ray from `point` along `inward` and whose
+// surface passes within `slack` of `point`: its radius is the exact distance from the center,
+// and the gap at `point` (offset less radius) only grows with the offset (the distance is
+// 1-Lipschitz), so the offset is bisected up to `max_offset`. Where tangent_ball's ball is held
+// off by a corner of the point's own faces, this ball still reaches it. Radius 0 where none
+// larger than `min_radius` does (a knife edge) or its center is not inside.
+Sphere touching_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward, double slack,
+                     double max_offset, double min_radius);
 
 // How far spheres grow by default (the offset at most doubles the radius): enough to reach the
 // medial axis from a candidate off it by a voxel or two, little enough that a pose's sphere

@@ -5,6 +5,9 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
+#include <iterator>
+
 #include "core/error.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/solid_boundary.hpp"
@@ -73,6 +76,26 @@ ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
                                               a, b, c, &out.barycentric);
   out.distance = (out.point - p).norm();
   (void)point;
+  return out;
+}
+
+ClosestPoint MeshQuery::closest_apart(const Eigen::Vector3d& p, double radius,
+                                      const std::vector<Eigen::Vector3d>& corners) const {
+  std::vector<Iterator> near;
+  tree_->tree.all_intersected_primitives(K::Sphere_3(to_cgal(p), radius * radius), std::back_inserter(near));
+  ClosestPoint out;
+  out.distance = radius;
+  for (Iterator t : near) {
+    const Eigen::Vector3d a = corner(*t, 0), b = corner(*t, 1), c = corner(*t, 2);
+    if (std::any_of(corners.begin(), corners.end(), [&](const Eigen::Vector3d& q) { return q == a || q == b || q == c; }))
+      continue;
+    const Eigen::Vector3d q = closest_point_on_triangle(p, a, b, c);
+    const double d = (q - p).norm();
+    if (d >= out.distance) continue;
+    out.point = q;
+    out.distance = d;
+    out.triangle = tree_->ids[static_cast<size_t>(t - tree_->triangles.cbegin())];
+  }
   return out;
 }
 

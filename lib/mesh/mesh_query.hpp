@@ -36,6 +36,10 @@ class MeshQuery {
   // The same, faster when `hint` is a surface point near the closest one.
   double distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint) const;
   ClosestPoint closest(const Eigen::Vector3d& p) const;
+  // The closest point to p nearer than `radius` on a triangle that has none of `corners` as a
+  // corner (triangle -1 when there is none): past a surface point's own neighbourhood. Point,
+  // triangle and distance only (no barycentric weights).
+  ClosestPoint closest_apart(const Eigen::Vector3d& p, double radius, const std::vector<Eigen::Vector3d>& corners) const;
   double winding_number(const Eigen::Vector3d& p) const { return wn_(p); }
   bool inside(const Eigen::Vector3d& p) const { return wn_.inside(p); }
   // Negative inside (winding number > 1/2).

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/random.hpp"
@@ -83,7 +84,12 @@ SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, c
 }
 
 std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed) {
-  std::vector<Eigen::Vector3d> out = mesh.vertices;
+  return sample_surface(mesh, area_samples, seed).points;
+}
+
+SurfaceSamples sample_surface(const TriMesh& mesh, size_t area_samples, uint64_t seed) {
+  SurfaceSamples out;
+  out.points = mesh.vertices;
   std::vector<double> cumulative(mesh.triangles.size());
   double total = 0;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -101,8 +107,89 @@ std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_sa
                               cumulative.size() - 1);
     const double a = std::sqrt(rng.uniform()), b = rng.uniform();
     const Eigen::Vector3i& f = mesh.triangles[t];
-    out.push_back((1 - a) * mesh.vertices[size_t(f[0])] + a * (1 - b) * mesh.vertices[size_t(f[1])] +
-                  a * b * mesh.vertices[size_t(f[2])]);
+    out.points.push_back((1 - a) * mesh.vertices[size_t(f[0])] + a * (1 - b) * mesh.vertices[size_t(f[1])] +
+                         a * b * mesh.vertices[size_t(f[2])]);
+    out.triangle.push_back(int(t));
+  }
+  return out;
+}
+
+namespace {
+
+// Outward angle-weighted normals (Thuerey and Aanaes): the normal of a vertex that does not
+// depend on how its ring is triangulated.
+std::vector<Eigen::Vector3d> vertex_normals(const TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> n(mesh.vertices.size(), Eigen::Vector3d::Zero());
+  for (const Eigen::Vector3i& f : mesh.triangles) {
+    const Eigen::Vector3d face = (mesh.vertices[size_t(f[1])] - mesh.vertices[size_t(f[0])])
+                                     .cross(mesh.vertices[size_t(f[2])] - mesh.vertices[size_t(f[0])]);
+    if (!(face.norm() > 0)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p = mesh.vertices[size_t(f[k])];
+      const Eigen::Vector3d a = mesh.vertices[size_t(f[(k + 1) % 3])] - p, b = mesh.vertices[size_t(f[(k + 2) % 3])] - p;
+      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+      n[size_t(f[k])] += angle * face.normalized();
+    }
+  }
+  for (Eigen::Vector3d& v : n)
+    if (v.norm() > 0) v.normalize();
+  return n;
+}
+
+}  // namespace
+
+double deepest_radius(const DenseField& field) {
+  float deepest = 0;
+  for (float v : field.values) deepest = std::min(deepest, v);
+  return -double(deepest) + 2 * field.shape.voxel_size;
+}
+
+TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
+                                     const DenseField& field, double start_radius, const CandidateOptions& opt) {
+  const std::vector<Eigen::Vector3d> normals = vertex_normals(surface);
+  const size_t vertices = surface.vertices.size();
+  const double h = field.shape.voxel_size, diag = surface.diagonal();
+  const double least = std::max(opt.min_radius, kTouchSlack * diag), slack = kTouchSlack * diag;
+  start_radius = std::min(start_radius, opt.max_radius);
+  // Per sample: the tangent ball, and where it misses the sample by more than the slack (a
+  // corner of its own faces) also the ball that touches it.
+  std::vector<std::array<Sphere, 2>> balls(samples.points.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}});
+  auto bounded = [&](Sphere s) {
+    if (opt.field_bounds_radius && s.radius > 0)
+      s.radius = std::max(0.0, std::min(s.radius, depth_bound(field, s.center) - kFieldMargin * h));
+    s.radius = std::min(s.radius, opt.max_radius);
+    if (s.radius < opt.min_radius) s.radius = 0;
+    return s;
+  };
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, balls.size(), 32), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const Eigen::Vector3d& p = samples.points[i];
+      Eigen::Vector3d inward;
+      std::vector<Eigen::Vector3d> own;
+      if (i < vertices) {
+        inward = -normals[i];
+        own = {p};
+      } else {
+        const Eigen::Vector3i& f = surface.triangles[size_t(samples.triangle[i - vertices])];
+        own = {surface.vertices[size_t(f[0])], surface.vertices[size_t(f[1])], surface.vertices[size_t(f[2])]};
+        inward = -(own[1] - own[0]).cross(own[2] - own[0]).normalized();
+      }
+      if (!(inward.norm() > 0.5)) continue;  // no normal: a degenerate corner
+      const Sphere tangent = tangent_ball(mesh, p, inward, own, start_radius, least);
+      const bool reaches = tangent.radius > 0 && (p - tangent.center).norm() - tangent.radius <= slack;
+      balls[i][0] = bounded(tangent);
+      // A sharp corner's ball is small: within the slack of the corner it can be no larger.
+      if (!reaches)
+        balls[i][1] = bounded(touching_ball(mesh, p, inward, slack, tangent.radius > 0 ? (tangent.center - p).norm() : start_radius,
+                                            1e-3 * slack));
+    }
+  });
+  TangentCandidates out;
+  for (size_t i = 0; i < balls.size(); ++i) {
+    for (const Sphere& s : balls[i])
+      if (s.radius > 0) out.spheres.push_back(s);
+    out.touching += balls[i][1].radius > 0;
+    out.unreached += !(balls[i][1].radius > 0) && !(balls[i][0].radius > 0 && (samples.points[i] - balls[i][0].center).norm() - balls[i][0].radius <= slack);
   }
   return out;
 }

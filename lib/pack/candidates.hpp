@@ -38,7 +38,37 @@ SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, c
 // clip, mapped back to the rest, land on one another. Returns indices into `more`, ascending.
 std::vector<size_t> distinct_centres(const SphereSet& kept, const SphereSet& more, double spacing);
 
+// Points on a surface and where each came from.
+struct SurfaceSamples {
+  std::vector<Eigen::Vector3d> points;  // every vertex, then the area samples
+  std::vector<int> triangle;            // the triangle of each area sample (after the vertices)
+};
+
 // Every vertex of `mesh`, then `area_samples` points drawn uniformly by area (seeded).
+SurfaceSamples sample_surface(const TriMesh& mesh, size_t area_samples, uint64_t seed);
 std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed);
+
+// How near a sample its own candidate passes, in parts of the diagonal: float rounding.
+constexpr double kTouchSlack = 1e-6;
+
+struct TangentCandidates {
+  SphereSet spheres;
+  size_t touching = 0;   // samples that needed a second, smaller ball to be reached
+  size_t unreached = 0;  // samples no ball reaches within the slack (a knife edge, a flipped normal)
+};
+
+// Candidates at every sample of `surface` (the mesh the samples were drawn on), so that each
+// sample is reached by one whatever the field's resolution: the largest inscribed ball tangent
+// to the surface there (tangent_ball, inward along the vertex's angle-weighted normal or the
+// triangle's), and where a corner of the sample's own faces holds that ball off it by more than
+// kTouchSlack of the diagonal, also the largest ball that still reaches it (touching_ball).
+// Balls start at `start_radius` (no inscribed ball is larger); an open mesh's radii are also
+// bounded by `field` across its holes (options.field_bounds_radius), as every radius is.
+TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
+                                     const DenseField& field, double start_radius, const CandidateOptions& options);
+
+// The largest radius an inscribed ball of `field`'s solid can have, with a margin for the
+// field's own error.
+double deepest_radius(const DenseField& field);
 
 }  // namespace spx

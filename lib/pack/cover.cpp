@@ -1,5 +1,6 @@
 #include "pack/cover.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +16,17 @@ namespace {
 // every sample can be covered at all; and at most this many covers solved in it (doubling,
 // then halving the interval).
 constexpr double kFirstDeltaOverReach = 1.25;
+// ... and no less than this part of the samples' diagonal: with a candidate at every sample the
+// least reachable delta is float rounding, and doubling from there would build table after
+// table no budget a host runs fits.
+constexpr double kFirstDeltaFloor = 5e-3;
+
+double diagonal_of(const CoverProblem& problem) {
+  Eigen::AlignedBox3d box;
+  for (const auto& pose : problem.samples)
+    for (const auto& p : pose) box.extend(p);
+  return box.isEmpty() ? 0 : box.diagonal().norm();
+}
 constexpr int kMaxBudgetCovers = 60;
 
 }  // namespace
@@ -52,6 +64,7 @@ const char* limit_wording(Limit limit) {
     case Limit::tolerance: return "met the tolerance";
     case Limit::default_tolerance: return "met the default tolerance";
     case Limit::resolution: return "the field's resolution (some samples are out of reach)";
+    case Limit::reach: return "samples no inscribed sphere reaches (sharp features under the least radius)";
     case Limit::budget: return "max_spheres";
     case Limit::budget_over_tolerance: return "max_spheres (tighter than the tolerance)";
   }
@@ -87,7 +100,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
     return std::make_pair(greedy_cover(v), std::move(v));
   };
   // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
-  double lo = lo_start, hi = std::max(lo_start, 1e-12) * kFirstDeltaOverReach;
+  double lo = lo_start, hi = std::max({lo_start * kFirstDeltaOverReach, kFirstDeltaFloor * diagonal_of(problem), 1e-12});
   table = std::make_unique<GapTable>(problem, hi * reach);
   auto [cover, cov] = solve(hi);
   while (cover.size() > max_spheres && best.evaluations < kMaxBudgetCovers) {

@@ -48,15 +48,15 @@ struct CoverResult {
 
 // Budget mode: after the greedy bisection, this many bisections over the deltas up to
 // kSearchReach below greedy's, each cover searched until it fits the budget.
-constexpr int kSearchBisections = 3;
-constexpr double kSearchReach = 0.15;
+constexpr int kSearchBisections = 4;
+constexpr double kSearchReach = 0.3;
 
 // Tolerance mode: the fewest candidates that cover every sample at `delta`.
 CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits limits = kToleranceSearch,
                          Log& log = Log::silent());
 
 // What decided a selection's size, and its words in reports and logs (limit_wording).
-enum class Limit { tolerance, default_tolerance, resolution, budget, budget_over_tolerance };
+enum class Limit { tolerance, default_tolerance, resolution, reach, budget, budget_over_tolerance };
 const char* limit_wording(Limit limit);
 
 // Both modes as the tools combine them: the fewest spheres within `target` (when > 0), unless
@@ -68,7 +68,7 @@ CoverResult cover_for(const CoverProblem& problem, double target, size_t budget,
 // Budget mode: the smallest delta (to a relative `precision`) whose cover has at most
 // `max_spheres` candidates; then the cover at (1 + slack) times it, improved with the budget
 // that leaves (a little more max error for a lower median).
-constexpr double kBudgetSlack = 0.15;
+constexpr double kBudgetSlack = 0.1;
 CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack = kBudgetSlack,
                               double precision = 1e-2, Log& log = Log::silent());
 

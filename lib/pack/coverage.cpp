@@ -34,8 +34,11 @@ std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double 
     offset.push_back(offset.back() + uint32_t(s.size()));
   }
   std::vector<std::vector<Entry>> rows(candidates);
+  const std::vector<char> active =
+      problem.merge > 0 ? representatives(problem, problem.merge * delta) : std::vector<char>(candidates, 1);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t c = r.begin(); c != r.end(); ++c) {
+      if (!active[c]) continue;
       for (size_t k = 0; k < problem.samples.size(); ++k) {
         const Sphere& s = problem.spheres[k][c];
         if (!(s.radius > 0)) continue;
@@ -52,6 +55,43 @@ std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double 
 }
 
 }  // namespace
+
+std::vector<char> representatives(const CoverProblem& problem, double slack) {
+  const size_t n = problem.candidate_count();
+  std::vector<char> kept(n, 0);
+  if (n == 0) return kept;
+  const SphereSet& first = problem.spheres[0];
+  std::vector<uint32_t> order(n);
+  std::vector<Eigen::Vector3d> centres(n);
+  for (size_t c = 0; c < n; ++c) {
+    order[c] = uint32_t(c);
+    centres[c] = first[c].center;
+  }
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return first[a].radius > first[b].radius; });
+  const SampleGrid grid(centres);
+  auto contains = [&](uint32_t big, uint32_t small) {
+    if (!(first[small].radius > 0)) return false;  // found by its pose-0 centre: absent there, kept
+    for (const SphereSet& pose : problem.spheres) {
+      const Sphere &a = pose[small], &b = pose[big];
+      if (!(a.radius > 0)) continue;
+      if (!(b.radius > 0) || (a.center - b.center).norm() + a.radius - b.radius > slack) return false;
+    }
+    return true;
+  };
+  // Each kept sphere (largest first) leaves out the smaller ones it nearly contains: those lie
+  // within its radius and the slack.
+  std::vector<uint32_t> rank(n);
+  for (size_t k = 0; k < n; ++k) rank[order[k]] = uint32_t(k);
+  std::vector<char> left_out(n, 0);
+  for (uint32_t b : order) {
+    if (left_out[b]) continue;
+    kept[b] = 1;
+    grid.near(centres[b], first[b].radius + slack, [&](uint32_t a) {
+      if (rank[a] > rank[b] && !left_out[a] && contains(b, a)) left_out[a] = 1;
+    });
+  }
+  return kept;
+}
 
 Coverage coverage_at(const CoverProblem& problem, double delta) {
   std::vector<uint32_t> offset;

@@ -18,9 +18,19 @@ struct CoverProblem {
   // to stay within delta. Empty: every sample counts.
   std::vector<size_t> weighted;
   std::vector<SphereSet> spheres;                     // per pose, one per candidate (radius 0: absent)
+  // Coverage at delta leaves out a candidate that another nearly contains in every pose, within
+  // `merge` x delta (representatives): every sample's gap to the other is at most that much
+  // more. Bounds the rows where candidates are many (one at every sample) and delta is large.
+  double merge = 0;
   size_t candidate_count() const { return spheres.empty() ? 0 : spheres.front().size(); }
   size_t sample_count() const;
 };
+
+// Candidates that stand for the rest at `slack`: from the largest (pose 0's radius, ties by
+// index), a candidate is left out (0) when one kept before it nearly contains it in every pose
+// where it is present, |c - c'| + r - r' <= slack, so that its gap to every sample is at least
+// the kept one's less `slack`. Candidates absent in pose 0 are kept.
+std::vector<char> representatives(const CoverProblem& problem, double slack);
 
 // Which samples each candidate covers at `delta`, rows of several poses stacked.
 Coverage coverage_at(const CoverProblem& problem, double delta);

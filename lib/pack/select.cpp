@@ -15,21 +15,44 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   CoverProblem problem;
   {
     StageTimer t(log, "candidates");
-    problem.spheres.push_back(inscribed_candidates(field, mesh, candidate_options(opt.pack, opt.max_candidates)));
-    problem.samples.push_back(surface_samples(mesh.surface(), opt.area_samples, opt.seed));
+    const CandidateOptions limits = candidate_options(opt.pack, opt.max_candidates);
+    problem.spheres.push_back(inscribed_candidates(field, mesh, limits));
+    out.voxel_candidates = problem.spheres[0].size();
+    const SurfaceSamples samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
+    if (opt.tangent_candidates) {
+      const TangentCandidates tangent = tangent_candidates(mesh, mesh.surface(), samples, field, deepest_radius(field), limits);
+      problem.spheres[0].insert(problem.spheres[0].end(), tangent.spheres.begin(), tangent.spheres.end());
+      out.touching_samples = tangent.touching;
+      out.unreached_samples = tangent.unreached;
+    }
+    problem.samples.push_back(samples.points);
+    if (opt.tangent_candidates) problem.merge = kCandidateMerge;
     problem.weighted.push_back(mesh.surface().vertices.size());
   }
   const SphereSet& candidates = problem.spheres[0];
   if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
   out.candidates = candidates.size();
-  out.pool = candidates;
   out.samples = problem.sample_count();
   {
     StageTimer t(log, "cover");
     out.target = opt.tolerance;
     out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log);
   }
-  for (int c : out.cover.chosen) out.spheres.push_back(candidates[size_t(c)]);
+  // Where a sample's own candidate reaches it, the tolerance does not wait on the field (but
+  // across an open mesh's holes every radius is the field's bound, which a finer field raises).
+  if (opt.tangent_candidates && !opt.pack.field_bounds_radius && out.limited_by == Limit::resolution)
+    out.limited_by = Limit::reach;
+  // pose-map selects over every frame from the pool: the voxels' candidates and those of the
+  // samples' that this cover chose (every sample's, carried through every frame, would
+  // multiply its work; each frame offers its own near its far samples).
+  out.offered = candidates;
+  out.pool.assign(candidates.begin(), candidates.begin() + long(out.voxel_candidates));
+  for (int c : out.cover.chosen) {
+    out.spheres.push_back(candidates[size_t(c)]);
+    if (size_t(c) < out.voxel_candidates) continue;
+    ++out.chosen_tangent;
+    out.pool.push_back(candidates[size_t(c)]);
+  }
   if (!opt.pack.field_bounds_radius) {
     // Off the voxel grid: the radius stays the exact distance, so spheres stay inside. (An
     // open mesh's radii also depend on the field across its holes: its centers stay put.)

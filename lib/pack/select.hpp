@@ -12,12 +12,17 @@ namespace spx {
 
 enum class PackMethod { cover, greedy };
 
+// With a candidate at every sample, a cover at delta chooses among those that no other nearly
+// contains, within this part of delta (CoverProblem::merge): the rows stay few at large deltas.
+constexpr double kCandidateMerge = 0.02;
+
 struct SpherePackOptions {
   PackMethod method = PackMethod::cover;
   PackOptions pack;         // radius limits and the budget (pack.max_spheres) for both methods
   double tolerance = 0;     // the max vertex error asked for, a length (0: none; both methods)
   size_t area_samples = 4000;   // cover: surface samples besides every vertex
   size_t max_candidates = 12000;
+  bool tangent_candidates = true;  // cover: one candidate tangent at every sample besides the voxels'
   uint64_t seed = 1;
 };
 
@@ -28,7 +33,12 @@ struct CoverSelection {
   double target = 0;           // the tolerance (0: budget alone)
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, samples = 0;
-  SphereSet pool;              // every candidate (pose-map selects from them over every pose)
+  size_t voxel_candidates = 0;   // candidates [0, voxel_candidates) from the field's voxels, the rest tangent at samples
+  size_t touching_samples = 0;   // samples whose tangent ball misses them, given a touching ball too
+  size_t unreached_samples = 0;  // samples no candidate of theirs reaches (knife edges, flipped normals)
+  size_t chosen_tangent = 0;     // chosen spheres that came from tangent candidates
+  SphereSet offered;           // every candidate
+  SphereSet pool;              // the voxels' candidates and the chosen tangent ones (pose-map selects from them over every pose)
 };
 // Throws OptionError when `options` ask neither a tolerance nor a budget.
 CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& options,

@@ -136,8 +136,8 @@ double resolution_reaching(double resolution, double gap, double target) {
 
 // The parts (edge-connected pieces) whose vertices no candidate reaches within `target`: each
 // named by its triangles and centre, with how many vertices, the farthest, whether any
-// candidate lies in its box at all, and the resolution that would reach them. Warned about,
-// the first few by name.
+// candidate lies in its box at all, and (given the field's `resolution`, where the field
+// limits the candidates) the resolution that would reach them. Warned about, the first few by name.
 json parts_out_of_reach(const TriMesh& mesh, const SphereSet& candidates, double target, double resolution, Log& log) {
   const std::vector<double> gap = union_signed_distance(mesh.vertices, candidates);
   const Components parts = edge_components(mesh);
@@ -164,16 +164,18 @@ json parts_out_of_reach(const TriMesh& mesh, const SphereSet& candidates, double
     bool holds_one = false;
     for (const Sphere& s : candidates) holds_one = holds_one || box.contains(s.center);
     const Eigen::Vector3d c = box.center();
-    const double needed = resolution_reaching(resolution, farthest, target);
+    const double needed = resolution > 0 ? resolution_reaching(resolution, farthest, target) : 0;
     const std::string name = "part " + std::to_string(p + 1) + " of " + std::to_string(parts.count) + " (" +
                              std::to_string(triangles[p]) + " triangles around " + num(c.x()) + ", " + num(c.y()) +
                              ", " + num(c.z()) + ")";
     if (out.size() < 5)
       log.warn(name + ": " + std::to_string(far) + " of its vertices out of reach" +
-               (holds_one ? "" : "; it holds no inscribed sphere at this resolution") + "; about " + num(needed) +
-               " cells would reach them");
-    out.push_back({{"part", name}, {"vertices_out_of_reach", far}, {"farthest", farthest},
-                   {"holds_a_candidate", holds_one}, {"resolution_needed", needed}});
+               (needed > 0 ? (holds_one ? "" : "; it holds no inscribed sphere at this resolution") + std::string("; about ") +
+                                 num(needed) + " cells would reach them"
+                           : std::string()));
+    json part = {{"part", name}, {"vertices_out_of_reach", far}, {"farthest", farthest}, {"holds_a_candidate", holds_one}};
+    if (needed > 0) part["resolution_needed"] = needed;
+    out.push_back(part);
   }
   if (out.size() > 5) log.warn("and " + std::to_string(out.size() - 5) + " more parts (the report lists them)");
   return out;
@@ -200,24 +202,40 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const ErrorStats error = vertex_error(mesh.surface(), spheres);
   const bool met = !(target > 0) || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
   if (target > 0 && cover.uncoverable > 0) {
-    const double resolution = field_resolution(sdf.field.shape);
-    const double needed = resolution_reaching(resolution, cover.least_reachable, target);
-    log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
-             num(h) + "): " + std::to_string(cover.uncoverable) +
-             " surface samples are farther than it from every inscribed sphere (the farthest " +
-             num(cover.least_reachable) + "); a field of about " + num(needed) + " cells (sdf-build --resolution " +
-             num(needed) + ") would reach them");
-    report["resolution_needed"] = needed;
-    report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.pool, target, resolution, log);
+    const std::string out_of_reach = std::to_string(cover.uncoverable) +
+                                     " surface samples are farther than it from every inscribed sphere (the farthest " +
+                                     num(cover.least_reachable) + ")";
+    if (sel.limited_by == Limit::reach) {
+      // Every sample has its own candidate: only a sharp tip or edge under the least radius
+      // (or a tolerance under float rounding) is out of reach, and no field helps.
+      log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
+               " samples have no inscribed sphere of at least the least radius (" + num(opt.pack.min_radius) +
+               ") that reaches them");
+      report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.offered, target, 0, log);
+    } else {
+      const double resolution = field_resolution(sdf.field.shape);
+      const double needed = resolution_reaching(resolution, cover.least_reachable, target);
+      log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
+               num(h) + "): " + out_of_reach + "; a field of about " + num(needed) + " cells (sdf-build --resolution " +
+               num(needed) + ") would reach them");
+      report["resolution_needed"] = needed;
+      report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.offered, target, resolution, log);
+    }
   }
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
   stats.min_radius = opt.pack.min_radius;
   stats.max_radius = opt.pack.max_radius;
   report["cover"] = {{"method", "inscribed candidates at near-medial voxels grown to the largest inscribed sphere "
-                                "containing them; set cover reduced, then greedy, shrunk and searched by row weighting; "
+                                "containing them, and at every surface sample the largest inscribed sphere tangent there; "
+                                "set cover reduced, then greedy, shrunk and searched by row weighting; "
                                 "spare budget and swaps toward the least total error; centres refined off the grid"},
                      {"candidates", sel.candidates},
+                     {"candidates_from", {{"voxels", sel.voxel_candidates},
+                                          {"samples", sel.candidates - sel.voxel_candidates},
+                                          {"samples_needing_a_touching_ball", sel.touching_samples},
+                                          {"samples_unreached", sel.unreached_samples}}},
+                     {"chosen_from", {{"voxels", spheres.size() - sel.chosen_tangent}, {"samples", sel.chosen_tangent}}},
                      {"samples", sel.samples},
                      {"vertices", mesh.surface().vertices.size()},
                      {"internal_walls", mesh.internal_walls()},

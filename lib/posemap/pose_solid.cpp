@@ -32,22 +32,6 @@ std::pair<Sphere, PoseSolid::Zero> PoseSolid::grown(const Eigen::Vector3d& c, bo
   return {grow_inscribed(*mesh, {c, at.value}, max_radius, kDefaultGrowth, bound), Zero::none};
 }
 
-namespace {
-// Distance is 1-Lipschitz: the deepest of the 8 voxels around c less its offset to c.
-double depth_bound(const DenseField& field, const Eigen::Vector3d& c) {
-  const GridShape& g = field.shape;
-  const Eigen::Vector3d at = c / g.voxel_size - g.origin.cast<double>();
-  const Eigen::Vector3i lo = at.array().floor().cast<int>();
-  double best = 0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
-    if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
-    const double depth = -field.values[g.index(v.x(), v.y(), v.z())];
-    best = std::max(best, depth - (g.world(v.x(), v.y(), v.z()) - c).norm());
-  }
-  return best;
-}
-}  // namespace
 
 double PoseSolid::hole_bound(const Eigen::Vector3d& c) const {
   if (!holes) return std::numeric_limits<double>::infinity();
