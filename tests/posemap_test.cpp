@@ -840,6 +840,18 @@ JointSelectionOptions tolerance_options(double target, size_t area_samples) {
   return out;
 }
 
+// Frame f's samples, and how many of them the chosen spheres carried into f leave farther than
+// the target.
+struct FrameCover {
+  size_t samples = 0, bare = 0;
+};
+FrameCover cover_in_frame(const MovingClip& frames, const SphereSet& chosen, size_t f, const JointSelectionOptions& options) {
+  const std::vector<Eigen::Vector3d> samples = surface_samples(frames.frame_mesh(f), options.area_samples, options.seed);
+  SphereSet in_frame;
+  for (const Sphere& s : chosen) in_frame.push_back(frames.in_frame(s, f));
+  return {samples.size(), bare_samples(samples, in_frame, options.target).size()};
+}
+
 // Over many frames the problem keeps, round to round, only the samples its reduction kept; the
 // spheres chosen still cover every sample of every frame, the frames it dropped samples of too.
 TEST(PoseMap, CompactedClipSelectionStillCoversEveryFrame) {
@@ -851,12 +863,9 @@ TEST(PoseMap, CompactedClipSelectionStillCoversEveryFrame) {
   EXPECT_GE(selection.rounds, 3u) << "the check should find samples the first round's frames leave bare";
   size_t every = 0;
   for (size_t f = 0; f < stretch.size(); ++f) {
-    const std::vector<Eigen::Vector3d> samples = surface_samples(frames.frame_mesh(f), options.area_samples, options.seed);
-    every += samples.size();
-    SphereSet in_frame;
-    for (const Sphere& s : selection.chosen) in_frame.push_back(frames.in_frame(s, f));
-    const size_t bare = bare_samples(samples, in_frame, options.target).size();
-    EXPECT_EQ(bare, 0u) << "frame " << f;
+    const FrameCover c = cover_in_frame(frames, selection.chosen, f, options);
+    every += c.samples;
+    EXPECT_EQ(c.bare, 0u) << "frame " << f;
   }
   EXPECT_EQ(selection.cover.uncoverable + selection.bare_elsewhere, 0u);
   EXPECT_LT(selection.samples, every / 4) << "the last problem should hold a few of the clip's samples";
@@ -893,14 +902,11 @@ TEST(PoseMap, ClipSelectionChecksEveryChosenRadiusExactly) {
   EXPECT_GT(selection.radii_lowered, 0u) << "the doubled radii at the walls should be found too large";
   EXPECT_GE(selection.radii_checked, selection.chosen.size());
   for (size_t f = 0; f < stretch.size(); ++f) {
-    SphereSet in_frame;
     for (const Sphere& s : selection.chosen) {
       const Sphere at = frames.in_frame(s, f);
       EXPECT_LE(at.radius, frames.exact_radius(at.center, f) + 1e-12) << "frame " << f << ": a sphere pokes out";
-      in_frame.push_back(at);
     }
-    const std::vector<Eigen::Vector3d> samples = surface_samples(frames.frame_mesh(f), options.area_samples, options.seed);
-    EXPECT_LE(bare_samples(samples, in_frame, options.target).size(), 0u) << "frame " << f;
+    EXPECT_EQ(cover_in_frame(frames, selection.chosen, f, options).bare, 0u) << "frame " << f;
   }
 }
 

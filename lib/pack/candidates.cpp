@@ -9,6 +9,7 @@
 
 #include "core/random.hpp"
 #include "core/tolerance.hpp"
+#include "mesh/normals.hpp"
 #include "pack/sample_grid.hpp"
 
 namespace spx {
@@ -114,30 +115,6 @@ SurfaceSamples sample_surface(const TriMesh& mesh, size_t area_samples, uint64_t
   return out;
 }
 
-namespace {
-
-// Outward angle-weighted normals (Thuerey and Aanaes): the normal of a vertex that does not
-// depend on how its ring is triangulated.
-std::vector<Eigen::Vector3d> vertex_normals(const TriMesh& mesh) {
-  std::vector<Eigen::Vector3d> n(mesh.vertices.size(), Eigen::Vector3d::Zero());
-  for (const Eigen::Vector3i& f : mesh.triangles) {
-    const Eigen::Vector3d face = (mesh.vertices[size_t(f[1])] - mesh.vertices[size_t(f[0])])
-                                     .cross(mesh.vertices[size_t(f[2])] - mesh.vertices[size_t(f[0])]);
-    if (!(face.norm() > 0)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d& p = mesh.vertices[size_t(f[k])];
-      const Eigen::Vector3d a = mesh.vertices[size_t(f[(k + 1) % 3])] - p, b = mesh.vertices[size_t(f[(k + 2) % 3])] - p;
-      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
-      n[size_t(f[k])] += angle * face.normalized();
-    }
-  }
-  for (Eigen::Vector3d& v : n)
-    if (v.norm() > 0) v.normalize();
-  return n;
-}
-
-}  // namespace
-
 double deepest_radius(const DenseField& field) {
   float deepest = 0;
   for (float v : field.values) deepest = std::min(deepest, v);
@@ -146,7 +123,7 @@ double deepest_radius(const DenseField& field) {
 
 TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
                                      const DenseField& field, double start_radius, const CandidateOptions& opt) {
-  const std::vector<Eigen::Vector3d> normals = vertex_normals(surface);
+  const std::vector<Eigen::Vector3d> faces = face_normals(surface), normals = angle_weighted_normals(surface, faces);
   const size_t vertices = surface.vertices.size();
   const double h = field.shape.voxel_size, diag = surface.diagonal();
   const double least = std::max(opt.min_radius, kTouchSlack * diag), slack = kTouchSlack * diag;
@@ -161,25 +138,28 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
     if (s.radius < opt.min_radius) s.radius = 0;
     return s;
   };
+  auto reaches = [&](const Sphere& s, const Eigen::Vector3d& p) {
+    return s.radius > 0 && (p - s.center).norm() - s.radius <= slack;
+  };
   tbb::parallel_for(tbb::blocked_range<size_t>(0, balls.size(), 32), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Eigen::Vector3d& p = samples.points[i];
       Eigen::Vector3d inward;
       std::vector<Eigen::Vector3d> own;
       if (i < vertices) {
-        inward = -normals[i];
+        inward = -normals[i].normalized();
         own = {p};
       } else {
-        const Eigen::Vector3i& f = surface.triangles[size_t(samples.triangle[i - vertices])];
+        const size_t t = size_t(samples.triangle[i - vertices]);
+        const Eigen::Vector3i& f = surface.triangles[t];
         own = {surface.vertices[size_t(f[0])], surface.vertices[size_t(f[1])], surface.vertices[size_t(f[2])]};
-        inward = -(own[1] - own[0]).cross(own[2] - own[0]).normalized();
+        inward = -faces[t];
       }
       if (!(inward.norm() > 0.5)) continue;  // no normal: a degenerate corner
       const Sphere tangent = tangent_ball(mesh, p, inward, own, start_radius, least);
-      const bool reaches = tangent.radius > 0 && (p - tangent.center).norm() - tangent.radius <= slack;
       balls[i][0] = bounded(tangent);
       // A sharp corner's ball is small: within the slack of the corner it can be no larger.
-      if (!reaches)
+      if (!reaches(tangent, p))
         balls[i][1] = bounded(touching_ball(mesh, p, inward, slack, tangent.radius > 0 ? (tangent.center - p).norm() : start_radius,
                                             1e-3 * slack));
     }
@@ -189,7 +169,7 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
     for (const Sphere& s : balls[i])
       if (s.radius > 0) out.spheres.push_back(s);
     out.touching += balls[i][1].radius > 0;
-    out.unreached += !(balls[i][1].radius > 0) && !(balls[i][0].radius > 0 && (samples.points[i] - balls[i][0].center).norm() - balls[i][0].radius <= slack);
+    out.unreached += !(balls[i][1].radius > 0) && !reaches(balls[i][0], samples.points[i]);
   }
   return out;
 }

@@ -24,9 +24,9 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
       problem.spheres[0].insert(problem.spheres[0].end(), tangent.spheres.begin(), tangent.spheres.end());
       out.touching_samples = tangent.touching;
       out.unreached_samples = tangent.unreached;
+      problem.merge = kCandidateMerge;
     }
     problem.samples.push_back(samples.points);
-    if (opt.tangent_candidates) problem.merge = kCandidateMerge;
     problem.weighted.push_back(mesh.surface().vertices.size());
   }
   const SphereSet& candidates = problem.spheres[0];
@@ -45,7 +45,6 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   // pose-map selects over every frame from the pool: the voxels' candidates and those of the
   // samples' that this cover chose (every sample's, carried through every frame, would
   // multiply its work; each frame offers its own near its far samples).
-  out.offered = candidates;
   out.pool.assign(candidates.begin(), candidates.begin() + long(out.voxel_candidates));
   for (int c : out.cover.chosen) {
     out.spheres.push_back(candidates[size_t(c)]);
@@ -53,6 +52,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     ++out.chosen_tangent;
     out.pool.push_back(candidates[size_t(c)]);
   }
+  out.offered = std::move(problem.spheres[0]);  // the cover is done with them
   if (!opt.pack.field_bounds_radius) {
     // Off the voxel grid: the radius stays the exact distance, so spheres stay inside. (An
     // open mesh's radii also depend on the field across its holes: its centers stay put.)

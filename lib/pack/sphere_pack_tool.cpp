@@ -168,11 +168,11 @@ json parts_out_of_reach(const TriMesh& mesh, const SphereSet& candidates, double
     const std::string name = "part " + std::to_string(p + 1) + " of " + std::to_string(parts.count) + " (" +
                              std::to_string(triangles[p]) + " triangles around " + num(c.x()) + ", " + num(c.y()) +
                              ", " + num(c.z()) + ")";
-    if (out.size() < 5)
-      log.warn(name + ": " + std::to_string(far) + " of its vertices out of reach" +
-               (needed > 0 ? (holds_one ? "" : "; it holds no inscribed sphere at this resolution") + std::string("; about ") +
-                                 num(needed) + " cells would reach them"
-                           : std::string()));
+    std::string advice;
+    if (needed > 0)
+      advice = std::string(holds_one ? "" : "; it holds no inscribed sphere at this resolution") + "; about " + num(needed) +
+               " cells would reach them";
+    if (out.size() < 5) log.warn(name + ": " + std::to_string(far) + " of its vertices out of reach" + advice);
     json part = {{"part", name}, {"vertices_out_of_reach", far}, {"farthest", farthest}, {"holds_a_candidate", holds_one}};
     if (needed > 0) part["resolution_needed"] = needed;
     out.push_back(part);
@@ -205,22 +205,22 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
     const std::string out_of_reach = std::to_string(cover.uncoverable) +
                                      " surface samples are farther than it from every inscribed sphere (the farthest " +
                                      num(cover.least_reachable) + ")";
-    if (sel.limited_by == Limit::reach) {
-      // Every sample has its own candidate: only a sharp tip or edge under the least radius
-      // (or a tolerance under float rounding) is out of reach, and no field helps.
-      log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
-               " samples have no inscribed sphere of at least the least radius (" + num(opt.pack.min_radius) +
-               ") that reaches them");
-      report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.offered, target, 0, log);
-    } else {
-      const double resolution = field_resolution(sdf.field.shape);
+    // With every sample's own candidate only a sharp tip or edge under the least radius (or a
+    // tolerance under float rounding) is out of reach, and no field helps: no resolution named.
+    const bool field_limits = sel.limited_by != Limit::reach;
+    const double resolution = field_limits ? field_resolution(sdf.field.shape) : 0;
+    if (field_limits) {
       const double needed = resolution_reaching(resolution, cover.least_reachable, target);
       log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
                num(h) + "): " + out_of_reach + "; a field of about " + num(needed) + " cells (sdf-build --resolution " +
                num(needed) + ") would reach them");
       report["resolution_needed"] = needed;
-      report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.offered, target, resolution, log);
+    } else {
+      log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
+               " samples have no inscribed sphere of at least the least radius (" + num(opt.pack.min_radius) +
+               ") that reaches them");
     }
+    report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.offered, target, resolution, log);
   }
   stats.radius_source = "mesh";
   stats.stop_reason = limit;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "mesh/mesh_query.hpp"
+#include "mesh/normals.hpp"
 
 namespace spx {
 
@@ -70,25 +71,9 @@ void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::v
                       [&](const tbb::blocked_range<int>& r) { raster(size_t(t), r.begin(), r.end() - 1); });
 }
 
-PseudoNormals::PseudoNormals(const TriMesh& mesh) : vertex_(mesh.vertices.size(), Eigen::Vector3d::Zero()) {
+PseudoNormals::PseudoNormals(const TriMesh& mesh)
+    : face_(face_normals(mesh)), vertex_(angle_weighted_normals(mesh, face_)) {
   const size_t count = mesh.triangles.size();
-  face_.resize(count);
-  std::vector<Eigen::Vector3d> corner_weight(3 * count);  // angle * face normal, per corner
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t t = r.begin(); t != r.end(); ++t) {
-      const auto& f = mesh.triangles[t];
-      const Eigen::Vector3d* p[3] = {&mesh.vertices[f[0]], &mesh.vertices[f[1]], &mesh.vertices[f[2]]};
-      const Eigen::Vector3d area = (*p[1] - *p[0]).cross(*p[2] - *p[0]);
-      face_[t] = area.norm() > 0 ? Eigen::Vector3d(area / area.norm()) : Eigen::Vector3d::Zero();
-      for (int corner = 0; corner < 3; ++corner) {
-        const Eigen::Vector3d u = *p[(corner + 1) % 3] - *p[corner], v = *p[(corner + 2) % 3] - *p[corner];
-        corner_weight[3 * t + size_t(corner)] = std::atan2(u.cross(v).norm(), u.dot(v)) * face_[t];
-      }
-    }
-  });
-  // Sums in triangle order, so that the result does not depend on threads.
-  for (size_t t = 0; t < count; ++t)
-    for (int corner = 0; corner < 3; ++corner) vertex_[size_t(mesh.triangles[t][corner])] += corner_weight[3 * t + size_t(corner)];
   // Edge k of triangle t (corner k to k + 1) is slot 3t + k. Sorted by undirected edge, then
   // slot, the faces of each edge sit side by side, in triangle order.
   std::vector<std::pair<uint64_t, uint32_t>> half(3 * count);
