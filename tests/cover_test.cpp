@@ -463,5 +463,20 @@ TEST(Candidates, ToleranceFinerThanTheFieldIsMet) {
   }
 }
 
+// A medial sheet's voxels grow with the square of the resolution, and so must its candidates:
+// nothing thins them back to a fixed count that would undo a finer field.
+TEST(Candidates, FinerFieldOffersFinerCandidates) {
+  const TriMesh slab = test::box_mesh({0, 0, 0}, {1, 1, 0.1});
+  const MeshQuery query(slab);
+  auto count_at = [&](int resolution) {
+    SdfOptions o;
+    o.resolution = resolution;
+    return inscribed_candidates(build_sdf(slab, o).field, query, {}).size();
+  };
+  const size_t coarse = count_at(64), fine = count_at(160);
+  EXPECT_GT(fine, 12000u);
+  EXPECT_GT(double(fine), 5.0 * double(coarse)) << coarse << " at 64 cells, " << fine << " at 160";
+}
+
 }  // namespace
 }  // namespace spx

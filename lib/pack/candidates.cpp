@@ -13,37 +13,10 @@
 #include "pack/sample_grid.hpp"
 
 namespace spx {
-namespace {
-
-// Keeps the deepest voxel of each cell of `stride` voxels (ties to the lower index).
-std::vector<size_t> thin_on_grid(const std::vector<size_t>& voxels, const DenseField& field, int stride) {
-  std::vector<std::pair<uint64_t, size_t>> keyed;
-  keyed.reserve(voxels.size());
-  const GridShape& g = field.shape;
-  const uint64_t ny = uint64_t(g.dims.y() / stride + 1), nz = uint64_t(g.dims.z() / stride + 1);
-  for (size_t idx : voxels) {
-    const Eigen::Vector3i c = g.coords(idx) / stride;
-    keyed.emplace_back((uint64_t(c.x()) * ny + uint64_t(c.y())) * nz + uint64_t(c.z()), idx);
-  }
-  std::sort(keyed.begin(), keyed.end(), [&](const auto& a, const auto& b) {
-    if (a.first != b.first) return a.first < b.first;
-    if (field.values[a.second] != field.values[b.second]) return field.values[a.second] < field.values[b.second];
-    return a.second < b.second;
-  });
-  std::vector<size_t> out;
-  for (size_t n = 0; n < keyed.size(); ++n)
-    if (n == 0 || keyed[n].first != keyed[n - 1].first) out.push_back(keyed[n].second);
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-}  // namespace
-
-CandidateOptions candidate_options(const PackOptions& pack, size_t max_candidates) {
+CandidateOptions candidate_options(const PackOptions& pack) {
   CandidateOptions c;
   c.min_radius = pack.min_radius;
   c.max_radius = pack.max_radius;
-  c.max_candidates = max_candidates;
   c.field_bounds_radius = pack.field_bounds_radius;
   return c;
 }
@@ -66,7 +39,6 @@ SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, c
   std::vector<size_t> voxels;
   for (size_t idx = 0; idx < g.count(); ++idx)
     if (medial[idx]) voxels.push_back(idx);
-  for (int stride = 2; voxels.size() > opt.max_candidates && stride < 64; ++stride) voxels = thin_on_grid(voxels, field, stride);
 
   SphereSet out(voxels.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels.size(), 64), [&](const tbb::blocked_range<size_t>& r) {

@@ -16,7 +16,6 @@ namespace spx {
 struct CandidateOptions {
   double min_radius = 0;
   double max_radius = 1e300;
-  size_t max_candidates = 12000;  // thinned on a coarser grid past this, deepest kept per cell
   bool field_bounds_radius = false;  // open meshes: the field bounds radii across the holes too
   // Each candidate grown to the largest inscribed sphere containing it (grow_inscribed), so
   // centers off the medial axis by a voxel reach it; closed meshes only (the field's bound
@@ -26,11 +25,13 @@ struct CandidateOptions {
 
 // The candidates' limits from a packing's (its radius limits and whether the field bounds radii),
 // so that both methods keep the same spheres out.
-CandidateOptions candidate_options(const PackOptions& pack, size_t max_candidates = CandidateOptions().max_candidates);
+CandidateOptions candidate_options(const PackOptions& pack);
 
 // Inscribed candidate spheres from the interior voxels of `field` that lie near its medial
 // axis (no face neighbour deeper by half a voxel or more), radii from `mesh`, each grown to the
-// largest inscribed sphere containing it (options.growth).
+// largest inscribed sphere containing it (options.growth). Every such voxel is a candidate, so
+// a finer field offers finer ones; a cover at delta thins them by what they cover
+// (CoverProblem::merge).
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& options);
 
 // Of `more`, those whose centre is at least `spacing` from every centre of `kept` and of those of

@@ -15,7 +15,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   CoverProblem problem;
   {
     StageTimer t(log, "candidates");
-    const CandidateOptions limits = candidate_options(opt.pack, opt.max_candidates);
+    const CandidateOptions limits = candidate_options(opt.pack);
     problem.spheres.push_back(inscribed_candidates(field, mesh, limits));
     out.voxel_candidates = problem.spheres[0].size();
     const SurfaceSamples samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);

@@ -21,7 +21,6 @@ struct SpherePackOptions {
   PackOptions pack;         // radius limits and the budget (pack.max_spheres) for both methods
   double tolerance = 0;     // the max vertex error asked for, a length (0: none; both methods)
   size_t area_samples = 4000;   // cover: surface samples besides every vertex
-  size_t max_candidates = 12000;
   bool tangent_candidates = true;  // cover: one candidate tangent at every sample besides the voxels'
   uint64_t seed = 1;
 };
