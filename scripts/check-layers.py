@@ -21,7 +21,7 @@ ALLOWED = {
     "posemap": {"core", "mesh", "io", "sdf", "pack"},
     "extract": {"core", "mesh", "io"},
     "metrics": {"core", "mesh", "io", "runtime", "extract"},
-    "export": {"core", "mesh", "io", "metrics", "runtime"},
+    "export": {"core", "mesh", "io", "extract", "metrics", "runtime"},
     "synthetic": {"core", "mesh", "io"},
     "tool": {"core"},
 }

@@ -8,10 +8,18 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
-echo "setup: installing ${missing[*]}" >&2
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo=sudo
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -q >/dev/null
-$sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null
+command -v npm >/dev/null || missing+=(nodejs npm)
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -q >/dev/null
+  $sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null
+fi
+# web/: the glTF validator (and the page's bundle and browser checks), pinned by the lockfile.
+root=$(cd "$(dirname "$0")/.." && pwd)
+if ! cmp -s "$root/web/package-lock.json" "$root/web/node_modules/.spx-installed" 2>/dev/null; then
+  echo "setup: npm ci in web/" >&2
+  (cd "$root/web" && npm ci --no-audit --no-fund --loglevel=error >/dev/null && cp package-lock.json node_modules/.spx-installed)
+fi

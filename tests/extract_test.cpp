@@ -115,6 +115,15 @@ TEST(PoseExtract, SkinFileGivesBackEveryPoseFromTheRest) {
     ASSERT_EQ(manifest.skin, "skin.json") << asset;
     const SkinFile skin = read_skin_file(out + "/skin.json");
     EXPECT_EQ(skin.joints.size(), size_t(joints)) << asset;
+    // The clip the radius rule holds over has every key and every half-way time (where hosts
+    // and proxy-eval look between keys), within float rounding.
+    const Asset rig(asset, "");
+    const std::vector<double>& keys = rig.clips()[0].frames;
+    for (size_t f = 0; f + 1 < keys.size(); ++f)
+      for (double t : {keys[f], 0.5 * (keys[f] + keys[f + 1])}) {
+        const auto near = std::lower_bound(skin.clip.times.begin(), skin.clip.times.end(), t - 1e-9);
+        ASSERT_TRUE(near != skin.clip.times.end() && *near <= t + 1e-9) << asset << ": the clip misses " << t << " s";
+      }
     ASSERT_EQ(skin.poses.size(), manifest.poses.size()) << asset;
     const LoadedMesh rest = load_mesh(out + "/" + manifest.rest);
     const std::vector<JointWeights> weights =

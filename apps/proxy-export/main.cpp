@@ -14,6 +14,10 @@ int main(int argc, char** argv) {
   tool.app.add_flag("--stacked", stacked, "In .glb, keep poses in place instead of side by side");
   tool.app.add_option("--rest", opt.rest, "With the meshes, previews also colour each pose's mesh by its error");
   tool.app.add_option("--pose", opt.poses, "Example poses M_1..M_e in the proxy's order (with --rest)");
+  tool.app.add_flag("--physics", opt.physics, "In .glb, the spheres as glTF physics colliders (KHR_physics_rigid_bodies "
+                                               "and OMI_physics_body on sphere shapes) instead of meshes");
+  tool.app.add_option("--asset", opt.asset, "With --physics: the body's glTF/GLB, written with the colliders "
+                                            "(a skinned proxy's spheres on their heaviest joints)");
   tool.name_option("poses", "--pose");
   tool.name_option("pose", "--ply-pose");
   return tool.run(argc, argv, [&] {

@@ -6,6 +6,8 @@
 #include "core/error.hpp"
 #include "core/subject.hpp"
 #include "io/spx_writer.hpp"
+#include "export/physics_gltf.hpp"
+#include "extract/asset.hpp"
 #include "io/scene.hpp"
 #include "metrics/proxy_eval_tool.hpp"
 #include "io/proxy_file.hpp"
@@ -30,17 +32,47 @@ std::string colored_preview(const ProxyModel& proxy, const std::string& input, c
   return encode_error_scene(evals, ext, options.pose, scale, step);
 }
 
+// The colliders as glTF physics shapes, alone or in the asset; what was left out in the report.
+std::string physics_glb(const ProxyModel& proxy, const ExportOptions& options, Log& log, json& report) {
+  PhysicsGltf out;
+  if (options.asset.empty()) {
+    out = physics_gltf(proxy);
+  } else {
+    GltfFile file = read_gltf_file(options.asset);  // first: "not a glTF" before assimp's words
+    const Asset rig(options.asset, "");
+    out = physics_gltf(proxy, std::move(file), rig);
+    if (!proxy.skin.empty()) {
+      json clips = json::array();
+      for (size_t c = 0; c < rig.clips().size(); ++c) clips.push_back(rigid_attachment_offsets(proxy, rig, c, out.diagonal));
+      out.attachment["rigid_against_skinned"] = clips;
+    }
+  }
+  if (!out.zero_radius.empty())
+    log.info(std::to_string(out.zero_radius.size()) + " spheres of radius 0 at rest left out (report: physics.zero_radius)");
+  report["physics"] = {{"colliders", out.colliders},
+                       {"zero_radius", out.zero_radius.size()},
+                       {"zero_radius_spheres", out.zero_radius},
+                       {"extensions_used", out.file.doc["extensionsUsed"]},
+                       {"asset", options.asset.empty() ? json(nullptr) : json(options.asset)}};
+  if (!out.attachment.is_null()) report["physics"]["attachment"] = out.attachment;
+  return encode_glb(out.file);
+}
+
 }  // namespace
 
 void proxy_export_files(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
                   json& report) {
   std::string ext = std::filesystem::path(output).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (options.physics && ext != ".glb")
+    fail_usage("--physics", "writes glTF physics shapes: the output must be .glb, not '" + ext + "'");
+  if (!options.asset.empty() && !options.physics) fail_usage("--asset", "needs --physics");
   if (ext != ".spx" && ext != ".json" && ext != ".glb" && ext != ".ply")
     fail_usage(output, "unknown output format '" + ext + "' (use .spx, .json, .glb or .ply)");
   const ProxyModel proxy = read_proxy_file(input);
   std::string bytes;
-  about_file(input, [&] {
+  if (options.physics) bytes = physics_glb(proxy, options, log, report);
+  else about_file(input, [&] {
     if (ext == ".spx") bytes = encode_spx(proxy);
     else if (ext == ".json") bytes = dump_json(proxy_to_plain_json(proxy));
     else if (options.rest.empty()) bytes = encode_preview(proxy, ext, options.pose, options.spread);

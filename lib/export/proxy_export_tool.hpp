@@ -15,9 +15,13 @@ struct ExportOptions {
   // With the meshes, .glb/.ply previews also show each pose's mesh coloured by its error.
   std::string rest;
   std::vector<std::string> poses;
+  // .glb: the spheres as glTF physics colliders (KHR_physics_rigid_bodies, OMI_physics_body),
+  // into `asset` (a glTF of the body, which comes along) when given.
+  bool physics = false;
+  std::string asset;
 };
 
-// proxy-export IN.proxy.json -o OUT.spx | OUT.json | OUT.glb | OUT.ply
+// proxy-export IN.proxy.json -o OUT.spx | OUT.json | OUT.glb | OUT.ply, or -o OUT.glb --physics [--asset A]
 void proxy_export_files(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
                   json& report);
 

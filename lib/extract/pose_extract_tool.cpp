@@ -236,7 +236,10 @@ SkinFile skin_of(const Asset& asset, const WeldedBody& body, const std::vector<P
   for (size_t f = 0; f < clip.frames.size(); ++f) {
     if (f > 0) {
       const double from = clip.frames[f - 1], gap = clip.frames[f] - from;
-      const int steps = std::max(2, int(std::ceil(gap * kClipRate - 1e-6)));
+      // An even count, so half-way (where hosts and proxy-eval look between keys) is one of them:
+      // keys 1/30 s apart stored as floats are a hair over two 60 Hz steps apart.
+      int steps = std::max(2, int(std::ceil(gap * kClipRate - 1e-6)));
+      steps += steps % 2;
       for (int k = 1; k < steps; ++k) skin.clip.times.push_back(from + gap * k / steps);
     }
     skin.clip.times.push_back(clip.frames[f]);

@@ -2,12 +2,9 @@
 
 #include <cmath>
 
+#include "io/gltf_file.hpp"
+
 namespace spx::detail {
-namespace {
-void put32(std::string& s, uint32_t v) {
-  for (int i = 0; i < 4; ++i) s += char((v >> (8 * i)) & 0xff);
-}
-}  // namespace
 
 int GlbBuilder::add(const void* data, size_t bytes, json accessor) {
   while (bin.size() % 4) bin += '\0';
@@ -45,22 +42,10 @@ int GlbBuilder::add_indices(const std::vector<Eigen::Vector3i>& triangles) {
 }
 
 std::string GlbBuilder::glb(json doc) {
-  while (bin.size() % 4) bin += '\0';
   doc["accessors"] = accessors;
   doc["bufferViews"] = views;
-  doc["buffers"] = {{{"byteLength", bin.size()}}};
-  std::string text = doc.dump();
-  while (text.size() % 4) text += ' ';
-  std::string out = "glTF";
-  put32(out, 2);
-  put32(out, uint32_t(12 + 8 + text.size() + 8 + bin.size()));
-  put32(out, uint32_t(text.size()));
-  out += "JSON";
-  out += text;
-  put32(out, uint32_t(bin.size()));
-  out.append("BIN\0", 4);
-  out += bin;
-  return out;
+  doc["buffers"] = json::array({json::object()});
+  return encode_glb({std::move(doc), bin});
 }
 
 }  // namespace spx::detail

@@ -18,3 +18,10 @@ expect() {
   fi
   if ls -a "$out" | grep -q '\.tmp\.'; then echo "FAIL: temp file left by $*"; fail=$((fail + 1)); fi
 }
+
+# check MESSAGE COMMAND...: the command succeeds (a script may define its own check first).
+declare -F check >/dev/null || check() {
+  local msg=$1
+  shift
+  if "$@"; then passed=$((passed + 1)); else echo "FAIL: $msg"; fail=$((fail + 1)); fi
+}

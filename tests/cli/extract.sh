@@ -8,11 +8,6 @@ build=$(cd "$1" && pwd) src=$(cd "$2" && pwd) out=$3 data=${4:-}
 bin=$build/apps
 rm -rf "$out" && mkdir -p "$out" && out=$(cd "$out" && pwd)
 fail=0 passed=0
-check() {  # check MESSAGE COMMAND...
-  local msg=$1
-  shift
-  if "$@"; then passed=$((passed + 1)); else echo "FAIL: $msg"; fail=$((fail + 1)); fi
-}
 source "$src/tests/cli/expect.sh"
 v() { /usr/bin/python3 "$src/tests/cli/validate_json.py" "$src/schemas" "$@" >/dev/null; }
 

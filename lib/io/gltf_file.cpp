@@ -1,0 +1,148 @@
+#include "io/gltf_file.hpp"
+
+#include <cstring>
+#include <filesystem>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+
+namespace spx {
+namespace {
+
+uint32_t get32(const std::string& s, size_t at) {
+  uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) v |= uint32_t(static_cast<unsigned char>(s[at + size_t(i)])) << (8 * i);
+  return v;
+}
+
+void put32(std::string& s, uint32_t v) {
+  for (int i = 0; i < 4; ++i) s += char((v >> (8 * i)) & 0xff);
+}
+
+std::string decode_base64(const std::string& text, const std::string& path) {
+  auto value = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+  };
+  std::string out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    const int v = value(c);
+    if (v < 0) fail_input(path, "a buffer's data: URI is not base64");
+    acc = (acc << 6) | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += char((acc >> bits) & 0xff);
+    }
+  }
+  return out;
+}
+
+// A .gltf buffer's bytes: a data: URI, or a file beside the document.
+std::string buffer_bytes(const json& buffer, const std::string& path) {
+  const std::string uri = buffer.value("uri", "");
+  if (uri.empty()) fail_input(path, "a buffer has no uri (only a GLB's first buffer may)");
+  if (uri.rfind("data:", 0) == 0) {
+    const size_t comma = uri.find(',');
+    if (comma == std::string::npos || uri.substr(0, comma).find(";base64") == std::string::npos)
+      fail_unsupported(path, "a buffer's data: URI is not base64");
+    return decode_base64(uri.substr(comma + 1), path);
+  }
+  const std::string file = (std::filesystem::path(path).parent_path() / uri).string();
+  if (!std::filesystem::exists(file)) fail_input(path, "its buffer '" + uri + "' is not beside it");
+  return read_file(file);
+}
+
+// A .gltf's buffers as one: each appended at a multiple of 8 bytes, its views moved with it.
+GltfFile merge_buffers(json doc, const std::string& path) {
+  GltfFile out;
+  std::vector<size_t> base;
+  for (const json& buffer : doc.value("buffers", json::array())) {
+    while (out.bin.size() % 8) out.bin += '\0';
+    base.push_back(out.bin.size());
+    std::string bytes = buffer_bytes(buffer, path);
+    if (bytes.size() < buffer.value("byteLength", size_t(0))) fail_input(path, "a buffer is shorter than its byteLength");
+    out.bin += bytes;
+  }
+  for (json& view : doc["bufferViews"]) {
+    const size_t b = view.value("buffer", size_t(0));
+    if (b >= base.size()) fail_input(path, "a bufferView names a buffer that does not exist");
+    view["buffer"] = 0;
+    view["byteOffset"] = view.value("byteOffset", size_t(0)) + base[b];
+  }
+  if (!base.empty()) doc["buffers"] = json::array({{{"byteLength", out.bin.size()}}});
+  out.doc = std::move(doc);
+  return out;
+}
+
+json parse_document(const std::string& text, const std::string& path) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {
+    fail_input(path, std::string("not a glTF: its JSON does not parse (") + e.what() + ")");
+  }
+  if (!doc.is_object() || !doc.contains("asset") || doc["asset"].value("version", "") .rfind("2.", 0) != 0)
+    fail_input(path, "not a glTF 2.0 asset (no asset.version 2.x)");
+  if (!doc.contains("bufferViews")) doc["bufferViews"] = json::array();
+  return doc;
+}
+
+}  // namespace
+
+GltfFile read_gltf_file(const std::string& path) {
+  const std::string bytes = read_file(path);
+  if (bytes.size() < 4 || bytes.compare(0, 4, "glTF") != 0) {
+    if (bytes.find('{') == std::string::npos) fail_input(path, "not a glTF (neither GLB nor JSON)");
+    return merge_buffers(parse_document(bytes, path), path);
+  }
+  if (bytes.size() < 20 || get32(bytes, 4) != 2) fail_input(path, "not a GLB of glTF 2.0");
+  if (get32(bytes, 8) > bytes.size()) fail_input(path, "truncated: its header says " + std::to_string(get32(bytes, 8)) + " bytes");
+  GltfFile out;
+  size_t at = 12;
+  bool seen_json = false;
+  while (at + 8 <= bytes.size()) {
+    const size_t length = get32(bytes, at);
+    const std::string type = bytes.substr(at + 4, 4);
+    if (at + 8 + length > bytes.size()) fail_input(path, "truncated: a chunk runs past the end of the file");
+    if (type == "JSON") out.doc = parse_document(bytes.substr(at + 8, length), path), seen_json = true;
+    else if (type == std::string("BIN\0", 4)) out.bin = bytes.substr(at + 8, length);
+    at += 8 + length;
+  }
+  if (!seen_json) fail_input(path, "a GLB without its JSON chunk");
+  return out;
+}
+
+std::string encode_glb(const GltfFile& file) {
+  std::string bin = file.bin;
+  while (bin.size() % 4) bin += '\0';
+  json doc = file.doc;
+  if (!bin.empty()) {
+    if (!doc.contains("buffers") || doc["buffers"].empty()) doc["buffers"] = json::array({json::object()});
+    doc["buffers"][0]["byteLength"] = bin.size();
+    doc["buffers"][0].erase("uri");
+  }
+  std::string text = doc.dump();
+  while (text.size() % 4) text += ' ';
+  std::string out = "glTF";
+  put32(out, 2);
+  put32(out, uint32_t(12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size())));
+  put32(out, uint32_t(text.size()));
+  out += "JSON";
+  out += text;
+  if (!bin.empty()) {
+    put32(out, uint32_t(bin.size()));
+    out.append("BIN\0", 4);
+    out += bin;
+  }
+  return out;
+}
+
+}  // namespace spx

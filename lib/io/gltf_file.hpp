@@ -1,0 +1,23 @@
+#pragma once
+// A glTF asset as its JSON document and one binary buffer, to add nodes and extensions to and
+// write back as GLB with everything else it holds (meshes, skins, clips) untouched.
+#include <string>
+
+#include "core/json_io.hpp"
+
+namespace spx {
+
+struct GltfFile {
+  json doc;         // the document; when `bin` is not empty, buffers[0] is it
+  std::string bin;  // the binary buffer (a GLB's BIN chunk, or a .gltf's buffers merged)
+};
+
+// Reads a .glb, or a .gltf whose buffers are data: URIs or files beside it (merged into one, the
+// views moved with them). Exit 2 naming the file when it is not a glTF 2.0 asset; exit 3 for
+// what it holds that this cannot carry (a buffer that cannot be read).
+GltfFile read_gltf_file(const std::string& path);
+
+// The GLB container: the JSON chunk, then the BIN chunk when `bin` is not empty.
+std::string encode_glb(const GltfFile& file);
+
+}  // namespace spx
