@@ -78,16 +78,17 @@ long node_named(const json& doc, const std::string& name) {
   return -1;
 }
 
-// The topmost ancestor of `node` (glTF nodes name their children, not their parent).
-size_t root_of(const json& doc, size_t node) {
+// Each node's parent (-1 for a root): glTF nodes name their children, not their parent.
+std::vector<long> parents_of(const json& doc, const std::string& path) {
   const json& nodes = doc["nodes"];
-  for (bool moved = true; moved;) {
-    moved = false;
-    for (size_t n = 0; n < nodes.size() && !moved; ++n)
-      for (const json& c : nodes[n].value("children", json::array()))
-        if (c.get<size_t>() == node) node = n, moved = true;
-  }
-  return node;
+  std::vector<long> parent(nodes.size(), -1);
+  for (size_t n = 0; n < nodes.size(); ++n)
+    for (const json& c : nodes[n].value("children", json::array())) {
+      if (!c.is_number_unsigned() || c.get<size_t>() >= nodes.size() || parent[c.get<size_t>()] >= 0)
+        fail_input(path, "node " + std::to_string(n) + " names a child that is no node or already has a parent");
+      parent[c.get<size_t>()] = long(n);
+    }
+  return parent;
 }
 
 // The rest spheres (pose 0, on pose-extract's rest of the asset) must lie in the asset's rest: a
@@ -118,6 +119,7 @@ void attach_to_joints(PhysicsGltf& out, const ProxyModel& proxy, const Asset& ri
   json& doc = out.file.doc;
   const std::vector<size_t> joint_of = rig.joints_named(proxy.skin.joints);
   const std::vector<Eigen::Matrix4d> rest = rig.rest_joint_matrices();
+  const std::vector<long> parent = parents_of(doc, rig.path());  // of the asset's nodes; colliders are leaves
   std::vector<size_t> bodies, used(proxy.skin.joints.size(), 0);
   for (size_t j = 0; j < proxy.skin.spheres.size(); ++j) {
     const SkinnedSphere& s = proxy.skin.spheres[j];
@@ -137,7 +139,8 @@ void attach_to_joints(PhysicsGltf& out, const ProxyModel& proxy, const Asset& ri
     add_child(doc, collider_node(int(j), t, add_sphere_shape(doc, s.radius / scale)), node);
     ++out.colliders;
     ++used[size_t(joint)];
-    const size_t root = root_of(doc, size_t(node));
+    size_t root = size_t(node);
+    for (size_t up = 0; parent[root] >= 0 && up < parent.size(); ++up) root = size_t(parent[root]);
     if (std::find(bodies.begin(), bodies.end(), root) == bodies.end()) bodies.push_back(root);
   }
   for (size_t root : bodies) make_kinematic(doc["nodes"][root]);

@@ -89,7 +89,7 @@ json parse_document(const std::string& text, const std::string& path) {
   } catch (const json::exception& e) {
     fail_input(path, std::string("not a glTF: its JSON does not parse (") + e.what() + ")");
   }
-  if (!doc.is_object() || !doc.contains("asset") || doc["asset"].value("version", "") .rfind("2.", 0) != 0)
+  if (!doc.is_object() || !doc.contains("asset") || doc["asset"].value("version", "").rfind("2.", 0) != 0)
     fail_input(path, "not a glTF 2.0 asset (no asset.version 2.x)");
   if (!doc.contains("bufferViews")) doc["bufferViews"] = json::array();
   return doc;

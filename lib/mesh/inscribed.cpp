@@ -51,9 +51,7 @@ Sphere tangent_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const E
     // Blocked by the point's own faces: what counts is the nearest point past them.
     const Eigen::Vector3i& f = mesh.mesh().triangles[size_t(q.triangle)];
     const auto& v = mesh.mesh().vertices;
-    if (std::any_of(own_corners.begin(), own_corners.end(), [&](const Eigen::Vector3d& k) {
-          return k == v[size_t(f[0])] || k == v[size_t(f[1])] || k == v[size_t(f[2])];
-        })) {
+    if (has_corner(own_corners, v[size_t(f[0])], v[size_t(f[1])], v[size_t(f[2])])) {
       q = mesh.closest_apart(c, reach, own_corners);
       if (q.triangle < 0) break;
     }

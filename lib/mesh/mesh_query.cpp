@@ -5,7 +5,6 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
-#include <algorithm>
 #include <iterator>
 
 #include "core/error.hpp"
@@ -87,8 +86,7 @@ ClosestPoint MeshQuery::closest_apart(const Eigen::Vector3d& p, double radius,
   out.distance = radius;
   for (Iterator t : near) {
     const Eigen::Vector3d a = corner(*t, 0), b = corner(*t, 1), c = corner(*t, 2);
-    if (std::any_of(corners.begin(), corners.end(), [&](const Eigen::Vector3d& q) { return q == a || q == b || q == c; }))
-      continue;
+    if (has_corner(corners, a, b, c)) continue;
     const Eigen::Vector3d q = closest_point_on_triangle(p, a, b, c);
     const double d = (q - p).norm();
     if (d >= out.distance) continue;

@@ -3,6 +3,7 @@
 // Distances and closest points are to the solid's boundary: walls inside the solid (where
 // parts overlap; mesh/solid_boundary.hpp) are left out, since a sphere may cross them.
 #include <memory>
+#include <vector>
 
 #include "mesh/mesh.hpp"
 #include "mesh/solid_boundary.hpp"
@@ -16,6 +17,14 @@ struct ClosestPoint {
   int triangle = -1;
   double distance = 0;
 };
+
+// Whether one of `corners` is a, b or c (exactly): a triangle of a point's own neighbourhood.
+inline bool has_corner(const std::vector<Eigen::Vector3d>& corners, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                       const Eigen::Vector3d& c) {
+  for (const Eigen::Vector3d& k : corners)
+    if (k == a || k == b || k == c) return true;
+  return false;
+}
 
 class MeshQuery {
  public:

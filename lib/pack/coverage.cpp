@@ -58,7 +58,7 @@ std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double 
 
 std::vector<char> representatives(const CoverProblem& problem, double slack) {
   const size_t n = problem.candidate_count();
-  std::vector<char> kept(n, 0);
+  std::vector<char> kept(n, 1);
   if (n == 0) return kept;
   const SphereSet& first = problem.spheres[0];
   std::vector<uint32_t> order(n);
@@ -82,12 +82,10 @@ std::vector<char> representatives(const CoverProblem& problem, double slack) {
   // within its radius and the slack.
   std::vector<uint32_t> rank(n);
   for (size_t k = 0; k < n; ++k) rank[order[k]] = uint32_t(k);
-  std::vector<char> left_out(n, 0);
   for (uint32_t b : order) {
-    if (left_out[b]) continue;
-    kept[b] = 1;
+    if (!kept[b]) continue;
     grid.near(centres[b], first[b].radius + slack, [&](uint32_t a) {
-      if (rank[a] > rank[b] && !left_out[a] && contains(b, a)) left_out[a] = 1;
+      if (rank[a] > rank[b] && kept[a] && contains(b, a)) kept[a] = 0;
     });
   }
   return kept;
