@@ -1,12 +1,13 @@
 #include "export/physics_gltf.hpp"
 
+#include "export/asset_match.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
 #include "core/version.hpp"
 #include "extract/asset.hpp"
-#include "mesh/mesh_query.hpp"
 
 namespace spx {
 namespace {
@@ -91,27 +92,6 @@ std::vector<long> parents_of(const json& doc, const std::string& path) {
   return parent;
 }
 
-// The rest spheres (pose 0, on pose-extract's rest of the asset) must lie in the asset's rest: a
-// proxy made from another body does not. Returns the rest's diagonal.
-double check_rest_holds(const ProxyModel& proxy, const Asset& rig) {
-  const TriMesh rest = weld_body(rig).rest;
-  const MeshQuery query(rest);
-  size_t outside = 0, spheres = 0;
-  double over = 0;
-  for (const Sphere& s : proxy.poses.at(0).spheres) {
-    if (!(s.radius > 0)) continue;
-    ++spheres;
-    if (!query.inside(s.center)) ++outside;
-    else over = std::max(over, s.radius - query.distance(s.center));
-  }
-  const double diag = rest.diagonal();
-  if (outside > 0 || over > 1e-3 * diag)
-    fail_input(rig.path(), "its rest does not hold the proxy's rest spheres (" + std::to_string(outside) + " of " +
-                               std::to_string(spheres) + " centres outside, the union " +
-                               std::to_string(100 * over / diag) + " % of its diagonal out): not the asset the proxy was made from");
-  return diag;
-}
-
 int heaviest(const SkinnedSphere& s) { return int(std::max_element(s.weight.begin(), s.weight.end()) - s.weight.begin()); }
 
 // A skinned proxy's spheres on their heaviest joints' nodes, in those joints' frames at bind.
@@ -164,7 +144,7 @@ PhysicsGltf physics_gltf(const ProxyModel& proxy) {
 
 PhysicsGltf physics_gltf(const ProxyModel& proxy, GltfFile asset, const Asset& rig) {
   PhysicsGltf out;
-  out.diagonal = check_rest_holds(proxy, rig);
+  out.diagonal = check_rest_holds(proxy, weld_body(rig).rest, rig.path());
   out.file = std::move(asset);
   json& doc = out.file.doc;
   if (!doc.contains("nodes")) doc["nodes"] = json::array();

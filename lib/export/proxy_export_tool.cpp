@@ -6,6 +6,8 @@
 #include "core/error.hpp"
 #include "core/subject.hpp"
 #include "io/spx_writer.hpp"
+#include "export/asset_match.hpp"
+#include "export/page_html.hpp"
 #include "export/physics_gltf.hpp"
 #include "extract/asset.hpp"
 #include "io/scene.hpp"
@@ -58,6 +60,39 @@ std::string physics_glb(const ProxyModel& proxy, const ExportOptions& options, L
   return encode_glb(out.file);
 }
 
+// The page: the proxy with its body (the examples' meshes, or a skinned proxy's asset) when given.
+std::string page(const ProxyModel& proxy, const std::string& input, const std::string& output,
+                 const ExportOptions& options, Log& log, json& report) {
+  std::string up = options.up;
+  if (up.empty()) up = options.asset.empty() && !options.from_manifest ? "z" : "y";
+  json data = page_data(proxy, std::filesystem::path(input).stem().stem().string(), up);
+  size_t zero = 0;
+  for (const Sphere& s : proxy.poses.at(0).spheres) zero += !(s.radius > 0);
+  json page = {{"up", up}, {"body", "none"}, {"clips", json::array()}, {"zero_radius", zero}};
+  if (!options.asset.empty()) {
+    if (proxy.skin.empty())
+      fail_usage("--asset", "with .html plays a skinned proxy's clips; " + input +
+                                " has no skin: give its examples with --rest/--pose or --manifest");
+    const Asset rig(options.asset, "");
+    const WeldedBody body = weld_body(rig);
+    check_rest_holds(proxy, body.rest, options.asset);
+    add_skinned_body(data, proxy, rig, body);
+    page["body"] = "asset";
+    page["influences_cut"] = data["body"]["influences_cut"];
+    for (const json& c : data["clips"])
+      page["clips"].push_back({{"name", c["name"]}, {"frames", c["frames"]}, {"seconds", c["seconds"]}});
+  } else if (!options.rest.empty()) {
+    add_blended_body(data, proxy, load_pose_meshes(options.rest, options.poses, proxy, input, log));
+    page["body"] = "examples";
+  } else {
+    log.warn("no body given: the page shows the spheres alone (--rest/--pose, --manifest or --asset adds the body "
+             "and its error)");
+  }
+  if (!data["body"].is_null()) page["vertices"] = data["body"]["vertex_count"];
+  report["page"] = page;
+  return page_html(data, output);
+}
+
 }  // namespace
 
 void proxy_export_files(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
@@ -66,12 +101,18 @@ void proxy_export_files(const std::string& input, const std::string& output, con
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (options.physics && ext != ".glb")
     fail_usage("--physics", "writes glTF physics shapes: the output must be .glb, not '" + ext + "'");
-  if (!options.asset.empty() && !options.physics) fail_usage("--asset", "needs --physics");
-  if (ext != ".spx" && ext != ".json" && ext != ".glb" && ext != ".ply")
-    fail_usage(output, "unknown output format '" + ext + "' (use .spx, .json, .glb or .ply)");
+  if (!options.asset.empty() && !options.physics && ext != ".html")
+    fail_usage("--asset", "needs --physics (a .glb) or a .html page");
+  if (!options.asset.empty() && !options.rest.empty())
+    fail_usage("--asset", "gives the body: leave out --rest/--pose/--manifest");
+  if (!options.up.empty() && ext != ".html") fail_usage("--up", "is for a .html page");
+  if (!options.up.empty() && options.up != "y" && options.up != "z") fail_usage("--up", "must be y or z");
+  if (ext != ".spx" && ext != ".json" && ext != ".glb" && ext != ".ply" && ext != ".html")
+    fail_usage(output, "unknown output format '" + ext + "' (use .spx, .json, .glb, .ply or .html)");
   const ProxyModel proxy = read_proxy_file(input);
   std::string bytes;
   if (options.physics) bytes = physics_glb(proxy, options, log, report);
+  else if (ext == ".html") bytes = page(proxy, input, output, options, log, report);
   else about_file(input, [&] {
     if (ext == ".spx") bytes = encode_spx(proxy);
     else if (ext == ".json") bytes = dump_json(proxy_to_plain_json(proxy));

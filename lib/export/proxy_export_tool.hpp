@@ -1,6 +1,6 @@
 #pragma once
-// proxy-export, the tool: a proxy to the runtime .spx, a plain JSON dump, or GLB/PLY previews
-// (coloured by error when the meshes are given).
+// proxy-export, the tool: a proxy to the runtime .spx, a plain JSON dump, GLB/PLY previews
+// (coloured by error when the meshes are given), glTF physics colliders, or a page that plays it.
 #include "core/json_io.hpp"
 #include "core/log.hpp"
 
@@ -19,9 +19,14 @@ struct ExportOptions {
   // into `asset` (a glTF of the body, which comes along) when given.
   bool physics = false;
   std::string asset;
+  // .html: the ground plane's normal, "y" or "z" (empty: y with an asset or a manifest, z with
+  // meshes given by --rest).
+  std::string up;
+  bool from_manifest = false;  // rest and poses came from pose-extract's poses.json
 };
 
-// proxy-export IN.proxy.json -o OUT.spx | OUT.json | OUT.glb | OUT.ply, or -o OUT.glb --physics [--asset A]
+// proxy-export IN.proxy.json -o OUT.spx | OUT.json | OUT.glb | OUT.ply, or -o OUT.glb --physics [--asset A],
+// or -o OUT.html [--asset A | --rest R --pose P...]: a page that plays the proxy.
 void proxy_export_files(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
                   json& report);
 

@@ -30,6 +30,7 @@ struct Asset::Pose {
   const aiAnimation* clip = nullptr;
   double ticks = 0;
   int target = -1;  // a morph target at weight 1 (rest and clips: -1)
+  bool placed = true;  // false: as stored, before skin and node transforms
 };
 
 namespace {
@@ -323,7 +324,7 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
       for (size_t k = 0; k < w.size(); ++k)
         if (w[k] != 0.0) p[v] += w[k] * (to_eigen(m->mAnimMeshes[k]->mVertices[v]) - to_eigen(m->mVertices[v]));
     }
-    if (!inst.bone_joint.empty()) {
+    if (pose.placed && !inst.bone_joint.empty()) {
       for (unsigned v = 0; v < m->mNumVertices; ++v) {
         const auto& vw = inst.weights[v];
         if (vw.empty()) continue;
@@ -335,7 +336,7 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
         }
         p[v] = sum / total;
       }
-    } else {
+    } else if (pose.placed) {
       const Eigen::Matrix4d& g = joint[size_t(inst.rigid_joint)];
       if (!g.isIdentity(0.0))
         for (auto& q : p) q = (g * q.homogeneous()).head<3>();
@@ -346,6 +347,12 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
 }
 
 std::vector<Eigen::Vector3d> Asset::rest() const { return evaluate(Pose{}); }
+
+std::vector<Eigen::Vector3d> Asset::stored() const {
+  Pose pose;
+  pose.placed = false;
+  return evaluate(pose);
+}
 
 Asset::Pose Asset::clip_pose(size_t clip, double seconds) const {
   Pose pose;

@@ -75,6 +75,9 @@ class Asset {
   // The bind pose: skinned meshes as stored (glTF ignores a skinned mesh's node transform),
   // the others placed by their node; morph weights zero.
   std::vector<Eigen::Vector3d> rest() const;
+  // The positions as the file stores them (no skin, no node transform, morph weights zero): what
+  // the joint matrices act on.
+  std::vector<Eigen::Vector3d> stored() const;
   // The rest with morph target `target` (an index into morph_targets()) at weight 1.
   std::vector<Eigen::Vector3d> morph_target(size_t target) const;
   // Clip `clip` at `seconds`: node keys interpolated (linear, rotations by slerp), morph weights

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/atomic_file.hpp"
+#include "core/base64.hpp"
 #include "core/error.hpp"
 
 namespace spx {
@@ -19,32 +20,6 @@ void put32(std::string& s, uint32_t v) {
   for (int i = 0; i < 4; ++i) s += char((v >> (8 * i)) & 0xff);
 }
 
-std::string decode_base64(const std::string& text, const std::string& path) {
-  auto value = [](char c) -> int {
-    if (c >= 'A' && c <= 'Z') return c - 'A';
-    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-    if (c >= '0' && c <= '9') return c - '0' + 52;
-    if (c == '+') return 62;
-    if (c == '/') return 63;
-    return -1;
-  };
-  std::string out;
-  uint32_t acc = 0;
-  int bits = 0;
-  for (char c : text) {
-    if (c == '=') break;
-    const int v = value(c);
-    if (v < 0) fail_input(path, "a buffer's data: URI is not base64");
-    acc = (acc << 6) | uint32_t(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out += char((acc >> bits) & 0xff);
-    }
-  }
-  return out;
-}
-
 // A .gltf buffer's bytes: a data: URI, or a file beside the document.
 std::string buffer_bytes(const json& buffer, const std::string& path) {
   const std::string uri = buffer.value("uri", "");
@@ -53,7 +28,9 @@ std::string buffer_bytes(const json& buffer, const std::string& path) {
     const size_t comma = uri.find(',');
     if (comma == std::string::npos || uri.substr(0, comma).find(";base64") == std::string::npos)
       fail_unsupported(path, "a buffer's data: URI is not base64");
-    return decode_base64(uri.substr(comma + 1), path);
+    const std::optional<std::string> bytes = decode_base64(uri.substr(comma + 1));
+    if (!bytes) fail_input(path, "a buffer's data: URI is not base64");
+    return *bytes;
   }
   const std::string file = (std::filesystem::path(path).parent_path() / uri).string();
   if (!std::filesystem::exists(file)) fail_input(path, "its buffer '" + uri + "' is not beside it");
