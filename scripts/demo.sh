@@ -15,7 +15,7 @@ for asset in "${assets[@]}"; do
     *-morph)  # sample-gen's glTF with the poses as morph targets, through pose-extract
       base=${asset%-morph}
       $m ASSET="$base" >/dev/null
-      $m NAME="$asset" ASSET_FILE="$root/build/samples/$base/$asset.glb" EXTRACT_FLAGS=--morph-targets ;;
+      $m NAME="$asset" ASSET_FILE="$root/build/samples/$base/$asset.glb" EXTRACT_FLAGS=--morph-targets PAGE_FLAGS="--up z" ;;
     *) $m ASSET="$asset" ;;
   esac
   python3 "$root/scripts/summary.py" "$root/build/samples/$asset"

@@ -41,7 +41,7 @@ poses() {  # the example meshes of a generated sample folder, as --rest/--pose
 
 page car "$build/tests/cli-out/car/a/asset.proxy.json" $(poses "$build/tests/cli-out/car/in" front rear side roof)
 page barrel "$build/tests/cli-out/barrel/a/asset.proxy.json" $(poses "$build/tests/cli-out/barrel/in" dent squash top)
-page car-morph "$ex/car-morph/car-morph.proxy.json" --manifest "$ex/car-morph/poses/poses.json"
+page car-morph "$ex/car-morph/car-morph.proxy.json" --manifest "$ex/car-morph/poses/poses.json" --up z
 page rigged "$ex/rigged/rigged.proxy.json" --asset "$data/rigged-simple/RiggedSimple.glb"
 page spheres-alone "$ex/rigged/rigged.proxy.json"
 # Twice: the same bytes.
