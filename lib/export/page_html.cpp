@@ -76,21 +76,13 @@ json skin_data(const ProxySkin& skin) {
   return {{"joints", skin.joints}, {"xyzr", packed(xyzr)}, {"weights", packed(weights)}, {"indices", packed(indices)}};
 }
 
-// Per welded vertex its first file vertex (the one welded_pose places it by).
-std::vector<size_t> first_file_vertex(const WeldedBody& body) {
-  std::vector<long> first(body.rest.vertices.size(), -1);
-  for (size_t v = 0; v < body.weld.size(); ++v)
-    if (first[size_t(body.weld[v])] < 0) first[size_t(body.weld[v])] = long(v);
-  return std::vector<size_t>(first.begin(), first.end());
-}
-
 // The skinned body: per welded vertex its stored position (what the joint matrices act on) and
 // its joints and weights, at most 8, heaviest first and renormalised (`cut` counts the vertices
 // that had more); a vertex no joint weighs has none and keeps its place.
 void skinned_vertices(const Asset& rig, const WeldedBody& body, json& out, size_t& cut) {
   const auto file = rig.vertex_joints();
   const std::vector<Eigen::Vector3d> stored = rig.stored();
-  const std::vector<size_t> first = first_file_vertex(body);
+  const std::vector<size_t> first = first_file_vertices(body);
   size_t k = 1;
   for (const auto& f : file) k = std::max(k, std::min<size_t>(f.size(), 8));
   std::vector<Eigen::Vector3d> positions;

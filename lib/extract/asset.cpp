@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <set>
 
@@ -428,6 +429,13 @@ WeldedBody weld_body(const Asset& asset) {
   body.weld = weld_by_position(asset.rest(), body.rest.vertices);
   for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
   return body;
+}
+
+std::vector<size_t> first_file_vertices(const WeldedBody& body) {
+  std::vector<size_t> first(body.rest.vertices.size(), SIZE_MAX);
+  for (size_t v = 0; v < body.weld.size(); ++v)
+    if (first[size_t(body.weld[v])] == SIZE_MAX) first[size_t(body.weld[v])] = v;
+  return first;
 }
 
 TriMesh welded_pose(const WeldedBody& body, const std::vector<Eigen::Vector3d>& file_positions, double tolerance,

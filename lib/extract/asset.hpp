@@ -131,6 +131,9 @@ struct WeldedBody {
   TriMesh rest;
 };
 WeldedBody weld_body(const Asset& asset);
+// Per welded vertex its first file vertex: the one whose position (welded_pose) and weights
+// (skin.json, the page) it takes.
+std::vector<size_t> first_file_vertices(const WeldedBody& body);
 
 // A pose on the welded vertices (each takes its first file vertex's position); `opened` counts
 // rest-welded points that part in this pose. A vertex that is not finite fails naming `input`.

@@ -217,13 +217,7 @@ SkinFile skin_of(const Asset& asset, const WeldedBody& body, const std::vector<P
   for (const AssetJoint& j : asset.joints()) skin.joints.push_back({j.name, j.parent, j.inverse_bind});
   const auto weights = asset.vertex_joints();
   skin.vertex_positions = body.rest.vertices;
-  skin.vertex_weights.resize(body.rest.vertices.size());
-  std::vector<char> set(skin.vertex_weights.size(), 0);
-  for (size_t i = 0; i < weights.size(); ++i) {
-    const size_t v = size_t(body.weld[i]);
-    if (!set[v]) skin.vertex_weights[v] = weights[i];
-    set[v] = 1;
-  }
+  for (size_t first : first_file_vertices(body)) skin.vertex_weights.push_back(weights[first]);
   skin.rest = asset.rest_joint_matrices();
   for (const PoseRequest& r : requests) skin.poses.push_back({r.name, asset.joint_matrices(r.clip, r.time)});
   if (requests.empty()) return skin;
