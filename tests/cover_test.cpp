@@ -232,6 +232,52 @@ CoverProblem problem_of(const TriMesh& mesh, int resolution, std::unique_ptr<Mes
   return p;
 }
 
+// A field's candidates offered on demand are those inscribed_candidates gives, each offered once
+// and exactly when some point asked is within reach of it (brute force over every candidate):
+// the extent that skips voxels before their candidates are found never skips one that counts.
+TEST(Candidates, OnDemandOffersWhatTheWholeSetWouldNearThePoints) {
+  // Grown (closed meshes) and bounded by the field instead (as open meshes are).
+  for (const bool open : {false, true}) {
+    const TriMesh mesh = make_barrel().rest;
+    SdfOptions o;
+    o.resolution = 48;
+    const DenseField field = build_sdf(mesh, o).field;
+    const MeshQuery query(mesh);
+    CandidateOptions options;
+    options.field_bounds_radius = open;
+    const SphereSet all = inscribed_candidates(field, query, options);
+    ASSERT_GT(all.size(), 100u);
+    CandidatesOnDemand pool(field, options);
+    const std::vector<Eigen::Vector3d> samples = surface_samples(mesh, 300, 7);
+    const double reach = 0.01 * mesh.diagonal();
+    std::vector<char> offered(all.size(), 0);
+    size_t total = 0;
+    // Three asks of a few points each, the last repeating the first.
+    for (const size_t from : {size_t(0), size_t(100), size_t(0)}) {
+      const std::vector<Eigen::Vector3d> points(samples.begin() + long(from), samples.begin() + long(from + 40));
+      std::vector<Sphere> expected;
+      for (size_t c = 0; c < all.size(); ++c) {
+        if (offered[c]) continue;
+        bool near = false;
+        for (const auto& p : points) near = near || (p - all[c].center).norm() - all[c].radius <= reach;
+        if (near) {
+          offered[c] = 1;
+          expected.push_back(all[c]);
+        }
+      }
+      const SphereSet got = pool.offer_near(points, reach, query);
+      ASSERT_EQ(got.size(), expected.size()) << (open ? "open" : "closed") << " from " << from;
+      for (size_t n = 0; n < got.size(); ++n) {
+        EXPECT_EQ(got[n].center, expected[n].center);
+        EXPECT_EQ(got[n].radius, expected[n].radius);
+      }
+      total += got.size();
+    }
+    EXPECT_GT(total, 0u);
+    EXPECT_LT(pool.found(), all.size()) << "every candidate was found: the extent skipped none";
+  }
+}
+
 // Candidates are inscribed (center inside, radius the exact distance), budgets are never
 // exceeded, the lower bound never passes the count, and the cover meets its delta at every
 // sample: the max vertex error measured independently is at most delta.

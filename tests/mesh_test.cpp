@@ -286,6 +286,8 @@ void check_deforming_query(const TriMesh& rest, int points, unsigned seed, bool 
       // Bounded: the same where the surface is nearer than the bound, else nothing.
       EXPECT_EQ(s.signed_distance_within(p, 2 * brute), d);
       EXPECT_TRUE(std::isinf(s.signed_distance_within(p, 0.5 * brute)));
+      EXPECT_TRUE(s.nearer_than(p, 1.01 * brute + 1e-12 * diag));
+      EXPECT_FALSE(s.nearer_than(p, 0.99 * brute));
       const double w = winding_number_exact(shape, p);
       if (brute < 1e-6 * diag || std::abs(w - std::round(w)) > 0.05) continue;
       ++checked_sides;

@@ -113,12 +113,12 @@ double DeformingQuery::Shape::signed_distance(const Eigen::Vector3d& p) const {
   return signed_distance_within(p, std::numeric_limits<double>::infinity());
 }
 
-double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, double bound) const {
+// Depth first, nearer child first, pruned by the boxes' squared distances against `best`:
+// leaf(t) for every triangle of a leaf box nearer than `best`; it may lower `best`, and stops the
+// search by returning false.
+template <class Leaf>
+void DeformingQuery::Shape::search(const Eigen::Vector3d& p, double& best, Leaf&& leaf) const {
   const DeformingQuery& q = *q_;
-  double best = bound * bound;
-  int best_tri = -1;
-  Eigen::Vector3d best_point = Eigen::Vector3d::Zero(), best_bary = Eigen::Vector3d::Zero();
-  // Depth first, nearer child first, pruned by the boxes' distances.
   std::array<int, 128> stack;
   int top = 0;
   if (!q.nodes_.empty()) stack[size_t(top++)] = 0;
@@ -127,14 +127,8 @@ double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, d
     if (box_[size_t(n)].squaredExteriorDistance(p) >= best) continue;
     const Node& node = q.nodes_[size_t(n)];
     if (node.left < 0) {
-      for (int i = node.first; i < node.first + node.count; ++i) {
-        const int t = q.order_[size_t(i)];
-        const Eigen::Vector3i& f = q.tri_[size_t(t)];
-        Eigen::Vector3d bary;
-        const Eigen::Vector3d c = closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])], &bary);
-        const double d = (p - c).squaredNorm();
-        if (d < best) best = d, best_tri = t, best_point = c, best_bary = bary;
-      }
+      for (int i = node.first; i < node.first + node.count; ++i)
+        if (!leaf(q.order_[size_t(i)])) return;
       continue;
     }
     const double dl = box_[size_t(node.left)].squaredExteriorDistance(p);
@@ -142,6 +136,21 @@ double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, d
     stack[size_t(top++)] = dl < dr ? node.right : node.left;
     stack[size_t(top++)] = dl < dr ? node.left : node.right;
   }
+}
+
+double DeformingQuery::Shape::signed_distance_within(const Eigen::Vector3d& p, double bound) const {
+  const DeformingQuery& q = *q_;
+  double best = bound * bound;
+  int best_tri = -1;
+  Eigen::Vector3d best_point = Eigen::Vector3d::Zero(), best_bary = Eigen::Vector3d::Zero();
+  search(p, best, [&](int t) {
+    const Eigen::Vector3i& f = q.tri_[size_t(t)];
+    Eigen::Vector3d bary;
+    const Eigen::Vector3d c = closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])], &bary);
+    const double d = (p - c).squaredNorm();
+    if (d < best) best = d, best_tri = t, best_point = c, best_bary = bary;
+    return true;
+  });
   if (best_tri < 0) return std::numeric_limits<double>::infinity();
   // The closest feature's pseudo-normal: a corner (two coordinates 0), an edge (one), the face.
   const Eigen::Vector3i& f = q.tri_[size_t(best_tri)];
@@ -217,6 +226,17 @@ std::optional<int> DeformingQuery::Shape::crossings(const Eigen::Vector3d& p, co
     }
   }
   return count;
+}
+
+bool DeformingQuery::Shape::nearer_than(const Eigen::Vector3d& p, double bound) const {
+  double best = bound * bound;
+  bool found = false;
+  search(p, best, [&](int t) {
+    const Eigen::Vector3i& f = q_->tri_[size_t(t)];
+    found = (p - closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])])).squaredNorm() < best;
+    return !found;
+  });
+  return found;
 }
 
 bool DeformingQuery::Shape::inside(const Eigen::Vector3d& p) const {

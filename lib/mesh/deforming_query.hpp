@@ -26,6 +26,9 @@ class DeformingQuery {
     // The same where some surface point is nearer than `bound`, else +infinity: the search skips
     // every box at `bound` or farther, which is most of them for a point deep inside.
     double signed_distance_within(const Eigen::Vector3d& p, double bound) const;
+    // Whether some surface point is nearer to p than `bound`: the bounded search, stopped at the
+    // first triangle found.
+    bool nearer_than(const Eigen::Vector3d& p, double bound) const;
     // Winding number > 1/2, as the exact sum of solid angles says (winding_number_exact) but
     // counted along a ray through the hierarchy: the triangles it crosses, +1 leaving through a
     // front face, -1 entering. Where parts pass through each other the count still says inside.
@@ -37,6 +40,8 @@ class DeformingQuery {
     // The signed count of crossings along p + s dir (s > 0); nullopt where the ray grazes an
     // edge or a triangle's plane, and the count could be off by one.
     std::optional<int> crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const;
+    template <class Leaf>
+    void search(const Eigen::Vector3d& p, double& best, Leaf&& leaf) const;
     const DeformingQuery* q_ = nullptr;
     std::vector<Eigen::Vector3d> v_;
     std::vector<Eigen::AlignedBox3d> box_;  // per node

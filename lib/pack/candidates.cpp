@@ -21,7 +21,7 @@ CandidateOptions candidate_options(const PackOptions& pack) {
   return c;
 }
 
-SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& opt) {
+std::vector<MedialVoxel> medial_voxels(const DenseField& field) {
   const GridShape& g = field.shape;
   const double h = g.voxel_size;
   // Near-medial: off the medial axis, the distance grows by about h/sqrt(3) or more towards
@@ -36,24 +36,71 @@ SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, c
       medial[idx] = !deeper;
     }
   });
-  std::vector<size_t> voxels;
+  std::vector<MedialVoxel> out;
   for (size_t idx = 0; idx < g.count(); ++idx)
-    if (medial[idx]) voxels.push_back(idx);
+    if (medial[idx]) out.push_back({g.world(idx), -double(field.values[idx])});
+  return out;
+}
 
+Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
+  const Eigen::Vector3d& c = voxel.center;
+  double radius = mesh.inside(c) ? std::min(opt.max_radius, mesh.distance(c)) : 0.0;
+  if (opt.field_bounds_radius) radius = std::min(radius, voxel.depth - kFieldMargin * h);
+  Sphere out{c, std::max(radius, 0.0)};
+  if (!opt.field_bounds_radius) out = grow_inscribed(mesh, out, opt.max_radius, opt.growth);
+  return out;
+}
+
+SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& opt) {
+  const std::vector<MedialVoxel> voxels = medial_voxels(field);
   SphereSet out(voxels.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t n = r.begin(); n != r.end(); ++n) {
-      const Eigen::Vector3d c = g.world(voxels[n]);
-      double radius = mesh.inside(c) ? std::min(opt.max_radius, mesh.distance(c)) : 0.0;
-      if (opt.field_bounds_radius) radius = std::min(radius, -double(field.values[voxels[n]]) - kFieldMargin * h);
-      out[n] = {c, std::max(radius, 0.0)};
-      if (!opt.field_bounds_radius) out[n] = grow_inscribed(mesh, out[n], opt.max_radius, opt.growth);
-    }
+    for (size_t n = r.begin(); n != r.end(); ++n) out[n] = inscribed_candidate(voxels[n], mesh, opt, field.shape.voxel_size);
   });
   out.erase(std::remove_if(out.begin(), out.end(),
                            [&](const Sphere& s) { return !(s.radius > 0) || s.radius < opt.min_radius; }),
             out.end());
   return out;
+}
+
+CandidatesOnDemand::CandidatesOnDemand(const DenseField& field, const CandidateOptions& options)
+    : voxels_(medial_voxels(field)),
+      options_(options),
+      h_(field.shape.voxel_size),
+      sphere_(voxels_.size()),
+      state_(voxels_.size(), unknown) {}
+
+SphereSet CandidatesOnDemand::offer_near(const std::vector<Eigen::Vector3d>& points, double reach,
+                                         const MeshQuery& mesh) {
+  auto near = [&](const Eigen::Vector3d& c, double radius) {
+    for (const Eigen::Vector3d& p : points)
+      if ((p - c).norm() - radius <= reach) return true;
+    return false;
+  };
+  std::vector<char> take(voxels_.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels_.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t v = r.begin(); v != r.end(); ++v) {
+      if (state_[v] == offered) continue;
+      if (state_[v] == unknown) {
+        if (!near(voxels_[v].center, candidate_extent(voxels_[v], options_, h_))) continue;
+        sphere_[v] = inscribed_candidate(voxels_[v], mesh, options_, h_);
+        state_[v] = known;
+      }
+      const Sphere& s = sphere_[v];
+      take[v] = s.radius > 0 && s.radius >= options_.min_radius && near(s.center, s.radius);
+    }
+  });
+  SphereSet out;
+  for (size_t v = 0; v < voxels_.size(); ++v)
+    if (take[v]) {
+      out.push_back(sphere_[v]);
+      state_[v] = offered;
+    }
+  return out;
+}
+
+size_t CandidatesOnDemand::found() const {
+  return size_t(std::count_if(state_.begin(), state_.end(), [](char s) { return s != unknown; }));
 }
 
 std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed) {

@@ -31,8 +31,49 @@ CandidateOptions candidate_options(const PackOptions& pack);
 // axis (no face neighbour deeper by half a voxel or more), radii from `mesh`, each grown to the
 // largest inscribed sphere containing it (options.growth). Every such voxel is a candidate, so
 // a finer field offers finer ones; a cover at delta thins them by what they cover
-// (CoverProblem::merge).
+// (CoverProblem::merge). The steps below, in voxel order, those of radius 0 or below the least
+// dropped.
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& options);
+
+// A near-medial interior voxel: its centre and the field's depth there.
+struct MedialVoxel {
+  Eigen::Vector3d center;
+  double depth = 0;
+};
+std::vector<MedialVoxel> medial_voxels(const DenseField& field);
+
+// The candidate at one near-medial voxel of a field of voxel size h (radius 0 where it has none).
+Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& options, double h);
+
+// A radius about the voxel's centre that holds its candidate, grown or not, for a search that
+// skips voxels before paying for their candidates: the radius is the exact distance, which the
+// field's (to some triangle of the same surface) is never below, and growth moves the centre
+// by at most `growth` radii, its radius keeping up.
+inline double candidate_extent(const MedialVoxel& voxel, const CandidateOptions& options, double h) {
+  const double r = std::min(options.max_radius, voxel.depth + 0.1 * h);
+  return options.field_bounds_radius ? r : r * (1 + 2 * options.growth);
+}
+
+// A field's inscribed candidates offered a few at a time: those within `reach` of some given
+// point (a sample no other candidate reaches), each once, in voxel order, as inscribed_candidates
+// gives them. A voxel's candidate is found only when a point is within reach of its extent, so
+// that the many frames of a clip cost what their points ask, not their whole fields. The field
+// is not kept.
+class CandidatesOnDemand {
+ public:
+  CandidatesOnDemand(const DenseField& field, const CandidateOptions& options);
+  // Those not offered before within `reach` of one of `points`, found on `mesh` (the field's).
+  SphereSet offer_near(const std::vector<Eigen::Vector3d>& points, double reach, const MeshQuery& mesh);
+  size_t found() const;  // candidates found so far (what the offers cost)
+
+ private:
+  enum State : char { unknown, known, offered };
+  std::vector<MedialVoxel> voxels_;
+  CandidateOptions options_;
+  double h_ = 0;
+  SphereSet sphere_;
+  std::vector<char> state_;
+};
 
 // Of `more`, those whose centre is at least `spacing` from every centre of `kept` and of those of
 // `more` taken before it (in order): candidates offered again and again from alike poses of a

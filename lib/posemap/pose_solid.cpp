@@ -33,6 +33,13 @@ std::pair<Sphere, PoseSolid::Zero> PoseSolid::grown(const Eigen::Vector3d& c, bo
 }
 
 
+bool PoseSolid::surely_at_least(const Eigen::Vector3d& c, double r) const {
+  if (!shape || !(r > 0) || r > max_radius || holes || shape->nearer_than(c, r)) return false;
+  // Nothing nearer than r: c is as much inside as the whole ball; the floor (as radius() trusts
+  // it) or the ray count says which.
+  return (field && radius_floor(c) > field->shape.voxel_size) || shape->inside(c);
+}
+
 double PoseSolid::hole_bound(const Eigen::Vector3d& c) const {
   if (!holes) return std::numeric_limits<double>::infinity();
   return std::max(0.0, depth_bound(*holes, c) - kFieldMargin * holes->shape.voxel_size);

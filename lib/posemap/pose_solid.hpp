@@ -7,6 +7,7 @@
 
 #include "core/sphere.hpp"
 #include "io/dense_field.hpp"
+#include "mesh/deforming_query.hpp"
 #include "mesh/mesh_query.hpp"
 
 namespace spx {
@@ -16,6 +17,7 @@ struct PoseSolid {
   const DenseField* holes;  // null for closed meshes
   double max_radius;
   const DenseField* field = nullptr;  // the pose's own field where kept (floors under radii)
+  const DeformingQuery::Shape* shape = nullptr;  // a closed mesh's refitted hierarchy, where kept
 
   // Why a radius is 0: the centre is outside, the holes bound it, it is on the surface, or (a
   // skinned sphere, one radius in every pose) it is 0 in another pose.
@@ -43,6 +45,11 @@ struct PoseSolid {
   // orders and skips the poses a sphere's one radius asks (a pose whose floor is above the least
   // radius so far is skipped), and every one radius that counts is then checked exactly.
   double radius_floor(const Eigen::Vector3d& c) const;
+  // Whether radius(c, false) is surely at least r, told without an exact query where it can be:
+  // no point of the surface nearer than r (the refitted hierarchy's bounded search, which skips
+  // most boxes) and c inside (by the floor, as radius() trusts it, or by the shape's ray count).
+  // False: ask radius(). Needs `shape`.
+  bool surely_at_least(const Eigen::Vector3d& c, double r) const;
 
  private:
   Radius radius_at(const Eigen::Vector3d& c, bool cause, bool trust_floor) const;

@@ -14,6 +14,7 @@
 #include "mesh/defects.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/union_distance.hpp"
+#include "pack/candidates.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
 #include "posemap/clip_radius.hpp"
@@ -89,9 +90,14 @@ class PoseMapper {
       StageTimer t(log_, "pose-fields");
       tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) { pose_field(i); });
     }
+    if (skinned_ && !open_solid_) {
+      deforming_ = std::make_unique<DeformingQuery>(rest_);
+      if (deforming_->closed())
+        for (const TriMesh* m : meshes_) shapes_.push_back(deforming_->shape(m->vertices));
+    }
     for (size_t i = 0; i < meshes_.size(); ++i)
       solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
-                         skinned_ ? &pose_field(i) : nullptr});
+                         skinned_ ? &pose_field(i) : nullptr, shapes_.empty() ? nullptr : &shapes_[i]});
   }
 
   // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
@@ -395,33 +401,15 @@ class PoseMapper {
     return map_back_to_rest(i, found.spheres, lost);
   }
 
-  // Pose i's own inscribed candidates (from its own field, found once) that come within `reach`
-  // of any of `points` (samples of that pose no mapped candidate reaches) and were not offered
-  // before, in pose coordinates.
+  // Pose i's own inscribed candidates that come within `reach` of any of `points` (samples of
+  // that pose no mapped candidate reaches) and were not offered before, in pose coordinates.
   SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
     if (pose_inscribed_.size() < poses_.size()) pose_inscribed_.resize(poses_.size());
-    auto& [all, offered] = pose_inscribed_[i];
-    if (offered.empty()) {
-      all = inscribed_candidates(pose_field(i + 1), *queries_[i + 1], candidate_options(pose_pack_options()));
+    if (!pose_inscribed_[i]) {
+      pose_inscribed_[i] = std::make_unique<CandidatesOnDemand>(pose_field(i + 1), candidate_options(pose_pack_options()));
       release_field(i + 1);
-      offered.assign(all.size(), 0);
     }
-    std::vector<char> keep(all.size(), 0);
-    tbb::parallel_for(size_t(0), all.size(), [&](size_t s) {
-      if (offered[s]) return;
-      for (const auto& p : points)
-        if ((p - all[s].center).norm() - all[s].radius <= reach) {
-          keep[s] = 1;
-          break;
-        }
-    });
-    SphereSet out;
-    for (size_t s = 0; s < all.size(); ++s)
-      if (keep[s]) {
-        out.push_back(all[s]);
-        offered[s] = 1;
-      }
-    return out;
+    return pose_inscribed_[i]->offer_near(points, reach, *queries_[i + 1]);
   }
 
   // Through the inverse map (barycentric in pose i's deformed tets); those that land outside
@@ -456,7 +444,9 @@ class PoseMapper {
   bool open_solid_ = false;
   std::vector<std::unique_ptr<DenseField>> fields_;  // per pose, built when first asked
   std::vector<PoseSolid> solids_;
-  std::vector<std::pair<SphereSet, std::vector<char>>> pose_inscribed_;  // per pose: its own candidates, offered yet
+  std::unique_ptr<DeformingQuery> deforming_;    // skinned, closed: one hierarchy refitted to each frame
+  std::vector<DeformingQuery::Shape> shapes_;
+  std::vector<std::unique_ptr<CandidatesOnDemand>> pose_inscribed_;  // per pose: its own candidates
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
   bool grow_ = false;                                    // spheres grown in every pose (joint selection)

@@ -129,6 +129,7 @@ double least_radius(const SkinnedMap& map, const SkinInfluence& s, const Eigen::
   double least = rest_radius;
   for (const auto& [floor, i] : floors) {
     if (floor >= least || least <= beaten) break;
+    if (solids[i].surely_at_least(centers[i], least)) continue;
     least = std::min(least, solids[i].radius(centers[i], false).value);
   }
   return least;
