@@ -624,15 +624,17 @@ TEST(PoseMap, SkinnedSphereKeepsTheInfluenceThatKeepsItLarger) {
   const SkinnedMap map(skin, f);
   std::vector<std::unique_ptr<MeshQuery>> queries;
   std::vector<DenseField> fields;
+  std::vector<DepthField> depths;
   SdfOptions o;
   o.voxel_size = rest.diagonal() / 64;
   for (const TriMesh& m : meshes) {
     queries.push_back(std::make_unique<MeshQuery>(m));
     fields.push_back(build_sdf(m, o).field);
+    depths.push_back(depth_field(fields.back()));
   }
   std::vector<PoseSolid> solids;
   for (size_t i = 0; i < meshes.size(); ++i)
-    solids.push_back({queries[i].get(), &fields[i], std::numeric_limits<double>::infinity(), &fields[i]});
+    solids.push_back({queries[i].get(), &fields[i], std::numeric_limits<double>::infinity(), &depths[i]});
   auto least = [&](const SkinInfluence& s, const Eigen::Vector3d& c) {
     double out = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < solids.size(); ++i) out = std::min(out, solids[i].radius(map.center(s, c, i), false).value);
@@ -701,7 +703,8 @@ TEST(PoseMap, RadiusFloorIsWithinAFractionOfAVoxelOfTheRadius) {
     const MeshQuery query(mesh);
     const DenseField field = build_sdf(mesh, SdfOptions()).field;
     const bool open = !find_defects(mesh).watertight();
-    const PoseSolid solid{&query, open ? &field : nullptr, 0.2 * mesh.diagonal(), &field};
+    const DepthField depths = depth_field(field);
+    const PoseSolid solid{&query, open ? &field : nullptr, 0.2 * mesh.diagonal(), &depths};
     Eigen::AlignedBox3d box;
     for (const auto& v : mesh.vertices) box.extend(v);
     std::mt19937 rng(5);
@@ -711,6 +714,10 @@ TEST(PoseMap, RadiusFloorIsWithinAFractionOfAVoxelOfTheRadius) {
       const Eigen::Vector3d c = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
       const double floor = solid.radius_floor(c), radius = solid.exact_radius(c, false).value;
       ASSERT_LE(floor, radius + 0.5 * field.shape.voxel_size) << set << " at " << c.transpose();
+      // The depths kept are the field's, rounded down to 1/512 voxel.
+      const double whole = depth_bound(field, c), held = depth_bound(depths, c);
+      ASSERT_LE(held, whole) << set << " at " << c.transpose();
+      ASSERT_GE(held, whole - field.shape.voxel_size / 256) << set << " at " << c.transpose();
       above_zero += floor > 0;
     }
     EXPECT_GT(above_zero, 1000u) << set << ": the floor should bound most interior points";
@@ -736,7 +743,8 @@ TEST(PoseMap, SurelyAtLeastNeverClaimsMoreThanTheExactRadius) {
     const MeshQuery query(mesh);
     const DenseField field = build_sdf(mesh, SdfOptions()).field;
     const DeformingQuery::Shape shape = deforming.shape(mesh.vertices);
-    const PoseSolid solid{&query, nullptr, 0.2 * mesh.diagonal(), &field, &shape};
+    const DepthField depths = depth_field(field);
+    const PoseSolid solid{&query, nullptr, 0.2 * mesh.diagonal(), &depths, &shape};
     std::mt19937 rng(9);
     std::uniform_real_distribution<double> u(0, 1), share(0.2, 1.2);
     size_t skipped = 0, asked = 0;

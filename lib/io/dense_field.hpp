@@ -78,20 +78,63 @@ struct DenseField {
   std::vector<float> values;  // signed distance, negative inside
 };
 
-// A lower bound on the depth of c in the field's solid (0 outside its block): distance is
-// 1-Lipschitz, so the deepest of the 8 voxels around c less its offset to c.
-inline double depth_bound(const DenseField& field, const Eigen::Vector3d& c) {
-  const GridShape& g = field.shape;
+// A lower bound on the depth of c in a grid's solid (0 outside the grid): distance is
+// 1-Lipschitz, so the deepest of the 8 voxels around c less its offset to c. `depth(index)`:
+// a voxel's depth.
+template <class Depth>
+double depth_bound_in(const GridShape& g, const Eigen::Vector3d& c, Depth&& depth) {
   const Eigen::Vector3d at = c / g.voxel_size - g.origin.cast<double>();
   const Eigen::Vector3i lo = at.array().floor().cast<int>();
   double best = 0;
   for (int corner = 0; corner < 8; ++corner) {
     const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
     if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
-    const double depth = -field.values[g.index(v.x(), v.y(), v.z())];
-    best = std::max(best, depth - (g.world(v.x(), v.y(), v.z()) - c).norm());
+    best = std::max(best, depth(g.index(v.x(), v.y(), v.z())) - (g.world(v.x(), v.y(), v.z()) - c).norm());
   }
   return best;
+}
+
+inline double depth_bound(const DenseField& field, const Eigen::Vector3d& c) {
+  return depth_bound_in(field.shape, c, [&](size_t i) { return -double(field.values[i]); });
+}
+
+// A field's interior depths, all that floors under radii need (depth_bound), in a fraction of
+// its memory: cropped to the box of its interior voxels and held in 16 bits of 1/512 voxel,
+// rounded down (a floor only gets lower; depths past 128 voxels are held at 128).
+struct DepthField {
+  GridShape shape;  // the interior's box, in the field's index space
+  double unit = 0;  // one step of `depth`
+  std::vector<uint16_t> depth;
+};
+
+inline DepthField depth_field(const DenseField& field) {
+  const GridShape& g = field.shape;
+  Eigen::Vector3i lo = g.dims, hi = Eigen::Vector3i::Constant(-1);
+  for (size_t idx = 0; idx < g.count(); ++idx)
+    if (field.values[idx] < 0) {
+      const Eigen::Vector3i c = g.coords(idx);
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+  DepthField out;
+  out.shape.voxel_size = g.voxel_size;
+  out.unit = g.voxel_size / 512;
+  if ((hi.array() < lo.array()).any()) return out;  // no interior
+  out.shape.origin = g.origin + lo;
+  out.shape.dims = hi - lo + Eigen::Vector3i::Ones();
+  out.depth.assign(out.shape.count(), 0);
+  for (int i = 0; i < out.shape.dims.x(); ++i)
+    for (int j = 0; j < out.shape.dims.y(); ++j)
+      for (int k = 0; k < out.shape.dims.z(); ++k) {
+        const double d = -double(field.values[g.index(lo.x() + i, lo.y() + j, lo.z() + k)]) / out.unit;
+        out.depth[out.shape.index(i, j, k)] = uint16_t(std::clamp(std::floor(d), 0.0, 65535.0));
+      }
+  return out;
+}
+
+// depth_bound's floor from the held depths: never above the field's own.
+inline double depth_bound(const DepthField& field, const Eigen::Vector3d& c) {
+  return depth_bound_in(field.shape, c, [&](size_t i) { return field.unit * field.depth[i]; });
 }
 
 }  // namespace spx

@@ -16,7 +16,7 @@ struct PoseSolid {
   const MeshQuery* mesh;
   const DenseField* holes;  // null for closed meshes
   double max_radius;
-  const DenseField* field = nullptr;  // the pose's own field where kept (floors under radii)
+  const DepthField* field = nullptr;  // the pose's own field's depths where kept (floors under radii)
   const DeformingQuery::Shape* shape = nullptr;  // a closed mesh's refitted hierarchy, where kept
 
   // Why a radius is 0: the centre is outside, the holes bound it, it is on the surface, or (a

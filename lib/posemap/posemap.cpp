@@ -88,7 +88,16 @@ class PoseMapper {
     // pose's radii, so that a sphere's one radius asks few poses.
     if (open_solid_ || skinned_) {
       StageTimer t(log_, "pose-fields");
-      tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) { pose_field(i); });
+      if (skinned_) depths_.resize(meshes_.size()), pose_inscribed_.resize(poses_.size());
+      tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) {
+        const DenseField& field = pose_field(i);
+        if (!skinned_) return;
+        // Kept for floors as depths only; a frame's own candidates are listed now, while its
+        // field is at hand (an open mesh's fields bound radii, and are kept whole).
+        depths_[i] = depth_field(field);
+        if (i > 0) pose_inscribed_[i - 1] = std::make_unique<CandidatesOnDemand>(field, candidate_options(pose_pack_options()));
+        release_field(i);
+      });
     }
     if (skinned_ && !open_solid_) {
       deforming_ = std::make_unique<DeformingQuery>(rest_);
@@ -97,7 +106,7 @@ class PoseMapper {
     }
     for (size_t i = 0; i < meshes_.size(); ++i)
       solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
-                         skinned_ ? &pose_field(i) : nullptr, shapes_.empty() ? nullptr : &shapes_[i]});
+                         skinned_ ? &depths_[i] : nullptr, shapes_.empty() ? nullptr : &shapes_[i]});
   }
 
   // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
@@ -353,10 +362,10 @@ class PoseMapper {
           build_sdf(*meshes_[i], field_options(), Log::silent(), &queries_[i]->boundary()).field);
     return *fields_[i];
   }
-  // An open mesh's fields bound every radius to the end, and a skinned body's put floors under
-  // them; otherwise each is asked once.
+  // An open mesh's fields bound every radius to the end; otherwise each is asked once (a skinned
+  // body's floors are kept as its depths).
   void release_field(size_t i) {
-    if (!open_solid_ && !skinned_) fields_[i].reset();
+    if (!open_solid_) fields_[i].reset();
   }
 
   SdfOptions field_options() const {
@@ -443,6 +452,7 @@ class PoseMapper {
   std::vector<std::unique_ptr<MeshQuery>> queries_;
   bool open_solid_ = false;
   std::vector<std::unique_ptr<DenseField>> fields_;  // per pose, built when first asked
+  std::vector<DepthField> depths_;                   // skinned, per pose: its field's depths (floors)
   std::vector<PoseSolid> solids_;
   std::unique_ptr<DeformingQuery> deforming_;    // skinned, closed: one hierarchy refitted to each frame
   std::vector<DeformingQuery::Shape> shapes_;
