@@ -31,8 +31,8 @@ CandidateOptions candidate_options(const PackOptions& pack);
 // axis (no face neighbour deeper by half a voxel or more), radii from `mesh`, each grown to the
 // largest inscribed sphere containing it (options.growth). Every such voxel is a candidate, so
 // a finer field offers finer ones; a cover at delta thins them by what they cover
-// (CoverProblem::merge). The steps below, in voxel order, those of radius 0 or below the least
-// dropped.
+// (CoverProblem::merge). Made of the two steps below, in voxel order; candidates of radius 0
+// or below the least radius are dropped.
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& options);
 
 // A near-medial interior voxel: its centre and the field's depth there.

@@ -1,4 +1,13 @@
 # Sourced by the CLI tests. Counts in the caller's `passed` and `fail`; `out` is its output folder.
+
+# start_cli_test BUILD_DIR SOURCE_DIR OUT_DIR: sets `build`, `src` (absolute), `bin` (the tools),
+# `out` (emptied, absolute) and the counts.
+start_cli_test() {
+  build=$(cd "$1" && pwd) src=$(cd "$2" && pwd) bin=$build/apps
+  rm -rf "$3" && mkdir -p "$3" && out=$(cd "$3" && pwd)
+  fail=0 passed=0
+}
+
 # expect CODE PATTERN OUTPUT -- command...: the command exits CODE with one "Error:" line on
 # stderr that matches PATTERN, leaves no OUTPUT file ("" for none), and no temporary file in $out.
 expect() {

@@ -4,11 +4,9 @@
 # extraction twice, schema-valid manifest and report, pose-map/proxy-eval --manifest.
 # usage: extract.sh BUILD_DIR SOURCE_DIR OUT_DIR [SHARED_DATA]
 set -euo pipefail
-build=$(cd "$1" && pwd) src=$(cd "$2" && pwd) out=$3 data=${4:-}
-bin=$build/apps
-rm -rf "$out" && mkdir -p "$out" && out=$(cd "$out" && pwd)
-fail=0 passed=0
-source "$src/tests/cli/expect.sh"
+source "$(dirname "$0")/expect.sh"
+start_cli_test "$1" "$2" "$3"
+data=${4:-}
 v() { /usr/bin/python3 "$src/tests/cli/validate_json.py" "$src/schemas" "$@" >/dev/null; }
 
 "$bin/sample-gen" car -o "$out/in" -q

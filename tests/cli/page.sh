@@ -7,11 +7,9 @@
 # Bad input: one error line and the documented exit code, no page left.
 # usage: page.sh BUILD_DIR SOURCE_DIR OUT_DIR EXTRACT_OUT SHARED_DATA
 set -uo pipefail
-build=$(cd "$1" && pwd) src=$(cd "$2" && pwd) out=$3 ex=$4 data=$5
-bin=$build/apps
-rm -rf "$out" && mkdir -p "$out" && out=$(cd "$out" && pwd)
-fail=0 passed=0
-source "$src/tests/cli/expect.sh"
+source "$(dirname "$0")/expect.sh"
+start_cli_test "$1" "$2" "$3"
+ex=$4 data=$5
 chromium=${SPX_CHROMIUM:-/usr/bin/chromium}
 if [ ! -x "$chromium" ]; then
   echo "SKIP: no Chromium at $chromium (scripts/setup.sh installs Debian's chromium; SPX_CHROMIUM names another)"

@@ -5,11 +5,9 @@
 # the asset's meshes, skin and clips as pose-extract reads them); bad input is one error line.
 # usage: physics.sh BUILD_DIR SOURCE_DIR OUT_DIR EXTRACT_OUT SHARED_DATA
 set -uo pipefail
-build=$(cd "$1" && pwd) src=$(cd "$2" && pwd) out=$3 ex=$4 data=$5
-bin=$build/apps
-rm -rf "$out" && mkdir -p "$out" && out=$(cd "$out" && pwd)
-fail=0 passed=0
-source "$src/tests/cli/expect.sh"
+source "$(dirname "$0")/expect.sh"
+start_cli_test "$1" "$2" "$3"
+ex=$4 data=$5
 if [ ! -d "$src/web/node_modules/gltf-validator" ]; then
   echo "FAIL: no glTF validator in $src/web/node_modules (scripts/setup.sh installs it)"
   exit 1
