@@ -4,6 +4,8 @@
 #include <numeric>
 #include <random>
 
+#include <tbb/global_control.h>
+
 #include "core/atomic_file.hpp"
 #include "io/spheres_file.hpp"
 #include "io/vdb_io.hpp"
@@ -12,6 +14,7 @@
 #include "pack/cover.hpp"
 #include "pack/select.hpp"
 #include "pack/sphere_pack_tool.hpp"
+#include "pack/weighted_cover.hpp"
 #include "sdf/sdf.hpp"
 #include "synthetic/synthetic.hpp"
 #include "test_util.hpp"
@@ -118,12 +121,14 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
     for (int& k : back) k = int(r.candidate[size_t(k)]);
     EXPECT_TRUE(covers_all(c, back)) << "trial " << trial;
 
-    std::vector<int> searched = greedy_cover(c);
-    const size_t start = searched.size();
-    local_search_cover(c, searched, {2000, 1000000000});
-    EXPECT_TRUE(covers_all(c, searched)) << "trial " << trial;
-    EXPECT_LE(searched.size(), start) << "trial " << trial;
-    EXPECT_EQ(searched.size(), best) << "trial " << trial;
+    for (bool thorough : {false, true}) {
+      std::vector<int> searched = greedy_cover(c);
+      const size_t start = searched.size();
+      local_search_cover(c, searched, {2000, 1000000000, UINT32_MAX, thorough});
+      EXPECT_TRUE(covers_all(c, searched)) << "trial " << trial;
+      EXPECT_LE(searched.size(), start) << "trial " << trial;
+      EXPECT_EQ(searched.size(), best) << "trial " << trial << (thorough ? ", thorough" : "");
+    }
 
     // The samples the reduction kept: a cover of them covers every sample some candidate covers,
     // since each other's candidates include all of some kept sample's.
@@ -153,6 +158,60 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
     EXPECT_LE(bound, best) << "trial " << trial;
   }
   EXPECT_GT(reduced_smaller, 100u) << "the reduction should drop dominated candidates";
+}
+
+// The search's incremental scores against a recount after every move, both configuration
+// rules: a member's score is minus the weight of the samples it alone covers (found through the
+// sum of the members covering each sample), a non-member's the weight of the bare samples it
+// covers. Random adds, removes and weight raises on random instances, with repeated rows.
+TEST(Cover, SearchScoresAgainstRecount) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 60; ++trial) {
+    const size_t candidates = 5 + rng() % 30, samples = 5 + rng() % 40;
+    std::vector<std::vector<uint32_t>> rows = random_rows(rng, candidates, samples);
+    if (trial % 2 == 0) rows[1] = rows[0];
+    const Coverage c = coverage_of(rows, samples), by = covering_candidates(c);
+    detail::WeightedCover state(c, by, trial % 3 == 0);
+    for (uint64_t step = 1; step <= 200; ++step) {
+      const uint32_t k = uint32_t(rng() % candidates);
+      if (state.in(k)) state.remove(k, step);
+      else state.add(k, step);
+      if (rng() % 3 == 0) state.raise_bare_weights();
+      std::vector<uint32_t> count(samples, 0);
+      for (uint32_t m : state.members())
+        for (uint32_t s : rows[m]) ++count[s];
+      for (uint32_t o = 0; o < candidates; ++o) {
+        int64_t expected = 0;
+        for (uint32_t s : rows[o])
+          if (state.in(o) ? count[s] == 1 : count[s] == 0) expected += state.in(o) ? -state.weight(s) : state.weight(s);
+        ASSERT_EQ(state.score(o), expected) << "trial " << trial << ", step " << step << ", candidate " << o;
+      }
+      size_t bare = 0;
+      for (uint32_t s = 0; s < samples; ++s) bare += count[s] == 0 && by.row_size(s) > 0;
+      ASSERT_EQ(state.bare_count(), bare) << "trial " << trial << ", step " << step;
+    }
+  }
+}
+
+// The two searches side by side give the same cover whatever the threads, and the thorough
+// rule's search alike.
+TEST(Cover, SearchIndependentOfThreads) {
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 20; ++trial) {
+    const size_t candidates = 200, samples = 300;
+    const Coverage c = coverage_of(random_rows(rng, candidates, samples), samples);
+    for (bool thorough : {false, true}) {
+      const SearchLimits limits{3000, 1000000000, UINT32_MAX, thorough};
+      std::vector<int> wide = greedy_cover(c), one = wide;
+      local_search_cover(c, wide, limits);
+      {
+        tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+        local_search_cover(c, one, limits);
+      }
+      EXPECT_TRUE(covers_all(c, wide));
+      EXPECT_EQ(wide, one) << "trial " << trial << (thorough ? ", thorough" : "");
+    }
+  }
 }
 
 // Candidates offered again from alike frames: distinct_centres keeps, in order, each centre at

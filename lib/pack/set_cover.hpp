@@ -43,22 +43,28 @@ ReducedCover reduce_cover(const Coverage& coverage, uint32_t scan = UINT32_MAX);
 
 // How long a row-weighting search may run: at most `steps` steps and `work` entries of the
 // coverage visited (on dense problems, a large delta or few spheres, each step costs more);
-// and the reduction's `scan` before it (reduce_cover).
+// the reduction's `scan` before it (reduce_cover); and whether a dropped candidate is free to
+// come back after any change in how often its samples are covered (`thorough`: each step costs
+// several times more) or only once one of them turned bare or covered.
 struct SearchLimits {
   size_t steps;
   uint64_t work;
   uint32_t scan = UINT32_MAX;
+  bool thorough = false;
 };
-// Tolerance mode: about a second on a 5-pose elephant (20000 steps there), 1.5 s at most.
-constexpr SearchLimits kToleranceSearch{20000, 2000000000};
-// Budget mode searches several covers, densest at small budgets: about a tenth of a second each.
-constexpr SearchLimits kBudgetSearch{2000, 150000000, 256};
+// Tolerance mode: about half a second on the elephant's 5 poses, two searches side by side.
+constexpr SearchLimits kToleranceSearch{30000, 2000000000};
+// Budget mode searches several short covers, densest at small budgets: about a tenth of a
+// second each, one thorough search (a second beside it moved the frontier's rows both ways).
+constexpr SearchLimits kBudgetSearch{2000, 150000000, 256, true};
 
 // Row-weighting local search (after Gao, Weise and Li's RWLS for unicost set cover): from a
 // cover, drop the sphere whose loss is least and re-cover a random bare sample with the
 // candidate that gains most, raising the weight of every sample left bare at each step so that
 // the hard ones steer the search; keeps the smallest cover met. Stops at the limits or once a
-// cover of `enough` spheres or fewer is found. Deterministic (`seed`). Returns the spheres saved.
+// cover of `enough` spheres or fewer is found. Unless thorough, two searches run side by side,
+// the first from `seed`; the first to reach `enough` wins, else the smaller. Deterministic
+// whatever the threads. Returns the spheres saved.
 size_t local_search_cover(const Coverage& coverage, std::vector<int>& chosen, SearchLimits limits, size_t enough = 0,
                           uint64_t seed = 1);
 

@@ -1,0 +1,169 @@
+#pragma once
+// pack internals: the row-weighting search's state (cover_search.cpp), here so that its
+// incremental scores can be checked against a recount.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "pack/set_cover.hpp"
+
+namespace spx::detail {
+
+// The state of the row-weighting search: which candidates are in, how often each sample is
+// covered, the samples' weights, and each candidate's score (in: minus the weight it alone
+// covers, the loss of dropping it; out: the weight of bare samples it covers, the gain of
+// adding it). A candidate dropped may be added back once its configuration changed: one of its
+// samples turned bare or covered, or (`thorough`) its covering count changed at all at 2 or below,
+// which costs a scan of that sample's candidates at each such change.
+class WeightedCover {
+ public:
+  WeightedCover(const Coverage& cov, const Coverage& by, bool thorough) : cov_(cov), by_(by), thorough_(thorough) {
+    const size_t n = cov.start.size() - 1, m = cov.sample_count;
+    count_.assign(m, 0);
+    member_sum_.assign(m, 0);
+    weight_.assign(m, 1);
+    bare_at_.assign(m, -1);
+    score_.assign(n, 0);
+    stamp_.assign(n, 0);
+    in_.assign(n, 0);
+    can_add_.assign(n, 1);
+    for (uint32_t s = 0; s < m; ++s)
+      if (by.row_size(s) > 0) make_bare(s);
+    for (size_t c = 0; c < n; ++c)
+      for (uint32_t k = cov.start[c]; k < cov.start[c + 1]; ++k) score_[c] += weight_[cov.samples[k]];
+  }
+
+  void add(uint32_t c, uint64_t step) {
+    work_ += cov_.row_size(c);
+    in_[c] = 1;
+    score_[c] = -score_[c];
+    stamp_[c] = step;
+    members_.push_back(c);
+    for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
+      const uint32_t s = cov_.samples[k];
+      const uint32_t before = count_[s]++;
+      if (before == 1) {
+        score_[member_sum_[s]] += weight_[s];  // its one member no longer alone
+        if (thorough_) mark_changed(s, c);
+      }
+      member_sum_[s] += c;
+      if (before > 0) continue;
+      drop_bare(s);
+      shift_gains(s, c, -weight_[s]);  // no longer a gain to anyone
+    }
+  }
+
+  void remove(uint32_t c, uint64_t step) {
+    work_ += cov_.row_size(c);
+    in_[c] = 0;
+    score_[c] = -score_[c];
+    stamp_[c] = step;
+    can_add_[c] = 0;
+    members_.erase(std::find(members_.begin(), members_.end(), c));
+    for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
+      const uint32_t s = cov_.samples[k];
+      const uint32_t after = --count_[s];
+      member_sum_[s] -= c;
+      if (after == 1) {
+        score_[member_sum_[s]] -= weight_[s];  // its one member now alone
+        if (thorough_) mark_changed(s, c);
+      }
+      if (after > 0) continue;
+      make_bare(s);
+      shift_gains(s, c, weight_[s]);  // a gain to every candidate covering it
+    }
+  }
+
+  // Sample s became bare or covered: every candidate covering it but `changed` (none of them a
+  // member) gains `delta`, and its configuration changed. Raw pointers: the char stores would
+  // otherwise make the compiler reload the vectors' data at every entry.
+  void shift_gains(uint32_t s, uint32_t changed, int64_t delta) {
+    const uint32_t* o = by_.samples.data() + by_.start[s];
+    const uint32_t* end = by_.samples.data() + by_.start[s + 1];
+    int64_t* score = score_.data();
+    char* can_add = can_add_.data();
+    work_ += uint64_t(end - o);
+    for (; o != end; ++o)
+      if (*o != changed) {
+        score[*o] += delta;
+        can_add[*o] = 1;
+      }
+  }
+
+  void mark_changed(uint32_t s, uint32_t changed) {
+    const uint32_t* o = by_.samples.data() + by_.start[s];
+    const uint32_t* end = by_.samples.data() + by_.start[s + 1];
+    char* can_add = can_add_.data();
+    work_ += uint64_t(end - o);
+    for (; o != end; ++o)
+      if (*o != changed) can_add[*o] = 1;
+  }
+
+  // Bare samples weigh one more, so the candidates covering them gain.
+  void raise_bare_weights() {
+    const uint32_t* by = by_.samples.data();
+    int64_t* score = score_.data();
+    for (uint32_t s : bare_) {
+      work_ += by_.row_size(s);
+      ++weight_[s];
+      for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) ++score[by[n]];
+    }
+  }
+
+  // The member whose removal loses least (ties to the longest unchanged), other than `keep`.
+  uint32_t cheapest_member(uint32_t keep) const {
+    uint32_t best = UINT32_MAX;
+    for (uint32_t c : members_)
+      if (c != keep && (best == UINT32_MAX || better(c, best))) best = c;
+    return best;
+  }
+  // The candidate covering sample s that gains most (ties to the longest unchanged), preferring
+  // those whose neighbourhood changed since they were dropped (configuration checking).
+  uint32_t best_adder(uint32_t s) const {
+    uint32_t best = UINT32_MAX, fallback = UINT32_MAX;
+    for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
+      const uint32_t c = by_.samples[n];
+      if (fallback == UINT32_MAX || better(c, fallback)) fallback = c;
+      if (can_add_[c] && (best == UINT32_MAX || better(c, best))) best = c;
+    }
+    return best == UINT32_MAX ? fallback : best;
+  }
+  bool covers_all() const { return bare_.empty(); }
+  // Entries of the coverage visited so far: what the search has cost.
+  uint64_t work() const { return work_; }
+  size_t bare_count() const { return bare_.size(); }
+  uint32_t bare(size_t i) const { return bare_[i]; }
+  const std::vector<uint32_t>& members() const { return members_; }
+  int64_t score(uint32_t c) const { return score_[c]; }
+  int64_t weight(uint32_t s) const { return weight_[s]; }
+  bool in(uint32_t c) const { return in_[c] != 0; }
+
+ private:
+  bool better(uint32_t a, uint32_t b) const {
+    return score_[a] > score_[b] || (score_[a] == score_[b] && (stamp_[a] < stamp_[b] || (stamp_[a] == stamp_[b] && a < b)));
+  }
+  void make_bare(uint32_t s) {
+    bare_at_[s] = int64_t(bare_.size());
+    bare_.push_back(s);
+  }
+  void drop_bare(uint32_t s) {
+    const int64_t at = bare_at_[s];
+    bare_[size_t(at)] = bare_.back();
+    bare_at_[bare_.back()] = at;
+    bare_.pop_back();
+    bare_at_[s] = -1;
+  }
+
+  const Coverage& cov_;
+  const Coverage& by_;
+  const bool thorough_;
+  std::vector<uint32_t> count_;
+  std::vector<uint32_t> member_sum_;  // the sum of the members covering each sample: its one member where count is 1
+  std::vector<int64_t> weight_, score_, bare_at_;
+  std::vector<uint64_t> stamp_;
+  std::vector<char> in_, can_add_;
+  std::vector<uint32_t> bare_, members_;
+  uint64_t work_ = 0;
+};
+
+}  // namespace spx::detail
