@@ -300,36 +300,46 @@ class Selector {
   // the samples joining. Returns how many joined.
   size_t add_bare_samples(const std::vector<int>& chosen, double delta, size_t& bare_elsewhere,
                           const std::vector<uint32_t>* kept) {
-    std::vector<std::pair<size_t, std::vector<uint32_t>>> bare;
-    for (size_t f = 0; f < frames_.frame_count(); ++f) {
-      if (whole_ && is_active(f)) continue;
+    const size_t frames = frames_.frame_count();
+    for (size_t f = 0; f < frames; ++f) samples(f);  // drawn once, before the frames run side by side
+    std::vector<std::vector<uint32_t>> wanting(frames);
+    tbb::parallel_for(size_t(0), frames, [&](size_t f) {
+      if (whole_ && is_active(f)) return;
       SphereSet spheres(chosen.size());
       for (size_t s = 0; s < chosen.size(); ++s) spheres[s] = sphere(size_t(chosen[s]), f);
       const std::vector<uint32_t> nearly =
-          bare_samples(samples(f), spheres, (compacting() ? kNearlyBareCompacted : kNearlyBare) * delta);
+          bare_samples(samples_[f], spheres, (compacting() ? kNearlyBareCompacted : kNearlyBare) * delta);
       // Of those, the bare outright: a scan of the few, not of every sample again.
-      const std::vector<uint32_t> outright = bare_samples(pick(samples(f), nearly), spheres, delta);
-      std::vector<uint32_t> which;
+      const std::vector<uint32_t> outright = bare_samples(pick(samples_[f], nearly), spheres, delta);
       for (size_t n = 0, o = 0; n < nearly.size(); ++n) {
         const uint32_t b = nearly[n];
         const bool is_outright = o < outright.size() && outright[o] == n;
         o += is_outright;
         if (!std::binary_search(extra_[f].begin(), extra_[f].end(), b) && (!held_[f][b] || is_outright))
-          which.push_back(b);
+          wanting[f].push_back(b);
       }
-      if (!which.empty()) bare.emplace_back(f, std::move(which));
-    }
+    });
+    std::vector<std::pair<size_t, std::vector<uint32_t>>> bare;
+    for (size_t f = 0; f < frames; ++f)
+      if (!wanting[f].empty()) bare.emplace_back(f, std::move(wanting[f]));
     offer_frame_candidates(bare);
-    std::vector<std::vector<uint32_t>> joining(frames_.frame_count());
-    size_t added = 0;
-    bare_elsewhere = 0;
-    for (const auto& [f, which] : bare) {
+    // Which of them no candidate reaches, frame by frame side by side.
+    std::vector<std::vector<uint32_t>> out_of_reach(bare.size());
+    tbb::parallel_for(size_t(0), bare.size(), [&](size_t b) {
+      const auto& [f, which] = bare[b];
       SphereSet all(candidates_.size());
       for (size_t c = 0; c < all.size(); ++c) all[c] = sphere(c, f);
-      const std::vector<uint32_t> out_of_reach = bare_samples(pick(samples(f), which), all, delta);
-      bare_elsewhere += out_of_reach.size();
+      out_of_reach[b] = bare_samples(pick(samples_[f], which), all, delta);
+    });
+    std::vector<std::vector<uint32_t>> joining(frames);
+    size_t added = 0;
+    bare_elsewhere = 0;
+    for (size_t b = 0; b < bare.size(); ++b) {
+      const auto& [f, which] = bare[b];
+      const std::vector<uint32_t>& out_of_reach_here = out_of_reach[b];
+      bare_elsewhere += out_of_reach_here.size();
       for (size_t w = 0, o = 0; w < which.size(); ++w) {
-        if (o < out_of_reach.size() && out_of_reach[o] == w) {
+        if (o < out_of_reach_here.size() && out_of_reach_here[o] == w) {
           ++o;
           continue;
         }
