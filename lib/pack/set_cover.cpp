@@ -414,7 +414,7 @@ size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
       }
     });
     for (size_t c = 0; c < candidates; ++c)
-      if (cov.row_size(c) > 0 && reduced[c] < 0) {
+      if (reduced[c] < 0) {  // an empty row's is 1
         value += reduced[c];
         for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) ++hits[cov.samples[n]];
       }
