@@ -279,6 +279,53 @@ TEST(Cover, CoverageRowsMatchBruteForce) {
   for (size_t n = 0; n < some.size(); ++n) EXPECT_DOUBLE_EQ(least_some[n], least[some[n]]) << "sample " << some[n];
 }
 
+// Rounds of a constraint generation: samples of four sources come and go, candidates are
+// appended, one radius changes (then the cache is cleared): the kept pairs give, round after
+// round, exactly the coverage computed whole.
+TEST(Cover, CoverageCacheMatchesCoverageOverRounds) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const size_t sources = 4, points = 200;
+  std::vector<std::vector<Eigen::Vector3d>> all(sources);
+  std::vector<SphereSet> spheres(sources);  // per source, one per candidate
+  for (auto& pts : all)
+    for (size_t i = 0; i < points; ++i) pts.emplace_back(u(rng), u(rng), u(rng));
+  auto add_candidates = [&](size_t n) {
+    for (auto& set : spheres)
+      for (size_t c = 0; c < n; ++c) set.push_back({Eigen::Vector3d(u(rng), u(rng), u(rng)), rng() % 6 == 0 ? 0.0 : 0.25 * (u(rng) + 1)});
+  };
+  const double delta = 0.12;
+  CoverageCache cache(delta);
+  add_candidates(15);
+  std::vector<std::vector<char>> in(sources, std::vector<char>(points, 0));
+  for (int round = 0; round < 8; ++round) {
+    if (round > 0) add_candidates(round % 3 == 0 ? 0 : 7);
+    if (round == 5) {  // a radius lowered: the kept pairs no longer hold
+      for (auto& set : spheres) set[3].radius *= 0.5;
+      cache.clear();
+    }
+    for (auto& flags : in)
+      for (char& f : flags) f = rng() % 3 == 0 ? char(!f) : f;  // a third of the samples come or go
+    std::vector<std::pair<size_t, std::vector<uint32_t>>> parts;
+    CoverProblem problem;
+    for (size_t src = 0; src < sources; ++src) {
+      if (src == size_t(round) % sources) continue;  // one source sits out each round
+      std::vector<uint32_t> which;
+      for (uint32_t i = 0; i < points; ++i)
+        if (in[src][i]) which.push_back(i);
+      std::vector<Eigen::Vector3d> pts;
+      for (uint32_t i : which) pts.push_back(all[src][i]);
+      problem.samples.push_back(pts);
+      problem.spheres.push_back(spheres[src]);
+      parts.emplace_back(src, which);
+    }
+    const Coverage want = coverage_at(problem, delta), got = cache.coverage(problem, parts);
+    EXPECT_EQ(got.sample_count, want.sample_count) << "round " << round;
+    EXPECT_EQ(got.start, want.start) << "round " << round;
+    EXPECT_EQ(got.samples, want.samples) << "round " << round;
+  }
+}
+
 CoverProblem problem_of(const TriMesh& mesh, int resolution, std::unique_ptr<MeshQuery>& query) {
   SdfOptions o;
   o.resolution = resolution;

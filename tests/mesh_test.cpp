@@ -351,6 +351,8 @@ TEST(MeshQuery, ClosestPointMatchesBruteForce) {
     const ClosestPoint c = query.closest(p);
     EXPECT_NEAR(query.distance(p), best, 1e-12);
     EXPECT_NEAR(c.distance, best, 1e-12);
+    // A caller that needs the distance and the point asks once: the same bits as distance().
+    EXPECT_EQ(c.tree_distance, query.distance(p));
     const auto& f = mesh.triangles[size_t(c.triangle)];
     const Eigen::Vector3d rebuilt = c.barycentric[0] * mesh.vertices[f[0]] + c.barycentric[1] * mesh.vertices[f[1]] +
                                     c.barycentric[2] * mesh.vertices[f[2]];

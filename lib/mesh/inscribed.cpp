@@ -9,7 +9,12 @@ namespace spx {
 Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, double max_radius, double growth,
                       const std::function<double(const Eigen::Vector3d&)>& bound) {
   if (!(sphere.radius > 0) || !(growth > 0) || sphere.radius >= max_radius) return sphere;
-  const ClosestPoint p = mesh.closest(sphere.center);
+  return grow_inscribed(mesh, sphere, mesh.closest(sphere.center), max_radius, growth, bound);
+}
+
+Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const ClosestPoint& p, double max_radius,
+                      double growth, const std::function<double(const Eigen::Vector3d&)>& bound) {
+  if (!(sphere.radius > 0) || !(growth > 0) || sphere.radius >= max_radius) return sphere;
   // Tangent at p only when the radius is the distance itself (not a cap or a hole's bound).
   if (!(p.distance > 0) || sphere.radius < p.distance * (1 - 1e-9)) return sphere;
   const Eigen::Vector3d normal = (sphere.center - p.point) / p.distance;

@@ -18,6 +18,9 @@ namespace spx {
 // distance) or cannot grow; the radius is always the rule's value at the returned center.
 Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, double max_radius, double growth,
                       const std::function<double(const Eigen::Vector3d&)>& bound = {});
+// The same given `closest`, mesh.closest(sphere.center), which the caller asked already.
+Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const ClosestPoint& closest, double max_radius,
+                      double growth, const std::function<double(const Eigen::Vector3d&)>& bound = {});
 
 // The largest inscribed ball tangent to the surface at `point` (the shrinking ball of Ma et al.
 // 2012, on exact closest points): its center on the ray from `point` along `inward`, shrunk from

@@ -74,7 +74,7 @@ ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
                   : closest_point_on_triangle(closest_point_on_triangle(p, corner(piece, 0), corner(piece, 1), corner(piece, 2)),
                                               a, b, c, &out.barycentric);
   out.distance = (out.point - p).norm();
-  (void)point;
+  out.tree_distance = std::sqrt(CGAL::squared_distance(to_cgal(p), point));
   return out;
 }
 

@@ -16,6 +16,9 @@ struct ClosestPoint {
   Eigen::Vector3d barycentric;  // of `point` in triangle `triangle`
   int triangle = -1;
   double distance = 0;
+  // The distance as MeshQuery::distance gives it, to the bit (the tree's own closest point, of
+  // which `point` is a recomputation): a caller that needs both asks once.
+  double tree_distance = 0;
 };
 
 // Whether one of `corners` is a, b or c (exactly): a triangle of a point's own neighbourhood.

@@ -44,11 +44,13 @@ std::vector<MedialVoxel> medial_voxels(const DenseField& field) {
 
 Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
   const Eigen::Vector3d& c = voxel.center;
-  double radius = mesh.inside(c) ? std::min(opt.max_radius, mesh.distance(c)) : 0.0;
-  if (opt.field_bounds_radius) radius = std::min(radius, voxel.depth - kFieldMargin * h);
-  Sphere out{c, std::max(radius, 0.0)};
-  if (!opt.field_bounds_radius) out = grow_inscribed(mesh, out, opt.max_radius, opt.growth);
-  return out;
+  if (!mesh.inside(c)) return {c, 0.0};
+  if (opt.field_bounds_radius)
+    return {c, std::max(0.0, std::min({opt.max_radius, mesh.distance(c), voxel.depth - kFieldMargin * h}))};
+  // Grown from the closest point that gives its radius: one query for both.
+  const ClosestPoint closest = mesh.closest(c);
+  return grow_inscribed(mesh, {c, std::max(0.0, std::min(opt.max_radius, closest.tree_distance))}, closest,
+                        opt.max_radius, opt.growth);
 }
 
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& opt) {

@@ -105,6 +105,80 @@ Coverage coverage_at(const CoverProblem& problem, double delta) {
   return cov;
 }
 
+Coverage CoverageCache::coverage(const CoverProblem& problem,
+                                 const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts) {
+  if (problem.merge > 0) return coverage_at(problem, delta_);  // its representatives change with the candidates
+  const uint32_t candidates = uint32_t(problem.candidate_count());
+  // Each stacked sample's column, kept from the last problem where it was there.
+  std::map<std::pair<size_t, uint32_t>, Column> kept;
+  std::vector<Column*> column;
+  std::vector<uint32_t> offset(1, 0);
+  // By first candidate unchecked: the stacked samples still to check against the rest.
+  std::map<uint32_t, std::vector<uint32_t>> unchecked;
+  for (const auto& [source, indices] : parts) {
+    for (uint32_t i : indices) {
+      const std::pair<size_t, uint32_t> name{source, i};
+      const auto [at, fresh] = kept.try_emplace(name);
+      if (fresh) {
+        const auto old = columns_.find(name);
+        if (old != columns_.end()) at->second = std::move(old->second);
+        if (at->second.upto < candidates) unchecked[at->second.upto].push_back(uint32_t(column.size()));
+      }
+      column.push_back(&at->second);
+    }
+    offset.push_back(uint32_t(column.size()));
+  }
+  columns_.swap(kept);  // the samples that left are forgotten
+  for (const auto& [from, stacked] : unchecked) check(problem, offset, stacked, from, column);
+  // The columns as rows over the stacked samples (a counting sort: each row ascending).
+  Coverage cov;
+  cov.sample_count = column.size();
+  cov.start.assign(size_t(candidates) + 1, 0);
+  for (const Column* c : column)
+    for (uint32_t candidate : c->covering) ++cov.start[candidate + 1];
+  for (size_t c = 0; c < candidates; ++c) cov.start[c + 1] += cov.start[c];
+  cov.samples.resize(cov.start.back());
+  std::vector<uint32_t> fill(cov.start.begin(), cov.start.end() - 1);
+  for (uint32_t n = 0; n < uint32_t(column.size()); ++n)
+    for (uint32_t candidate : column[n]->covering) cov.samples[fill[candidate]++] = n;
+  return cov;
+}
+
+void CoverageCache::check(const CoverProblem& problem, const std::vector<uint32_t>& offset,
+                          const std::vector<uint32_t>& stacked, uint32_t from, const std::vector<Column*>& column) const {
+  // The samples' points by part, then every candidate from `from` on against them, as
+  // gather_rows does.
+  std::vector<size_t> part;
+  std::vector<std::vector<uint32_t>> which;  // stacked indices, per part
+  for (uint32_t n : stacked) {
+    const size_t k = size_t(std::upper_bound(offset.begin(), offset.end(), n) - offset.begin()) - 1;
+    if (part.empty() || part.back() != k) part.push_back(k), which.emplace_back();
+    which.back().push_back(n);
+  }
+  std::vector<std::vector<Eigen::Vector3d>> points(part.size());
+  std::vector<SampleGrid> grids;
+  for (size_t g = 0; g < part.size(); ++g) {
+    for (uint32_t n : which[g]) points[g].push_back(problem.samples[part[g]][n - offset[part[g]]]);
+    grids.emplace_back(points[g]);
+  }
+  const uint32_t candidates = uint32_t(problem.candidate_count());
+  std::vector<std::vector<uint32_t>> rows(candidates - from);
+  tbb::parallel_for(tbb::blocked_range<size_t>(from, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t c = r.begin(); c != r.end(); ++c)
+      for (size_t g = 0; g < part.size(); ++g) {
+        const Sphere& s = problem.spheres[part[g]][c];
+        if (!(s.radius > 0)) continue;
+        grids[g].near(s.center, s.radius + delta_, [&](uint32_t n) {
+          if ((points[g][n] - s.center).norm() - s.radius <= delta_) rows[c - from].push_back(which[g][n]);
+        });
+      }
+  });
+  // Candidates in ascending order: each column stays sorted.
+  for (uint32_t c = from; c < candidates; ++c)
+    for (uint32_t n : rows[c - from]) column[n]->covering.push_back(c);
+  for (uint32_t n : stacked) column[n]->upto = candidates;
+}
+
 GapTable::GapTable(const CoverProblem& problem, double max_delta) : max_delta_(max_delta) {
   std::vector<uint32_t> offset;
   const std::vector<std::vector<std::pair<uint32_t, double>>> rows = gather_rows<std::pair<uint32_t, double>>(

@@ -1,6 +1,8 @@
 #pragma once
 // Coverage from geometry: the samples of one or several poses and each candidate's sphere in
 // them; a candidate covers a sample within delta of its sphere (gap = |p - c| - r <= delta).
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "core/sphere.hpp"
@@ -34,6 +36,33 @@ std::vector<char> representatives(const CoverProblem& problem, double slack);
 
 // Which samples each candidate covers at `delta`, rows of several poses stacked.
 Coverage coverage_at(const CoverProblem& problem, double delta);
+
+// The coverage at one delta of problems that follow one another, as the rounds of a constraint
+// generation do: samples come and go, the candidates only grow (appended, their spheres never
+// changing: clear() where they do). Each sample's covering candidates are kept while it stays
+// in the problem, so that a round computes only the pairs of its new samples and new candidates,
+// not every pair again. coverage() equals coverage_at(problem, delta) (a problem with `merge`
+// is computed whole: its representatives change with the candidates).
+class CoverageCache {
+ public:
+  explicit CoverageCache(double delta) : delta_(delta) {}
+  double delta() const { return delta_; }
+  // `parts[k]`: the samples of part k of `problem` as (source, indices into it): the same source
+  // and index name the same point in every problem.
+  Coverage coverage(const CoverProblem& problem, const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts);
+  void clear() { columns_.clear(); }
+
+ private:
+  struct Column {
+    uint32_t upto = 0;                // the candidates [0, upto) were checked
+    std::vector<uint32_t> covering;   // ascending
+  };
+  // The stacked samples `stacked` (parts start at `offset`) against the candidates from `from` on.
+  void check(const CoverProblem& problem, const std::vector<uint32_t>& offset, const std::vector<uint32_t>& stacked,
+             uint32_t from, const std::vector<Column*>& column) const;
+  double delta_;
+  std::map<std::pair<size_t, uint32_t>, Column> columns_;  // (source, index): the samples of the last problem
+};
 
 // The coverage at every delta up to `max_delta`, computed once: each candidate's samples with
 // their gaps. at(delta) equals coverage_at(problem, delta) for any delta <= max_delta.

@@ -28,6 +28,8 @@ class SampleGrid {
   // Calls visit(i) for every sample within `reach` of c (and some a little farther).
   template <class Visit>
   void near(const Eigen::Vector3d& c, double reach, Visit&& visit) const {
+    // A ball clear of the samples' box meets none (the cells below clamp to the box's edge).
+    if (((c - box_.min()).array() < -reach).any() || ((c - box_.max()).array() > reach).any()) return;
     const Eigen::Vector3i lo = index(c - Eigen::Vector3d::Constant(reach)), hi = index(c + Eigen::Vector3d::Constant(reach));
     for (int i = lo.x(); i <= hi.x(); ++i)
       for (int j = lo.y(); j <= hi.y(); ++j)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 #include "core/format.hpp"
@@ -153,7 +154,11 @@ class Selector {
   // Tolerance mode, after the first round: the last cover completed for what was added, then
   // searched briefly, so that it stays near the last one and the next check finds little new.
   void warm_cover(const CoverProblem& problem, CoverResult& cover) {
-    const Coverage coverage = coverage_at(problem, cover.delta);
+    // Skinned, a round's samples are mostly the last one's, and its candidates only grow: their
+    // pairs are kept (a radius the check lowers clears them; one radius for every frame, so a
+    // candidate is never withdrawn in some rounds and not others).
+    if (one_ && !(cache_ && cache_->delta() == cover.delta)) cache_ = std::make_unique<CoverageCache>(cover.delta);
+    const Coverage coverage = one_ ? cache_->coverage(problem, layout_) : coverage_at(problem, cover.delta);
     cover.chosen = smallest_cover(coverage, kWarmSearch, 0, nullptr, log_, cover.chosen, &cover.kept_samples);
     cover.uncoverable = uncovered_samples(coverage).size();
   }
@@ -180,6 +185,7 @@ class Selector {
     }
     out.radii_checked += unchecked.size();
     out.radii_lowered += lowered;
+    if (lowered > 0 && cache_) cache_->clear();
     return lowered > 0;
   }
 
@@ -393,6 +399,7 @@ class Selector {
   std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
   std::vector<double> radius_;                         // skinned: each candidate's one radius
   std::vector<char> checked_;                          // skinned: its radius checked in every frame
+  std::unique_ptr<CoverageCache> cache_;              // skinned, tolerance: the pairs kept from round to round
   size_t from_frames_ = 0;
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's

@@ -9,7 +9,8 @@
 
 namespace spx {
 
-PoseSolid::Radius PoseSolid::radius_at(const Eigen::Vector3d& c, bool cause, bool trust_floor) const {
+PoseSolid::Radius PoseSolid::radius_at(const Eigen::Vector3d& c, bool cause, bool trust_floor,
+                                       ClosestPoint* closest) const {
   // The field's bound first: it is cheap, and where it is 0 so is the radius. Where it is
   // positive (an open mesh) it already puts c inside: some voxel's depth exceeds its offset to c;
   // so does a floor past a whole voxel (the field's distances are within a fraction of one).
@@ -18,18 +19,20 @@ PoseSolid::Radius PoseSolid::radius_at(const Eigen::Vector3d& c, bool cause, boo
   const bool surely_inside =
       (holes && bound > 0) || (trust_floor && field && radius_floor(c) > field->shape.voxel_size);
   if (!surely_inside && !mesh->inside(c)) return {0, Zero::outside};
-  const double exact = std::min(max_radius, mesh->distance(c));
+  if (closest) *closest = mesh->closest(c);
+  const double exact = std::min(max_radius, closest ? closest->tree_distance : mesh->distance(c));
   const double r = std::min(exact, bound);
   if (r > 0) return {r, Zero::none};
   return {0, exact > 0 ? Zero::hole_bound : Zero::other};
 }
 
 std::pair<Sphere, PoseSolid::Zero> PoseSolid::grown(const Eigen::Vector3d& c, bool cause) const {
-  const Radius at = radius(c, cause);
+  ClosestPoint closest;
+  const Radius at = radius_at(c, cause, true, &closest);
   if (at.zero != Zero::none) return {{c, 0}, at.zero};
   std::function<double(const Eigen::Vector3d&)> bound;
   if (holes) bound = [this](const Eigen::Vector3d& q) { return hole_bound(q); };
-  return {grow_inscribed(*mesh, {c, at.value}, max_radius, kDefaultGrowth, bound), Zero::none};
+  return {grow_inscribed(*mesh, {c, at.value}, closest, max_radius, kDefaultGrowth, bound), Zero::none};
 }
 
 

@@ -52,7 +52,9 @@ struct PoseSolid {
   bool surely_at_least(const Eigen::Vector3d& c, double r) const;
 
  private:
-  Radius radius_at(const Eigen::Vector3d& c, bool cause, bool trust_floor) const;
+  // `closest`: where given, the distance comes from mesh->closest(c), left there (grown() grows
+  // from it), instead of mesh->distance(c): the same value, one query for both.
+  Radius radius_at(const Eigen::Vector3d& c, bool cause, bool trust_floor, ClosestPoint* closest = nullptr) const;
 };
 
 }  // namespace spx
