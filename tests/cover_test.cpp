@@ -319,7 +319,9 @@ TEST(Cover, CoverageCacheMatchesCoverageOverRounds) {
       problem.spheres.push_back(spheres[src]);
       parts.emplace_back(src, which);
     }
-    const Coverage want = coverage_at(problem, delta), got = cache.coverage(problem, parts);
+    const Coverage want = coverage_at(problem, delta);
+    const Coverage got = cache.coverage(problem.samples, problem.candidate_count(),
+                                        [&](size_t k, size_t c) { return spheres[parts[k].first][c]; }, parts);
     EXPECT_EQ(got.sample_count, want.sample_count) << "round " << round;
     EXPECT_EQ(got.start, want.start) << "round " << round;
     EXPECT_EQ(got.samples, want.samples) << "round " << round;

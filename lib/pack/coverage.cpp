@@ -105,10 +105,9 @@ Coverage coverage_at(const CoverProblem& problem, double delta) {
   return cov;
 }
 
-Coverage CoverageCache::coverage(const CoverProblem& problem,
-                                 const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts) {
-  if (problem.merge > 0) return coverage_at(problem, delta_);  // its representatives change with the candidates
-  const uint32_t candidates = uint32_t(problem.candidate_count());
+Coverage CoverageCache::coverage(const std::vector<std::vector<Eigen::Vector3d>>& samples, size_t count,
+                                 const SphereOf& sphere, const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts) {
+  const uint32_t candidates = uint32_t(count);
   // Each stacked sample's column, kept from the last problem where it was there.
   std::map<std::pair<size_t, uint32_t>, Column> kept;
   std::vector<Column*> column;
@@ -129,7 +128,7 @@ Coverage CoverageCache::coverage(const CoverProblem& problem,
     offset.push_back(uint32_t(column.size()));
   }
   columns_.swap(kept);  // the samples that left are forgotten
-  for (const auto& [from, stacked] : unchecked) check(problem, offset, stacked, from, column);
+  for (const auto& [from, stacked] : unchecked) check(samples, candidates, sphere, offset, stacked, from, column);
   // The columns as rows over the stacked samples (a counting sort: each row ascending).
   Coverage cov;
   cov.sample_count = column.size();
@@ -144,8 +143,9 @@ Coverage CoverageCache::coverage(const CoverProblem& problem,
   return cov;
 }
 
-void CoverageCache::check(const CoverProblem& problem, const std::vector<uint32_t>& offset,
-                          const std::vector<uint32_t>& stacked, uint32_t from, const std::vector<Column*>& column) const {
+void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates,
+                          const SphereOf& sphere, const std::vector<uint32_t>& offset, const std::vector<uint32_t>& stacked,
+                          uint32_t from, const std::vector<Column*>& column) const {
   // The samples' points by part, then every candidate from `from` on against them, as
   // gather_rows does.
   std::vector<size_t> part;
@@ -158,25 +158,34 @@ void CoverageCache::check(const CoverProblem& problem, const std::vector<uint32_
   std::vector<std::vector<Eigen::Vector3d>> points(part.size());
   std::vector<SampleGrid> grids;
   for (size_t g = 0; g < part.size(); ++g) {
-    for (uint32_t n : which[g]) points[g].push_back(problem.samples[part[g]][n - offset[part[g]]]);
+    for (uint32_t n : which[g]) points[g].push_back(samples[part[g]][n - offset[part[g]]]);
     grids.emplace_back(points[g]);
   }
-  const uint32_t candidates = uint32_t(problem.candidate_count());
-  std::vector<std::vector<uint32_t>> rows(candidates - from);
-  tbb::parallel_for(tbb::blocked_range<size_t>(from, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t c = r.begin(); c != r.end(); ++c)
-      for (size_t g = 0; g < part.size(); ++g) {
-        const Sphere& s = problem.spheres[part[g]][c];
-        if (!(s.radius > 0)) continue;
-        grids[g].near(s.center, s.radius + delta_, [&](uint32_t n) {
-          if ((points[g][n] - s.center).norm() - s.radius <= delta_) rows[c - from].push_back(which[g][n]);
-        });
-      }
-  });
-  // Candidates in ascending order: each column stays sorted.
-  for (uint32_t c = from; c < candidates; ++c)
-    for (uint32_t n : rows[c - from]) column[n]->covering.push_back(c);
-  for (uint32_t n : stacked) column[n]->upto = candidates;
+  // A block of candidates at a time, so that their rows are never all held beside the columns.
+  constexpr uint32_t kBlock = 4096;
+  std::vector<std::vector<uint32_t>> rows(kBlock);
+  for (uint32_t first = from; first < candidates; first += kBlock) {
+    const uint32_t end = std::min(candidates, first + kBlock);
+    tbb::parallel_for(tbb::blocked_range<size_t>(first, end, 16), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t c = r.begin(); c != r.end(); ++c)
+        for (size_t g = 0; g < part.size(); ++g) {
+          const Sphere s = sphere(part[g], c);
+          if (!(s.radius > 0)) continue;
+          grids[g].near(s.center, s.radius + delta_, [&](uint32_t n) {
+            if ((points[g][n] - s.center).norm() - s.radius <= delta_) rows[c - first].push_back(which[g][n]);
+          });
+        }
+    });
+    // Candidates in ascending order: each column stays sorted.
+    for (uint32_t c = first; c < end; ++c) {
+      for (uint32_t n : rows[c - first]) column[n]->covering.push_back(c);
+      rows[c - first].clear();
+    }
+  }
+  for (uint32_t n : stacked) {
+    column[n]->upto = candidates;
+    column[n]->covering.shrink_to_fit();  // kept for rounds: no room left over from growing
+  }
 }
 
 GapTable::GapTable(const CoverProblem& problem, double max_delta) : max_delta_(max_delta) {

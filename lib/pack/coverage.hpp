@@ -1,6 +1,7 @@
 #pragma once
 // Coverage from geometry: the samples of one or several poses and each candidate's sphere in
 // them; a candidate covers a sample within delta of its sphere (gap = |p - c| - r <= delta).
+#include <functional>
 #include <map>
 #include <utility>
 #include <vector>
@@ -41,15 +42,18 @@ Coverage coverage_at(const CoverProblem& problem, double delta);
 // generation do: samples come and go, the candidates only grow (appended, their spheres never
 // changing: clear() where they do). Each sample's covering candidates are kept while it stays
 // in the problem, so that a round computes only the pairs of its new samples and new candidates,
-// not every pair again. coverage() equals coverage_at(problem, delta) (a problem with `merge`
-// is computed whole: its representatives change with the candidates).
+// not every pair again, and needs no sphere of the others: a problem of samples alone.
 class CoverageCache {
  public:
+  // Candidate c's sphere in part k of the problem.
+  using SphereOf = std::function<Sphere(size_t part, size_t candidate)>;
   explicit CoverageCache(double delta) : delta_(delta) {}
   double delta() const { return delta_; }
-  // `parts[k]`: the samples of part k of `problem` as (source, indices into it): the same source
-  // and index name the same point in every problem.
-  Coverage coverage(const CoverProblem& problem, const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts);
+  // The problem's samples, per part, and `parts[k]`: those of part k as (source, indices into
+  // it): the same source and index name the same point in every problem. Equals coverage_at of
+  // the problem with those spheres (no `merge`).
+  Coverage coverage(const std::vector<std::vector<Eigen::Vector3d>>& samples, size_t candidates,
+                    const SphereOf& sphere, const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts);
   void clear() { columns_.clear(); }
 
  private:
@@ -58,8 +62,9 @@ class CoverageCache {
     std::vector<uint32_t> covering;   // ascending
   };
   // The stacked samples `stacked` (parts start at `offset`) against the candidates from `from` on.
-  void check(const CoverProblem& problem, const std::vector<uint32_t>& offset, const std::vector<uint32_t>& stacked,
-             uint32_t from, const std::vector<Column*>& column) const;
+  void check(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates, const SphereOf& sphere,
+             const std::vector<uint32_t>& offset, const std::vector<uint32_t>& stacked, uint32_t from,
+             const std::vector<Column*>& column) const;
   double delta_;
   std::map<std::pair<size_t, uint32_t>, Column> columns_;  // (source, index): the samples of the last problem
 };

@@ -63,17 +63,19 @@ class Selector {
     if (one_) offer_every_frame();
     for (;;) {
       ++out.rounds;
-      const CoverProblem problem = cover_problem(out.mostly_absent);
-      if (out.rounds == 1 || opt_.budget > 0)
-        out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_);
-      else
+      const bool warm = out.rounds > 1 && opt_.budget == 0;
+      // Skinned, a warm round's pairs come from the cache, which asks for the few spheres it needs.
+      const CoverProblem problem = cover_problem(out.mostly_absent, !(warm && one_));
+      if (warm)
         warm_cover(problem, out.cover);
+      else
+        out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_);
       // A radius the check lowers was counted on as larger: cover the same problem again.
       if (one_ && lower_unchecked_radii(out.cover.chosen, out)) continue;
       std::vector<int> order = out.cover.chosen;
       // Largest first by the rest sphere each becomes, as sphere-pack orders its spheres.
       std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-        return problem.spheres[0][size_t(a)].radius > problem.spheres[0][size_t(b)].radius;
+        return rest_radius(problem, a) > rest_radius(problem, b);
       });
       out.chosen = pick(candidates_, order);
       if (one_)
@@ -158,7 +160,10 @@ class Selector {
     // pairs are kept (a radius the check lowers clears them; one radius for every frame, so a
     // candidate is never withdrawn in some rounds and not others).
     if (one_ && !(cache_ && cache_->delta() == cover.delta)) cache_ = std::make_unique<CoverageCache>(cover.delta);
-    const Coverage coverage = one_ ? cache_->coverage(problem, layout_) : coverage_at(problem, cover.delta);
+    const Coverage coverage =
+        one_ ? cache_->coverage(problem.samples, candidates_.size(),
+                                [&](size_t part, size_t c) { return sphere(c, layout_[part].first); }, layout_)
+             : coverage_at(problem, cover.delta);
     cover.chosen = smallest_cover(coverage, kWarmSearch, 0, nullptr, log_, cover.chosen, &cover.kept_samples);
     cover.uncoverable = uncovered_samples(coverage).size();
   }
@@ -277,15 +282,23 @@ class Selector {
     }
   }
 
+  // Candidate c's radius in the rest (skinned: its one radius; a problem of samples alone has no
+  // spheres).
+  double rest_radius(const CoverProblem& problem, int c) const {
+    return one_ ? radius_[size_t(c)] : problem.spheres[0][size_t(c)].radius;
+  }
+
   // The frames selected on, whole, then (skinned) the samples added from the others, as one
-  // cover problem. Candidates mostly absent are withdrawn (counted).
-  CoverProblem cover_problem(size_t& mostly_absent) {
+  // cover problem. Candidates mostly absent are withdrawn (counted). Without `spheres`, the
+  // samples alone (a skinned candidate is absent in every frame or in none: none is withdrawn).
+  CoverProblem cover_problem(size_t& mostly_absent, bool spheres) {
     CoverProblem p;
     layout_.clear();
     auto add = [&](size_t f, std::vector<uint32_t> which, size_t weighted) {
       p.samples.push_back(pick(samples(f), which));
       layout_.emplace_back(f, std::move(which));
       p.weighted.push_back(weighted);
+      if (!spheres) return;
       SphereSet set(candidates_.size());
       for (size_t c = 0; c < set.size(); ++c) set[c] = sphere(c, f);
       p.spheres.push_back(std::move(set));
@@ -294,7 +307,7 @@ class Selector {
       for (size_t f : active_) add(f, every_sample(f), frames_.frame_surface(f).vertices.size());
     for (size_t f = 0; f < extra_.size(); ++f)
       if (!extra_[f].empty()) add(f, extra_[f], 0);
-    mostly_absent = withdraw_mostly_absent(p);
+    mostly_absent = spheres ? withdraw_mostly_absent(p) : 0;
     return p;
   }
 
