@@ -166,6 +166,38 @@ TEST(TetLocator, FindsTheContainingTet) {
   }
 }
 
+// Spheres of a pose taken back to the rest: with the tets moved rigidly, each centre comes back
+// where the inverse motion puts it (to rounding), in order; those landing outside the rest mesh
+// are dropped and the rest get the rest's distance there (brute-force checks per sphere).
+TEST(TetLocator, SpheresTakenBackToTheRest) {
+  const TriMesh mesh = make_barrel().rest;
+  const TetMesh tets = tetrahedralize(mesh, {});
+  const MeshQuery rest(mesh);
+  const Eigen::Vector3d shift(0.3, -0.2, 0.1);
+  std::vector<Eigen::Vector3d> moved;
+  for (const auto& v : tets.vertices) moved.push_back(v + shift);
+  std::mt19937 rng(4);
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  std::uniform_real_distribution<double> u(0, 1);
+  SphereSet in_pose;
+  for (int n = 0; n < 400; ++n)
+    in_pose.push_back({box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng))) + shift, 1.0});
+  const double max_radius = 0.2;
+  const SphereSet back = undeform_centres(tets, moved, in_pose, rest, max_radius);
+  const TetLocator locator(tets);
+  size_t k = 0;
+  for (const Sphere& s : in_pose) {
+    const Eigen::Vector3d c = s.center - shift;
+    if (!rest.inside(c) || locator.locate(c).outside > 0) continue;
+    ASSERT_LT(k, back.size());
+    EXPECT_LT((back[k].center - c).norm(), 1e-9);
+    EXPECT_NEAR(back[k].radius, std::min(max_radius, rest.distance(back[k].center)), 1e-12);
+    ++k;
+  }
+  EXPECT_GT(k, 50u);
+  EXPECT_EQ(k, back.size());
+}
+
 }  // namespace
 }  // namespace spx
 

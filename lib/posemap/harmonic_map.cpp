@@ -2,6 +2,8 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <tbb/parallel_for.h>
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -214,13 +216,27 @@ std::vector<std::optional<Eigen::Vector3d>> undeform(const TetMesh& tets, const 
   TetMesh posed = tets;
   posed.vertices = deformed;
   const TetLocator inverse(posed);
-  std::vector<std::optional<Eigen::Vector3d>> out;
-  for (const Eigen::Vector3d& p : points) {
-    const TetLocator::Location at = inverse.locate(p);
+  std::vector<std::optional<Eigen::Vector3d>> out(points.size());
+  tbb::parallel_for(size_t(0), points.size(), [&](size_t n) {
+    const TetLocator::Location at = inverse.locate(points[n]);
+    if (at.outside > 0) return;
     Eigen::Vector3d x = Eigen::Vector3d::Zero();
     for (int k = 0; k < 4; ++k) x += at.weights[k] * tets.vertices[size_t(tets.tets[size_t(at.tet)][k])];
-    out.push_back(at.outside > 0 ? std::nullopt : std::optional<Eigen::Vector3d>(x));
-  }
+    out[n] = x;
+  });
+  return out;
+}
+
+SphereSet undeform_centres(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed, const SphereSet& spheres,
+                           const MeshQuery& rest, double max_radius) {
+  std::vector<Eigen::Vector3d> centers;
+  for (const Sphere& s : spheres) centers.push_back(s.center);
+  const std::vector<std::optional<Eigen::Vector3d>> back = undeform(tets, deformed, centers);
+  SphereSet out(back.size(), Sphere{{0, 0, 0}, -1});  // radius -1: outside
+  tbb::parallel_for(size_t(0), back.size(), [&](size_t n) {
+    if (back[n] && rest.inside(*back[n])) out[n] = {*back[n], std::min(max_radius, rest.distance(*back[n]))};
+  });
+  out.erase(std::remove_if(out.begin(), out.end(), [](const Sphere& s) { return s.radius < 0; }), out.end());
   return out;
 }
 

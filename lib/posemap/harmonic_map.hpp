@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "core/sphere.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_query.hpp"
 #include "posemap/tet_mesh.hpp"
@@ -50,6 +51,10 @@ class TetLocator {
 // barycentric in the deformed tet that holds each; nullopt where none does.
 std::vector<std::optional<Eigen::Vector3d>> undeform(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed,
                                                      const std::vector<Eigen::Vector3d>& points);
+// The centres of `spheres` taken back so, those that land inside `rest` (in order), each with its
+// radius there: the distance to `rest`, at most `max_radius`.
+SphereSet undeform_centres(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed, const SphereSet& spheres,
+                           const MeshQuery& rest, double max_radius);
 
 class HarmonicMap {
  public:

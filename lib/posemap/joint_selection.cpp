@@ -257,21 +257,22 @@ class Selector {
       file_in_active.spheres.push_back(std::move(set));
     }
     withdraw_mostly_absent(file_in_active);
-    for (size_t n = 0; n < wanting.size(); ++n) {
+    for (const auto& [f, which] : wanting) samples(f);  // drawn once, before the frames run side by side
+    tbb::parallel_for(size_t(0), wanting.size(), [&](size_t n) {  // each frame once in `wanting`
       const auto& [f, which] = wanting[n];
-      if (f == 0) continue;
-      const std::vector<Eigen::Vector3d> points = pick(samples(f), which);
+      if (f == 0) return;
+      const std::vector<Eigen::Vector3d> points = pick(samples_[f], which);
       const size_t k = size_t(std::lower_bound(active_.begin(), active_.end(), f) - active_.begin());
       SphereSet file(file_count_);
       for (size_t c = 0; c < file_count_; ++c) file[c] = is_active(f) ? file_in_active.spheres[k][c] : sphere(c, f);
       std::vector<char>& offered = offered_[f];
-      offered.resize(samples(f).size(), 0);
+      offered.resize(samples_[f].size(), 0);
       for (uint32_t s : bare_samples(points, file, opt_.reach))
         if (!offered[which[s]]) {
           offered[which[s]] = 1;
           far[n].push_back(points[s]);
         }
-    }
+    });
     for (size_t n = 0; n < wanting.size(); ++n) {
       if (far[n].empty()) continue;
       SphereSet back = frames_.frame_candidates(wanting[n].first, far[n], opt_.reach);

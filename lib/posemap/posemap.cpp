@@ -424,11 +424,7 @@ class PoseMapper {
   // Through the inverse map (barycentric in pose i's deformed tets); those that land outside
   // the rest are counted in `lost`.
   SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t& lost) const {
-    std::vector<Eigen::Vector3d> centers;
-    for (const Sphere& s : in_pose) centers.push_back(s.center);
-    SphereSet back;
-    for (const auto& x : undeform(tets_, deformed_[i], centers))
-      if (x && queries_[0]->inside(*x)) back.push_back({*x, std::min(proxy_.max_radius, queries_[0]->distance(*x))});
+    SphereSet back = undeform_centres(tets_, deformed_[i], in_pose, *queries_[0], proxy_.max_radius);
     lost = in_pose.size() - back.size();
     return back;
   }
