@@ -21,6 +21,18 @@ size_t CoverProblem::sample_count() const {
 
 namespace {
 
+// The coverage rule, in one place: visit(i, gap) for every point of `grid` (built on `points`)
+// that sphere `s` covers at delta (gap = |p - c| - r <= delta); a sphere of radius 0 covers none.
+template <class Visit>
+void for_each_covered(const SampleGrid& grid, const std::vector<Eigen::Vector3d>& points, const Sphere& s, double delta,
+                      Visit&& visit) {
+  if (!(s.radius > 0)) return;
+  grid.near(s.center, s.radius + delta, [&](uint32_t i) {
+    const double gap = (points[i] - s.center).norm() - s.radius;
+    if (gap <= delta) visit(i, gap);
+  });
+}
+
 // Every (candidate, sample) pair within `delta`, gathered per candidate by `keep(row, sample,
 // gap)` in parallel over candidates; each row then sorted.
 template <class Entry, class Keep>
@@ -39,15 +51,9 @@ std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t c = r.begin(); c != r.end(); ++c) {
       if (!active[c]) continue;
-      for (size_t k = 0; k < problem.samples.size(); ++k) {
-        const Sphere& s = problem.spheres[k][c];
-        if (!(s.radius > 0)) continue;
-        const auto& points = problem.samples[k];
-        grids[k].near(s.center, s.radius + delta, [&](uint32_t i) {
-          const double gap = (points[i] - s.center).norm() - s.radius;
-          if (gap <= delta) keep(rows[c], offset[k] + i, gap);
-        });
-      }
+      for (size_t k = 0; k < problem.samples.size(); ++k)
+        for_each_covered(grids[k], problem.samples[k], problem.spheres[k][c], delta,
+                         [&](uint32_t i, double gap) { keep(rows[c], offset[k] + i, gap); });
       std::sort(rows[c].begin(), rows[c].end());
     }
   });
@@ -168,13 +174,9 @@ void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& sampl
     const uint32_t end = std::min(candidates, first + kBlock);
     tbb::parallel_for(tbb::blocked_range<size_t>(first, end, 16), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t c = r.begin(); c != r.end(); ++c)
-        for (size_t g = 0; g < part.size(); ++g) {
-          const Sphere s = sphere(part[g], c);
-          if (!(s.radius > 0)) continue;
-          grids[g].near(s.center, s.radius + delta_, [&](uint32_t n) {
-            if ((points[g][n] - s.center).norm() - s.radius <= delta_) rows[c - first].push_back(which[g][n]);
-          });
-        }
+        for (size_t g = 0; g < part.size(); ++g)
+          for_each_covered(grids[g], points[g], sphere(part[g], c), delta_,
+                           [&](uint32_t n, double) { rows[c - first].push_back(which[g][n]); });
     });
     // Candidates in ascending order: each column stays sorted.
     for (uint32_t c = first; c < end; ++c) {
@@ -244,12 +246,7 @@ std::vector<uint32_t> bare_samples(const std::vector<Eigen::Vector3d>& samples, 
   if (samples.empty()) return out;
   const SampleGrid grid(samples);
   std::vector<char> covered(samples.size(), 0);
-  for (const Sphere& s : spheres) {
-    if (!(s.radius > 0)) continue;
-    grid.near(s.center, s.radius + delta, [&](uint32_t i) {
-      if ((samples[i] - s.center).norm() - s.radius <= delta) covered[i] = 1;
-    });
-  }
+  for (const Sphere& s : spheres) for_each_covered(grid, samples, s, delta, [&](uint32_t i, double) { covered[i] = 1; });
   for (size_t i = 0; i < samples.size(); ++i)
     if (!covered[i]) out.push_back(uint32_t(i));
   return out;
