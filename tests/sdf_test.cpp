@@ -64,7 +64,7 @@ TEST(SurfaceLayer, MatchesBruteForce) {
   shape.origin = (mesh.bounds().min() / shape.voxel_size).array().floor().cast<int>() - 2;
   shape.dims = (mesh.bounds().max() / shape.voxel_size).array().ceil().cast<int>() + 2 - shape.origin.array() + 1;
   ASSERT_GT(shape.dims.x(), 16 + 8);  // the box is wider than a slab
-  std::vector<float> dist(shape.count(), std::numeric_limits<float>::infinity());
+  GridVector<float> dist(shape.count(), std::numeric_limits<float>::infinity());
   GridVector<int32_t> closest(shape.count());
   std::fill(closest.begin(), closest.end(), -1);
   rasterize_surface_layer(mesh, shape, dist, closest);

@@ -75,7 +75,7 @@ using GridVector = std::vector<T, UninitializedAllocator<T>>;
 struct DenseField {
   GridShape shape;
   float background = 0;       // value of voxels far outside (positive)
-  std::vector<float> values;  // signed distance, negative inside
+  GridVector<float> values;  // signed distance, negative inside (each stage that makes one writes every voxel)
 };
 
 // A lower bound on the depth of c in a grid's solid (0 outside the grid): distance is

@@ -1,23 +1,28 @@
 #include "mesh/components.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <numeric>
 
 namespace spx {
 
-Components edge_components(const TriMesh& mesh) {
-  struct Edge { int lo, hi, tri; };
-  std::vector<Edge> edges;
+std::vector<EdgeUse> sorted_edge_uses(const TriMesh& mesh) {
+  std::vector<EdgeUse> edges;
   edges.reserve(mesh.triangles.size() * 3);
   for (size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      if (a != b) edges.push_back({std::min(a, b), std::max(a, b), int(t)});
+      if (a != b) edges.push_back({std::min(a, b), std::max(a, b), int(t), a < b});
     }
-  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+  tbb::parallel_sort(edges.begin(), edges.end(), [](const EdgeUse& x, const EdgeUse& y) {
     return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.tri < y.tri;
   });
-  std::vector<int> parent(mesh.triangles.size());
+  return edges;
+}
+
+Components components_of(size_t triangles, const std::vector<EdgeUse>& edges) {
+  std::vector<int> parent(triangles);
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&parent](int x) {
     while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
@@ -31,8 +36,8 @@ Components edge_components(const TriMesh& mesh) {
       parent[size_t(std::max(a, b))] = std::min(a, b);
     }
   Components c;
-  c.of_triangle.assign(mesh.triangles.size(), -1);
-  std::vector<int> id(mesh.triangles.size(), -1);
+  c.of_triangle.assign(triangles, -1);
+  std::vector<int> id(triangles, -1);
   for (size_t t = 0; t < parent.size(); ++t) {
     const int root = find(int(t));
     if (id[size_t(root)] < 0) id[size_t(root)] = int(c.count++);
@@ -40,5 +45,7 @@ Components edge_components(const TriMesh& mesh) {
   }
   return c;
 }
+
+Components edge_components(const TriMesh& mesh) { return components_of(mesh.triangles.size(), sorted_edge_uses(mesh)); }
 
 }  // namespace spx

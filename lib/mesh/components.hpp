@@ -14,4 +14,15 @@ struct Components {
 
 Components edge_components(const TriMesh& mesh);
 
+// One use of an edge by a triangle: its ends lo < hi, whether the triangle runs lo to hi.
+struct EdgeUse {
+  int lo, hi, tri;
+  bool forward;
+};
+// Every non-degenerate edge of every triangle, sorted by (lo, hi, tri): the uses of an edge are
+// neighbours. Sorted in parallel (ties differ in `forward` alone, which no caller orders by).
+std::vector<EdgeUse> sorted_edge_uses(const TriMesh& mesh);
+// The pieces from the sorted uses of `triangles` triangles (what edge_components computes).
+Components components_of(size_t triangles, const std::vector<EdgeUse>& sorted);
+
 }  // namespace spx

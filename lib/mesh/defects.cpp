@@ -21,25 +21,14 @@ MeshDefects find_defects(const TriMesh& mesh) {
   d.triangles = mesh.triangles.size();
   const double diag = mesh.diagonal();
 
-  // Directed half-edges sorted by their undirected key: counts and orientation per edge.
-  struct HalfEdge { int lo, hi; bool forward; int tri; };
-  std::vector<HalfEdge> half;
-  half.reserve(mesh.triangles.size() * 3);
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& f = mesh.triangles[t];
     if (is_degenerate(mesh, static_cast<int>(t), diag)) ++d.degenerate_triangles;
-    for (int k = 0; k < 3; ++k) {
-      int a = f[k], b = f[(k + 1) % 3];
-      if (a == b) continue;
-      half.push_back({std::min(a, b), std::max(a, b), a < b, static_cast<int>(t)});
-    }
     const Eigen::Vector3d& p0 = mesh.vertices[f[0]];
     d.signed_volume += p0.dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6.0;
   }
-  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.tri < y.tri;
-  });
-
+  // An edge's uses: counts and orientation per edge, and (one sort for both) the pieces.
+  const std::vector<EdgeUse> half = sorted_edge_uses(mesh);
   for (size_t i = 0; i < half.size();) {
     size_t j = i;
     while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
@@ -49,7 +38,7 @@ MeshDefects find_defects(const TriMesh& mesh) {
     else if (half[i].forward == half[i + 1].forward) ++d.inconsistent_edges;
     i = j;
   }
-  d.components = edge_components(mesh).count;
+  d.components = components_of(mesh.triangles.size(), half).count;
   return d;
 }
 

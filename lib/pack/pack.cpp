@@ -33,7 +33,7 @@ PackResult pack_spheres(const DenseField& field, const PackOptions& opt, const M
     if (field.values[i] < 0) entries.emplace_back(-field.values[i], -int64_t(i));
   stats.interior_voxels = entries.size();
   std::priority_queue<Entry> queue(std::less<Entry>(), std::move(entries));
-  std::vector<float> work = field.values;
+  GridVector<float> work = field.values;
 
   stats.stop_reason = "no interior voxel left";
   while (!queue.empty()) {
@@ -96,7 +96,7 @@ void PackStats::set_radius_range(const SphereSet& spheres) {
   }
 }
 
-void clear_inside(std::vector<float>& values, const GridShape& shape, const Eigen::Vector3d& center, double radius) {
+void clear_inside(GridVector<float>& values, const GridShape& shape, const Eigen::Vector3d& center, double radius) {
   const double h = shape.voxel_size;
   const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
   const Eigen::Vector3i c = ((center / h).array().round().cast<int>() - shape.origin.array()).matrix();

@@ -39,7 +39,7 @@ struct PackStats {
 // Sets to 0 (no longer a candidate centre) every negative value whose voxel centre lies in the
 // sphere: what packing does after placing a sphere, and what gap filling does for the spheres
 // a pose already has.
-void clear_inside(std::vector<float>& values, const GridShape& shape, const Eigen::Vector3d& center, double radius);
+void clear_inside(GridVector<float>& values, const GridShape& shape, const Eigen::Vector3d& center, double radius);
 
 struct PackResult {
   SphereSet spheres;

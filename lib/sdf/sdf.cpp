@@ -5,6 +5,8 @@
 #include <memory>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -115,7 +117,7 @@ TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
       key |= spread(uint64_t(std::clamp(int64_t(std::floor(c[axis])) - shape.origin[axis], int64_t(0), int64_t(0x1fffff)))) << axis;
     order[t] = {key, int32_t(t)};
   }
-  std::sort(order.begin(), order.end());
+  tbb::parallel_sort(order.begin(), order.end());  // keys unique: (code, triangle)
   TriMesh sorted;
   sorted.vertices = mesh.vertices;
   sorted.triangles.reserve(order.size());
@@ -181,8 +183,9 @@ void rasterize_layer(SdfWork& w) {
   DenseField& field = w.field;
   auto& tri = w.tri;
   auto& flags = w.flags;
-  field.values.assign(total, field.background);
+  field.values.resize(total);  // uninitialized: filled here side by side, pages touched by both cores
   tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(field.values.begin() + ptrdiff_t(r.begin()), field.values.begin() + ptrdiff_t(r.end()), field.background);
     std::fill(tri.begin() + ptrdiff_t(r.begin()), tri.begin() + ptrdiff_t(r.end()), -1);
     std::fill(flags.begin() + ptrdiff_t(r.begin()), flags.begin() + ptrdiff_t(r.end()), 0);
   });
@@ -370,9 +373,9 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
   SdfResult result;
   SdfStats& stats = result.stats;
   StageTimer prepare(log, "defects-and-order");
-  stats.defects = find_defects(input);
   const GridShape shape = plan_grid(input, opt, &stats.estimated_memory_gib);
-  const TriMesh mesh = in_spatial_order(input, shape);
+  TriMesh mesh;  // the two are independent: side by side
+  tbb::parallel_invoke([&] { stats.defects = find_defects(input); }, [&] { mesh = in_spatial_order(input, shape); });
   prepare.stop();
   log.detail("grid " + std::to_string(shape.dims.x()) + "x" + std::to_string(shape.dims.y()) + "x" +
              std::to_string(shape.dims.z()) + ", voxel size " + num(shape.voxel_size));

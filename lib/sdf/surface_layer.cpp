@@ -11,7 +11,7 @@
 
 namespace spx {
 
-void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::vector<float>& dist,
+void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, GridVector<float>& dist,
                              GridVector<int32_t>& closest) {
   const double h = shape.voxel_size;
   struct Box {

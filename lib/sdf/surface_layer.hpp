@@ -13,7 +13,7 @@ namespace spx {
 // closest triangle (the lowest index on ties, so the result does not depend on threads).
 // `closest` must start at -1 everywhere; other voxels are left as they are. Each triangle
 // visits the voxels of its bounding box grown by one voxel, in parallel.
-void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, std::vector<float>& dist,
+void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, GridVector<float>& dist,
                              GridVector<int32_t>& closest);
 
 // Angle-weighted pseudo-normals (Baerentzen & Aanaes 2005): for a closed, manifold,
