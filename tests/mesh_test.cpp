@@ -62,6 +62,42 @@ TEST(MeshLoad, PoseMustShareTheRestTopology) {
   }
 }
 
+// Poses read side by side: each as load_pose reads it, and of several bad files the first in
+// the given order is the one named, however the threads run (a missing file after a bad one,
+// many times over).
+TEST(MeshLoad, PosesReadSideBySideReportTheFirstBadFile) {
+  const std::string dir = test::temp_dir("poses");
+  const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  write_file_atomic(dir + "/rest.obj", to_obj(box));
+  const LoadedMesh rest = load_mesh(dir + "/rest.obj");
+  std::vector<std::string> paths;
+  for (int k = 0; k < 16; ++k) {
+    TriMesh moved = box;
+    for (auto& v : moved.vertices) v += Eigen::Vector3d(k, 0.5 * k, 0);
+    paths.push_back(dir + "/pose-" + std::to_string(k) + ".obj");
+    write_file_atomic(paths.back(), to_obj(moved));
+  }
+  const std::vector<TriMesh> read = load_poses(paths, rest);
+  ASSERT_EQ(read.size(), paths.size());
+  for (size_t k = 0; k < paths.size(); ++k) EXPECT_EQ(read[k].vertices, load_pose(paths[k], rest).vertices);
+
+  TriMesh fewer = box;
+  fewer.triangles.pop_back();
+  write_file_atomic(dir + "/fewer.obj", to_obj(fewer));
+  std::vector<std::string> bad = paths;
+  bad[5] = dir + "/fewer.obj";
+  bad[9] = dir + "/missing.obj";
+  bad[2] = dir + "/missing-first.obj";
+  for (int run = 0; run < 20; ++run) {
+    try {
+      load_poses(bad, rest);
+      FAIL() << "bad poses were accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("missing-first.obj"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A pose listing the rest's faces in another order, with their corners rotated (as another
 // exporter writes them): matched by its triangles, each vertex lands on its own rest vertex,
 // even on a symmetric mesh that maps onto itself in many ways.

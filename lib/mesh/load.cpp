@@ -1,12 +1,14 @@
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <unordered_map>
 
@@ -175,6 +177,21 @@ TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
   pose.vertices.assign(rest.mesh.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
   if (!pose_by_rest_weld(raw, rest, pose)) pose_by_triangles(path, raw, rest, differs, pose);
   return pose;
+}
+
+std::vector<TriMesh> load_poses(const std::vector<std::string>& paths, const LoadedMesh& rest) {
+  std::vector<TriMesh> out(paths.size());
+  std::vector<std::exception_ptr> failed(paths.size());
+  tbb::parallel_for(size_t(0), paths.size(), [&](size_t i) {
+    try {
+      out[i] = load_pose(paths[i], rest);
+    } catch (...) {
+      failed[i] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  return out;
 }
 
 std::string to_obj(const TriMesh& mesh, const std::string& comment) {

@@ -41,6 +41,9 @@ void check_importable(const std::string& path, const std::string& kind, const st
 // A pose of `rest`: same file layout, positions from `path`. Throws spx::Error (exit 2) when
 // the triangle list or vertex count differs from the rest mesh.
 TriMesh load_pose(const std::string& path, const LoadedMesh& rest);
+// load_pose for each of `paths`, side by side; a failure is reported as the first failing file
+// in the given order would be, so the message does not depend on the threads.
+std::vector<TriMesh> load_poses(const std::vector<std::string>& paths, const LoadedMesh& rest);
 
 // Coincident positions become one vertex of `welded` (appended), numbered in order of first
 // appearance; returns the vertex each position became. -0 and +0 weld together.

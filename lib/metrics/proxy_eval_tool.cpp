@@ -17,8 +17,9 @@ std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::v
                              std::to_string(pose_paths.size()) + " pose files were given");
   const LoadedMesh rest = load_mesh(rest_path);
   std::vector<TriMesh> meshes{rest.mesh};
+  std::vector<TriMesh> poses = load_poses(pose_paths, rest);
   for (size_t i = 0; i < pose_paths.size(); ++i) {
-    meshes.push_back(load_pose(pose_paths[i], rest));
+    meshes.push_back(std::move(poses[i]));
     if (stem_of(pose_paths[i]) != proxy.poses[i + 1].name)
       log.warn(pose_paths[i] + ": the proxy calls pose " + std::to_string(i + 1) + " '" + proxy.poses[i + 1].name +
                "'; poses are matched by order");

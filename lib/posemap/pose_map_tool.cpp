@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <set>
+
+#include <tbb/parallel_invoke.h>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -30,8 +33,8 @@ void check_pose_is_skinned(const SkinFile& skin, const SkinnedVertices& skinned,
 // The rig must be the rest mesh's and the poses': weights found for every rest vertex (by its
 // position, whatever order the mesh was read in), a pose each, and each pose the skin of its
 // joint matrices.
-SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, const std::vector<PoseInput>& poses) {
-  SkinFile skin = read_skin_file(path);
+// `skin` (read from `path`) made to fit the rest's vertices, and checked against the poses.
+void match_skin(SkinFile& skin, const std::string& path, const TriMesh& rest, const std::vector<PoseInput>& poses) {
   // Positions went through OBJ text (9 significant digits): a little of the diagonal, and of the
   // coordinates' size for a body far from the origin.
   double far = 0;
@@ -46,7 +49,50 @@ SkinFile read_matching_skin(const std::string& path, const TriMesh& rest, const 
     const SkinnedVertices skinned(skin, rest.vertices);
     for (size_t k = 0; k < poses.size(); ++k) check_pose_is_skinned(skin, skinned, poses[k], k, 10 * tolerance, path);
   }
-  return skin;
+}
+
+struct PoseMapInputs {
+  LoadedMesh rest;
+  std::vector<PoseInput> poses;
+  SpheresFile spheres;
+  SkinFile skin;
+};
+
+// The input files, the poses, spheres and skin read side by side (they do not depend on one
+// another); a failure is reported as reading them one after another would report it.
+PoseMapInputs read_inputs(const std::string& rest_path, const std::vector<std::string>& pose_paths,
+                          const std::string& spheres_path, const std::string& skin_path, Log& log) {
+  PoseMapInputs in;
+  in.rest = load_mesh(rest_path);
+  std::set<std::string> names;
+  for (const auto& path : pose_paths)
+    if (!names.insert(stem_of(path)).second) fail_usage(path, "two poses are named '" + stem_of(path) + "'");
+  std::vector<TriMesh> meshes;
+  std::exception_ptr failed[3];
+  auto capture = [](std::exception_ptr& e, auto&& read) {
+    try {
+      read();
+    } catch (...) {
+      e = std::current_exception();
+    }
+  };
+  tbb::parallel_invoke([&] { capture(failed[0], [&] { meshes = load_poses(pose_paths, in.rest); }); },
+                       [&] { capture(failed[1], [&] { in.spheres = read_spheres_file(spheres_path); }); },
+                       [&] {
+                         if (!skin_path.empty()) capture(failed[2], [&] { in.skin = read_skin_file(skin_path); });
+                       });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  for (size_t i = 0; i < pose_paths.size(); ++i) {
+    PoseInput pose{stem_of(pose_paths[i]), pose_paths[i], std::move(meshes[i])};
+    // A pose at another scale is most likely another unit (cm vs m).
+    const double ratio = pose.mesh.diagonal() / in.rest.mesh.diagonal();
+    if (ratio > 3 || ratio < 1.0 / 3)
+      log.warn(pose.source + ": its size is " + num(ratio) + "x the rest mesh's; is it in another unit?");
+    in.poses.push_back(std::move(pose));
+  }
+  if (!skin_path.empty()) match_skin(in.skin, skin_path, in.rest.mesh, in.poses);
+  return in;
 }
 
 json error_list(const std::vector<ErrorStats>& errors) {
@@ -149,26 +195,15 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
                     const std::string& spheres_path, const std::string& output, const PoseMapOptions& given,
                     const PoseMapTolerances& tolerances, Log& log, json& report, const std::string& skin_path) {
   if (pose_paths.empty()) fail_option("poses", "give at least one example pose");
-  LoadedMesh rest;
-  std::vector<PoseInput> poses;
-  SpheresFile spheres;
-  SkinFile skin;
+  PoseMapInputs in;
   {
     StageTimer t(log, "load");
-    rest = load_mesh(rest_path);
-    std::set<std::string> names;
-    for (const auto& path : pose_paths) {
-      PoseInput pose{stem_of(path), path, load_pose(path, rest)};
-      if (!names.insert(pose.name).second) fail_usage(path, "two poses are named '" + pose.name + "'");
-      // A pose at another scale is most likely another unit (cm vs m).
-      const double ratio = pose.mesh.diagonal() / rest.mesh.diagonal();
-      if (ratio > 3 || ratio < 1.0 / 3)
-        log.warn(path + ": its size is " + num(ratio) + "x the rest mesh's; is it in another unit?");
-      poses.push_back(std::move(pose));
-    }
-    spheres = read_spheres_file(spheres_path);
-    if (!skin_path.empty()) skin = read_matching_skin(skin_path, rest.mesh, poses);
+    in = read_inputs(rest_path, pose_paths, spheres_path, skin_path, log);
   }
+  const LoadedMesh& rest = in.rest;
+  const std::vector<PoseInput>& poses = in.poses;
+  const SpheresFile& spheres = in.spheres;
+  const SkinFile& skin = in.skin;
   // The tolerances become lengths here, once, and travel down as lengths.
   PoseMapOptions options = given;
   const double diagonal = rest.mesh.diagonal();
