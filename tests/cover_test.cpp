@@ -243,6 +243,39 @@ TEST(Cover, DistinctCentresAgainstBruteForce) {
   }
 }
 
+// The pairs turned round in chunks side by side, against a pair by pair list: several chunks
+// (rows past 4096 each), empty rows and columns, and the same result on one thread.
+TEST(Cover, TransposedMatchesPairByPair) {
+  std::mt19937 rng(5);
+  for (size_t rows : {size_t(3), size_t(5000), size_t(70001)}) {
+    const size_t columns = 300;
+    std::vector<std::vector<uint32_t>> row(rows);
+    for (auto& r : row) {
+      const size_t n = rng() % 7;  // some empty
+      for (size_t k = 0; k < n; ++k) r.push_back(uint32_t(rng() % (columns - 10)));  // the last 10 columns empty
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+    }
+    std::vector<std::vector<uint32_t>> expected(columns);
+    for (size_t r = 0; r < rows; ++r)
+      for (uint32_t c : row[r]) expected[c].push_back(uint32_t(r));
+    auto check = [&](const Coverage& t) {
+      ASSERT_EQ(t.sample_count, rows);
+      ASSERT_EQ(t.start.size(), columns + 1);
+      for (size_t c = 0; c < columns; ++c)
+        EXPECT_EQ(std::vector<uint32_t>(t.samples.begin() + t.start[c], t.samples.begin() + t.start[c + 1]), expected[c])
+            << rows << " rows, column " << c;
+    };
+    auto row_of = [&](size_t r) -> const std::vector<uint32_t>& { return row[r]; };
+    const Coverage both = transposed(rows, columns, row_of);
+    check(both);
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const Coverage single = transposed(rows, columns, row_of);
+    EXPECT_EQ(single.samples, both.samples);
+    EXPECT_EQ(single.start, both.start);
+  }
+}
+
 // The coverage rows against a brute-force scan of every (candidate, sample) pair.
 TEST(Cover, CoverageRowsMatchBruteForce) {
   std::mt19937 rng(11);

@@ -135,18 +135,8 @@ Coverage CoverageCache::coverage(const std::vector<std::vector<Eigen::Vector3d>>
   }
   columns_.swap(kept);  // the samples that left are forgotten
   for (const auto& [from, stacked] : unchecked) check(samples, candidates, sphere, offset, stacked, from, column);
-  // The columns as rows over the stacked samples (a counting sort: each row ascending).
-  Coverage cov;
-  cov.sample_count = column.size();
-  cov.start.assign(size_t(candidates) + 1, 0);
-  for (const Column* c : column)
-    for (uint32_t candidate : c->covering) ++cov.start[candidate + 1];
-  for (size_t c = 0; c < candidates; ++c) cov.start[c + 1] += cov.start[c];
-  cov.samples.resize(cov.start.back());
-  std::vector<uint32_t> fill(cov.start.begin(), cov.start.end() - 1);
-  for (uint32_t n = 0; n < uint32_t(column.size()); ++n)
-    for (uint32_t candidate : column[n]->covering) cov.samples[fill[candidate]++] = n;
-  return cov;
+  // The columns as rows over the stacked samples (each row ascending).
+  return transposed(column.size(), candidates, [&](size_t n) -> const std::vector<uint32_t>& { return column[n]->covering; });
 }
 
 void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates,

@@ -346,17 +346,14 @@ std::vector<uint32_t> uncovered_samples(const Coverage& cov) {
 }
 
 Coverage covering_candidates(const Coverage& cov) {
-  const size_t candidates = cov.start.size() - 1;
-  Coverage t;
-  t.sample_count = candidates;
-  t.start.assign(cov.sample_count + 1, 0);
-  for (uint32_t s : cov.samples) ++t.start[s + 1];
-  std::partial_sum(t.start.begin(), t.start.end(), t.start.begin());
-  t.samples.resize(cov.samples.size());
-  std::vector<uint32_t> fill(t.start.begin(), t.start.end() - 1);
-  for (size_t c = 0; c < candidates; ++c)
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) t.samples[fill[cov.samples[n]]++] = uint32_t(c);
-  return t;
+  struct Row {
+    const uint32_t *begin_, *end_;
+    const uint32_t* begin() const { return begin_; }
+    const uint32_t* end() const { return end_; }
+  };
+  return transposed(cov.start.size() - 1, cov.sample_count, [&](size_t c) {
+    return Row{cov.samples.data() + cov.start[c], cov.samples.data() + cov.start[c + 1]};
+  });
 }
 
 size_t cover_lower_bound(const Coverage& cov) {
