@@ -30,10 +30,9 @@ void check_pose_is_skinned(const SkinFile& skin, const SkinnedVertices& skinned,
   }
 }
 
-// The rig must be the rest mesh's and the poses': weights found for every rest vertex (by its
-// position, whatever order the mesh was read in), a pose each, and each pose the skin of its
-// joint matrices.
-// `skin` (read from `path`) made to fit the rest's vertices, and checked against the poses.
+// `skin`, read from `path`, matched to the rest mesh and the poses: weights found for every
+// rest vertex (by its position, whatever order the mesh was read in), a pose each, and each pose
+// the skin of its joint matrices.
 void match_skin(SkinFile& skin, const std::string& path, const TriMesh& rest, const std::vector<PoseInput>& poses) {
   // Positions went through OBJ text (9 significant digits): a little of the diagonal, and of the
   // coordinates' size for a body far from the origin.
