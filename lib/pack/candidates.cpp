@@ -44,7 +44,9 @@ std::vector<MedialVoxel> medial_voxels(const DenseField& field) {
 
 Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
   const Eigen::Vector3d& c = voxel.center;
-  if (!mesh.inside(c)) return {c, 0.0};
+  // More than a voxel deep by the field (within a fraction of one of the truth) is inside
+  // without asking the winding number.
+  if (!(voxel.depth > h) && !mesh.inside(c)) return {c, 0.0};
   if (opt.field_bounds_radius)
     return {c, std::max(0.0, std::min({opt.max_radius, mesh.distance(c), voxel.depth - kFieldMargin * h}))};
   // Grown from the closest point that gives its radius: one query for both.
@@ -74,10 +76,11 @@ CandidatesOnDemand::CandidatesOnDemand(const DenseField& field, const CandidateO
 
 SphereSet CandidatesOnDemand::offer_near(const std::vector<Eigen::Vector3d>& points, double reach,
                                          const MeshQuery& mesh) {
+  if (points.empty()) return {};
+  // Only the points in the grid cells a ball reaches are tested (by the same rule as all of them).
+  const detail::SampleGrid grid(points);
   auto near = [&](const Eigen::Vector3d& c, double radius) {
-    for (const Eigen::Vector3d& p : points)
-      if ((p - c).norm() - radius <= reach) return true;
-    return false;
+    return grid.any_near(c, radius + reach, [&](uint32_t i) { return (points[i] - c).norm() - radius <= reach; });
   };
   std::vector<char> take(voxels_.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels_.size(), 64), [&](const tbb::blocked_range<size_t>& r) {

@@ -28,15 +28,26 @@ class SampleGrid {
   // Calls visit(i) for every sample within `reach` of c (and some a little farther).
   template <class Visit>
   void near(const Eigen::Vector3d& c, double reach, Visit&& visit) const {
+    any_near(c, reach, [&](uint32_t i) {
+      visit(i);
+      return false;
+    });
+  }
+  // Whether found(i) holds for some sample within `reach` of c (or a little farther): the
+  // samples visited as near() does, until the first that does.
+  template <class Found>
+  bool any_near(const Eigen::Vector3d& c, double reach, Found&& found) const {
     // A ball clear of the samples' box meets none (the cells below clamp to the box's edge).
-    if (((c - box_.min()).array() < -reach).any() || ((c - box_.max()).array() > reach).any()) return;
+    if (((c - box_.min()).array() < -reach).any() || ((c - box_.max()).array() > reach).any()) return false;
     const Eigen::Vector3i lo = index(c - Eigen::Vector3d::Constant(reach)), hi = index(c + Eigen::Vector3d::Constant(reach));
     for (int i = lo.x(); i <= hi.x(); ++i)
       for (int j = lo.y(); j <= hi.y(); ++j)
         for (int k = lo.z(); k <= hi.z(); ++k) {
           const size_t cell = size_t(i) + size_t(dims_.x()) * (size_t(j) + size_t(dims_.y()) * size_t(k));
-          for (uint32_t n = start_[cell]; n < start_[cell + 1]; ++n) visit(order_[n]);
+          for (uint32_t n = start_[cell]; n < start_[cell + 1]; ++n)
+            if (found(order_[n])) return true;
         }
+    return false;
   }
 
  private:
