@@ -99,7 +99,9 @@ class PoseMapper {
         release_field(i);
       });
     }
-    if (skinned_ && !open_solid_) {
+    // Closed: one hierarchy refitted to every pose tells inside by its ray count (skinned: and
+    // bounds radii).
+    if (!open_solid_) {
       deforming_ = std::make_unique<DeformingQuery>(rest_);
       if (deforming_->closed())
         for (const TriMesh* m : meshes_) shapes_.push_back(deforming_->shape(m->vertices));
