@@ -44,9 +44,11 @@ std::vector<MedialVoxel> medial_voxels(const DenseField& field) {
 
 Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
   const Eigen::Vector3d& c = voxel.center;
-  // More than a voxel deep by the field (within a fraction of one of the truth) is inside
-  // without asking the winding number.
-  if (!(voxel.depth > h) && !mesh.inside(c)) return {c, 0.0};
+  // A closed mesh's winding number is constant off its surface: more than a voxel deep by the
+  // field (within a fraction of one of the truth) is inside without asking it. (An open mesh's
+  // varies across its holes, where the field's depth says nothing.)
+  const bool surely_inside = !opt.field_bounds_radius && voxel.depth > h;
+  if (!surely_inside && !mesh.inside(c)) return {c, 0.0};
   if (opt.field_bounds_radius)
     return {c, std::max(0.0, std::min({opt.max_radius, mesh.distance(c), voxel.depth - kFieldMargin * h}))};
   // Grown from the closest point that gives its radius: one query for both.

@@ -29,7 +29,8 @@ struct PoseSolid {
 
   // The radius at c. `cause`: tell an outside centre from a hole's bound where the radius is 0
   // (asked for the spheres written, not for every candidate); the radius is the same either way.
-  // A floor (below) past a whole voxel is taken to put c inside without a winding number.
+  // A floor (below) past a whole voxel is taken to put c inside without a winding number; where
+  // there is a `shape`, inside is its ray count (the same answer on a closed mesh, cheaper).
   Radius radius(const Eigen::Vector3d& c, bool cause = true) const { return radius_at(c, cause, true); }
   // The same with no floor trusted: what a skinned sphere's one radius is checked against.
   Radius exact_radius(const Eigen::Vector3d& c, bool cause = true) const { return radius_at(c, cause, false); }
