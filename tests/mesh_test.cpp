@@ -2,11 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <fstream>
 #include <random>
+#include <stdexcept>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/side_by_side.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/deforming_query.hpp"
 #include "mesh/inscribed.hpp"
@@ -65,6 +68,32 @@ TEST(MeshLoad, PoseMustShareTheRestTopology) {
 // Poses read side by side: each as load_pose reads it, and of several bad files the first in
 // the given order is the one named, however the threads run (a missing file after a bad one,
 // many times over).
+// Steps side by side: every one runs to its end, and the failure reported is the first in the
+// order given, whichever thread failed first.
+TEST(SideBySide, EveryStepRunsAndTheFirstFailureInOrderIsRethrown) {
+  for (int run = 0; run < 50; ++run) {
+    std::atomic<int> ran{0};
+    try {
+      side_by_side([&] { ++ran; },
+                   [&] {
+                     ++ran;
+                     throw std::runtime_error("second");
+                   },
+                   [&] {
+                     ++ran;
+                     throw std::runtime_error("third");
+                   });
+      FAIL() << "no failure was rethrown";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "second");
+    }
+    EXPECT_EQ(ran, 3);
+  }
+  int sum = 0;
+  side_by_side([&] { sum += 1; }, [] {});
+  EXPECT_EQ(sum, 1);
+}
+
 TEST(MeshLoad, PosesReadSideBySideReportTheFirstBadFile) {
   const std::string dir = test::temp_dir("poses");
   const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});

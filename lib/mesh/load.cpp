@@ -1,19 +1,18 @@
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <unordered_map>
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "core/side_by_side.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pose_match.hpp"
 
@@ -181,16 +180,7 @@ TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
 
 std::vector<TriMesh> load_poses(const std::vector<std::string>& paths, const LoadedMesh& rest) {
   std::vector<TriMesh> out(paths.size());
-  std::vector<std::exception_ptr> failed(paths.size());
-  tbb::parallel_for(size_t(0), paths.size(), [&](size_t i) {
-    try {
-      out[i] = load_pose(paths[i], rest);
-    } catch (...) {
-      failed[i] = std::current_exception();
-    }
-  });
-  for (const std::exception_ptr& e : failed)
-    if (e) std::rethrow_exception(e);
+  each_side_by_side(paths.size(), [&](size_t i) { out[i] = load_pose(paths[i], rest); });
   return out;
 }
 

@@ -2,13 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <exception>
 #include <set>
-
-#include <tbb/parallel_invoke.h>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "core/side_by_side.hpp"
 #include "core/subject.hpp"
 #include "posemap/skinned_map.hpp"
 
@@ -67,21 +65,10 @@ PoseMapInputs read_inputs(const std::string& rest_path, const std::vector<std::s
   for (const auto& path : pose_paths)
     if (!names.insert(stem_of(path)).second) fail_usage(path, "two poses are named '" + stem_of(path) + "'");
   std::vector<TriMesh> meshes;
-  std::exception_ptr failed[3];
-  auto capture = [](std::exception_ptr& e, auto&& read) {
-    try {
-      read();
-    } catch (...) {
-      e = std::current_exception();
-    }
-  };
-  tbb::parallel_invoke([&] { capture(failed[0], [&] { meshes = load_poses(pose_paths, in.rest); }); },
-                       [&] { capture(failed[1], [&] { in.spheres = read_spheres_file(spheres_path); }); },
-                       [&] {
-                         if (!skin_path.empty()) capture(failed[2], [&] { in.skin = read_skin_file(skin_path); });
-                       });
-  for (const std::exception_ptr& e : failed)
-    if (e) std::rethrow_exception(e);
+  side_by_side([&] { meshes = load_poses(pose_paths, in.rest); }, [&] { in.spheres = read_spheres_file(spheres_path); },
+               [&] {
+                 if (!skin_path.empty()) in.skin = read_skin_file(skin_path);
+               });
   for (size_t i = 0; i < pose_paths.size(); ++i) {
     PoseInput pose{stem_of(pose_paths[i]), pose_paths[i], std::move(meshes[i])};
     // A pose at another scale is most likely another unit (cm vs m).
