@@ -1,3 +1,6 @@
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 #include <gtest/gtest.h>
 
@@ -422,6 +425,48 @@ TEST(MeshQuery, ClosestPointMatchesBruteForce) {
     const Eigen::Vector3d rebuilt = c.barycentric[0] * mesh.vertices[f[0]] + c.barycentric[1] * mesh.vertices[f[1]] +
                                     c.barycentric[2] * mesh.vertices[f[2]];
     EXPECT_LT((rebuilt - c.point).norm(), 1e-12);
+  }
+}
+
+// MeshQuery's tree skips far leaves by a closed-form closest point before CGAL's projection, and
+// a search from a hint starts bounded: both must give what CGAL's own traits give from
+// nothing, to the bit, or outputs would change with a speed-up. Points near the surface, deep
+// inside and far out, on the barrel and the car (mirror-symmetric: equally near triangles).
+TEST(MeshQuery, FilteredAndHintedSearchesGiveCgalsOwnResultToTheBit) {
+  using K = CGAL::Simple_cartesian<double>;
+  using Triangles = std::vector<K::Triangle_3>;
+  using Stock = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>>>;
+  for (const TriMesh& mesh : {make_barrel().rest, make_car().rest}) {
+    const MeshQuery query(mesh);
+    Triangles triangles;
+    for (const auto& t : mesh.triangles) {
+      auto at = [&](int k) { return K::Point_3(mesh.vertices[t[k]].x(), mesh.vertices[t[k]].y(), mesh.vertices[t[k]].z()); };
+      triangles.emplace_back(at(0), at(1), at(2));
+    }
+    Stock stock(triangles.cbegin(), triangles.cend());
+    stock.accelerate_distance_queries();
+    Eigen::AlignedBox3d box;
+    for (const auto& v : mesh.vertices) box.extend(v);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.25, 1.25), step(-0.02, 0.02);
+    for (int i = 0; i < 2000; ++i) {
+      Eigen::Vector3d p;
+      for (int a = 0; a < 3; ++a) p[a] = box.min()[a] + u(rng) * box.sizes()[a];
+      if (i % 2) p = mesh.vertices[size_t(i) % mesh.vertices.size()] + 0.01 * box.sizes().norm() * Eigen::Vector3d(step(rng), step(rng), step(rng)) * 50;
+      const double expected = std::sqrt(stock.squared_distance(K::Point_3(p.x(), p.y(), p.z())));
+      const ClosestPoint c = query.closest(p);
+      ASSERT_EQ(c.tree_distance, expected) << "point " << i;
+      EXPECT_EQ(query.distance(p), expected);
+      // Searched from the closest point of a point nearby (as the shrinking ball asks).
+      const Eigen::Vector3d near = p + 0.01 * box.sizes().norm() * Eigen::Vector3d(step(rng), step(rng), step(rng));
+      const ClosestPoint hinted = query.closest(p, query.closest(near));
+      EXPECT_EQ(hinted.tree_distance, expected) << "point " << i;
+      EXPECT_EQ(hinted.point, c.point);
+      // Another triangle only where the point is on both (a shared corner or edge: a tie).
+      const auto& f = mesh.triangles[size_t(hinted.triangle)];
+      EXPECT_LT((closest_point_on_triangle(c.point, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - c.point).norm(),
+                1e-12 * box.sizes().norm());
+    }
   }
 }
 

@@ -48,9 +48,10 @@ Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const Closest
 Sphere tangent_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward,
                     const std::vector<Eigen::Vector3d>& own_corners, double start_radius, double min_radius) {
   double r = start_radius;
+  ClosestPoint q;  // the last step's: the next ball passes through it, so it bounds the search
   for (int step = 0; step < 64 && r >= min_radius; ++step) {
     const Eigen::Vector3d c = point + r * inward;
-    ClosestPoint q = mesh.closest(c);
+    q = mesh.closest(c, q);
     const double reach = r * (1 - 1e-9);
     if (q.distance >= reach) break;
     // Blocked by the point's own faces: what counts is the nearest point past them.

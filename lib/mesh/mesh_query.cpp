@@ -18,9 +18,36 @@ using K = CGAL::Simple_cartesian<double>;
 using Triangle = K::Triangle_3;
 using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<K, Iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+
+// CGAL's traits with a cheaper leaf test. The tree's closest-point search asks each leaf
+// triangle for its projection of the query and keeps it when nearer than the best so far; most
+// leaves it visits are farther. Those are told by the closed-form closest point (Ericson), in a
+// few dozen flops, and only a triangle that may be nearer (within a margin far above either
+// computation's rounding) is projected by CGAL's own construction. So the search returns what
+// CGAL's traits return, bit for bit, in a fraction of the time.
+class Traits : public CGAL::AABB_traits<K, Primitive> {
+ public:
+  class Closest_point {
+   public:
+    K::Point_3 operator()(const K::Point_3& p, const Primitive& primitive, const K::Point_3& bound) const {
+      const Triangle& t = *primitive.id();
+      const Eigen::Vector3d q(p.x(), p.y(), p.z());
+      const Eigen::Vector3d a(t[0].x(), t[0].y(), t[0].z()), b(t[1].x(), t[1].y(), t[1].z()),
+          c(t[2].x(), t[2].y(), t[2].z());
+      const double far = std::sqrt(CGAL::squared_distance(p, bound));
+      const double margin = 1e-9 * (q.lpNorm<Eigen::Infinity>() + a.lpNorm<Eigen::Infinity>() + (b - a).norm() +
+                                    (c - a).norm() + far);
+      if ((closest_point_on_triangle(q, a, b, c) - q).norm() > far + margin) return bound;
+      const K::Point_3 projected = K().construct_projected_point_3_object()(t, p);
+      return K().compare_distance_3_object()(p, projected, bound) == CGAL::LARGER ? bound : projected;
+    }
+  };
+  Closest_point closest_point_object() const { return {}; }
+};
+using Tree = CGAL::AABB_tree<Traits>;
 
 K::Point_3 to_cgal(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+Eigen::Vector3d corner(const Triangle& t, int k) { return {t.vertex(k).x(), t.vertex(k).y(), t.vertex(k).z()}; }
 }  // namespace
 
 struct MeshQuery::Tree {
@@ -56,15 +83,27 @@ double MeshQuery::distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint
   return std::sqrt(tree_->tree.squared_distance(to_cgal(p), to_cgal(hint)));
 }
 
-namespace {
-Eigen::Vector3d corner(const Triangle& t, int k) { return {t.vertex(k).x(), t.vertex(k).y(), t.vertex(k).z()}; }
-}  // namespace
 
 ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
   const auto [point, primitive] = tree_->tree.closest_point_and_primitive(to_cgal(p));
+  return closest_on(p, static_cast<int>(primitive - tree_->triangles.cbegin()), {point.x(), point.y(), point.z()});
+}
+
+ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p, const ClosestPoint& hint) const {
+  if (hint.piece < 0) return closest(p);
+  const Iterator primitive = tree_->triangles.cbegin() + hint.piece;
+  // A point of the piece itself (hint.point lies on the whole triangle).
+  const Eigen::Vector3d on = closest_point_on_triangle(hint.point, corner(*primitive, 0), corner(*primitive, 1),
+                                                        corner(*primitive, 2));
+  const auto [point, found] = tree_->tree.closest_point_and_primitive(to_cgal(p), {to_cgal(on), primitive});
+  return closest_on(p, static_cast<int>(found - tree_->triangles.cbegin()), {point.x(), point.y(), point.z()});
+}
+
+ClosestPoint MeshQuery::closest_on(const Eigen::Vector3d& p, int piece_index, const Eigen::Vector3d& tree_point) const {
   ClosestPoint out;
-  const Triangle& piece = *primitive;
-  out.triangle = tree_->ids[static_cast<size_t>(primitive - tree_->triangles.cbegin())];
+  out.piece = piece_index;
+  const Triangle& piece = tree_->triangles[static_cast<size_t>(piece_index)];
+  out.triangle = tree_->ids[static_cast<size_t>(piece_index)];
   const auto& f = mesh_.triangles[out.triangle];
   const Eigen::Vector3d &a = mesh_.vertices[f[0]], &b = mesh_.vertices[f[1]], &c = mesh_.vertices[f[2]];
   // Recompute in our own terms to get barycentric coordinates that match the point: on the
@@ -74,7 +113,7 @@ ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
                   : closest_point_on_triangle(closest_point_on_triangle(p, corner(piece, 0), corner(piece, 1), corner(piece, 2)),
                                               a, b, c, &out.barycentric);
   out.distance = (out.point - p).norm();
-  out.tree_distance = std::sqrt(CGAL::squared_distance(to_cgal(p), point));
+  out.tree_distance = std::sqrt(CGAL::squared_distance(to_cgal(p), to_cgal(tree_point)));
   return out;
 }
 
@@ -92,7 +131,8 @@ ClosestPoint MeshQuery::closest_apart(const Eigen::Vector3d& p, double radius,
     if (d >= out.distance) continue;
     out.point = q;
     out.distance = d;
-    out.triangle = tree_->ids[static_cast<size_t>(t - tree_->triangles.cbegin())];
+    out.piece = static_cast<int>(t - tree_->triangles.cbegin());
+    out.triangle = tree_->ids[static_cast<size_t>(out.piece)];
   }
   return out;
 }

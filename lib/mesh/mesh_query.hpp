@@ -19,6 +19,7 @@ struct ClosestPoint {
   // The distance as MeshQuery::distance gives it, to the bit (the tree's own closest point, of
   // which `point` is a recomputation): a caller that needs both asks once.
   double tree_distance = 0;
+  int piece = -1;  // the tree's primitive (a triangle, or its piece on the solid's boundary)
 };
 
 // Whether one of `corners` is a, b or c (exactly): a triangle of a point's own neighbourhood.
@@ -48,6 +49,10 @@ class MeshQuery {
   // The same, faster when `hint` is a surface point near the closest one.
   double distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint) const;
   ClosestPoint closest(const Eigen::Vector3d& p) const;
+  // The same, searched from `hint`, a closest point of this query asked for a point near p: its
+  // distance bounds the search from the start, so that far fewer boxes are opened. The tree
+  // returns the same primitive and point as without it (but where two are equally near).
+  ClosestPoint closest(const Eigen::Vector3d& p, const ClosestPoint& hint) const;
   // The closest point to p nearer than `radius` on a triangle that has none of `corners` as a
   // corner (triangle -1 when there is none): past a surface point's own neighbourhood. Point,
   // triangle and distance only (no barycentric weights).
@@ -59,6 +64,8 @@ class MeshQuery {
 
  private:
   struct Tree;
+  // The closest point as the tree found it (its primitive and point) in the caller's terms.
+  ClosestPoint closest_on(const Eigen::Vector3d& p, int piece, const Eigen::Vector3d& tree_point) const;
   TriMesh mesh_;
   WindingNumber wn_;
   std::unique_ptr<Tree> tree_;
