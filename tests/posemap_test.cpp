@@ -345,6 +345,27 @@ TEST(PoseMap, ABodyThatCannotBeMeshedIsNamed) {
                   .unmeshed_bodies.empty());
 }
 
+// On a closed surface Mesh_3's signs come from a ray's crossing count instead of the winding
+// number's expansions: the same tets, vertex for vertex (one body, a car, two bodies). Meshing
+// again gives them again: no step stops on a clock (exudation's default limit was the
+// refinement's own time, and cut it short once refinement got fast).
+TEST(TetMesh, RayCountGivesTheWindingNumbersTetsEveryTime) {
+  TetOptions expansions;
+  expansions.winding_expansions = true;
+  for (const TriMesh& mesh : {make_barrel().rest, make_car().rest,
+                              merged(test::uv_sphere(1.0, 16, 32), test::box_mesh({3, 0, 0}, {4, 1, 0.5}))}) {
+    const TetMesh reference = tetrahedralize(mesh, expansions);
+    ASSERT_GT(reference.tets.size(), 100u);
+    for (int run = 0; run < 2; ++run) {
+      const TetMesh rays = tetrahedralize(mesh, {});
+      ASSERT_EQ(rays.vertices.size(), reference.vertices.size()) << "run " << run;
+      ASSERT_EQ(rays.tets.size(), reference.tets.size()) << "run " << run;
+      for (size_t v = 0; v < rays.vertices.size(); ++v) ASSERT_EQ(rays.vertices[v], reference.vertices[v]) << v;
+      for (size_t t = 0; t < rays.tets.size(); ++t) ASSERT_EQ(rays.tets[t], reference.tets[t]) << t;
+    }
+  }
+}
+
 // Counts the radius-0 spheres of each pose against the report, which splits them by cause.
 void expect_zero_radii_counted(const PoseMapResult& r) {
   const json report = pose_map_report(r);

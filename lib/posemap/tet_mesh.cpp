@@ -17,11 +17,13 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "mesh/components.hpp"
+#include "mesh/deforming_query.hpp"
 #include "mesh/winding_number.hpp"
 
 namespace spx {
@@ -191,7 +193,9 @@ TetMesh mesh_domain(const SeededDomain& domain, const BodySizing& sizing, Log& l
                     params::cell_radius_edge_ratio = 3, params::cell_size = sizing);
   CGAL::get_default_random() = CGAL::Random(0);  // perturbation and exudation draw from it
   log.detail("meshing the interior with tets of size " + std::to_string(size));
-  C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::exude());
+  // Exudation runs to its end: its default time limit is the refinement's own time, which made
+  // the tets depend on the machine's speed once refinement got fast.
+  C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::exude(params::time_limit = 0));
   TetMesh out;
   std::map<Tr::Vertex_handle, int> ids;
   for (auto cell = c3t3.cells_in_complex_begin(); cell != c3t3.cells_in_complex_end(); ++cell) {
@@ -222,9 +226,21 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
   if (!(size > 0) || !std::isfinite(size)) fail_option("tet_size", "must be a positive number");
   if (diag / size > 400) fail_option("tet_size", "is too small for this mesh (over 400 tets across)");
 
+  // Mesh_3 asks only the sign (inside: below 0), thousands of times per tet along segments it
+  // bisects. On a closed mesh the winding number is the signed count of a ray's crossings, which
+  // the hierarchy counts in a third of the time of the winding number's expansions: the same
+  // sign off the surface. On it (a flat face meets a bisection's midpoint exactly) either answer
+  // is a rounding's: there the expansions are asked as before.
   const WindingNumber wn(surface);
-  std::function<double(const K::Point_3&)> level = [&wn](const K::Point_3& p) {
-    return 0.5 - wn(Eigen::Vector3d(p.x(), p.y(), p.z()));
+  const DeformingQuery rays(surface);
+  const std::optional<DeformingQuery::Shape> closed =
+      rays.closed() && !opt.winding_expansions ? std::optional<DeformingQuery::Shape>(rays.shape(surface.vertices))
+                                               : std::nullopt;
+  const double on_surface = 1e-9 * diag;
+  std::function<double(const K::Point_3&)> level = [&](const K::Point_3& p) {
+    const Eigen::Vector3d q(p.x(), p.y(), p.z());
+    if (closed && !closed->nearer_than(q, on_surface)) return closed->inside(q) ? -0.5 : 0.5;
+    return 0.5 - wn(q);
   };
   const Eigen::Vector3d c = box.center();
   const double radius = 0.5 * diag + 2 * size;

@@ -23,10 +23,14 @@ struct TetMesh {
 
 struct TetOptions {
   double size = 0;  // target edge length; 0: bounding-box diagonal / 30
+  // Ask the winding number's expansions even where the surface is closed (where a ray's count
+  // gives the same signs sooner): the reference the ray count is checked against.
+  bool winding_expansions = false;
 };
 
 // CGAL Mesh_3 on the implicit domain {winding number of `surface` > 1/2}, so open meshes
-// and soups mesh too. Sequential and seeded: the same input gives the same tets.
+// and soups mesh too; on a closed surface the winding number is a ray's signed crossing count.
+// Sequential and seeded, with no time limit on any step: the same input gives the same tets.
 TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& log = Log::silent());
 
 // A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections).
