@@ -470,37 +470,6 @@ TEST(MeshQuery, FilteredAndHintedSearchesGiveCgalsOwnResultToTheBit) {
   }
 }
 
-// On a closed mesh MeshQuery tells inside by a ray's crossing count, off the surface; the
-// winding number decides on it. Random points, points near vertices and points on faces, on
-// the car and on two closed boxes pressed into each other (winding number 2 where they overlap).
-TEST(MeshQuery, InsideOnAClosedMeshIsTheWindingNumbers) {
-  TriMesh boxes = test::box_mesh({0, 0, 0}, {2, 2, 2});
-  const TriMesh small = test::box_mesh({1.5, 0.5, 0.5}, {3, 1.5, 1.5});
-  const int offset = int(boxes.vertices.size());
-  boxes.vertices.insert(boxes.vertices.end(), small.vertices.begin(), small.vertices.end());
-  for (Eigen::Vector3i t : small.triangles) boxes.triangles.push_back(t + Eigen::Vector3i::Constant(offset));
-  for (const TriMesh& mesh : {make_car().rest, boxes}) {
-    const MeshQuery query(mesh);
-    const WindingNumber wn(mesh);
-    Eigen::AlignedBox3d box;
-    for (const auto& v : mesh.vertices) box.extend(v);
-    std::mt19937 rng(9);
-    std::uniform_real_distribution<double> u(-0.1, 1.1), e(-1, 1), w(0, 1);
-    for (int i = 0; i < 3000; ++i) {
-      Eigen::Vector3d p;
-      for (int a = 0; a < 3; ++a) p[a] = box.min()[a] + u(rng) * box.sizes()[a];
-      if (i % 3 == 1) p = mesh.vertices[size_t(i) % mesh.vertices.size()] + 1e-4 * box.sizes().norm() * Eigen::Vector3d(e(rng), e(rng), e(rng));
-      if (i % 3 == 2) {  // on a face
-        const auto& t = mesh.triangles[size_t(i) % mesh.triangles.size()];
-        const double a = w(rng), b = w(rng) * (1 - a);
-        p = mesh.vertices[size_t(t[0])] + a * (mesh.vertices[size_t(t[1])] - mesh.vertices[size_t(t[0])]) +
-            b * (mesh.vertices[size_t(t[2])] - mesh.vertices[size_t(t[0])]);
-      }
-      ASSERT_EQ(query.inside(p), wn.inside(p)) << "point " << i << ": " << p.transpose();
-    }
-  }
-}
-
 // The solid's boundary against brute force. Two closed boxes pressed into each other (two
 // pieces): the smaller's face inside the larger is a wall inside the solid, and the faces that
 // pass out of the larger bound only where they are out. Points on every triangle (a grid of

@@ -71,13 +71,6 @@ MeshQuery::MeshQuery(const TriMesh& mesh) : mesh_(mesh), wn_(mesh_), tree_(std::
   if (tree_->triangles.empty()) throw Error(ExitCode::bad_input, "", "mesh has no triangle with a non-zero area");
   tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
   tree_->tree.accelerate_distance_queries();
-  closed_ = std::make_unique<DeformingQuery>(mesh_);
-  if (closed_->closed()) {
-    rays_ = std::make_unique<DeformingQuery::Shape>(closed_->shape(mesh_.vertices));
-    on_surface_ = 1e-9 * diag;
-  } else {
-    closed_.reset();
-  }
 }
 
 MeshQuery::~MeshQuery() = default;

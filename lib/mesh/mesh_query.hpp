@@ -1,12 +1,10 @@
 #pragma once
-// Exact closest points (CGAL AABB tree) and robust inside tests (winding number; on a closed mesh
-// a ray's crossing count) on one mesh.
+// Exact closest points (CGAL AABB tree) and robust inside tests (winding number) on one mesh.
 // Distances and closest points are to the solid's boundary: walls inside the solid (where
 // parts overlap; mesh/solid_boundary.hpp) are left out, since a sphere may cross them.
 #include <memory>
 #include <vector>
 
-#include "mesh/deforming_query.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
@@ -60,12 +58,7 @@ class MeshQuery {
   // triangle and distance only (no barycentric weights).
   ClosestPoint closest_apart(const Eigen::Vector3d& p, double radius, const std::vector<Eigen::Vector3d>& corners) const;
   double winding_number(const Eigen::Vector3d& p) const { return wn_(p); }
-  // Winding number > 1/2. On a closed mesh, off the surface, the signed count of a ray's
-  // crossings says the same in a third of the time.
-  bool inside(const Eigen::Vector3d& p) const {
-    if (rays_ && !rays_->nearer_than(p, on_surface_)) return rays_->inside(p);
-    return wn_.inside(p);
-  }
+  bool inside(const Eigen::Vector3d& p) const { return wn_.inside(p); }
   // Negative inside (winding number > 1/2).
   double signed_distance(const Eigen::Vector3d& p) const;
 
@@ -75,9 +68,6 @@ class MeshQuery {
   ClosestPoint closest_on(const Eigen::Vector3d& p, int piece, const Eigen::Vector3d& tree_point) const;
   TriMesh mesh_;
   WindingNumber wn_;
-  std::unique_ptr<DeformingQuery> closed_;          // a closed mesh's hierarchy
-  std::unique_ptr<DeformingQuery::Shape> rays_;     // and its shape: the ray count
-  double on_surface_ = 0;                           // nearer than this, the winding number decides
   std::unique_ptr<Tree> tree_;
   SolidBoundary boundary_;
   TriMesh surface_;  // where the boundary is not whole
