@@ -43,6 +43,24 @@ class Traits : public CGAL::AABB_traits<K, Primitive> {
     }
   };
   Closest_point closest_point_object() const { return {}; }
+  // Whether a box may hold a point nearer than `bound`: CGAL's sphere-box test (its sums in its
+  // order, so the same answer to the bit) without building the sphere.
+  class Compare_distance {
+   public:
+    CGAL::Comparison_result operator()(const K::Point_3& p, const CGAL::Bbox_3& box, const K::Point_3& bound) const {
+      const double squared_radius = CGAL::squared_distance(p, bound);
+      auto gap = [](double c, double lo, double hi) {
+        if (c < lo) return (lo - c) * (lo - c);
+        if (c > hi) return (c - hi) * (c - hi);
+        return 0.0;
+      };
+      double distance = gap(p.x(), box.xmin(), box.xmax());
+      distance += gap(p.y(), box.ymin(), box.ymax());
+      distance += gap(p.z(), box.zmin(), box.zmax());
+      return distance <= squared_radius ? CGAL::SMALLER : CGAL::LARGER;
+    }
+  };
+  Compare_distance compare_distance_object() const { return {}; }
 };
 using Tree = CGAL::AABB_tree<Traits>;
 
