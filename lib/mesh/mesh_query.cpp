@@ -101,7 +101,6 @@ double MeshQuery::distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint
   return std::sqrt(tree_->tree.squared_distance(to_cgal(p), to_cgal(hint)));
 }
 
-
 ClosestPoint MeshQuery::closest(const Eigen::Vector3d& p) const {
   const auto [point, primitive] = tree_->tree.closest_point_and_primitive(to_cgal(p));
   return closest_on(p, static_cast<int>(primitive - tree_->triangles.cbegin()), {point.x(), point.y(), point.z()});
