@@ -12,13 +12,13 @@ namespace {
 template <class Dist>
 constexpr Dist kNone = std::numeric_limits<Dist>::max() / 4;
 
-// 1D squared-distance transform of f (kNone = no sample) with argmin, on a line of n samples.
+// 1D squared-distance transform of f (kNone = no sample), its argmin only, on a line of n samples.
 template <class Dist>
 struct LineScratch {
-  std::vector<Dist> f, d;
+  std::vector<Dist> f;
   std::vector<int32_t> arg, feat, v;
   std::vector<double> z;
-  explicit LineScratch(int n) : f(n), d(n), arg(n), feat(n), v(n), z(n + 1) {}
+  explicit LineScratch(int n) : f(n), arg(n), feat(n), v(n), z(n + 1) {}
 };
 
 template <class Dist>
@@ -46,27 +46,20 @@ void transform_line(int n, LineScratch<Dist>& s) {
     s.z[k + 1] = std::numeric_limits<double>::infinity();
   }
   if (k < 0) {
-    for (int q = 0; q < n; ++q) {
-      s.d[q] = kNone<Dist>;
-      s.arg[q] = -1;
-    }
+    std::fill(s.arg.begin(), s.arg.begin() + n, -1);
     return;
   }
   k = 0;
   for (int q = 0; q < n; ++q) {
     while (s.z[k + 1] < q) ++k;
-    const int p = s.v[k];
-    s.d[q] = Dist(q - p) * Dist(q - p) + s.f[p];
-    s.arg[q] = p;
+    s.arg[q] = s.v[k];
   }
 }
 
 template <class Dist>
 GridVector<int32_t> transform(const GridShape& shape, const uint8_t* seed, uint8_t bits) {
   const int nx = shape.dims.x(), ny = shape.dims.y(), nz = shape.dims.z();
-  const size_t total = shape.count();
-  GridVector<Dist> dist(total);  // every element is written by the first pass
-  GridVector<int32_t> feature(total);
+  GridVector<int32_t> feature(shape.count());
 
   // Pass along z (contiguous): nearest seed on the line by two scans.
   tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny), [&](const tbb::blocked_range<int>& r) {
@@ -84,40 +77,47 @@ GridVector<int32_t> transform(const GridShape& shape, const uint8_t* seed, uint8
         int best = before;
         if (last >= 0 && (before < 0 || last - k < k - before)) best = last;
         feature[base + k] = best < 0 ? -1 : int32_t(base + best);
-        dist[base + k] = best < 0 ? kNone<Dist> : Dist(k - best) * Dist(k - best);
       }
     }
   });
 
-  // Passes along y, then x: lower envelope of parabolas, carrying the seed index. The lines
-  // of a pass run across z, the contiguous axis, so they go in blocks of kBlock neighbours
-  // along z: each cache line gathered or scattered is then used whole, not for one value.
+  // Passes along y, then x: lower envelope of parabolas, carrying the seed index. A voxel's
+  // squared distance to its seed across the line is not stored: it follows from the seed's
+  // index (half the memory a grid of distances would take and pass over). The lines of a pass
+  // run across z, the contiguous axis, so they go in blocks of kBlock neighbours along z: each
+  // cache line gathered or scattered is then used whole, not for one value.
   constexpr int kBlock = 16;
   const int z_blocks = (nz + kBlock - 1) / kBlock;
-  // n samples per line, `stride` apart; line block b of `blocks` starts at first(b / z_blocks) + its z.
-  auto pass = [&](int n, int blocks, size_t stride, auto&& first) {
+  // n samples per line, `stride` apart; line block b of `blocks` starts at first(b / z_blocks) +
+  // its z; across(seed, b / z_blocks, k): the squared distance across the line to the seed.
+  auto pass = [&](int n, int blocks, size_t stride, auto&& first, auto&& across) {
     tbb::parallel_for(tbb::blocked_range<int>(0, blocks), [&](const tbb::blocked_range<int>& r) {
       std::vector<LineScratch<Dist>> s(kBlock, LineScratch<Dist>(n));
       for (int b = r.begin(); b != r.end(); ++b) {
-        const int k0 = (b % z_blocks) * kBlock, width = std::min(kBlock, nz - k0);
-        const size_t base = first(b / z_blocks) + size_t(k0);
+        const int k0 = (b % z_blocks) * kBlock, width = std::min(kBlock, nz - k0), outer = b / z_blocks;
+        const size_t base = first(outer) + size_t(k0);
         for (int q = 0; q < n; ++q)
           for (int w = 0; w < width; ++w) {
-            s[w].f[q] = dist[base + q * stride + w];
-            s[w].feat[q] = feature[base + q * stride + w];
+            const int32_t f = feature[base + q * stride + w];
+            s[w].feat[q] = f;
+            s[w].f[q] = f < 0 ? kNone<Dist> : across(f, outer, k0 + w);
           }
         for (int w = 0; w < width; ++w) transform_line(n, s[w]);
         for (int q = 0; q < n; ++q)
-          for (int w = 0; w < width; ++w) {
-            dist[base + q * stride + w] = s[w].d[q];
-            feature[base + q * stride + w] = s[w].arg[q] < 0 ? -1 : s[w].feat[s[w].arg[q]];
-          }
+          for (int w = 0; w < width; ++w) feature[base + q * stride + w] = s[w].arg[q] < 0 ? -1 : s[w].feat[s[w].arg[q]];
       }
     });
   };
+  auto square = [](int d) { return Dist(d) * Dist(d); };
   const size_t plane = size_t(ny) * size_t(nz);
-  pass(ny, nx * z_blocks, size_t(nz), [&](int i) { return size_t(i) * plane; });
-  pass(nx, ny * z_blocks, plane, [&](int j) { return size_t(j) * size_t(nz); });
+  // Along y: a seed on the voxel's z line, across it by z alone.
+  pass(ny, nx * z_blocks, size_t(nz), [&](int i) { return size_t(i) * plane; },
+       [&](int32_t f, int, int k) { return square(k - int(uint32_t(f) % uint32_t(nz))); });
+  // Along x (lines at y = j): a seed in the voxel's x plane, across it by y and z.
+  pass(nx, ny * z_blocks, plane, [&](int j) { return size_t(j) * size_t(nz); }, [&](int32_t f, int j, int k) {
+    const Eigen::Vector3i c = shape.coords(size_t(f));
+    return square(j - c.y()) + square(k - c.z());
+  });
   return feature;
 }
 

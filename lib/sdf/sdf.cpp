@@ -229,26 +229,28 @@ std::vector<size_t> mark_wanted(SdfWork& w, const GridVector<int32_t>& nearest, 
   return indices_where(total, [&](size_t idx) { return flags[idx] & kWanted; });
 }
 
-// 3b. Each wanted voxel's triangle: the best candidate around its nearest surface voxel.
-void closest_triangles(SdfWork& w, const TriangleTable& triangles, const GridVector<int32_t>& nearest,
+// 3b. Each wanted voxel's triangle: the best candidate around its nearest surface voxel
+//     (`nearest` is used up: its layer voxels' slots are overwritten).
+void closest_triangles(SdfWork& w, const TriangleTable& triangles, GridVector<int32_t>& nearest,
                        const std::vector<size_t>& wanted_list) {
   const GridShape& shape = w.shape;
-  const size_t total = shape.count();
   const std::vector<size_t>& layer_list = w.layer_list;
   DenseField& field = w.field;
   auto& tri = w.tri;
   const auto& flags = w.flags;
   // Grouped by nearest surface voxel: the voxels of a group share its candidate triangles,
   // which then stay in cache while each voxel picks its closest (a counting sort).
-  std::vector<size_t> group_start(layer_list.size() + 1, 0), by_seed(wanted_list.size());
+  std::vector<size_t> group_start(layer_list.size() + 1, 0);
+  GridVector<size_t> by_seed(wanted_list.size());  // every element written by the counting sort
   {
-    std::unique_ptr<int32_t[]> layer_id(new int32_t[total]);  // read at layer voxels only
+    // A layer voxel's nearest seed is itself: its slot is free to hold its place in the layer
+    // list (no grid of its own for that: a fresh grid's pages cost more than the pass).
     tbb::parallel_for(tbb::blocked_range<size_t>(0, layer_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t n = r.begin(); n != r.end(); ++n) layer_id[layer_list[n]] = int32_t(n);
+      for (size_t n = r.begin(); n != r.end(); ++n) nearest[layer_list[n]] = int32_t(n);
     });
-    std::vector<int32_t> group(wanted_list.size());
+    GridVector<int32_t> group(wanted_list.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t n = r.begin(); n != r.end(); ++n) group[n] = layer_id[size_t(nearest[wanted_list[n]])];
+      for (size_t n = r.begin(); n != r.end(); ++n) group[n] = nearest[size_t(nearest[wanted_list[n]])];
     });
     for (int32_t g : group) ++group_start[size_t(g) + 1];
     for (size_t g = 0; g < layer_list.size(); ++g) group_start[g + 1] += group_start[g];
@@ -279,7 +281,7 @@ void refine_by_neighbours(SdfWork& w, const TriangleTable& triangles, const std:
   auto& flags = w.flags;
   // A voxel none of whose face neighbours nor itself changed in the last sweep would repeat
   // the same tests, so it is skipped.
-  std::vector<int32_t> next_tri(wanted_list.size());
+  GridVector<int32_t> next_tri(wanted_list.size());
   for (int sweep = 0; sweep < 2; ++sweep) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t n = r.begin(); n != r.end(); ++n) {
@@ -415,7 +417,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
   // distance to the closest of the triangles around it.
   const TriangleTable triangles(w.mesh);
   StageTimer edt(log, "feature-transform");
-  const GridVector<int32_t> nearest = nearest_seed_transform(shape, w.flags.data(), kLayer);
+  GridVector<int32_t> nearest = nearest_seed_transform(shape, w.flags.data(), kLayer);
   edt.stop();
   {
     StageTimer t(log, "closest-triangles");
