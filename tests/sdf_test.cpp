@@ -43,6 +43,25 @@ TEST(Edt, NearestSeedMatchesBruteForce) {
   }
 }
 
+// Past about 13 400 voxels along one side squared distances leave 32 bits: the transform's wide
+// path, checked the same way on a long thin grid.
+TEST(Edt, LongGridsMatchBruteForceToo) {
+  GridShape shape;
+  shape.dims = Eigen::Vector3i(14000, 3, 4);
+  std::vector<uint8_t> seed(shape.count(), 0);
+  const std::vector<size_t> seeds = {shape.index(0, 0, 0), shape.index(9000, 2, 3), shape.index(13999, 1, 0),
+                                     shape.index(4500, 1, 2)};
+  for (size_t s : seeds) seed[s] = 1;
+  const auto nearest = nearest_seed_transform(shape, seed);
+  for (size_t idx = 0; idx < shape.count(); ++idx) {
+    const Eigen::Vector3i c = shape.coords(idx);
+    int64_t best = std::numeric_limits<int64_t>::max();
+    for (size_t s : seeds) best = std::min(best, int64_t((shape.coords(s) - c).cast<int64_t>().squaredNorm()));
+    ASSERT_GE(nearest[idx], 0);
+    ASSERT_EQ((shape.coords(size_t(nearest[idx])) - c).cast<int64_t>().squaredNorm(), best) << "voxel " << idx;
+  }
+}
+
 TEST(Edt, NoSeedsGivesNone) {
   GridShape shape;
   shape.dims = Eigen::Vector3i(4, 5, 6);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <type_traits>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -17,42 +18,36 @@ template <class Dist>
 struct LineScratch {
   std::vector<Dist> f;
   std::vector<int32_t> arg, feat, v;
-  std::vector<double> z;
-  explicit LineScratch(int n) : f(n), arg(n), feat(n), v(n), z(n + 1) {}
+  explicit LineScratch(int n) : f(n), arg(n), feat(n), v(n) {}
 };
 
+// The lower envelope of the parabolas (x - p)^2 + f[p] (Felzenszwalb & Huttenlocher), compared
+// in integers: the parabolas from p < q meet at (F(q) - F(p)) / 2(q - p), F(p) = f[p] + p^2, and
+// each comparison of two such points is cross-multiplied instead of divided (exact, and no
+// division in the loop).
 template <class Dist>
 void transform_line(int n, LineScratch<Dist>& s) {
+  using Wide = std::conditional_t<sizeof(Dist) == 4, int64_t, __int128>;
+  auto F = [&](int p) { return Wide(s.f[p]) + Wide(p) * p; };
   int k = -1;
   for (int q = 0; q < n; ++q) {
     if (s.f[q] >= kNone<Dist>) continue;
-    if (k < 0) {
-      k = 0;
-      s.v[0] = q;
-      s.z[0] = -std::numeric_limits<double>::infinity();
-      s.z[1] = std::numeric_limits<double>::infinity();
-      continue;
-    }
-    double sq;
-    for (;;) {
-      const int p = s.v[k];
-      sq = (double(s.f[q] + int64_t(q) * q) - double(s.f[p] + int64_t(p) * p)) / (2.0 * (q - p));
-      if (sq > s.z[k]) break;
+    // v[k] is hidden when q's parabola meets it no later than v[k - 1]'s does.
+    while (k > 0) {
+      const int p = s.v[k], r = s.v[k - 1];
+      if ((F(q) - F(p)) * (p - r) > (F(p) - F(r)) * (q - p)) break;
       --k;
     }
-    ++k;
-    s.v[k] = q;
-    s.z[k] = sq;
-    s.z[k + 1] = std::numeric_limits<double>::infinity();
+    s.v[++k] = q;
   }
   if (k < 0) {
     std::fill(s.arg.begin(), s.arg.begin() + n, -1);
     return;
   }
-  k = 0;
-  for (int q = 0; q < n; ++q) {
-    while (s.z[k + 1] < q) ++k;
-    s.arg[q] = s.v[k];
+  for (int q = 0, m = 0; q < n; ++q) {
+    // On to the next parabola while it meets this one before q.
+    while (m < k && F(s.v[m + 1]) - F(s.v[m]) < Wide(2) * q * (s.v[m + 1] - s.v[m])) ++m;
+    s.arg[q] = s.v[m];
   }
 }
 

@@ -33,10 +33,17 @@ void rasterize_surface_layer(const TriMesh& mesh, const GridShape& shape, GridVe
     const auto& f = mesh.triangles[t];
     const Eigen::Vector3d &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
     const Box& box = boxes[t];
+    // A voxel farther than h from the triangle's plane is farther from the triangle: skipped
+    // before the closest point (the margin keeps every voxel the exact test would keep).
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const Eigen::Vector3d n = cross.norm() > 0 ? Eigen::Vector3d(cross / cross.norm()) : Eigen::Vector3d::Zero();
+    const double reach2 = h * h * (1 + 1e-9);
     for (int i = from_x; i <= to_x; ++i)
       for (int j = box.from[1]; j <= box.to[1]; ++j)
         for (int k = box.from[2]; k <= box.to[2]; ++k) {
           const Eigen::Vector3d p = shape.world(i, j, k);
+          const double plane = n.dot(p - a);
+          if (plane * plane > reach2) continue;
           const double d2 = (closest_point_on_triangle(p, a, b, c) - p).squaredNorm();
           if (d2 > h * h) continue;
           const float d = float(std::sqrt(d2));
