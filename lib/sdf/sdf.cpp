@@ -279,8 +279,10 @@ void refine_by_neighbours(SdfWork& w, const TriangleTable& triangles, const std:
   DenseField& field = w.field;
   auto& tri = w.tri;
   auto& flags = w.flags;
-  // A voxel none of whose face neighbours nor itself changed in the last sweep would repeat
-  // the same tests, so it is skipped.
+  // After the first sweep, to a voxel that kept its triangle only a neighbour whose triangle
+  // changed offers anything new: the others were tested in the last sweep against the same
+  // distance. (One that changed tests them all again: its stored distance is rounded to float,
+  // so the last sweep may have taken a triangle a rounding farther than one it held.)
   GridVector<int32_t> next_tri(wanted_list.size());
   for (int sweep = 0; sweep < 2; ++sweep) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, wanted_list.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
@@ -291,12 +293,12 @@ void refine_by_neighbours(SdfWork& w, const TriangleTable& triangles, const std:
         next_tri[n] = own;
         int32_t seen[6];
         int count = 0;
-        bool stale = sweep == 0 || (flags[idx] & kChanged);
+        const bool every = sweep == 0 || (flags[idx] & kChanged);
         shape.for_each_face_neighbour(idx, c, [&](size_t m) {
-          stale = stale || (flags[m] & kChanged);
+          if (!every && !(flags[m] & kChanged)) return;
           if (tri[m] >= 0 && tri[m] != own && std::find(seen, seen + count, tri[m]) == seen + count) seen[count++] = tri[m];
         });
-        if (!stale) continue;
+        if (count == 0) continue;
         const Eigen::Vector3d p = shape.world(c.x(), c.y(), c.z());
         float& value = field.values[idx];  // this voxel's own slot only
         double best = double(value) * double(value);
