@@ -161,6 +161,32 @@ TEST(Sdf, OpenMeshSignFollowsTheWindingNumber) {
   EXPECT_GT(sdf.stats.interior_voxels, 0u);
 }
 
+// A single closed surface is signed by a flood from its inside layer voxels, one winding number
+// per region: every voxel clear of 1/2 gets the winding number's side, on shapes whose inside
+// splits into many regions at coarse grids (thin legs, a trunk, fertility's handles).
+TEST(Sdf, ClosedSurfaceFloodFollowsTheWindingNumber) {
+  SPX_REQUIRE_SHARED_DATA();
+  for (const char* name : {"elephant/rest.obj", "static/fertility.off"}) {
+    const TriMesh mesh = load_mesh(test::shared_data() + "/" + name).mesh;
+    const WindingNumber wn(mesh);
+    for (int resolution : {24, 61}) {
+      SdfOptions o;
+      o.resolution = resolution;
+      const SdfResult sdf = build_sdf(mesh, o);
+      ASSERT_NE(sdf.stats.sign_method.find("closed surface"), std::string::npos) << name;
+      size_t checked = 0, wrong = 0;
+      for (size_t idx = 0; idx < sdf.field.shape.count(); ++idx) {
+        const double w = wn(sdf.field.shape.world(idx));
+        if (std::abs(w - 0.5) < 0.05) continue;
+        wrong += (sdf.field.values[idx] < 0) != (w > 0.5);
+        ++checked;
+      }
+      EXPECT_EQ(wrong, 0u) << name << " at " << resolution;
+      EXPECT_GT(checked, 10000u);
+    }
+  }
+}
+
 // Signing by winding numbers block by block gives every voxel the side that evaluating it
 // alone gives: the open shared meshes, the truck's soup and the robot sample's open parts.
 TEST(Sdf, BlockSignEqualsEveryVoxelSign) {

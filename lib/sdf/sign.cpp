@@ -17,40 +17,56 @@ namespace {
 // a voxel of one of them, which is then in the layer. So a flood from every inside layer voxel
 // reaches exactly the inside regions, in time proportional to the inside, not to the grid. One
 // winding number per region confirms it, so that a wrongly signed layer voxel cannot flood the
-// outside. `winding_inside(points)` answers for a batch.
+// outside. `winding_inside(points)` answers for a batch. The flood fills runs along z (the
+// contiguous axis) and seeds the four lines beside each run once per open stretch: memory in
+// order, a push per run instead of per voxel.
 template <class Winding>
 void fill_inside(const GridShape& shape, const std::vector<size_t>& layer_list, Winding&& winding_inside,
                    GridVector<uint8_t>& flags) {
-  std::vector<size_t> voxels, region_start, stack;
+  const size_t nz = size_t(shape.dims.z()), sx = size_t(shape.dims.y()) * nz;
+  auto open = [&](size_t idx) { return !(flags[idx] & (kLayer | kSeen)); };
+  std::vector<std::pair<size_t, size_t>> runs;  // [first, last] along z, region by region
+  std::vector<size_t> region_start, stack;
   std::vector<Eigen::Vector3d> probes;
-  auto around = [&](size_t idx, auto&& visit) { shape.for_each_face_neighbour(idx, shape.coords(idx), visit); };
   for (size_t wall : layer_list) {
     if (!(flags[wall] & kInside)) continue;
-    around(wall, [&](size_t start) {
-      if (flags[start] & (kLayer | kSeen)) return;
-      flags[start] |= kSeen;
-      region_start.push_back(voxels.size());
+    shape.for_each_face_neighbour(wall, shape.coords(wall), [&](size_t start) {
+      if (!open(start)) return;
+      region_start.push_back(runs.size());
       probes.push_back(shape.world(start));
-      voxels.push_back(start);
       stack.assign(1, start);
       while (!stack.empty()) {
         const size_t idx = stack.back();
         stack.pop_back();
-        around(idx, [&](size_t m) {
-          if (!(flags[m] & (kLayer | kSeen))) {
-            flags[m] |= kSeen;
-            voxels.push_back(m);
-            stack.push_back(m);
+        if (!open(idx)) continue;
+        const size_t line = idx - idx % nz;
+        size_t first = idx, last = idx;
+        while (first > line && open(first - 1)) --first;
+        while (last + 1 < line + nz && open(last + 1)) ++last;
+        for (size_t m = first; m <= last; ++m) flags[m] |= kSeen;
+        runs.emplace_back(first, last);
+        const Eigen::Vector3i c = shape.coords(first);
+        auto seed_beside = [&](size_t from) {  // the voxels beside [first, last] on one line
+          bool was_open = false;
+          for (size_t m = from; m <= from + (last - first); ++m) {
+            const bool is_open = open(m);
+            if (is_open && !was_open) stack.push_back(m);
+            was_open = is_open;
           }
-        });
+        };
+        if (c.x() > 0) seed_beside(first - sx);
+        if (c.x() + 1 < shape.dims.x()) seed_beside(first + sx);
+        if (c.y() > 0) seed_beside(first - nz);
+        if (c.y() + 1 < shape.dims.y()) seed_beside(first + nz);
       }
     });
   }
-  region_start.push_back(voxels.size());
+  region_start.push_back(runs.size());
   const std::vector<uint8_t> inside = winding_inside(probes);
   for (size_t r = 0; r < probes.size(); ++r)
     if (inside[r])
-      for (size_t n = region_start[r]; n < region_start[r + 1]; ++n) flags[voxels[n]] |= kInside;
+      for (size_t n = region_start[r]; n < region_start[r + 1]; ++n)
+        for (size_t m = runs[n].first; m <= runs[n].second; ++m) flags[m] |= kInside;
 }
 
 }  // namespace
