@@ -187,6 +187,33 @@ TEST(Sdf, ClosedSurfaceFloodFollowsTheWindingNumber) {
   }
 }
 
+// pose-map builds a frame's field without the exterior band when it asks only for depths and
+// medial voxels: the inside must be the same to the bit (an inside voxel's face neighbours are
+// inside or in the surface layer).
+TEST(Sdf, InsideOnlyKeepsTheInsideToTheBit) {
+  std::vector<TriMesh> meshes{test::uv_sphere(1.0, 20, 40)};
+  if (test::have_shared_data()) meshes.push_back(load_mesh(test::shared_data() + "/elephant/rest.obj").mesh);
+  for (const TriMesh& mesh : meshes) {
+    SdfOptions whole, inside_only;
+    whole.resolution = inside_only.resolution = 48;
+    inside_only.inside_only = true;
+    const DenseField a = build_sdf(mesh, whole).field, b = build_sdf(mesh, inside_only).field;
+    ASSERT_EQ(a.shape.origin, b.shape.origin);
+    ASSERT_EQ(a.shape.dims, b.shape.dims);
+    size_t inside = 0, band = 0;
+    for (size_t idx = 0; idx < b.shape.count(); ++idx) {
+      if (!(a.values[idx] < 0) && !(b.values[idx] < 0)) {
+        band += a.values[idx] > b.shape.voxel_size && a.values[idx] < a.background;
+        continue;
+      }
+      ASSERT_EQ(a.values[idx], b.values[idx]) << "voxel " << idx;
+      ++inside;
+    }
+    EXPECT_GT(inside, 1000u);
+    EXPECT_GT(band, 1000u);  // the whole field has an exterior band to leave out
+  }
+}
+
 // Signing by winding numbers block by block gives every voxel the side that evaluating it
 // alone gives: the open shared meshes, the truck's soup and the robot sample's open parts.
 TEST(Sdf, BlockSignEqualsEveryVoxelSign) {

@@ -90,7 +90,7 @@ class PoseMapper {
       StageTimer t(log_, "pose-fields");
       if (skinned_) depths_.resize(meshes_.size()), pose_inscribed_.resize(poses_.size());
       tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) {
-        const DenseField& field = pose_field(i);
+        const DenseField& field = pose_field(i, skinned_ != nullptr);
         if (!skinned_) return;
         // Kept for floors as depths only; a frame's own candidates are listed now, while its
         // field is at hand (an open mesh's fields bound radii, and are kept whole).
@@ -358,10 +358,15 @@ class PoseMapper {
   }
 
   // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
-  const DenseField& pose_field(size_t i) {
-    if (!fields_[i])
-      fields_[i] = std::make_unique<DenseField>(
-          build_sdf(*meshes_[i], field_options(), Log::silent(), &queries_[i]->boundary()).field);
+  // `inside_only`: asked for the inside's depths and medial voxels alone, on a closed mesh:
+  // no exterior band past the surface layer (SdfOptions::inside_only). Such a field is released
+  // before any other use.
+  const DenseField& pose_field(size_t i, bool inside_only = false) {
+    if (!fields_[i]) {
+      SdfOptions o = field_options();
+      o.inside_only = inside_only && !open_solid_;
+      fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], o, Log::silent(), &queries_[i]->boundary()).field);
+    }
     return *fields_[i];
   }
   // An open mesh's fields bound every radius to the end; otherwise each is asked once (a skinned
@@ -417,7 +422,7 @@ class PoseMapper {
   SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
     if (pose_inscribed_.size() < poses_.size()) pose_inscribed_.resize(poses_.size());
     if (!pose_inscribed_[i]) {
-      pose_inscribed_[i] = std::make_unique<CandidatesOnDemand>(pose_field(i + 1), candidate_options(pose_pack_options()));
+      pose_inscribed_[i] = std::make_unique<CandidatesOnDemand>(pose_field(i + 1, true), candidate_options(pose_pack_options()));
       release_field(i + 1);
     }
     return pose_inscribed_[i]->offer_near(points, reach, *queries_[i + 1]);

@@ -198,8 +198,8 @@ void rasterize_layer(SdfWork& w) {
 }
 
 // 3a. The voxels that get an interior distance: every inside voxel off the layer, and outside
-//     the band of `band` voxels (the rest stays background).
-std::vector<size_t> mark_wanted(SdfWork& w, const GridVector<int32_t>& nearest, int band) {
+//     the band of `band` voxels unless `inside_only` (the rest stays background).
+std::vector<size_t> mark_wanted(SdfWork& w, const GridVector<int32_t>& nearest, int band, bool inside_only) {
   const GridShape& shape = w.shape;
   const size_t total = shape.count();
   const double h = shape.voxel_size;
@@ -216,6 +216,7 @@ std::vector<size_t> mark_wanted(SdfWork& w, const GridVector<int32_t>& nearest, 
         const int32_t seed = nearest[idx];
         if ((flags[idx] & kLayer) || seed < 0) continue;
         if (!(flags[idx] & kInside)) {
+          if (inside_only) continue;
           // Outside: only the band is stored. The seed's k is cheap to get; most far voxels fail
           // on it before the full test.
           const int seed_k = int(uint32_t(seed) % uint32_t(sy));  // indices fit 32 bits (plan_grid)
@@ -423,7 +424,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
   edt.stop();
   {
     StageTimer t(log, "closest-triangles");
-    const std::vector<size_t> wanted = mark_wanted(w, nearest, opt.band);
+    const std::vector<size_t> wanted = mark_wanted(w, nearest, opt.band, opt.inside_only);
     closest_triangles(w, triangles, nearest, wanted);
     t.stop();
     StageTimer r(log, "refine");

@@ -19,6 +19,9 @@ struct SdfOptions {
   // A mesh that is not one closed surface is signed by winding numbers block by block (see
   // sdf.cpp); this evaluates every voxel instead, the reference the tests compare against.
   bool sign_every_voxel = false;
+  // Only the inside and the surface layer get distances (the rest of the band keeps the
+  // background): the same grid, and the same inside to the bit, for less work.
+  bool inside_only = false;
 };
 
 struct SdfStats {
