@@ -358,15 +358,11 @@ class PoseMapper {
   }
 
   // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
-  // `inside_only`: asked for the inside's depths and medial voxels alone, on a closed mesh:
-  // no exterior band past the surface layer (SdfOptions::inside_only). Such a field is released
-  // before any other use.
+  // `inside_only`: for the inside's depths and medial voxels alone (released before other use).
   const DenseField& pose_field(size_t i, bool inside_only = false) {
-    if (!fields_[i]) {
-      SdfOptions o = field_options();
-      o.inside_only = inside_only && !open_solid_;
-      fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], o, Log::silent(), &queries_[i]->boundary()).field);
-    }
+    SdfOptions o = field_options();
+    o.inside_only = inside_only && !open_solid_;
+    if (!fields_[i]) fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], o, Log::silent(), &queries_[i]->boundary()).field);
     return *fields_[i];
   }
   // An open mesh's fields bound every radius to the end; otherwise each is asked once (a skinned
