@@ -360,9 +360,9 @@ class PoseMapper {
   // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
   // `inside_only`: for the inside's depths and medial voxels alone (released before other use).
   const DenseField& pose_field(size_t i, bool inside_only = false) {
-    SdfOptions o = field_options();
-    o.inside_only = inside_only && !open_solid_;
-    if (!fields_[i]) fields_[i] = std::make_unique<DenseField>(build_sdf(*meshes_[i], o, Log::silent(), &queries_[i]->boundary()).field);
+    if (!fields_[i])
+      fields_[i] = std::make_unique<DenseField>(
+          build_sdf(*meshes_[i], field_options(inside_only), Log::silent(), &queries_[i]->boundary()).field);
     return *fields_[i];
   }
   // An open mesh's fields bound every radius to the end; otherwise each is asked once (a skinned
@@ -371,8 +371,9 @@ class PoseMapper {
     if (!open_solid_) fields_[i].reset();
   }
 
-  SdfOptions field_options() const {
+  SdfOptions field_options(bool inside_only = false) const {
     SdfOptions o;
+    o.inside_only = inside_only && !open_solid_;  // an open mesh's fields bound radii past the layer
     o.voxel_size = spheres_.voxel_size > 0 ? spheres_.voxel_size : rest_.diagonal() / 128;
     return o;
   }
