@@ -265,6 +265,37 @@ std::vector<std::atomic<uint8_t>> dominated_candidates(const Coverage& rows, con
   return dominated;
 }
 
+// The rows `keep` says to keep, each with only the entries `map` renumbers (UINT32_MAX: drop),
+// as a Coverage of `columns`: counted, then filled, rows side by side in blocks.
+template <class Keep>
+Coverage filtered_rows(const Coverage& cov, size_t columns, Keep keep, const std::vector<uint32_t>* map) {
+  const size_t rows = cov.start.size() - 1;
+  std::vector<uint32_t> kept;
+  for (size_t r = 0; r < rows; ++r)
+    if (keep(r)) kept.push_back(uint32_t(r));
+  auto entry = [&](uint32_t n) { return map ? (*map)[cov.samples[n]] : cov.samples[n]; };
+  Coverage out;
+  out.sample_count = columns;
+  out.start.assign(kept.size() + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, kept.size(), 512), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t k = range.begin(); k != range.end(); ++k) {
+      uint32_t n = 0;
+      for (uint32_t i = cov.start[kept[k]]; i < cov.start[kept[k] + 1]; ++i) n += entry(i) != UINT32_MAX;
+      out.start[k + 1] = n;
+    }
+  });
+  std::partial_sum(out.start.begin(), out.start.end(), out.start.begin());
+  out.samples.resize(out.start.back());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, kept.size(), 512), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t k = range.begin(); k != range.end(); ++k) {
+      uint32_t* to = out.samples.data() + out.start[k];
+      for (uint32_t i = cov.start[kept[k]]; i < cov.start[kept[k] + 1]; ++i)
+        if (const uint32_t e = entry(i); e != UINT32_MAX) *to++ = e;
+    }
+  });
+  return out;
+}
+
 }  // namespace
 
 ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
@@ -276,24 +307,12 @@ ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
   for (uint32_t s = 0; s < cov.sample_count; ++s)
     if (by.row_size(s) > 0 && !implied[s]) row_of[s] = uint32_t(out.sample.size()), out.sample.push_back(s);
   // The candidates' rows over the kept samples, renumbered.
-  Coverage rows;
-  rows.sample_count = out.sample.size();
-  rows.start.push_back(0);
-  for (size_t c = 0; c < candidates; ++c) {
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
-      if (row_of[cov.samples[n]] != UINT32_MAX) rows.samples.push_back(row_of[cov.samples[n]]);
-    rows.start.push_back(uint32_t(rows.samples.size()));
-  }
+  const Coverage rows = filtered_rows(cov, out.sample.size(), [](size_t) { return true; }, &row_of);
   const std::vector<std::atomic<uint8_t>> dominated = dominated_candidates(rows, covering_candidates(rows), scan);
-  out.coverage.sample_count = out.sample.size();
-  out.coverage.start.push_back(0);
-  for (size_t c = 0; c < candidates; ++c) {
-    if (dominated[c].load(std::memory_order_relaxed)) continue;
-    out.candidate.push_back(uint32_t(c));
-    out.coverage.samples.insert(out.coverage.samples.end(), rows.samples.begin() + rows.start[c],
-                                rows.samples.begin() + rows.start[c + 1]);
-    out.coverage.start.push_back(uint32_t(out.coverage.samples.size()));
-  }
+  auto is_kept = [&](size_t c) { return !dominated[c].load(std::memory_order_relaxed); };
+  for (size_t c = 0; c < candidates; ++c)
+    if (is_kept(c)) out.candidate.push_back(uint32_t(c));
+  out.coverage = filtered_rows(rows, out.sample.size(), is_kept, nullptr);
   return out;
 }
 

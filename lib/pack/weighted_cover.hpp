@@ -15,6 +15,11 @@ namespace spx::detail {
 // adding it). A candidate dropped may be added back once its configuration changed: one of its
 // samples turned bare or covered, or (`thorough`) its covering count changed at all at 2 or below,
 // which costs a scan of that sample's candidates at each such change.
+//
+// Raising every bare sample's weight would touch every candidate covering one at every step, so
+// it is counted instead: a bare sample's weight is its stored weight plus the raises since it
+// turned bare, and a candidate's score its stored part plus its bare samples times the raises so
+// far (a member covers none).
 class WeightedCover {
  public:
   WeightedCover(const Coverage& cov, const Coverage& by, bool thorough) : cov_(cov), by_(by), thorough_(thorough) {
@@ -23,91 +28,96 @@ class WeightedCover {
     member_sum_.assign(m, 0);
     weight_.assign(m, 1);
     bare_at_.assign(m, -1);
-    score_.assign(n, 0);
+    cand_.assign(n, Candidate{});
+    bare_since_.assign(m, 0);
     stamp_.assign(n, 0);
     in_.assign(n, 0);
-    can_add_.assign(n, 1);
     for (uint32_t s = 0; s < m; ++s)
       if (by.row_size(s) > 0) make_bare(s);
     for (size_t c = 0; c < n; ++c)
-      for (uint32_t k = cov.start[c]; k < cov.start[c + 1]; ++k) score_[c] += weight_[cov.samples[k]];
+      for (uint32_t k = cov.start[c]; k < cov.start[c + 1]; ++k)
+        if (by.row_size(cov.samples[k]) > 0) {
+          cand_[c].stored += weight_[cov.samples[k]];
+          ++cand_[c].bare;
+        }
   }
 
   void add(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 1;
-    score_[c] = -score_[c];
+    cand_[c].stored = -score(c);
+    cand_[c].bare = 0;
     stamp_[c] = step;
     members_.push_back(c);
     for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
       const uint32_t s = cov_.samples[k];
       const uint32_t before = count_[s]++;
       if (before == 1) {
-        score_[member_sum_[s]] += weight_[s];  // its one member no longer alone
+        cand_[member_sum_[s]].stored += weight_[s];  // its one member no longer alone
         if (thorough_) mark_changed(s, c);
       }
       member_sum_[s] += c;
       if (before > 0) continue;
       drop_bare(s);
-      shift_gains(s, c, -weight_[s]);  // no longer a gain to anyone
+      shift_gains(s, c, -(weight_[s] - raised_), -1);  // no longer a gain to anyone
     }
   }
 
   void remove(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 0;
-    score_[c] = -score_[c];
+    cand_[c].stored = -cand_[c].stored;  // a member's score is its stored part alone
     stamp_[c] = step;
-    can_add_[c] = 0;
+    cand_[c].can_add = 0;
     members_.erase(std::find(members_.begin(), members_.end(), c));
     for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
       const uint32_t s = cov_.samples[k];
       const uint32_t after = --count_[s];
       member_sum_[s] -= c;
       if (after == 1) {
-        score_[member_sum_[s]] -= weight_[s];  // its one member now alone
+        cand_[member_sum_[s]].stored -= weight_[s];  // its one member now alone
         if (thorough_) mark_changed(s, c);
       }
       if (after > 0) continue;
       make_bare(s);
-      shift_gains(s, c, weight_[s]);  // a gain to every candidate covering it
+      cand_[c].stored -= raised_;
+      ++cand_[c].bare;
+      shift_gains(s, c, weight_[s] - raised_, 1);  // a gain to every candidate covering it
     }
   }
 
   // Sample s became bare or covered: every candidate covering it but `changed` (none of them a
-  // member) gains `delta`, and its configuration changed. Raw pointers: the char stores would
-  // otherwise make the compiler reload the vectors' data at every entry.
-  void shift_gains(uint32_t s, uint32_t changed, int64_t delta) {
+  // member) gains `delta` in its stored part and `bare` bare samples, and its configuration
+  // changed. Raw pointers: the char stores would otherwise make the compiler reload the vectors'
+  // data at every entry.
+  void shift_gains(uint32_t s, uint32_t changed, int64_t delta, int32_t bare) {
     const uint32_t* o = by_.samples.data() + by_.start[s];
     const uint32_t* end = by_.samples.data() + by_.start[s + 1];
-    int64_t* score = score_.data();
-    char* can_add = can_add_.data();
+    Candidate* cand = cand_.data();
     work_ += uint64_t(end - o);
     for (; o != end; ++o)
       if (*o != changed) {
-        score[*o] += delta;
-        can_add[*o] = 1;
+        Candidate& k = cand[*o];
+        k.stored += delta;
+        k.bare += bare;
+        k.can_add = 1;
       }
   }
 
   void mark_changed(uint32_t s, uint32_t changed) {
     const uint32_t* o = by_.samples.data() + by_.start[s];
     const uint32_t* end = by_.samples.data() + by_.start[s + 1];
-    char* can_add = can_add_.data();
+    Candidate* cand = cand_.data();
     work_ += uint64_t(end - o);
     for (; o != end; ++o)
-      if (*o != changed) can_add[*o] = 1;
+      if (*o != changed) cand[*o].can_add = 1;
   }
 
-  // Bare samples weigh one more, so the candidates covering them gain.
+  // Bare samples weigh one more, so the candidates covering them gain (counted: see above). The
+  // work counts the entries a pass over them would visit, as the limits were set by.
   void raise_bare_weights() {
-    const uint32_t* by = by_.samples.data();
-    int64_t* score = score_.data();
-    for (uint32_t s : bare_) {
-      work_ += by_.row_size(s);
-      ++weight_[s];
-      for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) ++score[by[n]];
-    }
+    work_ += bare_entries_;
+    ++raised_;
   }
 
   // The member whose removal loses least (ties to the longest unchanged), other than `keep`.
@@ -124,7 +134,7 @@ class WeightedCover {
     for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
       const uint32_t c = by_.samples[n];
       if (fallback == UINT32_MAX || better(c, fallback)) fallback = c;
-      if (can_add_[c] && (best == UINT32_MAX || better(c, best))) best = c;
+      if (cand_[c].can_add && (best == UINT32_MAX || better(c, best))) best = c;
     }
     return best == UINT32_MAX ? fallback : best;
   }
@@ -134,19 +144,25 @@ class WeightedCover {
   size_t bare_count() const { return bare_.size(); }
   uint32_t bare(size_t i) const { return bare_[i]; }
   const std::vector<uint32_t>& members() const { return members_; }
-  int64_t score(uint32_t c) const { return score_[c]; }
-  int64_t weight(uint32_t s) const { return weight_[s]; }
+  int64_t score(uint32_t c) const { return cand_[c].stored + int64_t(cand_[c].bare) * raised_; }
+  int64_t weight(uint32_t s) const { return weight_[s] + (bare_at_[s] >= 0 ? raised_ - bare_since_[s] : 0); }
   bool in(uint32_t c) const { return in_[c] != 0; }
 
  private:
   bool better(uint32_t a, uint32_t b) const {
-    return score_[a] > score_[b] || (score_[a] == score_[b] && (stamp_[a] < stamp_[b] || (stamp_[a] == stamp_[b] && a < b)));
+    const int64_t sa = score(a), sb = score(b);
+    return sa > sb || (sa == sb && (stamp_[a] < stamp_[b] || (stamp_[a] == stamp_[b] && a < b)));
   }
   void make_bare(uint32_t s) {
     bare_at_[s] = int64_t(bare_.size());
     bare_.push_back(s);
+    bare_since_[s] = raised_;
+    bare_entries_ += by_.row_size(s);
   }
+  // Its weight then keeps the raises it had while bare.
   void drop_bare(uint32_t s) {
+    weight_[s] += raised_ - bare_since_[s];
+    bare_entries_ -= by_.row_size(s);
     const int64_t at = bare_at_[s];
     bare_[size_t(at)] = bare_.back();
     bare_at_[bare_.back()] = at;
@@ -159,11 +175,21 @@ class WeightedCover {
   const bool thorough_;
   std::vector<uint32_t> count_;
   std::vector<uint32_t> member_sum_;  // the sum of the members covering each sample: its one member where count is 1
-  std::vector<int64_t> weight_, score_, bare_at_;
+  // Per candidate, together (a sample turning bare or covered touches all three): its score's
+  // stored part, the bare samples it covers (0 for a member), and whether it may be added.
+  struct Candidate {
+    int64_t stored = 0;
+    int32_t bare = 0;
+    char can_add = 1;
+  };
+  std::vector<Candidate> cand_;
+  std::vector<int64_t> weight_, bare_at_, bare_since_;
   std::vector<uint64_t> stamp_;
-  std::vector<char> in_, can_add_;
+  std::vector<char> in_;
   std::vector<uint32_t> bare_, members_;
   uint64_t work_ = 0;
+  uint64_t bare_entries_ = 0;  // the bare samples' candidates, counted with repeats
+  int64_t raised_ = 0;         // raises so far
 };
 
 }  // namespace spx::detail
