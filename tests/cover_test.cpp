@@ -314,7 +314,7 @@ TEST(Cover, CoverageRowsMatchBruteForce) {
 
 // Rounds of a constraint generation: samples of four sources come and go, candidates are
 // appended, one radius changes (then the cache is cleared): the kept pairs give, round after
-// round, exactly the coverage computed whole.
+// round, exactly the coverage computed whole, also with samples checked ahead of joining.
 TEST(Cover, CoverageCacheMatchesCoverageOverRounds) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -351,6 +351,28 @@ TEST(Cover, CoverageCacheMatchesCoverageOverRounds) {
       problem.samples.push_back(pts);
       problem.spheres.push_back(spheres[src]);
       parts.emplace_back(src, which);
+    }
+    // Samples about to join, some in this problem and some not, checked ahead: those no
+    // candidate covers, against a scan of every candidate; the coverage after is unchanged.
+    std::vector<std::pair<size_t, std::vector<uint32_t>>> joining;
+    std::vector<std::vector<Eigen::Vector3d>> joining_points;
+    for (size_t src = 0; src < sources; ++src) {
+      joining.emplace_back(src, std::vector<uint32_t>{});
+      joining_points.emplace_back();
+      for (uint32_t i = 0; i < points; ++i)
+        if (rng() % 4 == 0) joining.back().second.push_back(i), joining_points.back().push_back(all[src][i]);
+    }
+    const std::vector<std::vector<uint32_t>> uncovered = cache.uncovered_joining(
+        joining_points, spheres[0].size(), [&](size_t k, size_t c) { return spheres[joining[k].first][c]; }, joining);
+    for (size_t k = 0; k < joining.size(); ++k) {
+      std::vector<uint32_t> bare;
+      for (uint32_t n = 0; n < joining_points[k].size(); ++n) {
+        bool covered = false;
+        for (const Sphere& sp : spheres[joining[k].first])
+          covered = covered || (sp.radius > 0 && (joining_points[k][n] - sp.center).norm() - sp.radius <= delta);
+        if (!covered) bare.push_back(n);
+      }
+      EXPECT_EQ(uncovered[k], bare) << "round " << round << ", source " << k;
     }
     const Coverage want = coverage_at(problem, delta);
     const Coverage got = cache.coverage(problem.samples, problem.candidate_count(),

@@ -118,8 +118,6 @@ Coverage CoverageCache::coverage(const std::vector<std::vector<Eigen::Vector3d>>
   std::map<std::pair<size_t, uint32_t>, Column> kept;
   std::vector<Column*> column;
   std::vector<uint32_t> offset(1, 0);
-  // By first candidate unchecked: the stacked samples still to check against the rest.
-  std::map<uint32_t, std::vector<uint32_t>> unchecked;
   for (const auto& [source, indices] : parts) {
     for (uint32_t i : indices) {
       const std::pair<size_t, uint32_t> name{source, i};
@@ -127,16 +125,46 @@ Coverage CoverageCache::coverage(const std::vector<std::vector<Eigen::Vector3d>>
       if (fresh) {
         const auto old = columns_.find(name);
         if (old != columns_.end()) at->second = std::move(old->second);
-        if (at->second.upto < candidates) unchecked[at->second.upto].push_back(uint32_t(column.size()));
       }
       column.push_back(&at->second);
     }
     offset.push_back(uint32_t(column.size()));
   }
   columns_.swap(kept);  // the samples that left are forgotten
-  for (const auto& [from, stacked] : unchecked) check(samples, candidates, sphere, offset, stacked, from, column);
+  complete(samples, candidates, sphere, offset, column);
   // The columns as rows over the stacked samples (each row ascending).
   return transposed(column.size(), candidates, [&](size_t n) -> const std::vector<uint32_t>& { return column[n]->covering; });
+}
+
+std::vector<std::vector<uint32_t>> CoverageCache::uncovered_joining(
+    const std::vector<std::vector<Eigen::Vector3d>>& samples, size_t count, const SphereOf& sphere,
+    const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts) {
+  std::vector<Column*> column;
+  std::vector<uint32_t> offset(1, 0);
+  for (const auto& [source, indices] : parts) {
+    for (uint32_t i : indices) column.push_back(&columns_[{source, i}]);
+    offset.push_back(uint32_t(column.size()));
+  }
+  complete(samples, uint32_t(count), sphere, offset, column);
+  std::vector<std::vector<uint32_t>> out(parts.size());
+  for (size_t k = 0; k < parts.size(); ++k)
+    for (uint32_t n = offset[k]; n < offset[k + 1]; ++n)
+      if (column[n]->covering.empty()) out[k].push_back(n - offset[k]);
+  return out;
+}
+
+void CoverageCache::complete(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates,
+                             const SphereOf& sphere, const std::vector<uint32_t>& offset,
+                             const std::vector<Column*>& column) const {
+  // By first candidate unchecked: the stacked samples still to check against the rest. Each is
+  // marked checked as it is listed, so that a sample named twice is checked once.
+  std::map<uint32_t, std::vector<uint32_t>> unchecked;
+  for (uint32_t n = 0; n < column.size(); ++n)
+    if (column[n]->upto < candidates) {
+      unchecked[column[n]->upto].push_back(n);
+      column[n]->upto = candidates;
+    }
+  for (const auto& [from, stacked] : unchecked) check(samples, candidates, sphere, offset, stacked, from, column);
 }
 
 void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates,

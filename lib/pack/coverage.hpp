@@ -54,6 +54,12 @@ class CoverageCache {
   // the problem with those spheres (no `merge`).
   Coverage coverage(const std::vector<std::vector<Eigen::Vector3d>>& samples, size_t candidates,
                     const SphereOf& sphere, const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts);
+  // Samples about to join (`parts` as above, `samples` per part): their columns, computed now
+  // and kept for the next coverage() (which forgets those not in its problem). Returns, per part,
+  // the positions in its indices of the samples no candidate covers.
+  std::vector<std::vector<uint32_t>> uncovered_joining(const std::vector<std::vector<Eigen::Vector3d>>& samples,
+                                                       size_t candidates, const SphereOf& sphere,
+                                                       const std::vector<std::pair<size_t, std::vector<uint32_t>>>& parts);
   void clear() { columns_.clear(); }
 
  private:
@@ -65,6 +71,10 @@ class CoverageCache {
   void check(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates, const SphereOf& sphere,
              const std::vector<uint32_t>& offset, const std::vector<uint32_t>& stacked, uint32_t from,
              const std::vector<Column*>& column) const;
+  // Each stacked sample's column (`column`, in `columns` where found there, else `fresh`) checked
+  // up to `candidates`.
+  void complete(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates, const SphereOf& sphere,
+                const std::vector<uint32_t>& offset, const std::vector<Column*>& column) const;
   double delta_;
   std::map<std::pair<size_t, uint32_t>, Column> columns_;  // (source, index): the samples of the last problem
 };

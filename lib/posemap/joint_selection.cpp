@@ -343,14 +343,7 @@ class Selector {
     for (size_t f = 0; f < frames; ++f)
       if (!wanting[f].empty()) bare.emplace_back(f, std::move(wanting[f]));
     offer_frame_candidates(bare);
-    // Which of them no candidate reaches, frame by frame side by side.
-    std::vector<std::vector<uint32_t>> out_of_reach(bare.size());
-    tbb::parallel_for(size_t(0), bare.size(), [&](size_t b) {
-      const auto& [f, which] = bare[b];
-      SphereSet all(candidates_.size());
-      for (size_t c = 0; c < all.size(); ++c) all[c] = sphere(c, f);
-      out_of_reach[b] = bare_samples(pick(samples_[f], which), all, delta);
-    });
+    const std::vector<std::vector<uint32_t>> out_of_reach = out_of_reach_of(bare, delta);
     std::vector<std::vector<uint32_t>> joining(frames);
     size_t added = 0;
     bare_elsewhere = 0;
@@ -378,6 +371,27 @@ class Selector {
       std::sort(extra_[f].begin(), extra_[f].end());
     }
     return added;
+  }
+
+  // Of each frame's samples `which`, the positions of those no candidate reaches. Compacting, the
+  // cache finds them: the columns it computes are those the next round's problem asks for.
+  std::vector<std::vector<uint32_t>> out_of_reach_of(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& bare,
+                                                     double delta) {
+    if (compacting()) {
+      if (!(cache_ && cache_->delta() == delta)) cache_ = std::make_unique<CoverageCache>(delta);
+      std::vector<std::vector<Eigen::Vector3d>> points;
+      for (const auto& [f, which] : bare) points.push_back(pick(samples_[f], which));
+      return cache_->uncovered_joining(points, candidates_.size(),
+                                       [&](size_t part, size_t c) { return sphere(c, bare[part].first); }, bare);
+    }
+    std::vector<std::vector<uint32_t>> out(bare.size());
+    tbb::parallel_for(size_t(0), bare.size(), [&](size_t b) {  // frame by frame side by side
+      const auto& [f, which] = bare[b];
+      SphereSet all(candidates_.size());
+      for (size_t c = 0; c < all.size(); ++c) all[c] = sphere(c, f);
+      out[b] = bare_samples(pick(samples_[f], which), all, delta);
+    });
+    return out;
   }
 
   // Not skinned: the frames not selected on where the chosen spheres (grown there) leave
