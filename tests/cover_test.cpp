@@ -160,6 +160,61 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
   EXPECT_GT(reduced_smaller, 100u) << "the reduction should drop dominated candidates";
 }
 
+// The reduction drops exactly what its rules say, on instances with many nested rows (discs
+// over points in the plane): a sample whose candidates include all of another's (the smaller,
+// or on a tie the earlier, is kept), then a candidate whose kept samples are all another's (the
+// larger, or on a tie the earlier, is kept) or that covers none; against a scan of every pair.
+TEST(Cover, ReductionDropsExactlyTheImpliedAndDominated) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  auto subset = [](const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
+    return std::includes(b.begin(), b.end(), a.begin(), a.end());
+  };
+  auto dropped = [&](const std::vector<std::vector<uint32_t>>& sets, size_t x) {
+    for (size_t y = 0; y < sets.size(); ++y)
+      if (y != x && !sets[y].empty() && subset(sets[y], sets[x]) &&
+          (sets[y].size() < sets[x].size() || y < x))
+        return true;
+    return false;
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    const size_t candidates = 60 + rng() % 120, samples = 100 + rng() % 300;
+    std::vector<Eigen::Vector2d> points(samples);
+    for (auto& p : points) p = {u(rng), u(rng)};
+    std::vector<std::vector<uint32_t>> rows(candidates);
+    for (auto& r : rows) {
+      const Eigen::Vector2d c(u(rng), u(rng));
+      const double radius = 0.05 + 0.2 * u(rng);
+      for (uint32_t s = 0; s < samples; ++s)
+        if ((points[s] - c).norm() <= radius) r.push_back(s);
+    }
+    if (trial % 2 == 0) rows[1] = rows[0];  // a repeated candidate
+    const Coverage c = coverage_of(rows, samples);
+    const ReducedCover r = reduce_cover(c);
+    std::vector<std::vector<uint32_t>> columns(samples);
+    for (uint32_t k = 0; k < candidates; ++k)
+      for (uint32_t s : rows[k]) columns[s].push_back(k);
+    std::vector<uint32_t> kept;
+    for (uint32_t s = 0; s < samples; ++s)
+      if (!columns[s].empty() && !dropped(columns, s)) kept.push_back(s);
+    ASSERT_EQ(r.sample, kept) << "trial " << trial;
+    std::vector<std::vector<uint32_t>> over_kept(candidates);
+    for (uint32_t k = 0; k < candidates; ++k)
+      for (size_t n = 0; n < kept.size(); ++n)
+        if (std::binary_search(rows[k].begin(), rows[k].end(), kept[n])) over_kept[k].push_back(uint32_t(n));
+    std::vector<uint32_t> useful;
+    for (uint32_t k = 0; k < candidates; ++k) {
+      bool beaten = over_kept[k].empty();
+      for (uint32_t e = 0; e < candidates && !beaten; ++e)
+        beaten = e != k && subset(over_kept[k], over_kept[e]) && (over_kept[k].size() < over_kept[e].size() || e < k);
+      if (!beaten) useful.push_back(k);
+    }
+    EXPECT_EQ(r.candidate, useful) << "trial " << trial;
+    EXPECT_LT(kept.size(), samples * 3 / 4) << "trial " << trial << ": the instance should nest";
+    EXPECT_LT(useful.size(), candidates) << "trial " << trial << ": some candidate should be dominated";
+  }
+}
+
 // The search's incremental scores against a recount after every move, both configuration
 // rules: a member's score is minus the weight of the samples it alone covers (found through the
 // sum of the members covering each sample), a non-member's the weight of the bare samples it

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -204,6 +205,27 @@ bool row_is_subset(const Coverage& rows, uint32_t a, const Coverage& of, uint32_
                    &of.samples[of.start[b + 1]]);
 }
 
+// Each row's entries hashed into 256 bits: a row whose bits are not all among another's is not
+// a subset of it, told in four word operations (most pairs a reduction looks at are not).
+using Signature = std::array<uint64_t, 4>;
+std::vector<Signature> signatures(const Coverage& rows) {
+  std::vector<Signature> out(rows.start.size() - 1);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t r = range.begin(); r != range.end(); ++r) {
+      Signature sig{};
+      for (uint32_t n = rows.start[r]; n < rows.start[r + 1]; ++n) {
+        const uint64_t bit = (uint64_t(rows.samples[n]) * 0x9E3779B97F4A7C15ull) >> 56;
+        sig[bit >> 6] |= uint64_t(1) << (bit & 63);
+      }
+      out[r] = sig;
+    }
+  });
+  return out;
+}
+bool may_be_subset(const Signature& a, const Signature& b) {
+  return ((a[0] & ~b[0]) | (a[1] & ~b[1]) | (a[2] & ~b[2]) | (a[3] & ~b[3])) == 0;
+}
+
 // Of the entries of row r of `rows`, the one whose own row in `of` is shortest (the first on
 // ties): the only rows a subset test must scan.
 uint32_t shortest_among(const Coverage& rows, size_t r, const Coverage& of) {
@@ -224,6 +246,7 @@ std::vector<std::atomic<uint8_t>> implied_samples(const Coverage& cov, const Cov
     if (by.row_size(s) > 0) order.push_back(s);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return by.row_size(a) < by.row_size(b); });
   std::vector<std::atomic<uint8_t>> implied(cov.sample_count);
+  const std::vector<Signature> sig = signatures(by);
   tbb::parallel_for(size_t(0), order.size(), [&](size_t k) {
     const uint32_t a = order[k];
     if (implied[a].load(std::memory_order_relaxed)) return;
@@ -234,7 +257,7 @@ std::vector<std::atomic<uint8_t>> implied_samples(const Coverage& cov, const Cov
       const uint32_t b = cov.samples[n];
       if (b == a || implied[b].load(std::memory_order_relaxed) || by.row_size(b) < by.row_size(a)) continue;
       if (by.row_size(b) == by.row_size(a) && b < a) continue;  // identical rows: keep the earlier
-      if (row_is_subset(by, a, by, b)) implied[b].store(1, std::memory_order_relaxed);
+      if (may_be_subset(sig[a], sig[b]) && row_is_subset(by, a, by, b)) implied[b].store(1, std::memory_order_relaxed);
     }
   });
   return implied;
@@ -245,6 +268,7 @@ std::vector<std::atomic<uint8_t>> implied_samples(const Coverage& cov, const Cov
 std::vector<std::atomic<uint8_t>> dominated_candidates(const Coverage& rows, const Coverage& holders, uint32_t scan) {
   const size_t candidates = rows.start.size() - 1;
   std::vector<std::atomic<uint8_t>> dominated(candidates);
+  const std::vector<Signature> sig = signatures(rows);
   tbb::parallel_for(size_t(0), candidates, [&](size_t d) {
     if (rows.row_size(d) == 0) {
       dominated[d].store(1, std::memory_order_relaxed);
@@ -256,7 +280,7 @@ std::vector<std::atomic<uint8_t>> dominated_candidates(const Coverage& rows, con
       const uint32_t e = holders.samples[n];
       if (e == d || dominated[e].load(std::memory_order_relaxed) || rows.row_size(e) < rows.row_size(d)) continue;
       if (rows.row_size(e) == rows.row_size(d) && e > d) continue;  // identical: keep the earlier
-      if (row_is_subset(rows, uint32_t(d), rows, e)) {
+      if (may_be_subset(sig[d], sig[e]) && row_is_subset(rows, uint32_t(d), rows, e)) {
         dominated[d].store(1, std::memory_order_relaxed);
         break;
       }
@@ -308,7 +332,9 @@ ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
     if (by.row_size(s) > 0 && !implied[s]) row_of[s] = uint32_t(out.sample.size()), out.sample.push_back(s);
   // The candidates' rows over the kept samples, renumbered.
   const Coverage rows = filtered_rows(cov, out.sample.size(), [](size_t) { return true; }, &row_of);
-  const std::vector<std::atomic<uint8_t>> dominated = dominated_candidates(rows, covering_candidates(rows), scan);
+  // Its transpose: the kept samples' own rows of `by` (the same candidates, in the same order).
+  const Coverage holders = filtered_rows(by, candidates, [&](size_t s) { return row_of[s] != UINT32_MAX; }, nullptr);
+  const std::vector<std::atomic<uint8_t>> dominated = dominated_candidates(rows, holders, scan);
   auto is_kept = [&](size_t c) { return !dominated[c].load(std::memory_order_relaxed); };
   for (size_t c = 0; c < candidates; ++c)
     if (is_kept(c)) out.candidate.push_back(uint32_t(c));
