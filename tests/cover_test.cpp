@@ -12,6 +12,7 @@
 #include "mesh/union_distance.hpp"
 #include "mesh/inscribed.hpp"
 #include "pack/cover.hpp"
+#include "pack/sample_grid.hpp"
 #include "pack/select.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "pack/weighted_cover.hpp"
@@ -158,6 +159,31 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
     EXPECT_LE(bound, best) << "trial " << trial;
   }
   EXPECT_GT(reduced_smaller, 100u) << "the reduction should drop dominated candidates";
+}
+
+// A ball query visits every sample within reach, each once, with cells fixed or by density: on
+// dense and sparse point sets, flat ones (a box of no volume) and a single point, against a scan.
+TEST(Cover, SampleGridVisitsEverySampleWithinReach) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 40; ++trial) {
+    const size_t n = trial % 10 == 0 ? 1 : (trial % 2 ? 20 + rng() % 60 : 2000 + rng() % 3000);
+    std::vector<Eigen::Vector3d> points(n);
+    for (auto& p : points) p = {10 * u(rng), 4 * u(rng), trial % 3 == 0 ? 0.0 : 2 * u(rng)};
+    for (bool by_density : {false, true}) {
+      const detail::SampleGrid grid(points, by_density);
+      for (int q = 0; q < 50; ++q) {
+        const Eigen::Vector3d c(12 * u(rng) - 1, 6 * u(rng) - 1, 4 * u(rng) - 1);
+        const double reach = 3 * u(rng) * u(rng);
+        std::vector<int> seen(n, 0);
+        grid.near(c, reach, [&](uint32_t i) { ++seen[i]; });
+        for (size_t i = 0; i < n; ++i) {
+          ASSERT_LE(seen[i], 1) << "trial " << trial << ", sample " << i;
+          if ((points[i] - c).norm() <= reach) ASSERT_EQ(seen[i], 1) << "trial " << trial << ", sample " << i;
+        }
+      }
+    }
+  }
 }
 
 // The reduction drops exactly what its rules say, on instances with many nested rows (discs

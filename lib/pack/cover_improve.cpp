@@ -181,7 +181,8 @@ size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weigh
                        const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
                        Log& log) {
   if (spheres.empty() || samples.empty()) return 0;
-  const SampleGrid grid(samples);
+  // Fixed cells: the moves' sums count every sample visited, those a little beyond reach too.
+  const SampleGrid grid(samples, false);
   // Each sample's nearest and second-nearest sphere.
   std::vector<int> first(samples.size(), -1), second(samples.size(), -1);
   auto gap = [&](size_t i, const Sphere& s) { return (samples[i] - s.center).norm() - s.radius; };

@@ -3,6 +3,7 @@
 // the centre refinement).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <vector>
@@ -13,10 +14,15 @@ constexpr double kCellsAcross = 40;  // cells along the samples' bounding-box di
 
 class SampleGrid {
  public:
-  explicit SampleGrid(const std::vector<Eigen::Vector3d>& points) {
+  // `by_density`: cells no smaller than the box's volume per sample either, so that a few samples
+  // scattered over a large box (a frame's bare samples) do not leave a ball query most of its
+  // cells to visit empty. The samples within reach are visited either way; the others visited
+  // (a little farther) differ.
+  explicit SampleGrid(const std::vector<Eigen::Vector3d>& points, bool by_density = true) {
     for (const auto& p : points) box_.extend(p);
     const double diag = std::max(box_.diagonal().norm(), 1e-30);
     cell_ = diag / kCellsAcross;
+    if (by_density && !points.empty()) cell_ = std::max(cell_, std::cbrt(box_.volume() / double(points.size())));
     dims_ = ((box_.sizes() / cell_).array().floor() + 1).cast<int>().cwiseMax(1);
     std::vector<uint32_t> count(cells() + 1, 0);
     for (const auto& p : points) ++count[cell_of(p) + 1];
