@@ -3,6 +3,7 @@
 // incremental scores can be checked against a recount.
 #include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "pack/set_cover.hpp"
@@ -24,6 +25,7 @@ class WeightedCover {
  public:
   WeightedCover(const Coverage& cov, const Coverage& by, bool thorough) : cov_(cov), by_(by), thorough_(thorough) {
     const size_t n = cov.start.size() - 1, m = cov.sample_count;
+    if (m >= size_t(kBareUnit)) throw std::length_error("cover search: more samples than a score word counts");
     count_.assign(m, 0);
     member_sum_.assign(m, 0);
     weight_.assign(m, 1);
@@ -37,23 +39,21 @@ class WeightedCover {
     for (size_t c = 0; c < n; ++c)
       for (uint32_t k = cov.start[c]; k < cov.start[c + 1]; ++k)
         if (by.row_size(cov.samples[k]) > 0) {
-          cand_[c].stored += weight_[cov.samples[k]];
-          ++cand_[c].bare;
+          cand_[c].word += packed(weight_[cov.samples[k]], 1);
         }
   }
 
   void add(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 1;
-    cand_[c].stored = -score(c);
-    cand_[c].bare = 0;
+    cand_[c].word = packed(-score(c), 0);
     stamp_[c] = step;
     members_.push_back(c);
     for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
       const uint32_t s = cov_.samples[k];
       const uint32_t before = count_[s]++;
       if (before == 1) {
-        cand_[member_sum_[s]].stored += weight_[s];  // its one member no longer alone
+        cand_[member_sum_[s]].word += packed(weight_[s], 0);  // its one member no longer alone
         if (thorough_) mark_changed(s, c);
       }
       member_sum_[s] += c;
@@ -66,7 +66,7 @@ class WeightedCover {
   void remove(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 0;
-    cand_[c].stored = -cand_[c].stored;  // a member's score is its stored part alone
+    cand_[c].word = -cand_[c].word;  // a member's word is its stored part alone (no bare samples)
     stamp_[c] = step;
     cand_[c].can_add = 0;
     members_.erase(std::find(members_.begin(), members_.end(), c));
@@ -75,13 +75,12 @@ class WeightedCover {
       const uint32_t after = --count_[s];
       member_sum_[s] -= c;
       if (after == 1) {
-        cand_[member_sum_[s]].stored -= weight_[s];  // its one member now alone
+        cand_[member_sum_[s]].word -= packed(weight_[s], 0);  // its one member now alone
         if (thorough_) mark_changed(s, c);
       }
       if (after > 0) continue;
       make_bare(s);
-      cand_[c].stored -= raised_;
-      ++cand_[c].bare;
+      cand_[c].word += packed(-raised_, 1);
       shift_gains(s, c, weight_[s] - raised_, 1);  // a gain to every candidate covering it
     }
   }
@@ -94,12 +93,12 @@ class WeightedCover {
     const uint32_t* o = by_.samples.data() + by_.start[s];
     const uint32_t* end = by_.samples.data() + by_.start[s + 1];
     Candidate* cand = cand_.data();
+    const int64_t step = packed(delta, bare);
     work_ += uint64_t(end - o);
     for (; o != end; ++o)
       if (*o != changed) {
         Candidate& k = cand[*o];
-        k.stored += delta;
-        k.bare += bare;
+        k.word += step;
         k.can_add = 1;
       }
   }
@@ -144,7 +143,10 @@ class WeightedCover {
   size_t bare_count() const { return bare_.size(); }
   uint32_t bare(size_t i) const { return bare_[i]; }
   const std::vector<uint32_t>& members() const { return members_; }
-  int64_t score(uint32_t c) const { return cand_[c].stored + int64_t(cand_[c].bare) * raised_; }
+  int64_t score(uint32_t c) const {
+    const int64_t word = cand_[c].word;
+    return (word >> kBareBits) + (word & (kBareUnit - 1)) * raised_;
+  }
   int64_t weight(uint32_t s) const { return weight_[s] + (bare_at_[s] >= 0 ? raised_ - bare_since_[s] : 0); }
   bool in(uint32_t c) const { return in_[c] != 0; }
 
@@ -175,11 +177,16 @@ class WeightedCover {
   const bool thorough_;
   std::vector<uint32_t> count_;
   std::vector<uint32_t> member_sum_;  // the sum of the members covering each sample: its one member where count is 1
-  // Per candidate, together (a sample turning bare or covered touches all three): its score's
-  // stored part, the bare samples it covers (0 for a member), and whether it may be added.
+  // Per candidate, together (a sample turning bare or covered touches both): its score's stored
+  // part and the bare samples it covers (0 for a member) in one word, stored part * 2^24 + bare
+  // count, so that a change to both is one addition; and whether it may be added. A row has
+  // fewer than 2^24 samples and a stored part is at most a row's samples times the steps, far
+  // inside the 40 bits left.
+  static constexpr int kBareBits = 24;
+  static constexpr int64_t kBareUnit = int64_t(1) << kBareBits;
+  static int64_t packed(int64_t stored, int64_t bare) { return stored * kBareUnit + bare; }
   struct Candidate {
-    int64_t stored = 0;
-    int32_t bare = 0;
+    int64_t word = 0;
     char can_add = 1;
   };
   std::vector<Candidate> cand_;
