@@ -71,8 +71,8 @@ class CoverageCache {
   void check(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates, const SphereOf& sphere,
              const std::vector<uint32_t>& offset, const std::vector<uint32_t>& stacked, uint32_t from,
              const std::vector<Column*>& column) const;
-  // Each stacked sample's column (`column`, in `columns` where found there, else `fresh`) checked
-  // up to `candidates`.
+  // Every column of `column` (the stacked samples, parts starting at `offset`) checked against the
+  // candidates up to `candidates`; a column listed twice is checked once.
   void complete(const std::vector<std::vector<Eigen::Vector3d>>& samples, uint32_t candidates, const SphereOf& sphere,
                 const std::vector<uint32_t>& offset, const std::vector<Column*>& column) const;
   double delta_;

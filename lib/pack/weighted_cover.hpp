@@ -36,11 +36,8 @@ class WeightedCover {
     in_.assign(n, 0);
     for (uint32_t s = 0; s < m; ++s)
       if (by.row_size(s) > 0) make_bare(s);
-    for (size_t c = 0; c < n; ++c)
-      for (uint32_t k = cov.start[c]; k < cov.start[c + 1]; ++k)
-        if (by.row_size(cov.samples[k]) > 0) {
-          cand_[c].word += packed(weight_[cov.samples[k]], 1);
-        }
+    for (size_t c = 0; c < n; ++c)  // every sample starts bare, of weight 1
+      cand_[c].word = packed(int64_t(cov.row_size(c)), int64_t(cov.row_size(c)));
   }
 
   void add(uint32_t c, uint64_t step) {
