@@ -558,6 +558,60 @@ TEST(Cover, BudgetsAreKeptAndDeltaIsMet) {
   EXPECT_LE(t.lower_bound, t.chosen.size());
 }
 
+// Median descent: from the same cover with spare budget, the vertices' median error (measured
+// apart, on the union of the chosen spheres) is lower than after the total-error swaps alone,
+// their largest error no higher, and every sample still within delta.
+TEST(Cover, MedianDescentLowersTheMedianNotTheMax) {
+  std::unique_ptr<MeshQuery> query;
+  const TriMesh mesh = make_car().rest;
+  const CoverProblem p = problem_of(mesh, 48, query);
+  const Coverage cov = coverage_at(p, 0.06 * mesh.diagonal());
+  const std::vector<int> start = smallest_cover(cov, kBudgetSearch, 0, nullptr);
+  const size_t budget = start.size() + 4;
+  auto stats = [&](const std::vector<int>& chosen) {
+    SphereSet spheres;
+    for (int c : chosen) spheres.push_back(p.spheres[0][size_t(c)]);
+    const std::vector<double> all = union_signed_distance(p.samples[0], spheres);
+    std::vector<double> vertices(all.begin(), all.begin() + long(p.weighted[0]));
+    const double largest_sample = *std::max_element(all.begin(), all.end());
+    const double largest = *std::max_element(vertices.begin(), vertices.end());
+    std::nth_element(vertices.begin(), vertices.begin() + long(vertices.size() / 2), vertices.end());
+    return std::array<double, 3>{vertices[vertices.size() / 2], largest, largest_sample};
+  };
+  std::vector<int> sum_only = start, descended = start;
+  improve_cover(p, cov, 0.06 * mesh.diagonal(), budget, sum_only);
+  improve_cover(p, cov, 0.06 * mesh.diagonal(), budget, descended, Log::silent(), true);
+  ASSERT_EQ(descended.size(), sum_only.size());
+  const auto before = stats(sum_only), after = stats(descended);
+  EXPECT_LT(after[0], 0.98 * before[0]) << "median " << before[0] << " -> " << after[0];
+  EXPECT_LE(after[1], before[1] * (1 + 1e-12)) << "the vertices' largest error rose";
+  EXPECT_LE(after[2], 0.06 * mesh.diagonal() * (1 + 1e-12)) << "a sample left delta";
+}
+
+// The refinement off the grid in budget mode (keep_max) moves centres without raising the
+// vertices' largest error, where the same refinement trading it for the total does raise it;
+// the spheres stay inside (their radii the exact distance).
+TEST(Cover, RefinementKeepsTheMaxWhenAsked) {
+  std::unique_ptr<MeshQuery> query;
+  const TriMesh mesh = make_car().rest;
+  const CoverProblem p = problem_of(mesh, 48, query);
+  const CoverResult r = cover_with_budget(p, 12);
+  SphereSet start;
+  for (int c : r.chosen) start.push_back(p.spheres[0][size_t(c)]);
+  auto largest = [&](const SphereSet& spheres) {
+    const std::vector<double> d = union_signed_distance(p.samples[0], spheres);
+    return *std::max_element(d.begin(), d.begin() + long(p.weighted[0]));
+  };
+  auto radius_at = [&](const Eigen::Vector3d& c) { return query->inside(c) ? query->distance(c) : 0.0; };
+  const double step = 0.01 * mesh.diagonal();
+  SphereSet kept = start, traded = start;
+  EXPECT_GT(refine_off_grid(p.samples[0], p.weighted[0], kept, radius_at, r.delta, step, Log::silent(), true), 0u);
+  refine_off_grid(p.samples[0], p.weighted[0], traded, radius_at, r.delta, step);
+  EXPECT_LE(largest(kept), largest(start) * (1 + 1e-12));
+  EXPECT_GT(largest(traded), largest(start)) << "this instance no longer tells the two apart";
+  for (const Sphere& s : kept) EXPECT_NEAR(s.radius, query->distance(s.center), 1e-12 * mesh.diagonal());
+}
+
 // sphere-pack's report says what an independent measurement of its spheres file finds, and
 // the budget is never exceeded.
 TEST(Cover, SpherePackReportsTheErrorItsFileHas) {

@@ -143,7 +143,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   best.least_max_delta = best.delta;
   if (slack > 0) {
     // A little more max error buys a lower median: the cover at the relaxed delta is smaller,
-    // and improve_cover spends the budget it leaves on the total error.
+    // and improve_cover spends the budget it leaves on the total error, then on the median.
     Coverage v = table->at(best.delta * (1 + slack));
     ++best.evaluations;
     std::vector<int> c = smallest_cover(v, kBudgetSearch, 0, nullptr);
@@ -154,7 +154,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
     }
   }
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
-  improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log);
+  improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log, true);
   best.lower_bound = lower_bound_of(best_cov, best.chosen.size());
   best.uncoverable = uncovered_samples(best_cov).size();
   log.detail("budget " + std::to_string(max_spheres) + ": delta " + num(best.delta) + " with " +

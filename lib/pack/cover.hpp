@@ -22,17 +22,21 @@ namespace spx {
 // of the gap to the nearest chosen sphere, which drives the median): spare budget (up to
 // `max_spheres`) goes to the candidates that cut the sum most, then each chosen sphere is
 // swapped for the candidate that keeps every sample within `delta` and cuts the sum most,
-// while any does. The max error never rises above `delta`.
+// while any does. The max error never rises above `delta`. `lower_median`: then swaps that
+// bring the most weighted samples within the median error (median descent), none raising the
+// weighted samples' largest error.
 void improve_cover(const CoverProblem& problem, const Coverage& coverage, double delta, size_t max_spheres,
-                   std::vector<int>& chosen, Log& log = Log::silent());
+                   std::vector<int>& chosen, Log& log = Log::silent(), bool lower_median = false);
 
 // Refinement off the voxel grid: each sphere's center moves by `step` (then step/2, step/4)
 // along the axes where that cuts the total error of the weighted samples (vertices), its radius
 // staying `radius_at(center)` (the exact distance: the sphere stays inside by construction),
-// and no sample leaving `delta`. One pose (the rest). Returns the moves made.
+// and no sample leaving `delta`; `keep_max` (budget mode, whose first aim is the max): nor any
+// weighted sample's error rising past their largest before. One pose (the rest). Returns the
+// moves made.
 size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
                        const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
-                       Log& log = Log::silent());
+                       Log& log = Log::silent(), bool keep_max = false);
 
 struct CoverResult {
   std::vector<int> chosen;     // candidate indices

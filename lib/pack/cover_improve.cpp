@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "mesh/union_distance.hpp"
 #include "pack/cover.hpp"
 #include "pack/sample_grid.hpp"
 
@@ -98,32 +99,13 @@ class CoverState {
   std::vector<int> first_, second_;
 };
 
-}  // namespace
 
-void improve_cover(const CoverProblem& problem, const Coverage& cov, double delta, size_t max_spheres,
-                   std::vector<int>& chosen, Log& log) {
-  if (chosen.empty()) return;
-  CoverState state(problem, cov, delta);
-  state.set(chosen);
-  const size_t candidates = cov.start.size() - 1;
-  // Spare budget: the candidate that cuts the total error most, while one does.
-  size_t added = 0;
-  while (chosen.size() < max_spheres) {
-    std::vector<double> cut(candidates, 0);
-    tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
-      if (state.chosen(int(c))) return;
-      double sum = 0;
-      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
-        sum += state.weight(cov.samples[n]) * std::max(0.0, state.error(cov.samples[n]) - state.gap(cov.samples[n], int(c)));
-      cut[c] = sum;
-    });
-    const size_t best = size_t(std::max_element(cut.begin(), cut.end()) - cut.begin());
-    if (!(cut[best] > 0)) break;
-    state.add(int(best));
-    chosen.push_back(int(best));
-    ++added;
-  }
-  // Swaps: a sphere for one that covers every sample only it covers, cutting the sum most.
+// Swaps: a sphere for one that covers every sample only it covers, cutting the summed cost of
+// the weighted samples' errors most, in rounds while any does; none takes a sample's error past
+// `limit`. Returns the swaps made.
+template <class Cost>
+size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::vector<int>& chosen, const Cost& cost,
+                   double limit = std::numeric_limits<double>::infinity()) {
   size_t swaps = 0;
   for (int round = 0; round < 4; ++round) {
     size_t this_round = 0;
@@ -151,15 +133,15 @@ void improve_cover(const CoverProblem& problem, const Coverage& cov, double delt
           const uint32_t s = cov.samples[n];
           if (state.first(s) != out) continue;
           const double g = state.gap(s, in);
-          sum += state.weight(s) *
-                 (std::min(state.error_without(s, out), g <= delta ? g : std::numeric_limits<double>::infinity()) -
-                  state.error(s));
+          const double after = std::min(state.error_without(s, out), g <= delta ? g : std::numeric_limits<double>::infinity());
+          if (after > limit) return;
+          sum += state.weight(s) * (cost(after) - cost(state.error(s)));
         }
         // Samples `in` brings closer (those whose nearest is `out` are counted above).
         for (uint32_t n = cov.start[size_t(in)]; n < cov.start[size_t(in) + 1]; ++n) {
           const uint32_t s = cov.samples[n];
           if (state.first(s) == out) continue;
-          sum += state.weight(s) * std::min(0.0, state.gap(s, in) - state.error(s));
+          sum += state.weight(s) * (cost(std::min(state.gap(s, in), state.error(s))) - cost(state.error(s)));
         }
         change[o] = sum;
       });
@@ -174,12 +156,84 @@ void improve_cover(const CoverProblem& problem, const Coverage& cov, double delt
     swaps += this_round;
     if (this_round == 0) break;
   }
-  log.detail("cover improved: " + std::to_string(added) + " spheres added, " + std::to_string(swaps) + " swaps");
+  return swaps;
 }
+
+// The weighted samples' median and largest error.
+std::pair<double, double> median_and_max(const CoverState& state, size_t samples) {
+  std::vector<double> errors;
+  for (uint32_t s = 0; s < samples; ++s)
+    if (state.weight(s) > 0) errors.push_back(state.error(s));
+  if (errors.empty()) return {0, 0};
+  const double largest = *std::max_element(errors.begin(), errors.end());
+  std::nth_element(errors.begin(), errors.begin() + long(errors.size() / 2), errors.end());
+  return {errors[errors.size() / 2], largest};
+}
+
+// Median descent: swaps that bring more weighted samples within the median error than they
+// take out of it (the summed error breaks ties), then again from the new median while it falls.
+// The sum the swaps before it lowered is a poor proxy for the median: a swap that lowers many
+// errors a little below the median and raises a few far above it counts as a loss there. No
+// weighted sample's error rises past the largest one's before. Returns the swaps made.
+size_t median_descent(CoverState& state, const Coverage& cov, double delta, std::vector<int>& chosen) {
+  auto [median, largest] = median_and_max(state, cov.sample_count);
+  const double tie = 1e-7 / delta;  // errors are at most 2 delta: under one sample for 5 million of them
+  size_t swaps = 0;
+  for (int pass = 0; pass < 20; ++pass) {
+    const double tau = median;
+    const size_t made = swap_rounds(
+        state, cov, delta, chosen, [&](double e) { return (e > tau ? 1.0 : 0.0) + tie * e; }, largest);
+    swaps += made;
+    const double now = median_and_max(state, cov.sample_count).first;
+    if (made == 0 || !(now < median)) break;
+    median = now;
+  }
+  return swaps;
+}
+
+}  // namespace
+
+void improve_cover(const CoverProblem& problem, const Coverage& cov, double delta, size_t max_spheres,
+                   std::vector<int>& chosen, Log& log, bool lower_median) {
+  if (chosen.empty()) return;
+  CoverState state(problem, cov, delta);
+  state.set(chosen);
+  const size_t candidates = cov.start.size() - 1;
+  // Spare budget: the candidate that cuts the total error most, while one does.
+  size_t added = 0;
+  while (chosen.size() < max_spheres) {
+    std::vector<double> cut(candidates, 0);
+    tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
+      if (state.chosen(int(c))) return;
+      double sum = 0;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+        sum += state.weight(cov.samples[n]) * std::max(0.0, state.error(cov.samples[n]) - state.gap(cov.samples[n], int(c)));
+      cut[c] = sum;
+    });
+    const size_t best = size_t(std::max_element(cut.begin(), cut.end()) - cut.begin());
+    if (!(cut[best] > 0)) break;
+    state.add(int(best));
+    chosen.push_back(int(best));
+    ++added;
+  }
+  size_t swaps = swap_rounds(state, cov, delta, chosen, [](double e) { return e; });
+  const size_t median_swaps = lower_median ? median_descent(state, cov, delta, chosen) : 0;
+  log.detail("cover improved: " + std::to_string(added) + " spheres added, " + std::to_string(swaps) + " swaps" +
+             (lower_median ? ", " + std::to_string(median_swaps) + " for the median" : ""));
+}
+
+namespace {
+// The first `count` samples' largest distance to the union of `spheres`.
+double largest_error(const std::vector<Eigen::Vector3d>& samples, size_t count, const SphereSet& spheres) {
+  const std::vector<double> d =
+      union_signed_distance({samples.begin(), samples.begin() + long(std::min(count, samples.size()))}, spheres);
+  return d.empty() ? 0 : *std::max_element(d.begin(), d.end());
+}
+}  // namespace
 
 size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
                        const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
-                       Log& log) {
+                       Log& log, bool keep_max) {
   if (spheres.empty() || samples.empty()) return 0;
   // Fixed cells: the moves' sums count every sample visited, those a little beyond reach too.
   const SampleGrid grid(samples, false);
@@ -206,6 +260,9 @@ size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weigh
     const int k = first[i] == int(j) ? second[i] : first[i];
     return k < 0 ? std::numeric_limits<double>::infinity() : gap(i, spheres[size_t(k)]);
   };
+  // What a move may raise a sample's error to: delta, or (keep_max) for the weighted samples
+  // their largest error before.
+  const double weighted_ceiling = keep_max ? largest_error(samples, weighted, spheres) : delta;
   size_t moves = 0;
   for (double s = step; s >= step / 4; s /= 2)
     for (int round = 0; round < 3; ++round) {
@@ -227,7 +284,7 @@ size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weigh
             if (!feasible) return;
             const double before = gap(i, spheres[size_t(first[i])]);
             const double after = std::min(error_without(i, j), gap(i, moved));
-            if (after > delta && after > before) feasible = false;
+            if (after > (i < weighted ? weighted_ceiling : delta) && after > before) feasible = false;
             if (i < weighted) change += after - before;
           };
           std::vector<uint32_t> seen;

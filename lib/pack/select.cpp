@@ -58,9 +58,11 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     // open mesh's radii also depend on the field across its holes: its centers stay put.)
     StageTimer t(log, "refine");
     const double max_radius = opt.pack.max_radius;
+    // Budget mode's first aim is the max: the refinement does not trade it for the total.
+    const bool budget = out.limited_by == Limit::budget || out.limited_by == Limit::budget_over_tolerance;
     refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres,
                    [&](const Eigen::Vector3d& c) { return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0; },
-                   out.cover.delta, 0.5 * field.shape.voxel_size, log);
+                   out.cover.delta, 0.5 * field.shape.voxel_size, log, budget);
   }
   // Largest first (what a host culls by), ties in candidate order.
   std::stable_sort(out.spheres.begin(), out.spheres.end(),
