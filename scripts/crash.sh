@@ -50,7 +50,8 @@ cars=$(cat "$out/cars.txt")
 for term in svg png; do
   gnuplot <<GP
 set terminal $([ $term = svg ] && echo "svg size 1500,700 dynamic" || echo "pngcairo size 1500,700")
-set output "$out/crash-error.$term"
+cd "$out"  # file names in the SVG's titles stay relative
+set output "crash-error.$term"
 set key off
 set grid
 set format y "%.4f"
@@ -59,24 +60,25 @@ do for [row=1:2] {
   do for [n in "$cols"] {
     set title sprintf("%s spheres per car: %s", n[11:], row == 1 ? "median" : "max")
     set xlabel "time (s)"; set ylabel "error (m)"
-    plot for [car=1:$cars] "$out/error-".n.".dat" u 1:(column(2*car + row - 1)) w l lw 1.2
+    plot for [car=1:$cars] "error-".n.".dat" u 1:(column(2*car + row - 1)) w l lw 1.2
   }
 }
 unset multiplot
 GP
   gnuplot <<GP
 set terminal $([ $term = svg ] && echo "svg size 760,500 dynamic" || echo "pngcairo size 760,500")
-set output "$out/crash-tradeoff.$term"
+cd "$out"
+set output "crash-tradeoff.$term"
 set grid
 set key top left
 set xlabel "median vertex-to-union error over the crash (m)"; set ylabel "speedup over the triangle mesh (x)"
 set title "Speed against accuracy: sphere proxies vs 1536-triangle GImpact meshes"
 set offsets 0.004, 0.006, 3, 3
 set yrange [0:*]
-plot "$out/tradeoff-sphereset.dat" u 3:2 w lp pt 7 t "sphere-set narrow phase", \
-     "$out/tradeoff-compound.dat" u 3:2 w lp pt 5 dt 2 t "Bullet compound", \
-     "$out/tradeoff-sphereset.dat" u 3:2:(sprintf("%d", \$1)) w labels offset 0,1 notitle, \
-     "$out/tradeoff-compound.dat" u 3:2:(sprintf("%d", \$1)) w labels offset 0,-1 notitle
+plot "tradeoff-sphereset.dat" u 3:2 w lp pt 7 t "sphere-set narrow phase", \
+     "tradeoff-compound.dat" u 3:2 w lp pt 5 dt 2 t "Bullet compound", \
+     "tradeoff-sphereset.dat" u 3:2:(sprintf("%d", \$1)) w labels offset 0,1 notitle, \
+     "tradeoff-compound.dat" u 3:2:(sprintf("%d", \$1)) w labels offset 0,-1 notitle
 GP
 done
 echo "charts: $out/crash-error.svg $out/crash-tradeoff.svg (and .png)"
