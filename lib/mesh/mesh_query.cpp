@@ -22,9 +22,10 @@ using Primitive = CGAL::AABB_triangle_primitive<K, Iterator>;
 // CGAL's traits with a cheaper leaf test. The tree's closest-point search asks each leaf
 // triangle for its projection of the query and keeps it when nearer than the best so far; most
 // leaves it visits are farther. Those are told by the triangle's box or else by the closed-form
-// closest point (Ericson), in squares, in a few dozen flops, and only a triangle that may be nearer (within a margin far above either
-// computation's rounding) is projected by CGAL's own construction. So the search returns what
-// CGAL's traits return, bit for bit, in a fraction of the time.
+// closest point (Ericson), in squares, in a few dozen flops, and only a triangle that may be
+// nearer (within a margin far above either computation's rounding) is projected by CGAL's own
+// construction. So the search returns what CGAL's traits return, bit for bit, in a fraction of
+// the time.
 class Traits : public CGAL::AABB_traits<K, Primitive> {
  public:
   class Closest_point {

@@ -99,7 +99,6 @@ class CoverState {
   std::vector<int> first_, second_;
 };
 
-
 // Swaps: a sphere for one that covers every sample only it covers, cutting the summed cost of
 // the weighted samples' errors most, in rounds while any does; none takes a sample's error past
 // `limit`. Returns the swaps made.
@@ -157,6 +156,13 @@ size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::ve
     if (this_round == 0) break;
   }
   return swaps;
+}
+
+// The first `count` samples' largest distance to the union of `spheres`.
+double largest_error(const std::vector<Eigen::Vector3d>& samples, size_t count, const SphereSet& spheres) {
+  const std::vector<double> d =
+      union_signed_distance({samples.begin(), samples.begin() + long(std::min(count, samples.size()))}, spheres);
+  return d.empty() ? 0 : *std::max_element(d.begin(), d.end());
 }
 
 // The weighted samples' median and largest error.
@@ -221,15 +227,6 @@ void improve_cover(const CoverProblem& problem, const Coverage& cov, double delt
   log.detail("cover improved: " + std::to_string(added) + " spheres added, " + std::to_string(swaps) + " swaps" +
              (lower_median ? ", " + std::to_string(median_swaps) + " for the median" : ""));
 }
-
-namespace {
-// The first `count` samples' largest distance to the union of `spheres`.
-double largest_error(const std::vector<Eigen::Vector3d>& samples, size_t count, const SphereSet& spheres) {
-  const std::vector<double> d =
-      union_signed_distance({samples.begin(), samples.begin() + long(std::min(count, samples.size()))}, spheres);
-  return d.empty() ? 0 : *std::max_element(d.begin(), d.end());
-}
-}  // namespace
 
 size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
                        const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
