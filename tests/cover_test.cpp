@@ -612,6 +612,36 @@ TEST(Cover, RefinementKeepsTheMaxWhenAsked) {
   for (const Sphere& s : kept) EXPECT_NEAR(s.radius, query->distance(s.center), 1e-12 * mesh.diagonal());
 }
 
+// The least gap of every sample (the grid search by radius class) is the scan's minimum to the
+// bit, over two poses, with spheres of radius 0 (absent) and samples far outside every sphere.
+TEST(Cover, LeastGapsMatchAScanOfEveryCandidate) {
+  std::unique_ptr<MeshQuery> query;
+  const TriMesh mesh = make_barrel().rest;
+  CoverProblem p = problem_of(mesh, 48, query);
+  std::mt19937 rng(3);
+  SphereSet moved = p.spheres[0];
+  for (size_t i = 0; i < moved.size(); ++i) {
+    moved[i].center += 0.05 * mesh.diagonal() * Eigen::Vector3d::Random();
+    if (rng() % 7 == 0) moved[i].radius = 0;
+  }
+  p.spheres.push_back(moved);
+  std::vector<Eigen::Vector3d> far = p.samples[0];
+  for (auto& q : far) q = 3 * q + mesh.diagonal() * Eigen::Vector3d::Random();
+  p.samples.push_back(far);
+  p.weighted.push_back(0);
+  const std::vector<double> gaps = least_gaps(p);
+  ASSERT_EQ(gaps.size(), p.sample_count());
+  size_t n = 0;
+  for (size_t k = 0; k < p.samples.size(); ++k)
+    for (const Eigen::Vector3d& q : p.samples[k]) {
+      double scan = std::numeric_limits<double>::infinity();
+      for (const Sphere& s : p.spheres[k])
+        if (s.radius > 0) scan = std::min(scan, (q - s.center).norm() - s.radius);
+      ASSERT_EQ(gaps[n], scan) << "pose " << k << " sample " << n;
+      ++n;
+    }
+}
+
 // sphere-pack's report says what an independent measurement of its spheres file finds, and
 // the budget is never exceeded.
 TEST(Cover, SpherePackReportsTheErrorItsFileHas) {
