@@ -301,18 +301,34 @@ class LeastGapSearch {
   double margin_ = 0;  // far above the sums' rounding
 };
 
+constexpr size_t kScannedBelow = 64;  // samples of one pose
+
 }  // namespace
 
 std::vector<double> least_gaps_of(const CoverProblem& problem, const std::vector<uint32_t>& samples) {
   std::vector<uint32_t> pose_start(1, 0);
   for (const auto& points : problem.samples) pose_start.push_back(pose_start.back() + uint32_t(points.size()));
+  auto pose_of = [&](uint32_t sample) {
+    return size_t(std::upper_bound(pose_start.begin(), pose_start.end(), sample) - pose_start.begin()) - 1;
+  };
+  // A pose asked for a few samples is scanned: its grids would cost more than the scan.
+  std::vector<size_t> asked(problem.spheres.size(), 0);
+  for (uint32_t s : samples) ++asked[pose_of(s)];
   std::vector<std::unique_ptr<LeastGapSearch>> search(problem.spheres.size());
-  tbb::parallel_for(size_t(0), search.size(), [&](size_t k) { search[k] = std::make_unique<LeastGapSearch>(problem.spheres[k]); });
+  tbb::parallel_for(size_t(0), search.size(), [&](size_t k) {
+    if (asked[k] >= kScannedBelow) search[k] = std::make_unique<LeastGapSearch>(problem.spheres[k]);
+  });
   std::vector<double> gaps(samples.size(), std::numeric_limits<double>::infinity());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, samples.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      const size_t k = size_t(std::upper_bound(pose_start.begin(), pose_start.end(), samples[i]) - pose_start.begin()) - 1;
-      gaps[i] = search[k]->least_gap(problem.samples[k][samples[i] - pose_start[k]]);
+      const size_t k = pose_of(samples[i]);
+      const Eigen::Vector3d& p = problem.samples[k][samples[i] - pose_start[k]];
+      if (search[k]) {
+        gaps[i] = search[k]->least_gap(p);
+        continue;
+      }
+      for (const Sphere& s : problem.spheres[k])
+        if (s.radius > 0) gaps[i] = std::min(gaps[i], (p - s.center).norm() - s.radius);
     }
   });
   return gaps;
