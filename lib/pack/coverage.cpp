@@ -276,16 +276,17 @@ class LeastGapSearch {
     };
     // Smallest radii first, each class within twice its radius (a sample's own tangent ball is
     // there); then again, farther, where the best gap found allows a nearer one beyond that.
-    std::vector<char> again(classes_.size(), 0);
+    const double slack = margin_ * (1 + p.lpNorm<Eigen::Infinity>());
+    uint64_t again = 0;  // one bit per class (at most 61)
     for (size_t k = classes_.size(); k-- > 0;) {
       const Class& c = classes_[k];
       if (c.members.empty()) continue;
-      const double needed = best + c.largest + margin_ * (1 + p.lpNorm<Eigen::Infinity>());
+      const double needed = best + c.largest + slack;
       ask(c, std::min(needed, 2 * c.largest));
-      again[k] = !(needed <= 2 * c.largest);
+      if (!(needed <= 2 * c.largest)) again |= uint64_t(1) << k;
     }
     for (size_t k = 0; k < classes_.size(); ++k)
-      if (again[k]) ask(classes_[k], best + classes_[k].largest + margin_ * (1 + p.lpNorm<Eigen::Infinity>()));
+      if (again >> k & 1) ask(classes_[k], best + classes_[k].largest + slack);
     return best;
   }
 
