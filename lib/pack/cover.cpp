@@ -71,14 +71,15 @@ const char* limit_wording(Limit limit) {
   return "";
 }
 
-CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, Limit& limited_by, Log& log) {
+CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, Limit& limited_by, Log& log,
+                      double budget_slack) {
   CoverResult cover;
   if (target > 0) {
     cover = cover_within(problem, target, kToleranceSearch, log);
     limited_by = cover.uncoverable > 0 ? Limit::resolution : Limit::tolerance;
   }
   if (budget > 0 && (!(target > 0) || cover.chosen.size() > budget)) {
-    cover = cover_with_budget(problem, budget, kBudgetSlack, 1e-2, log);
+    cover = cover_with_budget(problem, budget, budget_slack, 1e-2, log);
     limited_by = target > 0 ? Limit::budget_over_tolerance : Limit::budget;
   }
   return cover;

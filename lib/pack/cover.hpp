@@ -64,17 +64,22 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
 enum class Limit { tolerance, default_tolerance, resolution, reach, budget, budget_over_tolerance };
 const char* limit_wording(Limit limit);
 
+// Budget mode's relaxation (cover_with_budget's slack, below).
+constexpr double kBudgetSlack = 0.1;
+// ... where the centres are then refined off the grid (sphere-pack): its median moves make up
+// most of what the tighter relaxation costs the median, and its max descent starts lower.
+constexpr double kRefinedBudgetSlack = 0.06;
+
 // Both modes as the tools combine them: the fewest spheres within `target` (when > 0), unless
 // that exceeds `budget` (when > 0), then the least error for the budget. `limited_by` says
-// which decided (the tolerance, the field's resolution or the budget).
+// which decided (the tolerance, the field's resolution or the budget). `budget_slack`: the
+// relaxation of budget mode.
 CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, Limit& limited_by,
-                      Log& log = Log::silent());
+                      Log& log = Log::silent(), double budget_slack = kBudgetSlack);
 
 // Budget mode: the smallest delta (to a relative `precision`) whose cover has at most
 // `max_spheres` candidates; then the cover at (1 + slack) times it, improved with the budget
-// that leaves (a little more max error for a lower median). 0.06: with the refinement's median
-// moves the medians at 0.06 are about those at 0.1 before them, at lower max errors.
-constexpr double kBudgetSlack = 0.06;
+// that leaves (a little more max error for a lower median).
 CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack = kBudgetSlack,
                               double precision = 1e-2, Log& log = Log::silent());
 

@@ -36,7 +36,9 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   {
     StageTimer t(log, "cover");
     out.target = opt.tolerance;
-    out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log);
+    // Budget mode: the refinement below follows (unless the field bounds the radii).
+    const double slack = opt.pack.field_bounds_radius ? kBudgetSlack : kRefinedBudgetSlack;
+    out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log, slack);
   }
   // Where a sample's own candidate reaches it, the tolerance does not wait on the field (but
   // across an open mesh's holes every radius is the field's bound, which a finer field raises).
