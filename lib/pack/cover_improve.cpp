@@ -224,7 +224,8 @@ void improve_cover(const CoverProblem& problem, const Coverage& cov, double delt
 namespace {
 
 // The refinement's state: each sample's nearest and second-nearest sphere, and moves of one
-// centre along the axes that cut a cost summed over the weighted samples' errors.
+// centre along `directions` (the first of direction()'s) that cut a cost summed over the
+// weighted samples' errors.
 class OffGrid {
  public:
   OffGrid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
