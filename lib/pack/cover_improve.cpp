@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
-#include "mesh/union_distance.hpp"
 #include "pack/cover.hpp"
 #include "pack/sample_grid.hpp"
 
@@ -158,15 +158,39 @@ size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::ve
   return swaps;
 }
 
+// The median and largest of these errors (0 and 0 for none).
+std::pair<double, double> median_and_max_of(std::vector<double> errors) {
+  if (errors.empty()) return {0, 0};
+  const double largest = *std::max_element(errors.begin(), errors.end());
+  std::nth_element(errors.begin(), errors.begin() + long(errors.size() / 2), errors.end());
+  return {errors[errors.size() / 2], largest};
+}
+
 // The weighted samples' median and largest error.
 std::pair<double, double> median_and_max(const CoverState& state, size_t samples) {
   std::vector<double> errors;
   for (uint32_t s = 0; s < samples; ++s)
     if (state.weight(s) > 0) errors.push_back(state.error(s));
-  if (errors.empty()) return {0, 0};
-  const double largest = *std::max_element(errors.begin(), errors.end());
-  std::nth_element(errors.begin(), errors.begin() + long(errors.size() / 2), errors.end());
-  return {errors[errors.size() / 2], largest};
+  return median_and_max_of(std::move(errors));
+}
+
+// Passes for the median, by swaps or by moves alike: each pass(cost) lowers a cost counting the
+// errors above the median it starts from (the summed error breaks ties) and returns the changes
+// made; again from the new median (median_now()) while it falls, at most `passes` times.
+// Returns the changes made.
+template <class Pass, class Median>
+size_t descend_median(double median, double delta, int passes, const Pass& pass, const Median& median_now) {
+  const double tie = 1e-7 / delta;  // errors are at most 2 delta: under one sample for 5 million of them
+  size_t changes = 0;
+  for (int n = 0; n < passes; ++n) {
+    const double tau = median;
+    const size_t made = pass([&](double e) { return (e > tau ? 1.0 : 0.0) + tie * e; });
+    changes += made;
+    const double now = median_now();
+    if (made == 0 || !(now < median)) break;
+    median = now;
+  }
+  return changes;
 }
 
 // Median descent: swaps that bring more weighted samples within the median error than they
@@ -175,19 +199,11 @@ std::pair<double, double> median_and_max(const CoverState& state, size_t samples
 // errors a little below the median and raises a few far above it counts as a loss there. No
 // weighted sample's error rises past the largest one's before. Returns the swaps made.
 size_t median_descent(CoverState& state, const Coverage& cov, double delta, std::vector<int>& chosen) {
-  auto [median, largest] = median_and_max(state, cov.sample_count);
-  const double tie = 1e-7 / delta;  // errors are at most 2 delta: under one sample for 5 million of them
-  size_t swaps = 0;
-  for (int pass = 0; pass < 20; ++pass) {
-    const double tau = median;
-    const size_t made = swap_rounds(
-        state, cov, delta, chosen, [&](double e) { return (e > tau ? 1.0 : 0.0) + tie * e; }, largest);
-    swaps += made;
-    const double now = median_and_max(state, cov.sample_count).first;
-    if (made == 0 || !(now < median)) break;
-    median = now;
-  }
-  return swaps;
+  const auto [median, largest] = median_and_max(state, cov.sample_count);
+  return descend_median(
+      median, delta, 20,
+      [&](const auto& cost) { return swap_rounds(state, cov, delta, chosen, cost, largest); },
+      [&] { return median_and_max(state, cov.sample_count).first; });
 }
 
 }  // namespace
@@ -246,10 +262,7 @@ class OffGrid {
   std::pair<double, double> median_and_max() const {
     std::vector<double> e(std::min(weighted_, samples_.size()));
     for (size_t i = 0; i < e.size(); ++i) e[i] = gap(i, spheres_[size_t(first_[i])]);
-    if (e.empty()) return {0, 0};
-    const double largest = *std::max_element(e.begin(), e.end());
-    std::nth_element(e.begin(), e.begin() + long(e.size() / 2), e.end());
-    return {e[e.size() / 2], largest};
+    return median_and_max_of(std::move(e));
   }
 
   // Rounds of moves by `step` (then halved down to `last`), each the one of the directions that
@@ -306,19 +319,26 @@ class OffGrid {
     const int k = first_[i] == int(j) ? second_[i] : first_[i];
     return k < 0 ? std::numeric_limits<double>::infinity() : gap(i, spheres_[size_t(k)]);
   }
-  // Samples whose error can change when sphere `a` becomes `b`: near either.
-  std::vector<uint32_t> near_either(const Sphere& a, const Sphere& b) const {
+  // Samples whose error can change with sphere `s` (near it), ascending.
+  std::vector<uint32_t> near(const Sphere& s) const {
     std::vector<uint32_t> seen;
-    grid_.near(a.center, a.radius + delta_, [&](uint32_t i) { seen.push_back(i); });
-    grid_.near(b.center, b.radius + delta_, [&](uint32_t i) { seen.push_back(i); });
+    grid_.near(s.center, s.radius + delta_, [&](uint32_t i) { seen.push_back(i); });
     std::sort(seen.begin(), seen.end());
-    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
     return seen;
+  }
+  // Those when a sphere whose samples are `around` (near()'s) becomes `b`: near either.
+  std::vector<uint32_t> near_either(const std::vector<uint32_t>& around, const Sphere& b) const {
+    const std::vector<uint32_t> there = near(b);
+    std::vector<uint32_t> out;
+    out.reserve(around.size() + there.size());
+    std::set_union(around.begin(), around.end(), there.begin(), there.end(), std::back_inserter(out));
+    return out;
   }
 
   template <class Cost>
   bool move_one(size_t j, double s, double ceiling, const Cost& cost) {
     const Sphere old = spheres_[j];
+    const std::vector<uint32_t> around = near(old);  // the same for every direction
     std::vector<Sphere> moved(size_t(directions_), old);
     std::vector<double> change(size_t(directions_), std::numeric_limits<double>::infinity());
     // The directions side by side: each sum is its own, the best taken in order below.
@@ -328,7 +348,7 @@ class OffGrid {
       if (!(r > 0)) return;
       moved[size_t(d)] = {c, r};
       double sum = 0;
-      for (uint32_t i : near_either(old, moved[size_t(d)])) {
+      for (uint32_t i : near_either(around, moved[size_t(d)])) {
         const double before = gap(i, spheres_[size_t(first_[i])]);
         const double after = std::min(error_without(i, j), gap(i, moved[size_t(d)]));
         if (after > (i < weighted_ ? ceiling : delta_) && after > before) return;
@@ -345,7 +365,7 @@ class OffGrid {
       }
     if (best < 0) return false;
     spheres_[j] = moved[size_t(best)];
-    for (uint32_t i : near_either(old, spheres_[j])) rank(i);
+    for (uint32_t i : near_either(around, spheres_[j])) rank(i);
     return true;
   }
 
@@ -401,20 +421,12 @@ size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weigh
       step, step / 8, top, [&](double e) { return std::pow(std::max(e, 0.0) / top, kMaxPower); });
   // Then the total and the median (as median_descent does with the candidates), neither raising
   // a weighted sample's error past the largest now.
-  auto [median, ceiling] = state.median_and_max();
+  const double ceiling = state.median_and_max().second;
   const size_t for_total = state.move_rounds(step, step / 4, ceiling, [](double e) { return e; });
-  median = state.median_and_max().first;
-  const double tie = 1e-7 / delta;
-  size_t for_median = 0;
-  for (int pass = 0; pass < kMedianPasses; ++pass) {
-    const double tau = median;
-    const size_t made =
-        state.move_rounds(step, step / 8, ceiling, [&](double e) { return (e > tau ? 1.0 : 0.0) + tie * e; });
-    for_median += made;
-    const double now = state.median_and_max().first;
-    if (made == 0 || !(now < median)) break;
-    median = now;
-  }
+  const size_t for_median = descend_median(
+      state.median_and_max().first, delta, kMedianPasses,
+      [&](const auto& cost) { return state.move_rounds(step, step / 8, ceiling, cost); },
+      [&] { return state.median_and_max().first; });
   log.detail("refined centers: " + std::to_string(for_max) + " moves for the max, " + std::to_string(for_total) +
              " for the total, " + std::to_string(for_median) + " for the median");
   return for_max + for_total + for_median;

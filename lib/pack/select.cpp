@@ -33,11 +33,12 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
   out.candidates = candidates.size();
   out.samples = problem.sample_count();
+  // The centres are refined off the grid after the cover (below), unless the field bounds the radii.
+  const bool refined = !opt.pack.field_bounds_radius;
   {
     StageTimer t(log, "cover");
     out.target = opt.tolerance;
-    // Budget mode: the refinement below follows (unless the field bounds the radii).
-    const double slack = opt.pack.field_bounds_radius ? kBudgetSlack : kRefinedBudgetSlack;
+    const double slack = refined ? kRefinedBudgetSlack : kBudgetSlack;
     out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log, slack);
   }
   // Where a sample's own candidate reaches it, the tolerance does not wait on the field (but
@@ -55,7 +56,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     out.pool.push_back(candidates[size_t(c)]);
   }
   out.offered = std::move(problem.spheres[0]);  // the cover is done with them
-  if (!opt.pack.field_bounds_radius) {
+  if (refined) {
     // Off the voxel grid: the radius stays the exact distance, so spheres stay inside. (An
     // open mesh's radii also depend on the field across its holes: its centers stay put.)
     StageTimer t(log, "refine");
