@@ -63,7 +63,7 @@ json with_candidates(json row, const CoverSelection& r, double diag) {
 }
 
 json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, const std::vector<size_t>& budgets,
-                const std::vector<double>& tolerances, bool tangent, Log& log) {
+                const std::vector<double>& tolerances, bool tangent, uint64_t seed, Log& log) {
   SdfOptions o;
   o.resolution = resolution;
   const SdfResult sdf = build_sdf(mesh, o);
@@ -76,6 +76,7 @@ json bench_mesh(const std::string& name, const TriMesh& mesh, int resolution, co
     opt.pack.max_spheres = budget;
     opt.pack.field_bounds_radius = sdf.stats.bounded_by_holes;
     opt.tangent_candidates = tangent;
+    opt.seed = seed;
     if (tolerance_pct > 0) opt.tolerance = tolerance_pct / 100 * diag;
     return select_by_cover(sdf.field, query, opt);
   };
@@ -122,12 +123,15 @@ int main(int argc, char** argv) {
   std::vector<double> tolerances = {1, 2, 5};
   std::vector<std::string> only;
   bool voxels_only = false;
+  uint64_t seed = SpherePackOptions{}.seed;
   tool.app.add_option("--data", data, "The shared data folder");
   tool.app.add_option("--json", out, "Write the results here")->required();
   tool.app.add_option("--resolution", resolution, "Field cells along the longest side")->capture_default_str();
   tool.app.add_option("--budgets", budgets, "Sphere budgets")->capture_default_str();
   tool.app.add_option("--tolerances", tolerances, "Tolerances in % of the diagonal")->capture_default_str();
   tool.app.add_option("--mesh", only, "Only these meshes (bunny, knight, fertility, elephant, armadillo, car, cube)");
+  tool.app.add_option("--seed", seed, "Cover: the surface samples' draw (sphere-pack --seed); the cells' spread over draws")
+      ->capture_default_str();
   tool.app.add_flag("--voxel-candidates-only", voxels_only, "The cover without the candidates tangent at the samples");
   return tool.run(argc, argv, [&] {
     struct Case { std::string name, path; };
@@ -139,11 +143,12 @@ int main(int argc, char** argv) {
     for (const Case& c : cases) {
       if (!only.empty() && std::find(only.begin(), only.end(), c.name) == only.end()) continue;
       const TriMesh mesh = c.path.empty() ? make_car().rest : load_mesh(data + "/" + c.path).mesh;
-      meshes.push_back(bench_mesh(c.name, mesh, resolution, budgets, tolerances, !voxels_only, tool.log));
+      meshes.push_back(bench_mesh(c.name, mesh, resolution, budgets, tolerances, !voxels_only, seed, tool.log));
       tool.log.info(c.name + " done");
     }
     write_json_atomic(out, {{"generator", std::string("frontier-bench (spx) ") + version_string()},
                             {"resolution", resolution},
+                            {"seed", seed},
                             {"meshes", meshes}});
   });
 }
