@@ -620,6 +620,74 @@ TEST(Cover, RefinementLowersTheMaxWhenAsked) {
   for (const Sphere& s : kept) EXPECT_NEAR(s.radius, query->distance(s.center), 1e-12 * mesh.diagonal());
 }
 
+// The refinement over two poses at once (pose-map's joint selection): the car and the car
+// sheared, scaled unevenly and moved, each sphere's radius the exact distance in its pose. Moving
+// the rest centres lowers the largest vertex error over both poses and the median, no area
+// sample leaves delta, every pose's sphere is what spheres_at makes of its centre, and every
+// sphere stays inside its pose (brute-force distances to the union, exact distances to the mesh).
+TEST(Cover, JointRefinementLowersTheMaxOverEveryPose) {
+  std::unique_ptr<MeshQuery> rest_query;
+  const TriMesh rest = make_car().rest;
+  const CoverProblem p = problem_of(rest, 48, rest_query);
+  Eigen::Matrix3d a;
+  a << 1.1, 0.2, 0.0, 0.0, 0.8, 0.1, 0.05, 0.0, 1.3;
+  const Eigen::Vector3d b(0.4, -0.2, 0.7);
+  TriMesh posed = rest;
+  for (auto& v : posed.vertices) v = a * v + b;
+  const MeshQuery posed_query(posed);
+  const std::vector<const MeshQuery*> queries{rest_query.get(), &posed_query};
+  const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) {
+    out = {{c, 0}, {a * c + b, 0}};
+    for (size_t k = 0; k < 2; ++k) {
+      if (!queries[k]->inside(out[k].center)) return false;
+      out[k].radius = queries[k]->distance(out[k].center);
+    }
+    return true;
+  };
+  const std::vector<std::vector<Eigen::Vector3d>> samples{p.samples[0], surface_samples(posed, 700, 2)};
+  const std::vector<size_t> weighted{rest.vertices.size(), posed.vertices.size()};
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<SphereSet> spheres(2);
+  for (int c : cover_with_budget(p, 12).chosen) {
+    std::vector<Sphere> in;
+    if (!at(p.spheres[0][size_t(c)].center, in)) continue;
+    centers.push_back(p.spheres[0][size_t(c)].center);
+    for (size_t k = 0; k < 2; ++k) spheres[k].push_back(in[k]);
+  }
+  // Every vertex's error over both poses, and the largest of any sample's.
+  auto errors = [&](const std::vector<SphereSet>& s, double& largest_sample) {
+    std::vector<double> vertices;
+    largest_sample = 0;
+    for (size_t k = 0; k < 2; ++k) {
+      const std::vector<double> d = union_signed_distance(samples[k], s[k]);
+      vertices.insert(vertices.end(), d.begin(), d.begin() + long(weighted[k]));
+      largest_sample = std::max(largest_sample, *std::max_element(d.begin(), d.end()));
+    }
+    std::sort(vertices.begin(), vertices.end());
+    return vertices;
+  };
+  double delta = 0;
+  const std::vector<double> before = errors(spheres, delta);
+  std::vector<SphereSet> refined = spheres;
+  const double step = 0.01 * rest.diagonal();
+  EXPECT_GT(refine_jointly(samples, weighted, centers, refined, at, delta, step, Log::silent(), true), 0u);
+  double largest_sample = 0;
+  const std::vector<double> after = errors(refined, largest_sample);
+  EXPECT_LT(after.back(), 0.98 * before.back()) << before.back() << " -> " << after.back();
+  EXPECT_LT(after[after.size() / 2], before[before.size() / 2]);
+  EXPECT_LE(largest_sample, delta * (1 + 1e-12)) << "a sample left delta";
+  for (size_t j = 0; j < centers.size(); ++j) {
+    std::vector<Sphere> in;
+    ASSERT_TRUE(at(centers[j], in));
+    for (size_t k = 0; k < 2; ++k) {
+      EXPECT_EQ(refined[k][j].center, in[k].center) << "sphere " << j << " pose " << k;
+      EXPECT_EQ(refined[k][j].radius, in[k].radius) << "sphere " << j << " pose " << k;
+      EXPECT_TRUE(queries[k]->inside(refined[k][j].center));
+      EXPECT_LE(refined[k][j].radius, queries[k]->distance(refined[k][j].center));
+    }
+  }
+}
+
 // The least gap of every sample (the grid search by radius class) is the scan's minimum to the
 // bit, over two poses, with spheres of radius 0 (absent) and samples far outside every sphere.
 TEST(Cover, LeastGapsMatchAScanOfEveryCandidate) {

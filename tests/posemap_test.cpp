@@ -482,9 +482,26 @@ void expect_joint_selection(const TriMesh& rest, const std::vector<PoseInput>& p
   EXPECT_LE(r.summary.selection->cover.lower_bound, n) << what;
   EXPECT_LE(double(n), 1.5 * double(alone.spheres.size())) << what << ": " << n << " jointly, " << alone.spheres.size()
                                                           << " for the rest alone";
+  // A budget: at most that many spheres, each inside every pose, and the chosen centres moved
+  // off the candidates until every pose's largest vertex error is below the least delta any
+  // cover of the candidates fits the budget at.
   PoseMapOptions budget;
   budget.max_spheres = 40;
-  EXPECT_LE(pose_map(rest, what, poses, file, budget).proxy.sphere_count(), 40u) << what;
+  const PoseMapResult b = pose_map(rest, what, poses, file, budget);
+  EXPECT_LE(b.proxy.sphere_count(), 40u) << what;
+  ASSERT_TRUE(b.summary.selection.has_value()) << what;
+  EXPECT_GT(b.summary.selection->refined_moves, 0u) << what;
+  for (size_t i = 0; i < b.proxy.poses.size(); ++i) {
+    const TriMesh& mesh = i == 0 ? rest : poses[i - 1].mesh;
+    const MeshQuery q(mesh);
+    EXPECT_LT(vertex_error(mesh, b.proxy.poses[i].spheres).max, b.summary.selection->cover.least_max_delta)
+        << what << " pose " << i;
+    for (const Sphere& s : b.proxy.poses[i].spheres) {
+      ASSERT_GT(s.radius, 0) << what << " pose " << i;
+      EXPECT_TRUE(q.inside(s.center)) << what << " pose " << i;
+      EXPECT_LE(s.radius, q.distance(s.center) + 1e-9) << what << " pose " << i;
+    }
+  }
 }
 
 TEST(PoseMap, JointSelectionOnTheCarSample) {

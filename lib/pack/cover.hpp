@@ -39,6 +39,19 @@ size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weigh
                        const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
                        Log& log = Log::silent(), bool keep_max = false);
 
+// The spheres a rest centre becomes in each pose, the rest's first, each radius by its pose's
+// rule (inside by construction); false refuses the centre (a radius 0 in some pose).
+using PoseSpheresAt = std::function<bool(const Eigen::Vector3d& rest_center, std::vector<Sphere>& in_poses)>;
+
+// The same refinement over several poses at once (pose-map's joint selection): a move of a rest
+// centre moves its sphere in every pose (`spheres_at`), and the errors summed are every pose's
+// weighted samples' (`samples[p]`, the first `weighted[p]` of them). `centers`: the rest
+// centres; `spheres`: per pose, the spheres they make there (updated with them).
+size_t refine_jointly(const std::vector<std::vector<Eigen::Vector3d>>& samples, const std::vector<size_t>& weighted,
+                      std::vector<Eigen::Vector3d>& centers, std::vector<SphereSet>& spheres,
+                      const PoseSpheresAt& spheres_at, double delta, double step, Log& log = Log::silent(),
+                      bool keep_max = false);
+
 struct CoverResult {
   std::vector<int> chosen;     // candidate indices
   double delta = 0;            // the coverage distance the cover meets

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <limits>
 
 #include "pack/cover.hpp"
@@ -239,29 +238,35 @@ void improve_cover(const CoverProblem& problem, const Coverage& cov, double delt
 
 namespace {
 
-// The refinement's state: each sample's nearest and second-nearest sphere, and moves of one
-// centre along `directions` (the first of direction()'s) that cut a cost summed over the
-// weighted samples' errors.
+// The refinement's state over one pose or several: each sample's nearest and second-nearest
+// sphere in its own pose, and moves of one sphere's rest centre along `directions` (the first of
+// direction()'s) that cut a cost summed over the weighted samples' errors. A sphere is its rest
+// centre and what spheres_at makes of it in every pose; samples are stacked pose after pose.
 class OffGrid {
  public:
-  OffGrid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
-          const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, int directions)
-      : directions_(directions),
-        samples_(samples),
-        weighted_(weighted),
-        spheres_(spheres),
-        radius_at_(radius_at),
-        delta_(delta),
-        grid_(samples, false),  // fixed cells: the moves' sums count every sample visited
-        first_(samples.size(), -1),
-        second_(samples.size(), -1) {
-    tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) { rank(i); });
+  OffGrid(const std::vector<std::vector<Eigen::Vector3d>>& samples, const std::vector<size_t>& weighted,
+          std::vector<Eigen::Vector3d>& centers, std::vector<SphereSet>& spheres, const PoseSpheresAt& spheres_at,
+          double delta, int directions)
+      : directions_(directions), centers_(centers), spheres_(spheres), spheres_at_(spheres_at), delta_(delta) {
+    for (size_t p = 0; p < samples.size(); ++p) {
+      first_of_.push_back(uint32_t(points_.size()));
+      grids_.emplace_back(samples[p], false);  // fixed cells: the moves' sums count every sample visited
+      for (size_t i = 0; i < samples[p].size(); ++i) {
+        points_.push_back(samples[p][i]);
+        pose_.push_back(uint32_t(p));
+        weighted_.push_back(i < weighted[p]);
+      }
+    }
+    first_.assign(points_.size(), -1);
+    second_.assign(points_.size(), -1);
+    tbb::parallel_for(size_t(0), points_.size(), [&](size_t i) { rank(i); });
   }
 
   // The weighted samples' median and largest error.
   std::pair<double, double> median_and_max() const {
-    std::vector<double> e(std::min(weighted_, samples_.size()));
-    for (size_t i = 0; i < e.size(); ++i) e[i] = gap(i, spheres_[size_t(first_[i])]);
+    std::vector<double> e;
+    for (size_t i = 0; i < points_.size(); ++i)
+      if (weighted_[i]) e.push_back(gap(i, sphere(size_t(first_[i]), i)));
     return median_and_max_of(std::move(e));
   }
 
@@ -270,26 +275,30 @@ class OffGrid {
   template <class Cost>
   size_t move_rounds(double step, double last, double ceiling, const Cost& cost) {
     size_t moves = 0;
+    const size_t n = centers_.size();
     for (double s = step; s >= last; s /= 2) {
-      // A sphere that found no move is not asked again until one near it moves: the samples
-      // its moves would count are those within its radius, delta and two steps.
-      std::vector<char> settled(spheres_.size(), 0);
+      // A sphere that found no move is not asked again until one near it (in some pose) moves:
+      // the samples its moves would count are those within its radius, delta and two steps.
+      std::vector<char> settled(n, 0);
       for (int round = 0; round < 3; ++round) {
         size_t this_round = 0;
-        for (size_t j = 0; j < spheres_.size(); ++j) {
+        for (size_t j = 0; j < n; ++j) {
           if (settled[j]) continue;
-          const Sphere old = spheres_[j];
+          std::vector<Sphere> old(spheres_.size());
+          for (size_t p = 0; p < old.size(); ++p) old[p] = spheres_[p][j];
           if (!move_one(j, s, ceiling, cost)) {
             settled[j] = 1;
             continue;
           }
           ++this_round;
-          for (size_t k = 0; k < spheres_.size(); ++k) {
-            const double reach = spheres_[k].radius + 2 * delta_ + 2 * s;
-            if ((spheres_[k].center - old.center).norm() <= reach + old.radius ||
-                (spheres_[k].center - spheres_[j].center).norm() <= reach + spheres_[j].radius)
-              settled[k] = 0;
-          }
+          for (size_t k = 0; k < n; ++k)
+            for (size_t p = 0; p < old.size() && settled[k]; ++p) {
+              const Sphere &a = spheres_[p][k], &b = spheres_[p][j];
+              const double reach = a.radius + 2 * delta_ + 2 * s;
+              if ((a.center - old[p].center).norm() <= reach + old[p].radius ||
+                  (a.center - b.center).norm() <= reach + b.radius)
+                settled[k] = 0;
+            }
         }
         moves += this_round;
         if (this_round == 0) break;
@@ -299,12 +308,13 @@ class OffGrid {
   }
 
  private:
-  double gap(size_t i, const Sphere& s) const { return (samples_[i] - s.center).norm() - s.radius; }
+  const Sphere& sphere(size_t j, size_t i) const { return spheres_[pose_[i]][j]; }
+  double gap(size_t i, const Sphere& s) const { return (points_[i] - s.center).norm() - s.radius; }
   void rank(size_t i) {
     int a = -1, b = -1;
     double ga = 0, gb = 0;
-    for (size_t j = 0; j < spheres_.size(); ++j) {
-      const double g = gap(i, spheres_[j]);
+    for (size_t j = 0; j < centers_.size(); ++j) {
+      const double g = gap(i, sphere(j, i));
       if (a < 0 || g < ga) {
         b = a, gb = ga;
         a = int(j), ga = g;
@@ -317,42 +327,49 @@ class OffGrid {
   }
   double error_without(size_t i, size_t j) const {
     const int k = first_[i] == int(j) ? second_[i] : first_[i];
-    return k < 0 ? std::numeric_limits<double>::infinity() : gap(i, spheres_[size_t(k)]);
+    return k < 0 ? std::numeric_limits<double>::infinity() : gap(i, sphere(size_t(k), i));
   }
-  // Samples whose error can change with sphere `s` (near it), ascending.
-  std::vector<uint32_t> near(const Sphere& s) const {
-    std::vector<uint32_t> seen;
-    grid_.near(s.center, s.radius + delta_, [&](uint32_t i) { seen.push_back(i); });
-    std::sort(seen.begin(), seen.end());
-    return seen;
+  // The samples whose error can change with a sphere that is `s` in each pose (near it), as
+  // bits, added to `marked`.
+  void mark_near(const std::vector<Sphere>& s, std::vector<uint64_t>& marked) const {
+    marked.resize(points_.size() / 64 + 1, 0);
+    for (size_t p = 0; p < s.size(); ++p)
+      grids_[p].near(s[p].center, s[p].radius + delta_, [&](uint32_t i) {
+        const uint32_t n = first_of_[p] + i;
+        marked[n >> 6] |= uint64_t(1) << (n & 63);
+      });
   }
-  // Those when a sphere whose samples are `around` (near()'s) becomes `b`: near either.
-  std::vector<uint32_t> near_either(const std::vector<uint32_t>& around, const Sphere& b) const {
-    const std::vector<uint32_t> there = near(b);
+  // Those near a sphere whose samples are marked in `around` or near `b`, ascending: read back
+  // from the bits in order (a sort of thousands of indices per direction was a tenth of a
+  // joint refinement's time).
+  std::vector<uint32_t> near_either(const std::vector<uint64_t>& around, const std::vector<Sphere>& b) const {
+    std::vector<uint64_t> marked(around);
+    mark_near(b, marked);
     std::vector<uint32_t> out;
-    out.reserve(around.size() + there.size());
-    std::set_union(around.begin(), around.end(), there.begin(), there.end(), std::back_inserter(out));
+    for (size_t w = 0; w < marked.size(); ++w)
+      for (uint64_t bits = marked[w]; bits; bits &= bits - 1) out.push_back(uint32_t(w * 64 + size_t(__builtin_ctzll(bits))));
     return out;
   }
 
   template <class Cost>
   bool move_one(size_t j, double s, double ceiling, const Cost& cost) {
-    const Sphere old = spheres_[j];
-    const std::vector<uint32_t> around = near(old);  // the same for every direction
-    std::vector<Sphere> moved(size_t(directions_), old);
+    std::vector<Sphere> old(spheres_.size());
+    for (size_t p = 0; p < old.size(); ++p) old[p] = spheres_[p][j];
+    std::vector<uint64_t> around;  // the same for every direction
+    mark_near(old, around);
+    std::vector<std::vector<Sphere>> moved(static_cast<size_t>(directions_));
     std::vector<double> change(size_t(directions_), std::numeric_limits<double>::infinity());
     // The directions side by side: each sum is its own, the best taken in order below.
     tbb::parallel_for(0, directions_, [&](int d) {
-      const Eigen::Vector3d c = old.center + s * direction(d);
-      const double r = radius_at_(c);
-      if (!(r > 0)) return;
-      moved[size_t(d)] = {c, r};
+      const Eigen::Vector3d c = centers_[j] + s * direction(d);
+      std::vector<Sphere>& m = moved[size_t(d)];
+      if (!spheres_at_(c, m)) return;
       double sum = 0;
-      for (uint32_t i : near_either(around, moved[size_t(d)])) {
-        const double before = gap(i, spheres_[size_t(first_[i])]);
-        const double after = std::min(error_without(i, j), gap(i, moved[size_t(d)]));
-        if (after > (i < weighted_ ? ceiling : delta_) && after > before) return;
-        if (i < weighted_) sum += cost(after) - cost(before);
+      for (uint32_t i : near_either(around, m)) {
+        const double before = gap(i, sphere(size_t(first_[i]), i));
+        const double after = std::min(error_without(i, j), gap(i, m[pose_[i]]));
+        if (after > (weighted_[i] ? ceiling : delta_) && after > before) return;
+        if (weighted_[i]) sum += cost(after) - cost(before);
       }
       change[size_t(d)] = sum;
     });
@@ -364,8 +381,9 @@ class OffGrid {
         best = d;
       }
     if (best < 0) return false;
-    spheres_[j] = moved[size_t(best)];
-    for (uint32_t i : near_either(around, spheres_[j])) rank(i);
+    centers_[j] += s * direction(best);
+    for (size_t p = 0; p < spheres_.size(); ++p) spheres_[p][j] = moved[size_t(best)][p];
+    for (uint32_t i : near_either(around, moved[size_t(best)])) rank(i);
     return true;
   }
 
@@ -381,12 +399,15 @@ class OffGrid {
   }
 
   int directions_;
-  const std::vector<Eigen::Vector3d>& samples_;
-  size_t weighted_;
-  SphereSet& spheres_;
-  const std::function<double(const Eigen::Vector3d&)>& radius_at_;
+  std::vector<Eigen::Vector3d> points_;  // every pose's samples, stacked
+  std::vector<uint32_t> pose_;           // per sample: its pose
+  std::vector<char> weighted_;           // per sample: a vertex, whose error counts
+  std::vector<uint32_t> first_of_;       // per pose: its first sample
+  std::vector<SampleGrid> grids_;        // per pose
+  std::vector<Eigen::Vector3d>& centers_;
+  std::vector<SphereSet>& spheres_;  // per pose, per sphere
+  const PoseSpheresAt& spheres_at_;
   double delta_;
-  SampleGrid grid_;
   std::vector<int> first_, second_;
 };
 
@@ -404,11 +425,11 @@ constexpr int kAxes = 6, kAxesAndDiagonals = 14;
 // diagonal lower than 6 did in 7.5 s).
 constexpr int kMedianPasses = 6;
 
-size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
-                       const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
-                       Log& log, bool keep_max) {
-  if (spheres.empty() || samples.empty()) return 0;
-  OffGrid state(samples, weighted, spheres, radius_at, delta, keep_max ? kAxesAndDiagonals : kAxes);
+size_t refine_jointly(const std::vector<std::vector<Eigen::Vector3d>>& samples, const std::vector<size_t>& weighted,
+                      std::vector<Eigen::Vector3d>& centers, std::vector<SphereSet>& spheres,
+                      const PoseSpheresAt& spheres_at, double delta, double step, Log& log, bool keep_max) {
+  if (centers.empty() || samples.empty()) return 0;
+  OffGrid state(samples, weighted, centers, spheres, spheres_at, delta, keep_max ? kAxesAndDiagonals : kAxes);
   if (!keep_max) {
     // Tolerance mode: the total, no sample leaving delta.
     const size_t moves = state.move_rounds(step, step / 4, delta, [](double e) { return e; });
@@ -430,6 +451,24 @@ size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weigh
   log.detail("refined centers: " + std::to_string(for_max) + " moves for the max, " + std::to_string(for_total) +
              " for the total, " + std::to_string(for_median) + " for the median");
   return for_max + for_total + for_median;
+}
+
+size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
+                       const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
+                       Log& log, bool keep_max) {
+  // One pose, the rest: a sphere is its centre and the radius there.
+  std::vector<Eigen::Vector3d> centers;
+  for (const Sphere& s : spheres) centers.push_back(s.center);
+  std::vector<SphereSet> one{spheres};
+  const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) {
+    const double r = radius_at(c);
+    if (!(r > 0)) return false;
+    out.assign(1, Sphere{c, r});
+    return true;
+  };
+  const size_t moves = refine_jointly({samples}, {weighted}, centers, one, at, delta, step, log, keep_max);
+  spheres = std::move(one[0]);
+  return moves;
 }
 
 }  // namespace spx

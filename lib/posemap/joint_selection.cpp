@@ -12,6 +12,7 @@
 #include "pack/candidates.hpp"
 #include "pack/coverage.hpp"
 #include "pack/set_cover.hpp"
+#include "posemap/joint_refine.hpp"
 
 namespace spx {
 namespace {
@@ -69,7 +70,8 @@ class Selector {
       if (warm)
         warm_cover(problem, out.cover);
       else
-        out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_);
+        out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_,
+                              refining() ? kRefinedBudgetSlack : kBudgetSlack);
       // A radius the check lowers was counted on as larger: cover the same problem again.
       if (one_ && lower_unchecked_radii(out.cover.chosen, out)) continue;
       std::vector<int> order = out.cover.chosen;
@@ -102,6 +104,7 @@ class Selector {
     // only after the first round, change whether the tolerance was met (cover_for's rule).
     if (out.limited_by == Limit::tolerance || out.limited_by == Limit::resolution)
       out.limited_by = out.cover.uncoverable + out.bare_elsewhere > 0 ? Limit::resolution : Limit::tolerance;
+    if (refining()) out.refined_moves = refine_chosen(frames_, opt_, out.chosen, out.cover.delta, log_);
     out.candidates = candidates_.size();
     out.from_frames = from_frames_;
     out.frames = active_;
@@ -112,6 +115,9 @@ class Selector {
 
  private:
   bool is_active(size_t f) const { return std::binary_search(active_.begin(), active_.end(), f); }
+
+  // Not skinned, budget mode: the chosen centres are refined off the candidates (below).
+  bool refining() const { return !one_ && opt_.budget > 0 && opt_.refine_step > 0; }
 
   // Skinned, tolerance: after each round the problem keeps only the samples its reduction kept
   // (a cover of those covers the rest), so that a round costs what the hard samples of the clip

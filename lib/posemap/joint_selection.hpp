@@ -45,6 +45,9 @@ class SelectionFrames {
   virtual std::vector<double> over_clip(const std::vector<SkinInfluence>&, const std::vector<double>& radius) const {
     return radius;
   }
+  // Not skinned: the spheres a rest centre becomes in every frame (spheres_in's), or false where
+  // one of them has radius 0.
+  virtual bool spheres_at(const Eigen::Vector3d& rest_center, std::vector<Sphere>& in_frames) const;
   // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
   // reaches), mapped back to the rest; each of them offered once.
   virtual SphereSet frame_candidates(size_t frame, const std::vector<Eigen::Vector3d>& points, double reach) = 0;
@@ -59,6 +62,10 @@ struct JointSelectionOptions {
   uint64_t seed = 1;
   size_t first_frames = 6;   // poses selected on in the first round (those farthest apart)
   size_t frames_per_round = 4;
+  // Not skinned, budget mode: the chosen rest centres then move off the candidates (from this
+  // step down to an eighth of it) where that lowers every frame's largest vertex error, then
+  // their total and median (refine_jointly); 0: they stay.
+  double refine_step = 0;
 };
 
 struct JointSelection {
@@ -73,6 +80,7 @@ struct JointSelection {
   size_t clip_shrunk = 0;       // skinned: candidates whose one radius the clip lowered
   size_t radii_checked = 0;     // skinned: chosen candidates whose one radius was checked in every frame
   size_t radii_lowered = 0;     // of those, the radii the check lowered (each lowering covers again)
+  size_t refined_moves = 0;     // the chosen centres' moves off the candidates (refine_step)
 };
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,

@@ -109,7 +109,8 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
                       {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}},
           {"clip", {{"candidates_shrunk", sel.clip_shrunk}}},
-          {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered}}}};
+          {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered}}},
+          {"refined_moves", sel.refined_moves}};
 }
 
 json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {

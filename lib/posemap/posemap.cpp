@@ -126,9 +126,7 @@ class PoseMapper {
   // One sphere set for the rest and every pose (posemap/joint_selection.hpp), recorded in the
   // summary. Returns the chosen candidates (rest pose).
   SphereSet select_jointly(const SphereSet& file_candidates, PoseMapSummary& summary) {
-    // From here on every sphere, in every pose, is grown (the candidates and the result alike);
-    // a skinned sphere is not, since the host can only skin it.
-    grow_ = !skinned_;
+    grow_ = !skinned_;  // every sphere in every pose grown from here on (a host can only skin a skinned one)
     JointSelectionOptions options;
     std::tie(options.target, options.budget) = selection_size();
     options.reach = options.target > 0 ? options.target : default_tolerance(rest_.diagonal());
@@ -136,6 +134,7 @@ class PoseMapper {
     options.spacing = open_solid_ ? 0.0 : kFrameCandidateSpacing * field_options().voxel_size;
     options.area_samples = opt_.area_samples;
     options.seed = opt_.seed;
+    options.refine_step = skinned_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack refines
     Frames frames(*this);
     const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
     const CoverResult& cover = selection.cover;

@@ -1,0 +1,18 @@
+#pragma once
+// pose-map's joint selection, budget mode: the chosen rest centres moved off the candidates
+// where that lowers every frame's errors (pack's refine_jointly), each frame's sphere by that
+// frame's own rule, as sphere-pack refines the rest pose's alone.
+#include "core/log.hpp"
+#include "core/sphere.hpp"
+#include "posemap/joint_selection.hpp"
+
+namespace spx {
+
+// `chosen` (rest spheres) refined over every frame's samples (its vertices weighted, as the
+// selection drew them: `options.area_samples`, `options.seed`), no frame's sample leaving
+// `delta` that was within it; then largest first by the rest sphere each becomes. Returns the
+// moves made.
+size_t refine_chosen(const SelectionFrames& frames, const JointSelectionOptions& options, SphereSet& chosen,
+                     double delta, Log& log = Log::silent());
+
+}  // namespace spx
