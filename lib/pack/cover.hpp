@@ -79,8 +79,9 @@ const char* limit_wording(Limit limit);
 
 // Budget mode's relaxation (cover_with_budget's slack, below).
 constexpr double kBudgetSlack = 0.1;
-// ... where the centres are then refined off the grid (sphere-pack; pose-map over every pose): its median moves make up
-// most of what the tighter relaxation costs the median, and its max descent starts lower.
+// ... where the centres are then refined off the grid (sphere-pack; pose-map over every pose):
+// its median moves make up most of what the tighter relaxation costs the median, and its max
+// descent starts lower.
 constexpr double kRefinedBudgetSlack = 0.06;
 
 // Both modes as the tools combine them: the fewest spheres within `target` (when > 0), unless
