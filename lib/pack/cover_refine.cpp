@@ -1,0 +1,291 @@
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <unordered_map>
+
+#include "pack/cover.hpp"
+#include "pack/median_descent.hpp"
+#include "pack/sample_grid.hpp"
+
+namespace spx {
+using detail::descend_median;
+using detail::median_and_max_of;
+using detail::SampleGrid;
+
+namespace {
+
+// The refinement's state over one pose or several: each sample's nearest and second-nearest
+// sphere in its own pose, and moves of one sphere's rest centre along `directions` (the first of
+// direction()'s) that cut a cost summed over the weighted samples' errors. A sphere is its rest
+// centre and what spheres_at makes of it in every pose; samples are stacked pose after pose.
+class OffGrid {
+ public:
+  OffGrid(const std::vector<std::vector<Eigen::Vector3d>>& samples, const std::vector<size_t>& weighted,
+          std::vector<Eigen::Vector3d>& centers, std::vector<SphereSet>& spheres, const PoseSpheresAt& spheres_at,
+          double delta, int directions)
+      : directions_(directions), centers_(centers), spheres_(spheres), spheres_at_(spheres_at), delta_(delta) {
+    for (size_t p = 0; p < samples.size(); ++p) {
+      first_of_.push_back(uint32_t(points_.size()));
+      grids_.emplace_back(samples[p], false);  // fixed cells: the moves' sums count every sample visited
+      for (size_t i = 0; i < samples[p].size(); ++i) {
+        points_.push_back(samples[p][i]);
+        pose_.push_back(uint32_t(p));
+        weighted_.push_back(i < weighted[p]);
+      }
+    }
+    first_.assign(points_.size(), -1);
+    second_.assign(points_.size(), -1);
+    tbb::parallel_for(size_t(0), points_.size(), [&](size_t i) { rank(i); });
+  }
+
+  // The weighted samples' median and largest error.
+  std::pair<double, double> median_and_max() const {
+    std::vector<double> e;
+    for (size_t i = 0; i < points_.size(); ++i)
+      if (weighted_[i]) e.push_back(gap(i, sphere(size_t(first_[i]), i)));
+    return median_and_max_of(std::move(e));
+  }
+
+  // Rounds of moves by `step` (then halved down to `last`), each the one of the directions that
+  // cuts the summed cost most; no sample's error rises past `ceiling` (weighted) or delta (the others).
+  template <class Cost>
+  size_t move_rounds(double step, double last, double ceiling, const Cost& cost) {
+    size_t moves = 0;
+    const size_t n = centers_.size();
+    for (double s = step; s >= last; s /= 2) {
+      // A sphere that found no move is not asked again until one near it (in some pose) moves:
+      // the samples its moves would count are those within its radius, delta and two steps.
+      std::vector<char> settled(n, 0);
+      for (int round = 0; round < 3; ++round) {
+        size_t this_round = 0;
+        for (size_t j = 0; j < n; ++j) {
+          if (settled[j]) continue;
+          std::vector<Sphere> old(spheres_.size());
+          for (size_t p = 0; p < old.size(); ++p) old[p] = spheres_[p][j];
+          if (!move_one(j, s, ceiling, cost)) {
+            settled[j] = 1;
+            continue;
+          }
+          ++this_round;
+          for (size_t k = 0; k < n; ++k)
+            for (size_t p = 0; p < old.size() && settled[k]; ++p) {
+              const Sphere &a = spheres_[p][k], &b = spheres_[p][j];
+              const double reach = a.radius + 2 * delta_ + 2 * s;
+              if ((a.center - old[p].center).norm() <= reach + old[p].radius ||
+                  (a.center - b.center).norm() <= reach + b.radius)
+                settled[k] = 0;
+            }
+        }
+        moves += this_round;
+        if (this_round == 0) break;
+      }
+    }
+    return moves;
+  }
+
+ private:
+  const Sphere& sphere(size_t j, size_t i) const { return spheres_[pose_[i]][j]; }
+  double gap(size_t i, const Sphere& s) const { return (points_[i] - s.center).norm() - s.radius; }
+  void rank(size_t i) {
+    int a = -1, b = -1;
+    double ga = 0, gb = 0;
+    for (size_t j = 0; j < centers_.size(); ++j) {
+      const double g = gap(i, sphere(j, i));
+      if (a < 0 || g < ga) {
+        b = a, gb = ga;
+        a = int(j), ga = g;
+      } else if (b < 0 || g < gb) {
+        b = int(j), gb = g;
+      }
+    }
+    first_[i] = a;
+    second_[i] = b;
+  }
+  double error_without(size_t i, size_t j) const {
+    const int k = first_[i] == int(j) ? second_[i] : first_[i];
+    return k < 0 ? std::numeric_limits<double>::infinity() : gap(i, sphere(size_t(k), i));
+  }
+  // The samples whose error can change with a sphere that is `s` in each pose (near it), as
+  // bits, added to `marked`.
+  void mark_near(const std::vector<Sphere>& s, std::vector<uint64_t>& marked) const {
+    marked.resize(points_.size() / 64 + 1, 0);
+    for (size_t p = 0; p < s.size(); ++p)
+      grids_[p].near(s[p].center, s[p].radius + delta_, [&](uint32_t i) {
+        const uint32_t n = first_of_[p] + i;
+        marked[n >> 6] |= uint64_t(1) << (n & 63);
+      });
+  }
+  // Those near a sphere whose samples are marked in `around` or near `b`, ascending: read back
+  // from the bits in order (a sort of thousands of indices per direction was a tenth of a
+  // joint refinement's time).
+  std::vector<uint32_t> near_either(const std::vector<uint64_t>& around, const std::vector<Sphere>& b) const {
+    std::vector<uint64_t> marked(around);
+    mark_near(b, marked);
+    std::vector<uint32_t> out;
+    for (size_t w = 0; w < marked.size(); ++w)
+      for (uint64_t bits = marked[w]; bits; bits &= bits - 1) out.push_back(uint32_t(w * 64 + size_t(__builtin_ctzll(bits))));
+    return out;
+  }
+
+  template <class Cost>
+  bool move_one(size_t j, double s, double ceiling, const Cost& cost) {
+    std::vector<Sphere> old(spheres_.size());
+    for (size_t p = 0; p < old.size(); ++p) old[p] = spheres_[p][j];
+    std::vector<uint64_t> around;  // the same for every direction
+    mark_near(old, around);
+    // Each direction's place and its spheres there, asked of spheres_at once per place.
+    std::vector<Eigen::Vector3d> to(static_cast<size_t>(directions_));
+    std::vector<const Placed*> placed(to.size(), nullptr);
+    for (size_t d = 0; d < to.size(); ++d) {
+      to[d] = centers_[j] + s * direction(int(d));
+      const auto it = asked_.find(to[d]);
+      if (it != asked_.end()) placed[d] = &it->second;
+    }
+    std::vector<Placed> fresh(to.size());
+    std::vector<std::vector<Sphere>> moved(to.size());
+    std::vector<double> change(to.size(), std::numeric_limits<double>::infinity());
+    // The directions side by side: each sum is its own, the best taken in order below.
+    tbb::parallel_for(0, directions_, [&](int d) {
+      if (!placed[size_t(d)]) {
+        Placed& f = fresh[size_t(d)];
+        f.inside = spheres_at_(to[size_t(d)], f.spheres);
+      }
+      const Placed& here = placed[size_t(d)] ? *placed[size_t(d)] : fresh[size_t(d)];
+      if (!here.inside) return;
+      std::vector<Sphere>& m = moved[size_t(d)];
+      m = here.spheres;
+      double sum = 0;
+      for (uint32_t i : near_either(around, m)) {
+        const double before = gap(i, sphere(size_t(first_[i]), i));
+        const double after = std::min(error_without(i, j), gap(i, m[pose_[i]]));
+        if (after > (weighted_[i] ? ceiling : delta_) && after > before) return;
+        if (weighted_[i]) sum += cost(after) - cost(before);
+      }
+      change[size_t(d)] = sum;
+    });
+    for (size_t d = 0; d < to.size(); ++d)
+      if (!placed[d]) asked_.emplace(to[d], std::move(fresh[d]));
+    int best = -1;
+    double best_change = -1e-12 * cost(delta_);
+    for (int d = 0; d < directions_; ++d)
+      if (change[size_t(d)] < best_change) {
+        best_change = change[size_t(d)];
+        best = d;
+      }
+    if (best < 0) return false;
+    centers_[j] += s * direction(best);
+    for (size_t p = 0; p < spheres_.size(); ++p) spheres_[p][j] = moved[size_t(best)][p];
+    for (uint32_t i : near_either(around, moved[size_t(best)])) rank(i);
+    return true;
+  }
+
+  // Along the axes (0-5), then the cube's diagonals (6-13), each of unit length.
+  static Eigen::Vector3d direction(int d) {
+    Eigen::Vector3d out = Eigen::Vector3d::Zero();
+    if (d < 6) {
+      out[d / 2] = d % 2 ? 1 : -1;
+      return out;
+    }
+    const int b = d - 6;
+    return Eigen::Vector3d(b & 1 ? 1 : -1, b & 2 ? 1 : -1, b & 4 ? 1 : -1) / std::sqrt(3.0);
+  }
+
+  int directions_;
+  std::vector<Eigen::Vector3d> points_;  // every pose's samples, stacked
+  std::vector<uint32_t> pose_;           // per sample: its pose
+  std::vector<char> weighted_;           // per sample: a vertex, whose error counts
+  std::vector<uint32_t> first_of_;       // per pose: its first sample
+  std::vector<SampleGrid> grids_;        // per pose
+  std::vector<Eigen::Vector3d>& centers_;
+  std::vector<SphereSet>& spheres_;  // per pose, per sphere
+  const PoseSpheresAt& spheres_at_;
+  // What spheres_at made of each place asked (a centre not moved since is asked the same moves
+  // again by the later passes: the median's six ask most places several times).
+  struct Placed {
+    bool inside = false;
+    std::vector<Sphere> spheres;
+  };
+  struct SameBits {
+    bool operator()(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+      return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0;
+    }
+  };
+  struct BitsHash {
+    size_t operator()(const Eigen::Vector3d& c) const {
+      uint64_t h = 0, w = 0;
+      for (int k = 0; k < 3; ++k) {
+        std::memcpy(&w, c.data() + k, sizeof w);
+        h = (h ^ w) * 0x9E3779B97F4A7C15ull;
+      }
+      return size_t(h ^ (h >> 29));
+    }
+  };
+  std::unordered_map<Eigen::Vector3d, Placed, BitsHash, SameBits> asked_;
+  double delta_;
+  std::vector<int> first_, second_;
+};
+
+}  // namespace
+
+// Budget mode's refinement: the max first. Its moves cut the weighted errors summed to this
+// power (relative to the largest), which the largest few dominate: a move that lowers the worst
+// sample's error and raises its neighbours' a little is taken where the total would refuse it.
+constexpr double kMaxPower = 128;
+// Directions a centre moves along: the axes, and in budget mode the cube's diagonals too (a
+// sphere between two others is often stuck along the axes alone).
+constexpr int kAxes = 6, kAxesAndDiagonals = 14;
+// The median's passes (each from the median the last one left): the first few make most of its
+// gain (frontier-bench, the bunny at 256: 20 passes took 19 s for a median 0.005 % of the
+// diagonal lower than 6 did in 7.5 s).
+constexpr int kMedianPasses = 6;
+
+size_t refine_jointly(const std::vector<std::vector<Eigen::Vector3d>>& samples, const std::vector<size_t>& weighted,
+                      std::vector<Eigen::Vector3d>& centers, std::vector<SphereSet>& spheres,
+                      const PoseSpheresAt& spheres_at, double delta, double step, Log& log, bool keep_max) {
+  if (centers.empty() || samples.empty()) return 0;
+  OffGrid state(samples, weighted, centers, spheres, spheres_at, delta, keep_max ? kAxesAndDiagonals : kAxes);
+  if (!keep_max) {
+    // Tolerance mode: the total, no sample leaving delta.
+    const size_t moves = state.move_rounds(step, step / 4, delta, [](double e) { return e; });
+    log.detail("refined centers: " + std::to_string(moves) + " moves");
+    return moves;
+  }
+  // The max, down to an eighth of the step.
+  const double top = std::max(state.median_and_max().second, 1e-300);
+  const size_t for_max = state.move_rounds(
+      step, step / 8, top, [&](double e) { return std::pow(std::max(e, 0.0) / top, kMaxPower); });
+  // Then the total and the median (as median_descent does with the candidates), neither raising
+  // a weighted sample's error past the largest now.
+  const double ceiling = state.median_and_max().second;
+  const size_t for_total = state.move_rounds(step, step / 4, ceiling, [](double e) { return e; });
+  const size_t for_median = descend_median(
+      state.median_and_max().first, delta, kMedianPasses,
+      [&](const auto& cost) { return state.move_rounds(step, step / 8, ceiling, cost); },
+      [&] { return state.median_and_max().first; });
+  log.detail("refined centers: " + std::to_string(for_max) + " moves for the max, " + std::to_string(for_total) +
+             " for the total, " + std::to_string(for_median) + " for the median");
+  return for_max + for_total + for_median;
+}
+
+size_t refine_off_grid(const std::vector<Eigen::Vector3d>& samples, size_t weighted, SphereSet& spheres,
+                       const std::function<double(const Eigen::Vector3d&)>& radius_at, double delta, double step,
+                       Log& log, bool keep_max) {
+  // One pose, the rest: a sphere is its centre and the radius there.
+  std::vector<Eigen::Vector3d> centers;
+  for (const Sphere& s : spheres) centers.push_back(s.center);
+  std::vector<SphereSet> one{spheres};
+  const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) {
+    const double r = radius_at(c);
+    if (!(r > 0)) return false;
+    out.assign(1, Sphere{c, r});
+    return true;
+  };
+  const size_t moves = refine_jointly({samples}, {weighted}, centers, one, at, delta, step, log, keep_max);
+  spheres = std::move(one[0]);
+  return moves;
+}
+
+}  // namespace spx
