@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <numeric>
 
-#include "pack/candidates.hpp"
 #include "pack/cover.hpp"
 
 namespace spx {
@@ -17,21 +16,19 @@ bool SelectionFrames::spheres_at(const Eigen::Vector3d& rest_center, std::vector
   return true;
 }
 
-size_t refine_chosen(const SelectionFrames& frames, const JointSelectionOptions& options, SphereSet& chosen,
-                     double delta, Log& log) {
+size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vector<Eigen::Vector3d>>& samples,
+                     double step, SphereSet& chosen, double delta, Log& log) {
   const size_t count = frames.frame_count();
-  std::vector<std::vector<Eigen::Vector3d>> samples(count);
   std::vector<size_t> weighted(count);
   std::vector<SphereSet> spheres(count);
   std::vector<Eigen::Vector3d> centers;
   for (const Sphere& s : chosen) centers.push_back(s.center);
   for (size_t f = 0; f < count; ++f) {
-    samples[f] = surface_samples(frames.frame_surface(f), options.area_samples, options.seed);
     weighted[f] = frames.frame_surface(f).vertices.size();
     spheres[f] = frames.spheres_in(chosen, f);
   }
   const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) { return frames.spheres_at(c, out); };
-  const size_t moves = refine_jointly(samples, weighted, centers, spheres, at, delta, options.refine_step, log, true);
+  const size_t moves = refine_jointly(samples, weighted, centers, spheres, at, delta, step, log, true);
   std::vector<size_t> order(chosen.size());
   std::iota(order.begin(), order.end(), size_t(0));
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return spheres[0][a].radius > spheres[0][b].radius; });

@@ -8,11 +8,10 @@
 
 namespace spx {
 
-// `chosen` (rest spheres) refined over every frame's samples (its vertices weighted, as the
-// selection drew them: `options.area_samples`, `options.seed`), no frame's sample leaving
-// `delta` that was within it; then largest first by the rest sphere each becomes. Returns the
-// moves made.
-size_t refine_chosen(const SelectionFrames& frames, const JointSelectionOptions& options, SphereSet& chosen,
-                     double delta, Log& log = Log::silent());
+// `chosen` (rest spheres) refined from `step` over every frame's `samples` (the selection's:
+// each frame's vertices first, weighted), no frame's sample leaving `delta` that was within it;
+// then largest first by the rest sphere each becomes. Returns the moves made.
+size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vector<Eigen::Vector3d>>& samples,
+                     double step, SphereSet& chosen, double delta, Log& log = Log::silent());
 
 }  // namespace spx

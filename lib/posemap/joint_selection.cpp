@@ -104,7 +104,7 @@ class Selector {
     // only after the first round, change whether the tolerance was met (cover_for's rule).
     if (out.limited_by == Limit::tolerance || out.limited_by == Limit::resolution)
       out.limited_by = out.cover.uncoverable + out.bare_elsewhere > 0 ? Limit::resolution : Limit::tolerance;
-    if (refining()) out.refined_moves = refine_chosen(frames_, opt_, out.chosen, out.cover.delta, log_);
+    if (refining()) out.refined_moves = refine(out.chosen, out.cover.delta);
     out.candidates = candidates_.size();
     out.from_frames = from_frames_;
     out.frames = active_;
@@ -118,6 +118,11 @@ class Selector {
 
   // Not skinned, budget mode: the chosen centres are refined off the candidates (below).
   bool refining() const { return !one_ && opt_.budget > 0 && opt_.refine_step > 0; }
+  size_t refine(SphereSet& chosen, double delta) {
+    std::vector<std::vector<Eigen::Vector3d>> every(frames_.frame_count());
+    for (size_t f = 0; f < every.size(); ++f) every[f] = samples(f);  // over every frame, as drawn here
+    return refine_chosen(frames_, every, opt_.refine_step, chosen, delta, log_);
+  }
 
   // Skinned, tolerance: after each round the problem keeps only the samples its reduction kept
   // (a cover of those covers the rest), so that a round costs what the hard samples of the clip
