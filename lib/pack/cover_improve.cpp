@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <unordered_map>
 
 #include "pack/cover.hpp"
 #include "pack/median_descent.hpp"

@@ -65,7 +65,7 @@ class OffGrid {
           if (settled[j]) continue;
           std::vector<Sphere> old(spheres_.size());
           for (size_t p = 0; p < old.size(); ++p) old[p] = spheres_[p][j];
-          if (!move_one(j, s, ceiling, cost)) {
+          if (!move_one(j, old, s, ceiling, cost)) {
             settled[j] = 1;
             continue;
           }
@@ -131,9 +131,8 @@ class OffGrid {
   }
 
   template <class Cost>
-  bool move_one(size_t j, double s, double ceiling, const Cost& cost) {
-    std::vector<Sphere> old(spheres_.size());
-    for (size_t p = 0; p < old.size(); ++p) old[p] = spheres_[p][j];
+  // Sphere j, `old` in each pose, moved by `s` where that cuts the cost most.
+  bool move_one(size_t j, const std::vector<Sphere>& old, double s, double ceiling, const Cost& cost) {
     std::vector<uint64_t> around;  // the same for every direction
     mark_near(old, around);
     // Each direction's place and its spheres there, asked of spheres_at once per place.
