@@ -751,23 +751,30 @@ TEST(Cover, SpherePackReportsTheErrorItsFileHas) {
   }
 }
 
-// Representatives against brute force: largest first, a candidate is left out exactly when an
-// earlier kept one nearly contains it in both poses; and then every sample's gap to some kept
-// candidate is within the slack of its gap to the one left out.
-TEST(Cover, RepresentativesMatchBruteForce) {
-  std::mt19937 rng(5);
+// Two poses of `candidates` random spheres in the unit cube, many nearly containing others, some
+// absent in one pose, and `samples` random points per pose around them.
+CoverProblem two_random_poses(unsigned seed, size_t candidates, size_t samples) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   CoverProblem p;
   p.spheres.resize(2);
   p.samples.resize(2);
-  for (int c = 0; c < 400; ++c) {
+  for (size_t c = 0; c < candidates; ++c) {
     const Eigen::Vector3d at(u(rng), u(rng), u(rng));
     const double r = c % 7 == 0 ? 0.0 : 0.02 + 0.2 * u(rng) * u(rng);
     p.spheres[0].push_back({at, r});
     p.spheres[1].push_back({at + 0.01 * Eigen::Vector3d(u(rng), u(rng), u(rng)), c % 11 == 0 ? 0.0 : r * (0.9 + 0.2 * u(rng))});
   }
-  for (int k = 0; k < 2; ++k)
-    for (int i = 0; i < 200; ++i) p.samples[size_t(k)].emplace_back(2 * u(rng) - 0.5, 2 * u(rng) - 0.5, 2 * u(rng) - 0.5);
+  for (size_t k = 0; k < 2; ++k)
+    for (size_t i = 0; i < samples; ++i) p.samples[k].emplace_back(2 * u(rng) - 0.5, 2 * u(rng) - 0.5, 2 * u(rng) - 0.5);
+  return p;
+}
+
+// Representatives against brute force: largest first, a candidate is left out exactly when an
+// earlier kept one nearly contains it in both poses; and then every sample's gap to some kept
+// candidate is within the slack of its gap to the one left out.
+TEST(Cover, RepresentativesMatchBruteForce) {
+  const CoverProblem p = two_random_poses(5, 400, 200);
   const double slack = 0.03;
   const std::vector<char> got = representatives(p, slack);
   std::vector<size_t> order(400);
@@ -807,6 +814,46 @@ TEST(Cover, RepresentativesMatchBruteForce) {
         ASSERT_LE(best, (q - sa.center).norm() - sa.radius + slack + 1e-12);
       }
   }
+}
+
+// The rows gathered in chunks of candidates side by side, with candidates merged into their
+// representatives: coverage_at at delta (representatives at merge x delta) and a gap table
+// built up to max_delta (representatives at merge x max_delta), at every delta up to it, against
+// a scan of every (candidate, sample) pair. 700 candidates: several chunks, the last one short.
+TEST(Cover, GapTableAndCoverageMatchAScanOfEveryPair) {
+  const size_t n = 700, m = 600;
+  CoverProblem p = two_random_poses(17, n, m);
+  p.merge = 0.5;
+  auto scan = [&](double delta, double merged_at) {
+    const std::vector<char> kept = representatives(p, p.merge * merged_at);
+    Coverage want;
+    want.sample_count = 2 * m;
+    want.start.push_back(0);
+    for (size_t c = 0; c < n; ++c) {
+      for (size_t k = 0; k < 2 && kept[c]; ++k)
+        for (size_t i = 0; i < m; ++i) {
+          const Sphere& s = p.spheres[k][c];
+          if (s.radius > 0 && (p.samples[k][i] - s.center).norm() - s.radius <= delta) want.samples.push_back(uint32_t(k * m + i));
+        }
+      want.start.push_back(uint32_t(want.samples.size()));
+    }
+    return want;
+  };
+  auto expect_same = [](const Coverage& got, const Coverage& want, const std::string& what) {
+    EXPECT_EQ(got.sample_count, want.sample_count) << what;
+    EXPECT_EQ(got.start, want.start) << what;
+    EXPECT_EQ(got.samples, want.samples) << what;
+  };
+  const double max_delta = 0.12;
+  const GapTable table(p, max_delta);
+  for (double delta : {0.0, 0.01, 0.05, 0.08, max_delta, 0.2}) {
+    expect_same(coverage_at(p, delta), scan(delta, delta), "coverage_at " + std::to_string(delta));
+    expect_same(table.at(delta), scan(std::min(delta, max_delta), max_delta), "table at " + std::to_string(delta));
+  }
+  const Coverage some = table.at(max_delta);
+  EXPECT_GT(some.samples.size(), 1000u) << "too few pairs for the test to mean much";
+  const std::vector<char> kept = representatives(p, p.merge * max_delta);
+  EXPECT_LT(std::count(kept.begin(), kept.end(), 1), std::ptrdiff_t(n - 50)) << "too few merged for the test to mean much";
 }
 
 // Brute force over every triangle: the distance from p to the mesh, and whether p is inside

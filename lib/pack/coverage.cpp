@@ -1,6 +1,7 @@
 #include "pack/coverage.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -34,11 +35,20 @@ void for_each_covered(const SampleGrid& grid, const std::vector<Eigen::Vector3d>
   });
 }
 
-// Every (candidate, sample) pair within `delta`, gathered per candidate by `keep(row, sample,
-// gap)` in parallel over candidates; each row then sorted.
-template <class Entry, class Keep>
-std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t>& offset,
-                                            Keep&& keep) {
+// Candidates per chunk of gather_rows: a chunk's rows are gathered into one buffer per thread
+// and stored at their exact size, so that no row grows on its own (a reallocation and fresh
+// pages per row) and the rows are never held twice.
+constexpr size_t kRowChunk = 256;
+
+uint32_t sample_of(uint32_t entry) { return entry; }
+uint32_t sample_of(const std::pair<uint32_t, double>& entry) { return entry.first; }
+
+// Every (candidate, sample) pair within `delta`, in chunks of kRowChunk candidates side by side:
+// `keep(entries, sample, gap)` appends one to a chunk's entries, each row sorted by sample, then
+// `store(chunk, ends, entries)` takes the chunk (`ends`: one past each of its rows).
+template <class Entry, class Keep, class Store>
+void gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t>& offset, Keep&& keep,
+                 Store&& store) {
   const size_t candidates = problem.candidate_count();
   std::vector<SampleGrid> grids;
   offset.assign(1, 0);
@@ -46,19 +56,26 @@ std::vector<std::vector<Entry>> gather_rows(const CoverProblem& problem, double 
     grids.emplace_back(s);
     offset.push_back(offset.back() + uint32_t(s.size()));
   }
-  std::vector<std::vector<Entry>> rows(candidates);
   const std::vector<char> active =
       problem.merge > 0 ? representatives(problem, problem.merge * delta) : std::vector<char>(candidates, 1);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t c = r.begin(); c != r.end(); ++c) {
-      if (!active[c]) continue;
-      for (size_t k = 0; k < problem.samples.size(); ++k)
-        for_each_covered(grids[k], problem.samples[k], problem.spheres[k][c], delta,
-                         [&](uint32_t i, double gap) { keep(rows[c], offset[k] + i, gap); });
-      std::sort(rows[c].begin(), rows[c].end());
+  tbb::enumerable_thread_specific<std::vector<Entry>> buffers;
+  tbb::parallel_for(size_t(0), (candidates + kRowChunk - 1) / kRowChunk, [&](size_t chunk) {
+    std::vector<Entry>& entries = buffers.local();
+    entries.clear();
+    std::vector<uint32_t> ends;
+    const size_t first = chunk * kRowChunk, last = std::min(candidates, first + kRowChunk);
+    for (size_t c = first; c < last; ++c) {
+      const size_t begin = entries.size();
+      if (active[c])
+        for (size_t k = 0; k < problem.samples.size(); ++k)
+          for_each_covered(grids[k], problem.samples[k], problem.spheres[k][c], delta,
+                           [&](uint32_t i, double gap) { keep(entries, offset[k] + i, gap); });
+      std::sort(entries.begin() + std::ptrdiff_t(begin), entries.end(),
+                [](const Entry& a, const Entry& b) { return sample_of(a) < sample_of(b); });
+      ends.push_back(uint32_t(entries.size()));
     }
+    store(chunk, ends, entries);
   });
-  return rows;
 }
 
 }  // namespace
@@ -99,16 +116,25 @@ std::vector<char> representatives(const CoverProblem& problem, double slack) {
 }
 
 Coverage coverage_at(const CoverProblem& problem, double delta) {
+  const size_t candidates = problem.candidate_count();
   std::vector<uint32_t> offset;
-  std::vector<std::vector<uint32_t>> rows = gather_rows<uint32_t>(
-      problem, delta, offset, [](std::vector<uint32_t>& row, uint32_t sample, double) { row.push_back(sample); });
+  std::vector<std::vector<uint32_t>> chunks((candidates + kRowChunk - 1) / kRowChunk);
+  std::vector<uint32_t> size(candidates);
+  gather_rows<uint32_t>(
+      problem, delta, offset, [](std::vector<uint32_t>& row, uint32_t sample, double) { row.push_back(sample); },
+      [&](size_t chunk, const std::vector<uint32_t>& ends, const std::vector<uint32_t>& entries) {
+        for (size_t n = 0; n < ends.size(); ++n) size[chunk * kRowChunk + n] = ends[n] - (n > 0 ? ends[n - 1] : 0);
+        chunks[chunk].assign(entries.begin(), entries.end());
+      });
   Coverage cov;
   cov.sample_count = offset.back();
-  cov.start.assign(rows.size() + 1, 0);
-  for (size_t c = 0; c < rows.size(); ++c) cov.start[c + 1] = cov.start[c] + uint32_t(rows[c].size());
+  cov.start.assign(candidates + 1, 0);
+  for (size_t c = 0; c < candidates; ++c) cov.start[c + 1] = cov.start[c] + size[c];
   cov.samples.resize(cov.start.back());
-  tbb::parallel_for(size_t(0), rows.size(),
-                    [&](size_t c) { std::copy(rows[c].begin(), rows[c].end(), cov.samples.begin() + cov.start[c]); });
+  tbb::parallel_for(size_t(0), chunks.size(), [&](size_t k) {
+    std::copy(chunks[k].begin(), chunks[k].end(), cov.samples.begin() + cov.start[k * kRowChunk]);
+    std::vector<uint32_t>().swap(chunks[k]);
+  });
   return cov;
 }
 
@@ -211,31 +237,47 @@ void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& sampl
 
 GapTable::GapTable(const CoverProblem& problem, double max_delta) : max_delta_(max_delta) {
   std::vector<uint32_t> offset;
-  const std::vector<std::vector<std::pair<uint32_t, double>>> rows = gather_rows<std::pair<uint32_t, double>>(
+  chunks_.resize((problem.candidate_count() + kRowChunk - 1) / kRowChunk);
+  gather_rows<std::pair<uint32_t, double>>(
       problem, max_delta, offset,
-      [](std::vector<std::pair<uint32_t, double>>& row, uint32_t sample, double gap) { row.emplace_back(sample, gap); });
-  const size_t candidates = rows.size();
+      [](std::vector<std::pair<uint32_t, double>>& row, uint32_t sample, double gap) { row.emplace_back(sample, gap); },
+      [&](size_t k, const std::vector<uint32_t>& ends, const std::vector<std::pair<uint32_t, double>>& entries) {
+        Chunk& chunk = chunks_[k];
+        chunk.ends = ends;
+        chunk.samples.reserve(entries.size());
+        chunk.gaps.reserve(entries.size());
+        for (const auto& [sample, gap] : entries) {
+          chunk.samples.push_back(sample);
+          chunk.gaps.push_back(gap);
+        }
+      });
   sample_count_ = offset.back();
-  start_.assign(candidates + 1, 0);
-  for (size_t c = 0; c < candidates; ++c) start_[c + 1] = start_[c] + uint32_t(rows[c].size());
-  samples_.resize(start_.back());
-  gaps_.resize(start_.back());
-  tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
-    for (size_t n = 0; n < rows[c].size(); ++n) std::tie(samples_[start_[c] + n], gaps_[start_[c] + n]) = rows[c][n];
-  });
+  candidates_ = problem.candidate_count();
 }
 
 Coverage GapTable::at(double delta) const {
   delta = std::min(delta, max_delta_);
+  // Each chunk's rows filtered side by side, then laid end to end.
+  std::vector<std::vector<uint32_t>> kept(chunks_.size());
+  std::vector<uint32_t> size(candidates_);
+  tbb::parallel_for(size_t(0), chunks_.size(), [&](size_t k) {
+    const Chunk& chunk = chunks_[k];
+    kept[k].reserve(chunk.samples.size());
+    for (uint32_t n = 0, c = 0; c < chunk.ends.size(); ++c) {
+      const size_t before = kept[k].size();
+      for (; n < chunk.ends[c]; ++n)
+        if (chunk.gaps[n] <= delta) kept[k].push_back(chunk.samples[n]);
+      size[k * kRowChunk + c] = uint32_t(kept[k].size() - before);
+    }
+  });
   Coverage cov;
   cov.sample_count = sample_count_;
-  cov.start.reserve(start_.size());
-  cov.start.push_back(0);
-  for (size_t c = 0; c + 1 < start_.size(); ++c) {
-    for (uint32_t n = start_[c]; n < start_[c + 1]; ++n)
-      if (gaps_[n] <= delta) cov.samples.push_back(samples_[n]);
-    cov.start.push_back(uint32_t(cov.samples.size()));
-  }
+  cov.start.assign(candidates_ + 1, 0);
+  for (size_t c = 0; c < candidates_; ++c) cov.start[c + 1] = cov.start[c] + size[c];
+  cov.samples.resize(cov.start.back());
+  tbb::parallel_for(size_t(0), kept.size(), [&](size_t k) {
+    std::copy(kept[k].begin(), kept[k].end(), cov.samples.begin() + cov.start[k * kRowChunk]);
+  });
   return cov;
 }
 

@@ -80,17 +80,23 @@ class CoverageCache {
 };
 
 // The coverage at every delta up to `max_delta`, computed once: each candidate's samples with
-// their gaps. at(delta) equals coverage_at(problem, delta) for any delta <= max_delta.
+// their gaps. at(delta), for any delta <= max_delta, is coverage_at(problem, delta) of the
+// candidates that stand for the rest at merge x max_delta (all of them without `merge`).
 class GapTable {
  public:
   GapTable(const CoverProblem& problem, double max_delta);
   Coverage at(double delta) const;
 
  private:
+  // Candidates in chunks as they were gathered side by side (none copied into one array).
+  struct Chunk {
+    std::vector<uint32_t> ends;  // one past each candidate's last entry
+    std::vector<uint32_t> samples;
+    std::vector<double> gaps;
+  };
   double max_delta_;
-  size_t sample_count_ = 0;
-  std::vector<uint32_t> start_, samples_;
-  std::vector<double> gaps_;
+  size_t sample_count_ = 0, candidates_ = 0;
+  std::vector<Chunk> chunks_;
 };
 
 // For each sample, the smallest gap over every candidate: the least delta at which it can be
