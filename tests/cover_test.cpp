@@ -275,7 +275,7 @@ TEST(Cover, SearchScoresAgainstRecount) {
 }
 
 // The two searches side by side give the same cover whatever the threads, and the thorough
-// rule's search alike.
+// rule's search alike, and greedy.
 TEST(Cover, SearchIndependentOfThreads) {
   std::mt19937 rng(13);
   for (int trial = 0; trial < 20; ++trial) {
@@ -293,6 +293,13 @@ TEST(Cover, SearchIndependentOfThreads) {
       EXPECT_EQ(wide, one) << "trial " << trial << (thorough ? ", thorough" : "");
     }
   }
+  // Greedy's degrees and first gains are counted side by side on problems of millions of pairs.
+  const Coverage big = coverage_of(random_rows(rng, 4000, 3000), 3000);
+  ASSERT_GT(big.samples.size(), size_t(2) << 20);
+  const std::vector<int> wide = greedy_cover(big);
+  tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+  EXPECT_EQ(wide, greedy_cover(big));
+  EXPECT_TRUE(covers_all(big, wide));
 }
 
 // Candidates offered again from alike frames: distinct_centres keeps, in order, each centre at

@@ -23,6 +23,25 @@ constexpr double kPolyakTarget = 1.05;
 
 }  // namespace
 
+namespace {
+
+// How many candidates cover each sample: per chunk of rows side by side, then summed.
+std::vector<uint32_t> sample_degrees(const Coverage& cov) {
+  const size_t candidates = cov.start.size() - 1;
+  const size_t chunks = std::clamp<size_t>(cov.samples.size() / (size_t(1) << 20), 1, 8);
+  std::vector<std::vector<uint32_t>> part(chunks, std::vector<uint32_t>(cov.sample_count, 0));
+  tbb::parallel_for(size_t(0), chunks, [&](size_t k) {
+    const uint32_t* n = cov.samples.data() + cov.start[candidates * k / chunks];
+    const uint32_t* end = cov.samples.data() + cov.start[candidates * (k + 1) / chunks];
+    for (; n != end; ++n) ++part[k][*n];
+  });
+  for (size_t k = 1; k < chunks; ++k)
+    for (size_t s = 0; s < cov.sample_count; ++s) part[0][s] += part[k][s];
+  return std::move(part[0]);
+}
+
+}  // namespace
+
 std::vector<int> greedy_cover(const Coverage& cov, const std::vector<int>& start) {
   const size_t candidates = cov.start.size() - 1;
   std::vector<char> covered(cov.sample_count, 0);
@@ -30,20 +49,24 @@ std::vector<int> greedy_cover(const Coverage& cov, const std::vector<int>& start
     for (uint32_t n = cov.start[size_t(c)]; n < cov.start[size_t(c) + 1]; ++n) covered[cov.samples[n]] = 1;
   // Samples few candidates cover weigh more: a sphere that takes the only cover of a hard
   // sample early saves the spheres that would chase it late.
-  std::vector<uint32_t> degree(cov.sample_count, 0);
-  for (uint32_t s : cov.samples) ++degree[s];
+  const std::vector<uint32_t> degree = sample_degrees(cov);
   std::vector<double> weight(cov.sample_count, 0);
   for (size_t s = 0; s < weight.size(); ++s) weight[s] = degree[s] ? 1.0 / degree[s] : 0;
   // Lazy greedy: a popped gain is recounted, and the candidate taken only if it still leads.
-  std::priority_queue<std::pair<double, int>> queue;  // (gain, -index)
   auto gain_of = [&](size_t c) {
     double g = 0;
     for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
       if (!covered[cov.samples[n]]) g += weight[cov.samples[n]];
     return g;
   };
-  for (size_t c = 0; c < candidates; ++c)
-    if (cov.row_size(c) > 0) queue.emplace(gain_of(c), -int(c));
+  // The first gains side by side (a pass over every pair); the keys are distinct, so the order
+  // they are popped in does not depend on the order they were pushed in.
+  std::vector<std::pair<double, int>> first(candidates);  // (gain, -index)
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t c = r.begin(); c != r.end(); ++c) first[c] = {cov.row_size(c) > 0 ? gain_of(c) : -1.0, -int(c)};
+  });
+  first.erase(std::remove_if(first.begin(), first.end(), [](const auto& e) { return e.first < 0; }), first.end());
+  std::priority_queue<std::pair<double, int>> queue(std::less<std::pair<double, int>>(), std::move(first));
   std::vector<int> chosen(start);
   while (!queue.empty()) {
     const auto [gain, neg] = queue.top();
