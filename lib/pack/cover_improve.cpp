@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 
 #include "pack/cover.hpp"
 #include "pack/median_descent.hpp"
@@ -189,22 +190,33 @@ void improve_cover(const CoverProblem& problem, const Coverage& cov, double delt
   CoverState state(problem, cov, delta);
   state.set(chosen);
   const size_t candidates = cov.start.size() - 1;
-  // Spare budget: the candidate that cuts the total error most, while one does.
+  // Spare budget: the candidate that cuts the total error most (ties to the lowest index), while
+  // one does. A cut only shrinks as spheres are added (every error only falls, and so does a
+  // sum of smaller terms in the same order), so the cuts counted before bound those now: each
+  // round recounts only the leaders until one keeps its cut (lazy greedy, the same choices).
+  auto cut_of = [&](size_t c) {
+    double sum = 0;
+    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
+      sum += state.weight(cov.samples[n]) * std::max(0.0, state.error(cov.samples[n]) - state.gap(cov.samples[n], int(c)));
+    return sum;
+  };
   size_t added = 0;
-  while (chosen.size() < max_spheres) {
-    std::vector<double> cut(candidates, 0);
-    tbb::parallel_for(size_t(0), candidates, [&](size_t c) {
-      if (state.chosen(int(c))) return;
-      double sum = 0;
-      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
-        sum += state.weight(cov.samples[n]) * std::max(0.0, state.error(cov.samples[n]) - state.gap(cov.samples[n], int(c)));
-      cut[c] = sum;
-    });
-    const size_t best = size_t(std::max_element(cut.begin(), cut.end()) - cut.begin());
-    if (!(cut[best] > 0)) break;
-    state.add(int(best));
-    chosen.push_back(int(best));
-    ++added;
+  if (chosen.size() < max_spheres) {
+    std::vector<std::pair<double, int>> first(candidates);  // (cut, -index)
+    tbb::parallel_for(size_t(0), candidates, [&](size_t c) { first[c] = {state.chosen(int(c)) ? 0.0 : cut_of(c), -int(c)}; });
+    std::priority_queue<std::pair<double, int>> leaders(std::less<std::pair<double, int>>(), std::move(first));
+    while (chosen.size() < max_spheres && !leaders.empty() && leaders.top().first > 0) {
+      const auto [bound, neg] = leaders.top();
+      leaders.pop();
+      const double now = cut_of(size_t(-neg));
+      if (now < bound) {
+        leaders.emplace(now, neg);
+        continue;
+      }
+      state.add(-neg);
+      chosen.push_back(-neg);
+      ++added;
+    }
   }
   size_t swaps = swap_rounds(state, cov, delta, chosen, [](double e) { return e; });
   const size_t median_swaps = lower_median ? median_descent(state, cov, delta, chosen) : 0;
