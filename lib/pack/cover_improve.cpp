@@ -33,6 +33,8 @@ class CoverState {
     in_.assign(cov.start.size() - 1, 0);
     first_.assign(cov.sample_count, -1);
     second_.assign(cov.sample_count, -1);
+    error_.assign(cov.sample_count, 2 * delta);
+    second_error_.assign(cov.sample_count, 2 * delta);
   }
 
   double weight(uint32_t s) const { return weight_[s]; }
@@ -46,11 +48,9 @@ class CoverState {
   }
   // The sample's error with the chosen set: its gap to the nearest chosen sphere covering it
   // (delta's worth past delta where none does: such a sample only arises from uncoverable ones).
-  double error(uint32_t s) const { return first_[s] < 0 ? 2 * delta_ : gap(s, first_[s]); }
-  double error_without(uint32_t s, int c) const {
-    const int best = first_[s] == c ? second_[s] : first_[s];
-    return best < 0 ? 2 * delta_ : gap(s, best);
-  }
+  // Kept as the nearest two are found: a swap's trial asks for thousands of them.
+  double error(uint32_t s) const { return error_[s]; }
+  double error_without(uint32_t s, int c) const { return first_[s] == c ? second_error_[s] : error_[s]; }
 
   void set(const std::vector<int>& chosen) {
     std::fill(in_.begin(), in_.end(), 0);
@@ -90,6 +90,8 @@ class CoverState {
     }
     first_[s] = a;
     second_[s] = b;
+    error_[s] = a < 0 ? 2 * delta_ : ga;
+    second_error_[s] = b < 0 ? 2 * delta_ : gb;
   }
 
   const CoverProblem& problem_;
@@ -100,6 +102,7 @@ class CoverState {
   std::vector<uint32_t> by_start_, by_;
   std::vector<char> in_;
   std::vector<int> first_, second_;
+  std::vector<double> error_, second_error_;  // the gaps to first_ and second_ (2 delta: none)
 };
 
 // Swaps: a sphere for one that covers every sample only it covers, cutting the summed cost of
@@ -113,11 +116,14 @@ size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::ve
     size_t this_round = 0;
     for (size_t slot = 0; slot < chosen.size(); ++slot) {
       const int out = chosen[slot];
-      // Samples only `out` covers: a replacement must cover them all.
-      std::vector<uint32_t> critical;
+      // Samples only `out` covers: a replacement must cover them all. Those `out` is nearest to,
+      // in its row's order: they fall back to their second sphere or to the replacement.
+      std::vector<uint32_t> critical, nearest;
       for (uint32_t n = cov.start[size_t(out)]; n < cov.start[size_t(out) + 1]; ++n) {
         const uint32_t s = cov.samples[n];
-        if (state.first(s) == out && state.second(s) < 0) critical.push_back(s);
+        if (state.first(s) != out) continue;
+        nearest.push_back(s);
+        if (state.second(s) < 0) critical.push_back(s);
       }
       // Candidates: those covering the first critical sample (every sample of `out` if none).
       const uint32_t anchor = critical.empty() ? cov.samples[cov.start[size_t(out)]] : critical.front();
@@ -131,9 +137,7 @@ size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::ve
           if (state.gap(s, in) > delta) return;
         double sum = 0;
         // Samples losing `out` fall back to their second sphere or to `in`.
-        for (uint32_t n = cov.start[size_t(out)]; n < cov.start[size_t(out) + 1]; ++n) {
-          const uint32_t s = cov.samples[n];
-          if (state.first(s) != out) continue;
+        for (uint32_t s : nearest) {
           const double g = state.gap(s, in);
           const double after = std::min(state.error_without(s, out), g <= delta ? g : std::numeric_limits<double>::infinity());
           if (after > limit) return;
