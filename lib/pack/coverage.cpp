@@ -29,8 +29,14 @@ template <class Visit>
 void for_each_covered(const SampleGrid& grid, const std::vector<Eigen::Vector3d>& points, const Sphere& s, double delta,
                       Visit&& visit) {
   if (!(s.radius > 0)) return;
-  grid.near(s.center, s.radius + delta, [&](uint32_t i) {
-    const double gap = (points[i] - s.center).norm() - s.radius;
+  const double reach = s.radius + delta;
+  // Past this squared distance a point is surely farther than reach, whatever the rounding of
+  // the gap below: no square root for the grid's points outside the ball (about half of them).
+  const double beyond = reach * reach * (1 + 1e-9);
+  grid.near(s.center, reach, [&](uint32_t i) {
+    const double squared = (points[i] - s.center).squaredNorm();
+    if (squared > beyond) return;
+    const double gap = std::sqrt(squared) - s.radius;  // as norm() computes it
     if (gap <= delta) visit(i, gap);
   });
 }
