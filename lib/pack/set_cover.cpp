@@ -12,16 +12,6 @@
 #include <queue>
 
 namespace spx {
-namespace {
-
-// The Lagrangian bound: pairs visited in all by its steps (a dense budget cover's bound would
-// otherwise cost more than its search); steps without a better bound before the step halves;
-// the value Polyak's rule steps toward, a little above the known cover's size.
-constexpr size_t kLagrangianPairs = size_t(4e8);
-constexpr int kStallSteps = 15;
-constexpr double kPolyakTarget = 1.05;
-
-}  // namespace
 
 namespace {
 
@@ -365,15 +355,6 @@ ReducedCover reduce_cover(const Coverage& cov, uint32_t scan) {
   return out;
 }
 
-// The larger of the two lower bounds. On a reduced problem too: the reduction keeps the optimum
-// of the problem and of its LP relaxation, so its bounds hold for the original.
-// The Lagrangian's steps are capped at kLagrangianPairs pairs visited in all (a dense budget cover's
-// bound would otherwise cost more than its search).
-size_t lower_bound_of(const Coverage& cov, size_t upper) {
-  const int steps = int(std::clamp<size_t>(kLagrangianPairs / std::max<size_t>(cov.samples.size(), 1), 20, 200));
-  return std::max(cover_lower_bound(cov), lagrangian_bound(cov, upper, steps));
-}
-
 std::vector<int> smallest_cover(const Coverage& cov, SearchLimits limits, size_t enough, size_t* lower_bound, Log& log,
                                 const std::vector<int>& start, std::vector<uint32_t>* kept_samples) {
   const ReducedCover reduced = reduce_cover(cov, limits.scan);
@@ -422,87 +403,6 @@ Coverage covering_candidates(const Coverage& cov) {
   return transposed(cov.start.size() - 1, cov.sample_count, [&](size_t c) {
     return Row{cov.samples.data() + cov.start[c], cov.samples.data() + cov.start[c + 1]};
   });
-}
-
-size_t cover_lower_bound(const Coverage& cov) {
-  const size_t candidates = cov.start.size() - 1;
-  const Coverage covering = covering_candidates(cov);
-  const std::vector<uint32_t>& start = covering.start;
-  const std::vector<uint32_t>& by = covering.samples;
-  // Most constrained samples first; a pick blocks every sample a candidate of it covers.
-  std::vector<uint32_t> order(cov.sample_count);
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return start[a + 1] - start[a] < start[b + 1] - start[b];
-  });
-  std::vector<char> blocked(cov.sample_count, 0), used(candidates, 0);
-  size_t picked = 0;
-  for (uint32_t s : order) {
-    if (blocked[s] || start[s] == start[s + 1]) continue;
-    ++picked;
-    for (uint32_t n = start[s]; n < start[s + 1]; ++n) {
-      const uint32_t c = by[n];
-      if (used[c]) continue;
-      used[c] = 1;
-      for (uint32_t m = cov.start[c]; m < cov.start[c + 1]; ++m) blocked[cov.samples[m]] = 1;
-    }
-  }
-  return picked;
-}
-
-size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
-  const size_t candidates = cov.start.size() - 1, samples = cov.sample_count;
-  std::vector<char> coverable(samples, 0);
-  for (uint32_t s : cov.samples) coverable[s] = 1;
-  // Start: each sample's multiplier the best 1/|column| among the candidates covering it.
-  std::vector<double> u(samples, 0.0);
-  for (size_t c = 0; c < candidates; ++c)
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) {
-      const double share = 1.0 / double(cov.row_size(c));
-      if (u[cov.samples[n]] == 0 || share < u[cov.samples[n]]) u[cov.samples[n]] = share;
-    }
-  // Subgradient steps by Polyak's rule toward the best cover known (`upper`).
-  std::vector<int> hits(samples, 0);
-  std::vector<double> reduced(candidates);
-  double best = 0, lambda = 2.0;
-  int since_better = 0;
-  for (int step = 0; step < steps && lambda > 1e-3; ++step) {
-    double value = 0;
-    for (size_t s = 0; s < samples; ++s) value += u[s];
-    std::fill(hits.begin(), hits.end(), 0);
-    // Each candidate's reduced cost (on both cores: every pair is read), then summed in order.
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 256), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t c = range.begin(); c != range.end(); ++c) {
-        double r = 1;
-        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) r -= u[cov.samples[n]];
-        reduced[c] = r;
-      }
-    });
-    for (size_t c = 0; c < candidates; ++c)
-      if (reduced[c] < 0) {  // an empty row's is 1
-        value += reduced[c];
-        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) ++hits[cov.samples[n]];
-      }
-    if (value > best + 1e-9) {
-      best = value;
-      since_better = 0;
-    } else if (++since_better >= kStallSteps) {
-      lambda /= 2;
-      since_better = 0;
-    }
-    if (std::ceil(best - 1e-6) >= double(upper)) break;  // the cover is optimal
-    double norm = 0;
-    for (size_t s = 0; s < samples; ++s)
-      if (coverable[s]) {
-        const double g = 1.0 - hits[s];
-        if (g > 0 || u[s] > 0) norm += g * g;
-      }
-    if (norm == 0) break;
-    const double t = lambda * (kPolyakTarget * double(upper) - value) / norm;
-    for (size_t s = 0; s < samples; ++s)
-      if (coverable[s]) u[s] = std::max(0.0, u[s] + t * (1.0 - hits[s]));
-  }
-  return size_t(std::max(0.0, std::ceil(best - 1e-6)));
 }
 
 }  // namespace spx
