@@ -542,7 +542,7 @@ TEST(PoseMap, JointSelectionNeedsCandidates) {
 namespace spx {
 namespace {
 
-// A rigged asset's clip through pose-extract (every `every`th frame) into `dir`, with its rig, the
+// A rigged asset's clip through pose-extract (every `every`th frame, or `times`) into `dir`, with its rig, the
 // skin's weights found for the rest as pose-map finds them.
 struct ExtractedClip {
   PoseManifest manifest;
@@ -550,10 +550,12 @@ struct ExtractedClip {
   std::vector<PoseInput> poses;
   SkinFile skin;
 };
-ExtractedClip extract_clip(const std::string& asset, const std::string& dir, int every) {
+ExtractedClip extract_clip(const std::string& asset, const std::string& dir, int every,
+                           const std::vector<double>& times = {}) {
   PoseExtractOptions extract;
   extract.animation = "0";
   extract.every = every;
+  extract.times = times;
   json report;
   pose_extract_files(asset, dir, extract, Log::silent(), report);
   ExtractedClip clip;
@@ -1026,6 +1028,50 @@ TEST(PoseMap, ClipSelectionChecksEveryChosenRadiusExactly) {
       EXPECT_LE(at.radius, frames.exact_radius(at.center, f) + 1e-12) << "frame " << f << ": a sphere pokes out";
     }
     EXPECT_EQ(cover_in_frame(frames, selection.chosen, f, options).bare, 0u) << "frame " << f;
+  }
+}
+
+// A rigged body at a sphere budget: the chosen centres refined as the unrigged ones are, each
+// move's sphere skinned into every frame with its one radius, exact (spheres_at). At most the
+// budget; every frame's largest vertex error (by brute force over the spheres written) below the
+// least delta any cover of the candidates fits the budget at; every sphere inside every frame at
+// the skin's centre; and over a clip longer than the first round's frames (the bare samples of
+// the others join round by round) the same.
+TEST(PoseMap, SkinnedBudgetRefinedInEveryFrame) {
+  SPX_REQUIRE_SHARED_DATA();
+  for (int frames : {4, 12}) {
+    std::vector<double> times;  // evenly over the clip's 2 seconds
+    for (int k = 1; k <= frames; ++k) times.push_back(2.0 * k / frames);
+    const ExtractedClip clip = extract_clip(test::shared_data() + "/rigged-simple/RiggedSimple.glb",
+                                            test::temp_dir("skinned-budget-" + std::to_string(frames)), 1, times);
+    const TriMesh& rest = clip.rest.mesh;
+    SpheresFile file;
+    pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);
+    PoseMapOptions opt;
+    opt.max_spheres = 12;
+    const PoseMapResult r = pose_map(rest, "rigged", clip.poses, file, opt, Log::silent(), &clip.skin);
+    const std::string what = std::to_string(clip.poses.size()) + " frames";
+    ASSERT_TRUE(r.summary.selection.has_value()) << what;
+    EXPECT_LE(r.proxy.sphere_count(), 12u) << what;
+    EXPECT_GT(r.summary.selection->refined_moves, 0u) << what;
+    for (size_t i = 0; i < r.proxy.poses.size(); ++i) {
+      const TriMesh& mesh = i == 0 ? rest : clip.poses[i - 1].mesh;
+      const MeshQuery q(mesh);
+      double worst = 0;
+      for (const Eigen::Vector3d& v : mesh.vertices) {
+        double gap = std::numeric_limits<double>::infinity();
+        for (const Sphere& sp : r.proxy.poses[i].spheres) gap = std::min(gap, (v - sp.center).norm() - sp.radius);
+        worst = std::max(worst, std::abs(gap));
+      }
+      EXPECT_LT(worst, r.summary.selection->cover.least_max_delta) << what << ", frame " << i;
+      for (const Sphere& sp : r.proxy.poses[i].spheres) {
+        ASSERT_GT(sp.radius, 0) << what << ", frame " << i;
+        EXPECT_TRUE(q.inside(sp.center)) << what << ", frame " << i;
+        EXPECT_LE(sp.radius, q.distance(sp.center) + 1e-9) << what << ", frame " << i;
+      }
+    }
+    if (frames == 12)  // the others only checked (and their bare samples added)
+      EXPECT_LT(r.summary.selection->frames.size(), r.proxy.poses.size()) << "the clip must pass the first round's frames";
   }
 }
 

@@ -25,7 +25,13 @@ size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vecto
   for (const Sphere& s : chosen) centers.push_back(s.center);
   for (size_t f = 0; f < count; ++f) {
     weighted[f] = frames.frame_surface(f).vertices.size();
-    spheres[f] = frames.spheres_in(chosen, f);
+    if (!frames.one_radius()) spheres[f] = frames.spheres_in(chosen, f);
+  }
+  // Skinned, each sphere as spheres_at makes it: its one radius in every frame.
+  std::vector<Sphere> in_frames;
+  for (size_t s = 0; s < chosen.size() && frames.one_radius(); ++s) {
+    if (!frames.spheres_at(chosen[s].center, in_frames)) return 0;  // a radius 0 somewhere: left as chosen
+    for (size_t f = 0; f < count; ++f) spheres[f].push_back(in_frames[f]);
   }
   const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) { return frames.spheres_at(c, out); };
   const size_t moves = refine_jointly(samples, weighted, centers, spheres, at, delta, step, log, true);

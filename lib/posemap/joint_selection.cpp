@@ -25,6 +25,13 @@ constexpr double kNearlyBare = 0.5;
 // over more rounds, in less time and memory, and no more spheres.
 constexpr double kNearlyBareCompacted = 0.75;
 
+// Budget mode checks the other frames once: each round is a whole budget cover (a bisection over
+// tables of pairs), and on a long clip every cover leaves a few samples of some other frame past
+// its delta (48 frames of the elephant's walk at 64 spheres: a round of about half a minute, a
+// dozen rounds and more). What the second round's cover leaves past its delta the refinement,
+// which weighs every frame's samples, takes on; every frame's error is in the report.
+constexpr size_t kBudgetRounds = 2;
+
 double largest_displacement(const TriMesh& a, const TriMesh& b) {
   double out = 0;
   for (size_t v = 0; v < a.vertices.size(); ++v) out = std::max(out, (a.vertices[v] - b.vertices[v]).squaredNorm());
@@ -85,7 +92,7 @@ class Selector {
       out.samples = problem.sample_count();
       size_t more_samples = 0;
       std::vector<size_t> more_frames;
-      if (active_.size() < frames_.frame_count()) {
+      if (active_.size() < frames_.frame_count() && (opt_.budget == 0 || out.rounds < kBudgetRounds)) {
         if (one_)
           more_samples = add_bare_samples(out.cover.chosen, out.cover.delta, out.bare_elsewhere,
                                           compacting() ? &out.cover.kept_samples : nullptr);
@@ -116,13 +123,20 @@ class Selector {
  private:
   bool is_active(size_t f) const { return std::binary_search(active_.begin(), active_.end(), f); }
 
-  // Not skinned, budget mode: the chosen centres are refined off the candidates (below).
-  bool refining() const { return !one_ && opt_.budget > 0 && opt_.refine_step > 0; }
+  // Budget mode: the chosen centres are refined off the candidates (below).
+  bool refining() const { return opt_.budget > 0 && opt_.refine_step > 0; }
   size_t refine(SphereSet& chosen, double delta) {
     std::vector<std::vector<Eigen::Vector3d>> every(frames_.frame_count());
     for (size_t f = 0; f < every.size(); ++f) every[f] = samples(f);  // over every frame, as drawn here
     return refine_chosen(frames_, every, opt_.refine_step, chosen, delta, log_);
   }
+
+  // Skinned: the share of delta past which a check adds a sample. Budget mode adds only the bare:
+  // its delta is the least the budget reaches, so most samples are covered by more than half of
+  // it, the nearly bare would be nearly every sample of the clip, and each round's budget cover
+  // (tables of every pair within delta) grows with them (48 frames of the elephant's walk at 64
+  // spheres took over 20 GB).
+  double nearly_bare() const { return opt_.budget > 0 ? 1.0 : compacting() ? kNearlyBareCompacted : kNearlyBare; }
 
   // Skinned, tolerance: after each round the problem keeps only the samples its reduction kept
   // (a cover of those covers the rest), so that a round costs what the hard samples of the clip
@@ -338,8 +352,7 @@ class Selector {
       if (whole_ && is_active(f)) return;
       SphereSet spheres(chosen.size());
       for (size_t s = 0; s < chosen.size(); ++s) spheres[s] = sphere(size_t(chosen[s]), f);
-      const std::vector<uint32_t> nearly =
-          bare_samples(samples_[f], spheres, (compacting() ? kNearlyBareCompacted : kNearlyBare) * delta);
+      const std::vector<uint32_t> nearly = bare_samples(samples_[f], spheres, nearly_bare() * delta);
       // Of those, the bare outright: a scan of the few, not of every sample again.
       const std::vector<uint32_t> outright = bare_samples(pick(samples_[f], nearly), spheres, delta);
       for (size_t n = 0, o = 0; n < nearly.size(); ++n) {

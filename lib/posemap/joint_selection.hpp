@@ -11,6 +11,8 @@
 // offer much the same candidates: one per place is kept (`spacing`). A skinned candidate's one
 // radius is held over the whole clip (over_clip) as it is offered, before any cover sees it.
 // Where every frame is selected on in the first round, that is the one cover over all of them.
+// Budget mode checks the other frames once (a round is a whole budget cover there), then refines
+// the chosen centres over every frame's samples.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -45,8 +47,8 @@ class SelectionFrames {
   virtual std::vector<double> over_clip(const std::vector<SkinInfluence>&, const std::vector<double>& radius) const {
     return radius;
   }
-  // Not skinned: the spheres a rest centre becomes in every frame (spheres_in's), or false where
-  // one of them has radius 0.
+  // The spheres a rest centre becomes in every frame (spheres_in's; skinned: its one radius,
+  // exact in every frame), or false where one of them has radius 0.
   virtual bool spheres_at(const Eigen::Vector3d& rest_center, std::vector<Sphere>& in_frames) const;
   // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
   // reaches), mapped back to the rest; each of them offered once.
@@ -62,9 +64,9 @@ struct JointSelectionOptions {
   uint64_t seed = 1;
   size_t first_frames = 6;   // poses selected on in the first round (those farthest apart)
   size_t frames_per_round = 4;
-  // Not skinned, budget mode: the chosen rest centres then move off the candidates (from this
-  // step down to an eighth of it) where that lowers every frame's largest vertex error, then
-  // their total and median (refine_jointly); 0: they stay.
+  // Budget mode: the chosen rest centres then move off the candidates (from this step down to an
+  // eighth of it) where that lowers every frame's largest vertex error, then their total and
+  // median (refine_jointly; each move's spheres by spheres_at); 0: they stay.
   double refine_step = 0;
 };
 

@@ -1,5 +1,6 @@
 #include "posemap/posemap.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -12,7 +13,6 @@
 #include "core/tolerance.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/defects.hpp"
-#include "mesh/inscribed.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/candidates.hpp"
 #include "pack/cover.hpp"
@@ -118,9 +118,8 @@ class PoseMapper {
     for (const auto& s : spheres_.spheres)
       if (!queries_[0]->inside(s.center) || queries_[0]->distance(s.center) < s.radius - slack) ++misfits;
     if (misfits > 0)
-      fail_input(rest_source_, std::to_string(misfits) + " of " + std::to_string(spheres_.spheres.size()) +
-                                   " spheres do not fit inside this rest mesh (packed from another mesh, or are the "
-                                   "rest mesh and a pose swapped?)");
+      fail_input(rest_source_, std::to_string(misfits) + " of " + std::to_string(spheres_.spheres.size()) + " spheres do "
+                 "not fit inside this rest mesh (packed from another mesh, or are the rest mesh and a pose swapped?)");
   }
 
   // One sphere set for the rest and every pose (posemap/joint_selection.hpp), recorded in the
@@ -134,7 +133,7 @@ class PoseMapper {
     options.spacing = open_solid_ ? 0.0 : kFrameCandidateSpacing * field_options().voxel_size;
     options.area_samples = opt_.area_samples;
     options.seed = opt_.seed;
-    options.refine_step = skinned_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack refines
+    options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
     Frames frames(*this);
     const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
     const CoverResult& cover = selection.cover;
@@ -142,11 +141,10 @@ class PoseMapper {
     if (uncoverable > 0)
       log_.warn(std::to_string(uncoverable) + " surface samples over the poses are farther than " + num(cover.delta) +
                 " from every candidate sphere mapped there " +
-                (skinned_ ? "(a skinned sphere keeps one radius, the least over the frames: where parts move "
-                            "against each other no candidate keeps one large enough, whatever the resolution; "
-                            "thin parts at the field's resolution also need a finer sdf-build resolution)"
-                          : "(thin parts at the field's resolution; a finer sdf-build resolution gives candidates "
-                            "closer to them)"));
+                (skinned_ ? "(a skinned sphere keeps one radius, the least over the frames: where parts move against each "
+                            "other no candidate keeps one large enough, whatever the resolution; thin parts at the "
+                            "field's resolution also need a finer sdf-build resolution)"
+                          : "(thin parts at the field's resolution; a finer sdf-build resolution gives candidates closer to them)"));
     summary.selection = selection;
     summary.selection_target = options.target;
     return selection.chosen;
@@ -296,14 +294,17 @@ class PoseMapper {
     const TriMesh& frame_surface(size_t f) const override { return m_.queries_[f]->surface(); }
     SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f); }
     bool one_radius() const override { return bool(m_.skinned_); }
-    std::vector<double> over_clip(const std::vector<SkinInfluence>& influences,
-                                  const std::vector<double>& radius) const override {
-      return m_.clip_ ? m_.clip_->least(influences, radius) : radius;
+    std::vector<double> over_clip(const std::vector<SkinInfluence>& in, const std::vector<double>& r) const override {
+      return m_.clip_ ? m_.clip_->least(in, r) : r;
     }
-    SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override {
-      return m_.skinned_->carry(rest, m_.solids_);
-    }
+    SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override { return m_.skinned_->carry(rest, m_.solids_); }
     double exact_radius(const Eigen::Vector3d& c, size_t f) const override { return m_.solids_[f].exact_radius(c, false).value; }
+    // The spheres map_spheres writes (skinned: one radius, exact in every frame); false where one is 0.
+    bool spheres_at(const Eigen::Vector3d& c, std::vector<Sphere>& in_frames) const override {
+      in_frames.clear();
+      for (const auto& [sphere, zero] : m_.in_poses(c, false, nullptr)) in_frames.push_back(sphere);
+      return std::all_of(in_frames.begin(), in_frames.end(), [](const Sphere& s) { return s.radius > 0; });
+    }
     SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
       size_t lost = 0;
       return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach), lost);

@@ -160,6 +160,12 @@ std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen:
   std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
   for (size_t i = 0; i < solids.size(); ++i) {
     const Eigen::Vector3d center = this->center(chosen.influence, c, i);
+    // Without the causes (a refinement's trial), a pose that surely keeps the radius so far asks
+    // no exact query: the least is the same.
+    if (!cause && solids[i].surely_at_least(center, radius)) {
+      out.push_back({{center, 0}, PoseSolid::Zero::none});
+      continue;
+    }
     const PoseSolid::Radius exact = solids[i].exact_radius(center, cause);
     radius = std::min(radius, exact.value);
     out.push_back({{center, 0}, exact.zero});
