@@ -9,11 +9,8 @@ namespace spx {
 
 bool SelectionFrames::spheres_at(const Eigen::Vector3d& rest_center, std::vector<Sphere>& in_frames) const {
   in_frames.resize(frame_count());
-  for (size_t f = 0; f < in_frames.size(); ++f) {
-    in_frames[f] = spheres_in({Sphere{rest_center, 0}}, f)[0];
-    if (!(in_frames[f].radius > 0)) return false;
-  }
-  return true;
+  for (size_t f = 0; f < in_frames.size(); ++f) in_frames[f] = spheres_in({Sphere{rest_center, 0}}, f)[0];
+  return std::all_of(in_frames.begin(), in_frames.end(), [](const Sphere& s) { return s.radius > 0; });
 }
 
 size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vector<Eigen::Vector3d>>& samples,
@@ -23,14 +20,11 @@ size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vecto
   std::vector<SphereSet> spheres(count);
   std::vector<Eigen::Vector3d> centers;
   for (const Sphere& s : chosen) centers.push_back(s.center);
-  for (size_t f = 0; f < count; ++f) {
-    weighted[f] = frames.frame_surface(f).vertices.size();
-    if (!frames.one_radius()) spheres[f] = frames.spheres_in(chosen, f);
-  }
-  // Skinned, each sphere as spheres_at makes it: its one radius in every frame.
+  for (size_t f = 0; f < count; ++f) weighted[f] = frames.frame_surface(f).vertices.size();
+  // Each chosen sphere in every frame as a move would make it (one that is 0 in some frame too).
   std::vector<Sphere> in_frames;
-  for (size_t s = 0; s < chosen.size() && frames.one_radius(); ++s) {
-    if (!frames.spheres_at(chosen[s].center, in_frames)) return 0;  // a radius 0 somewhere: left as chosen
+  for (const Sphere& s : chosen) {
+    frames.spheres_at(s.center, in_frames);
     for (size_t f = 0; f < count; ++f) spheres[f].push_back(in_frames[f]);
   }
   const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) { return frames.spheres_at(c, out); };

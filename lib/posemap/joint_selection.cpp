@@ -126,9 +126,8 @@ class Selector {
   // Budget mode: the chosen centres are refined off the candidates (below).
   bool refining() const { return opt_.budget > 0 && opt_.refine_step > 0; }
   size_t refine(SphereSet& chosen, double delta) {
-    std::vector<std::vector<Eigen::Vector3d>> every(frames_.frame_count());
-    for (size_t f = 0; f < every.size(); ++f) every[f] = samples(f);  // over every frame, as drawn here
-    return refine_chosen(frames_, every, opt_.refine_step, chosen, delta, log_);
+    for (size_t f = 0; f < frames_.frame_count(); ++f) samples(f);  // over every frame, as drawn here
+    return refine_chosen(frames_, samples_, opt_.refine_step, chosen, delta, log_);
   }
 
   // Skinned: the share of delta past which a check adds a sample. Budget mode adds only the bare:

@@ -47,8 +47,9 @@ class SelectionFrames {
   virtual std::vector<double> over_clip(const std::vector<SkinInfluence>&, const std::vector<double>& radius) const {
     return radius;
   }
-  // The spheres a rest centre becomes in every frame (spheres_in's; skinned: its one radius,
-  // exact in every frame), or false where one of them has radius 0.
+  // The spheres a rest centre becomes in every frame, every frame filled (spheres_in's; skinned:
+  // its one radius, exact in every frame, which the default cannot give); false where one of them
+  // has radius 0.
   virtual bool spheres_at(const Eigen::Vector3d& rest_center, std::vector<Sphere>& in_frames) const;
   // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
   // reaches), mapped back to the rest; each of them offered once.
