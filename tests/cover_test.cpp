@@ -565,6 +565,25 @@ TEST(Cover, BudgetsAreKeptAndDeltaIsMet) {
   EXPECT_LE(t.lower_bound, t.chosen.size());
 }
 
+// Budget mode started where a cover of the budget is known (the polish's start): no greedy
+// bisection, no more spheres than the budget, every sample within the delta it claims, and a
+// least max delta no larger than the known one.
+TEST(Cover, BudgetFromAKnownDeltaMeetsIt) {
+  std::unique_ptr<MeshQuery> query;
+  const TriMesh mesh = make_car().rest;
+  const CoverProblem p = problem_of(mesh, 48, query);
+  for (size_t budget : {6, 12, 24}) {
+    const CoverResult plain = cover_with_budget(p, budget, kRefinedBudgetSlack);
+    const CoverResult from = cover_with_budget(p, budget, kRefinedBudgetSlack, 1e-2, Log::silent(), plain.delta);
+    EXPECT_LE(from.chosen.size(), budget);
+    EXPECT_LT(from.evaluations, plain.evaluations) << "greedy's bisection ran anyway";
+    EXPECT_LE(from.least_max_delta, plain.delta * (1 + 1e-12));
+    SphereSet spheres;
+    for (int c : from.chosen) spheres.push_back(p.spheres[0][size_t(c)]);
+    for (double v : union_signed_distance(p.samples[0], spheres)) EXPECT_LE(v, from.delta * (1 + 1e-12)) << budget;
+  }
+}
+
 // Median descent: from the same cover with spare budget, the vertices' median error (measured
 // apart, on the union of the chosen spheres) is lower than after the total-error swaps alone,
 // their largest error no higher, and every sample still within delta.
@@ -980,6 +999,38 @@ TEST(Candidates, FinerFieldOffersFinerCandidates) {
   const size_t coarse = count_at(64), fine = count_at(160);
   EXPECT_GT(fine, 12000u);
   EXPECT_GT(double(fine), 5.0 * double(coarse)) << coarse << " at 64 cells, " << fine << " at 160";
+}
+
+// The polish (sphere-pack's budget mode): the set kept has a max vertex error no higher than the
+// first refinement's (lower on this instance), at most the budget, every sphere inside at its
+// exact distance, every sample within the delta of the cover kept with it, and the report's
+// sources add up.
+TEST(Cover, PolishKeepsTheLowestMaxInside) {
+  const TriMesh mesh = make_car().rest;
+  SdfOptions o;
+  o.resolution = 48;
+  const SdfResult sdf = build_sdf(mesh, o);
+  const MeshQuery query(mesh);
+  SpherePackOptions opt;
+  opt.pack.max_spheres = 10;
+  opt.area_samples = 1000;
+  opt.polish_rounds = 0;
+  const CoverSelection plain = select_by_cover(sdf.field, query, opt);
+  opt.polish_rounds = 3;
+  const CoverSelection polished = select_by_cover(sdf.field, query, opt);
+  const double before = vertex_error(mesh, plain.spheres).max, after = vertex_error(mesh, polished.spheres).max;
+  EXPECT_GT(polished.polished, 0u) << "no round lowered the max on this instance";
+  EXPECT_LT(after, before);
+  EXPECT_LE(polished.spheres.size(), opt.pack.max_spheres);
+  EXPECT_LE(polished.chosen_tangent + polished.chosen_refined, polished.spheres.size());
+  EXPECT_GT(polished.chosen_refined, 0u) << "the kept cover chose none of the refined spheres";
+  for (const Sphere& s : polished.spheres) {
+    EXPECT_TRUE(brute_inside(mesh, s.center));
+    EXPECT_NEAR(s.radius, brute_distance(mesh, s.center), 1e-12 * mesh.diagonal());
+  }
+  const SurfaceSamples samples = sample_surface(query.surface(), opt.area_samples, opt.seed);
+  for (double v : union_signed_distance(samples.points, polished.spheres))
+    EXPECT_LE(v, polished.cover.delta * (1 + 1e-9));
 }
 
 }  // namespace

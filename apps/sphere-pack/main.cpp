@@ -25,6 +25,11 @@ int main(int argc, char** argv) {
   tool.app.add_option("--max-radius", opt.pack.max_radius, "No sphere larger (default unlimited)");
   tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")->capture_default_str();
   tool.app.add_option("--seed", opt.seed, "Cover: seed of the surface samples")->capture_default_str();
+  tool.app.add_option("--polish", opt.polish_rounds,
+                      "Cover with --max-spheres: cover again this many times from the refined spheres, keeping the "
+                      "set with the lowest max error (0: faster, the first refinement's)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   bool grid_centers = false;
   tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {

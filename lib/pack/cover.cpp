@@ -29,9 +29,41 @@ double diagonal_of(const CoverProblem& problem) {
 }
 constexpr int kMaxBudgetCovers = 60;
 
-}  // namespace
-
-namespace {
+// Budget mode's start: greedy covers from a small delta, doubled (a table each time) until one
+// fits the budget, then bisected to `precision`; the last table is left in `table`.
+void greedy_bisection(const CoverProblem& problem, size_t max_spheres, double reach, double precision, double lo_start,
+                      std::unique_ptr<GapTable>& table, CoverResult& best, Coverage& best_cov) {
+  auto solve = [&](double delta) {
+    Coverage v = table->at(delta);
+    ++best.evaluations;
+    return std::make_pair(greedy_cover(v), std::move(v));
+  };
+  // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
+  double lo = lo_start, hi = std::max({lo_start * kFirstDeltaOverReach, kFirstDeltaFloor * diagonal_of(problem), 1e-12});
+  table = std::make_unique<GapTable>(problem, hi * reach);
+  auto [cover, cov] = solve(hi);
+  while (cover.size() > max_spheres && best.evaluations < kMaxBudgetCovers) {
+    lo = hi;
+    hi *= 2;
+    table = std::make_unique<GapTable>(problem, hi * reach);
+    std::tie(cover, cov) = solve(hi);
+  }
+  best.chosen = cover;
+  best.delta = hi;
+  best_cov = std::move(cov);
+  while (hi - lo > precision * hi && best.evaluations < kMaxBudgetCovers) {
+    const double mid = 0.5 * (lo + hi);
+    auto [c, v] = solve(mid);
+    if (c.size() <= max_spheres) {
+      hi = mid;
+      best.chosen = std::move(c);
+      best.delta = mid;
+      best_cov = std::move(v);
+    } else {
+      lo = mid;
+    }
+  }
+}
 
 double largest_finite(const std::vector<double>& values) {
   double out = 0;
@@ -86,7 +118,7 @@ CoverResult cover_for(const CoverProblem& problem, double target, size_t budget,
 }
 
 CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack, double precision,
-                              Log& log) {
+                              Log& log, double first_delta) {
   CoverResult best;
   const std::vector<double> gaps = least_gaps(problem);
   const double lo_start = largest_finite(gaps);
@@ -95,39 +127,25 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   // comes from the same table.
   const double reach = 1 + std::max(slack, 0.0);
   std::unique_ptr<GapTable> table;
-  auto solve = [&](double delta) {
-    Coverage v = table->at(delta);
-    ++best.evaluations;
-    return std::make_pair(greedy_cover(v), std::move(v));
+  Coverage best_cov;
+  auto keep = [&](std::vector<int> chosen, double delta, Coverage cov) {
+    best.chosen = std::move(chosen);
+    best.delta = delta;
+    best_cov = std::move(cov);
   };
-  // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
-  double lo = lo_start, hi = std::max({lo_start * kFirstDeltaOverReach, kFirstDeltaFloor * diagonal_of(problem), 1e-12});
-  table = std::make_unique<GapTable>(problem, hi * reach);
-  auto [cover, cov] = solve(hi);
-  while (cover.size() > max_spheres && best.evaluations < kMaxBudgetCovers) {
-    lo = hi;
-    hi *= 2;
-    table = std::make_unique<GapTable>(problem, hi * reach);
-    std::tie(cover, cov) = solve(hi);
+  // Where a cover of the budget is known at first_delta, the search finds one there: greedy's
+  // bisection (a table at each doubling) is not needed to start below.
+  if (first_delta > lo_start) {
+    table = std::make_unique<GapTable>(problem, first_delta * reach);
+    Coverage v = table->at(first_delta);
+    ++best.evaluations;
+    std::vector<int> c = smallest_cover(v, kBudgetSearch, max_spheres, nullptr, log);
+    if (c.size() <= max_spheres) keep(std::move(c), first_delta, std::move(v));
   }
-  best.chosen = cover;
-  best.delta = hi;
-  Coverage best_cov = std::move(cov);
-  while (hi - lo > precision * hi && best.evaluations < kMaxBudgetCovers) {
-    const double mid = 0.5 * (lo + hi);
-    auto [c, v] = solve(mid);
-    if (c.size() <= max_spheres) {
-      hi = mid;
-      best.chosen = std::move(c);
-      best.delta = mid;
-      best_cov = std::move(v);
-    } else {
-      lo = mid;
-    }
-  }
+  if (best.chosen.empty()) greedy_bisection(problem, max_spheres, reach, precision, lo_start, table, best, best_cov);
   // The row-weighting search fits the budget at a smaller delta than greedy does: bisect
   // below greedy's delta, each cover searched until it fits.
-  lo = std::max(lo_start, (1 - kSearchReach) * best.delta);
+  double lo = std::max(lo_start, (1 - kSearchReach) * best.delta);
   for (int step = 0; step < kSearchBisections && best.delta - lo > precision * best.delta; ++step) {
     const double mid = 0.5 * (lo + best.delta);
     Coverage v = table->at(mid);

@@ -93,8 +93,10 @@ CoverResult cover_for(const CoverProblem& problem, double target, size_t budget,
 
 // Budget mode: the smallest delta (to a relative `precision`) whose cover has at most
 // `max_spheres` candidates; then the cover at (1 + slack) times it, improved with the budget
-// that leaves (a little more max error for a lower median).
+// that leaves (a little more max error for a lower median). `first_delta` (when > 0): where the
+// bisection starts, a delta some cover of the budget is known to meet (otherwise it doubles
+// from a small one, a table at each doubling).
 CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, double slack = kBudgetSlack,
-                              double precision = 1e-2, Log& log = Log::silent());
+                              double precision = 1e-2, Log& log = Log::silent(), double first_delta = 0);
 
 }  // namespace spx

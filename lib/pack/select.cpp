@@ -1,10 +1,63 @@
 #include "pack/select.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <functional>
+#include <limits>
+#include <tuple>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
+#include "pack/median_descent.hpp"
 
 namespace spx {
+namespace {
+
+// The samples' gaps to the union of `spheres`: the median and max of the first `weighted` (the
+// vertices, where the error is measured) and the largest of all (what a cover's delta must reach).
+struct UnionGaps {
+  double median = 0, max = 0, largest = 0;
+};
+UnionGaps union_gaps(const std::vector<Eigen::Vector3d>& samples, size_t weighted, const SphereSet& spheres) {
+  std::vector<double> gap(samples.size(), std::numeric_limits<double>::infinity());
+  tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) {
+    for (const Sphere& s : spheres) gap[i] = std::min(gap[i], (samples[i] - s.center).norm() - s.radius);
+  });
+  UnionGaps out;
+  out.largest = *std::max_element(gap.begin(), gap.end());
+  std::tie(out.median, out.max) = detail::median_and_max_of({gap.begin(), gap.begin() + long(weighted)});
+  return out;
+}
+
+// Budget mode, `rounds` times: the budget covered again from every candidate and every set
+// refined so far (the last one a cover at its largest gap, where the bisection starts), then
+// refined; the set with the lowest max vertex error is kept (the first on ties), its cover with
+// it. A refined sphere sits where no voxel or sample offered one, so the cover can pair it with
+// others it could not before, and the refinement descends again from another start.
+void polish(const CoverProblem& problem, size_t budget, CoverSelection& out,
+            const std::function<double(const Eigen::Vector3d&)>& radius_at, double step, int rounds, Log& log) {
+  CoverProblem again = problem;
+  again.spheres = {out.offered};
+  SphereSet current = out.spheres;
+  UnionGaps now = union_gaps(problem.samples[0], problem.weighted[0], current), best = now;
+  for (int round = 1; round <= rounds; ++round) {
+    again.spheres[0].insert(again.spheres[0].end(), current.begin(), current.end());
+    CoverResult cover = cover_with_budget(again, budget, kRefinedBudgetSlack, 1e-2, log, now.largest);
+    current.clear();
+    for (int c : cover.chosen) current.push_back(again.spheres[0][size_t(c)]);
+    refine_off_grid(again.samples[0], again.weighted[0], current, radius_at, cover.delta, step, log, true);
+    now = union_gaps(again.samples[0], again.weighted[0], current);
+    log.detail("polish " + std::to_string(round) + ": max vertex error " + num(now.max) + " (kept so far " + num(best.max) + ")");
+    if (!(now.max < best.max)) continue;
+    best = now;
+    out.spheres = current;
+    out.cover = std::move(cover);
+    out.polished = size_t(round);
+  }
+}
+
+}  // namespace
 
 // Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
 // tolerance or the budget, then the centers refined off the grid.
@@ -51,9 +104,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   out.pool.assign(candidates.begin(), candidates.begin() + long(out.voxel_candidates));
   for (int c : out.cover.chosen) {
     out.spheres.push_back(candidates[size_t(c)]);
-    if (size_t(c) < out.voxel_candidates) continue;
-    ++out.chosen_tangent;
-    out.pool.push_back(candidates[size_t(c)]);
+    if (size_t(c) >= out.voxel_candidates) out.pool.push_back(candidates[size_t(c)]);
   }
   out.offered = std::move(problem.spheres[0]);  // the cover is done with them
   if (refined) {
@@ -63,9 +114,18 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     const double max_radius = opt.pack.max_radius;
     // Budget mode's first aim is the max: the refinement does not trade it for the total.
     const bool budget = out.limited_by == Limit::budget || out.limited_by == Limit::budget_over_tolerance;
-    refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres,
-                   [&](const Eigen::Vector3d& c) { return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0; },
-                   out.cover.delta, 0.5 * field.shape.voxel_size, log, budget);
+    const auto radius_at = [&](const Eigen::Vector3d& c) {
+      return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0;
+    };
+    const double step = 0.5 * field.shape.voxel_size;
+    refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres, radius_at, out.cover.delta, step, log, budget);
+    if (budget) polish(problem, opt.pack.max_spheres, out, radius_at, step, opt.polish_rounds, log);
+  }
+  // What the kept cover chose from: the field's voxels, the samples' tangent balls, or (polished)
+  // an earlier refinement's spheres.
+  for (int c : out.cover.chosen) {
+    out.chosen_tangent += size_t(c) >= out.voxel_candidates && size_t(c) < out.offered.size();
+    out.chosen_refined += size_t(c) >= out.offered.size();
   }
   // Largest first (what a host culls by), ties in candidate order.
   std::stable_sort(out.spheres.begin(), out.spheres.end(),

@@ -23,6 +23,9 @@ struct SpherePackOptions {
   size_t area_samples = 4000;   // cover: surface samples besides every vertex
   bool tangent_candidates = true;  // cover: one candidate tangent at every sample besides the voxels'
   uint64_t seed = 1;
+  // Cover, budget mode: the refined spheres join the candidates, and the budget is covered and
+  // refined again this many times; the set with the lowest max vertex error is kept.
+  int polish_rounds = 2;
 };
 
 // The cover method on a field and its mesh: the spheres, and how the cover went.
@@ -36,6 +39,8 @@ struct CoverSelection {
   size_t touching_samples = 0;   // samples whose tangent ball misses them, given a touching ball too
   size_t unreached_samples = 0;  // samples no candidate of theirs reaches (knife edges, flipped normals)
   size_t chosen_tangent = 0;     // chosen spheres that came from tangent candidates
+  size_t chosen_refined = 0;     // polished: chosen spheres that an earlier refinement placed
+  size_t polished = 0;           // budget mode: the polish round whose set was kept (0: the first refinement's)
   SphereSet offered;           // every candidate
   SphereSet pool;              // the voxels' candidates and the chosen tangent ones (pose-map selects from them over every pose)
 };
