@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   tool.app.add_option("--polish", opt.polish_rounds,
                       "Cover with --max-spheres: cover again this many times from the refined spheres, keeping the "
                       "set with the lowest max error (0: faster, the first refinement's)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, 16))
       ->capture_default_str();
   bool grid_centers = false;
   tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
