@@ -26,8 +26,9 @@ int main(int argc, char** argv) {
   tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")->capture_default_str();
   tool.app.add_option("--seed", opt.seed, "Cover: seed of the surface samples")->capture_default_str();
   tool.app.add_option("--polish", opt.polish_rounds,
-                      "Cover with --max-spheres: cover again this many times from the refined spheres, keeping the "
-                      "set with the lowest max error (0: faster, the first refinement's)")
+                      "Cover with --max-spheres: cover again this many times from the refined spheres, keeping a "
+                      "set with no higher max error and a lower max times median (0: faster, the first "
+                      "refinement's)")
       ->check(CLI::Range(0, 16))
       ->capture_default_str();
   bool grid_centers = false;

@@ -1,14 +1,12 @@
 #include "pack/select.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <functional>
-#include <limits>
 #include <tuple>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "mesh/union_distance.hpp"
 #include "pack/median_descent.hpp"
 
 namespace spx {
@@ -20,21 +18,23 @@ struct UnionGaps {
   double median = 0, max = 0, largest = 0;
 };
 UnionGaps union_gaps(const std::vector<Eigen::Vector3d>& samples, size_t weighted, const SphereSet& spheres) {
-  std::vector<double> gap(samples.size(), std::numeric_limits<double>::infinity());
-  tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) {
-    for (const Sphere& s : spheres) gap[i] = std::min(gap[i], (samples[i] - s.center).norm() - s.radius);
-  });
+  const std::vector<double> gap = union_signed_distance(samples, spheres);
   UnionGaps out;
   out.largest = *std::max_element(gap.begin(), gap.end());
   std::tie(out.median, out.max) = detail::median_and_max_of({gap.begin(), gap.begin() + long(weighted)});
   return out;
 }
 
+// Whether a polished set is kept over the best so far: its max no higher, and its max times its
+// median lower (a lower max bought with a median that rises more, in proportion, is not kept;
+// nor is a lower median at a higher max).
+bool kept_over(const UnionGaps& a, const UnionGaps& b) { return a.max <= b.max && a.max * a.median < b.max * b.median; }
+
 // Budget mode, `rounds` times: the budget covered again from every candidate and every set
 // refined so far (the last one a cover at its largest gap, where the bisection starts), then
-// refined; the set with the lowest max vertex error is kept (the first on ties), its cover with
-// it. A refined sphere sits where no voxel or sample offered one, so the cover can pair it with
-// others it could not before, and the refinement descends again from another start.
+// refined; the best set (kept_over) is kept, its cover with it. A refined sphere sits where no
+// voxel or sample offered one, so the cover can pair it with others it could not before, and
+// the refinement descends again from another start.
 void polish(const CoverProblem& problem, size_t budget, CoverSelection& out,
             const std::function<double(const Eigen::Vector3d&)>& radius_at, double step, int rounds, Log& log) {
   CoverProblem again = problem;
@@ -48,8 +48,9 @@ void polish(const CoverProblem& problem, size_t budget, CoverSelection& out,
     for (int c : cover.chosen) current.push_back(again.spheres[0][size_t(c)]);
     refine_off_grid(again.samples[0], again.weighted[0], current, radius_at, cover.delta, step, log, true);
     now = union_gaps(again.samples[0], again.weighted[0], current);
-    log.detail("polish " + std::to_string(round) + ": max vertex error " + num(now.max) + " (kept so far " + num(best.max) + ")");
-    if (!(now.max < best.max)) continue;
+    log.detail("polish " + std::to_string(round) + ": vertex error max " + num(now.max) + ", median " + num(now.median) +
+               " (kept so far: " + num(best.max) + ", " + num(best.median) + ")");
+    if (!kept_over(now, best)) continue;
     best = now;
     out.spheres = current;
     out.cover = std::move(cover);

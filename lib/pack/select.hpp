@@ -24,7 +24,8 @@ struct SpherePackOptions {
   bool tangent_candidates = true;  // cover: one candidate tangent at every sample besides the voxels'
   uint64_t seed = 1;
   // Cover, budget mode: the refined spheres join the candidates, and the budget is covered and
-  // refined again this many times; the set with the lowest max vertex error is kept.
+  // refined again this many times; a set with no higher max vertex error and a lower product of
+  // max and median is kept (select.cpp).
   int polish_rounds = 2;
 };
 
