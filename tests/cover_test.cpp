@@ -12,6 +12,7 @@
 #include "mesh/union_distance.hpp"
 #include "mesh/inscribed.hpp"
 #include "pack/cover.hpp"
+#include "pack/median_descent.hpp"
 #include "pack/sample_grid.hpp"
 #include "pack/select.hpp"
 #include "pack/sphere_pack_tool.hpp"
@@ -1020,15 +1021,13 @@ TEST(Cover, PolishKeepsABetterSetInside) {
   const CoverSelection polished = select_by_cover(sdf.field, query, opt);
   // The vertices' median and max as the polish weighs them (the middle one, not interpolated).
   auto stats = [&](const SphereSet& spheres) {
-    std::vector<double> d = union_signed_distance(query.surface().vertices, spheres);
-    const double max = *std::max_element(d.begin(), d.end());
-    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
-    return ErrorStats{.median = d[d.size() / 2], .max = max};
+    return detail::median_and_max_of(union_signed_distance(query.surface().vertices, spheres));
   };
-  const ErrorStats before = stats(plain.spheres), after = stats(polished.spheres);
+  const auto [median_before, max_before] = stats(plain.spheres);
+  const auto [median_after, max_after] = stats(polished.spheres);
   EXPECT_GT(polished.polished, 0u) << "no round was kept on this instance";
-  EXPECT_LE(after.max, before.max);
-  EXPECT_LT(after.max * after.median, before.max * before.median);
+  EXPECT_LE(max_after, max_before);
+  EXPECT_LT(max_after * median_after, max_before * median_before);
   EXPECT_LE(polished.spheres.size(), opt.pack.max_spheres);
   EXPECT_LE(polished.chosen_tangent + polished.chosen_refined, polished.spheres.size());
   EXPECT_GT(polished.chosen_refined, 0u) << "the kept cover chose none of the refined spheres";

@@ -29,6 +29,13 @@ double diagonal_of(const CoverProblem& problem) {
 }
 constexpr int kMaxBudgetCovers = 60;
 
+// Budget mode's best cover so far: its candidates, the delta it meets and its coverage there.
+void keep_cover(CoverResult& best, Coverage& best_cov, std::vector<int> chosen, double delta, Coverage cov) {
+  best.chosen = std::move(chosen);
+  best.delta = delta;
+  best_cov = std::move(cov);
+}
+
 // Budget mode's start: greedy covers from a small delta, doubled (a table each time) until one
 // fits the budget, then bisected to `precision`; the last table is left in `table`.
 void greedy_bisection(const CoverProblem& problem, size_t max_spheres, double reach, double precision, double lo_start,
@@ -48,17 +55,13 @@ void greedy_bisection(const CoverProblem& problem, size_t max_spheres, double re
     table = std::make_unique<GapTable>(problem, hi * reach);
     std::tie(cover, cov) = solve(hi);
   }
-  best.chosen = cover;
-  best.delta = hi;
-  best_cov = std::move(cov);
+  keep_cover(best, best_cov, std::move(cover), hi, std::move(cov));
   while (hi - lo > precision * hi && best.evaluations < kMaxBudgetCovers) {
     const double mid = 0.5 * (lo + hi);
     auto [c, v] = solve(mid);
     if (c.size() <= max_spheres) {
       hi = mid;
-      best.chosen = std::move(c);
-      best.delta = mid;
-      best_cov = std::move(v);
+      keep_cover(best, best_cov, std::move(c), mid, std::move(v));
     } else {
       lo = mid;
     }
@@ -128,11 +131,6 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   const double reach = 1 + std::max(slack, 0.0);
   std::unique_ptr<GapTable> table;
   Coverage best_cov;
-  auto keep = [&](std::vector<int> chosen, double delta, Coverage cov) {
-    best.chosen = std::move(chosen);
-    best.delta = delta;
-    best_cov = std::move(cov);
-  };
   // Where a cover of the budget is known at first_delta, the search finds one there: greedy's
   // bisection (a table at each doubling) is not needed to start below.
   if (first_delta > lo_start) {
@@ -140,7 +138,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
     Coverage v = table->at(first_delta);
     ++best.evaluations;
     std::vector<int> c = smallest_cover(v, kBudgetSearch, max_spheres, nullptr, log);
-    if (c.size() <= max_spheres) keep(std::move(c), first_delta, std::move(v));
+    if (c.size() <= max_spheres) keep_cover(best, best_cov, std::move(c), first_delta, std::move(v));
   }
   if (best.chosen.empty()) greedy_bisection(problem, max_spheres, reach, precision, lo_start, table, best, best_cov);
   // The row-weighting search fits the budget at a smaller delta than greedy does: bisect
@@ -151,13 +149,10 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
     Coverage v = table->at(mid);
     ++best.evaluations;
     std::vector<int> c = smallest_cover(v, kBudgetSearch, max_spheres, nullptr, log);
-    if (c.size() <= max_spheres) {
-      best.chosen = std::move(c);
-      best.delta = mid;
-      best_cov = std::move(v);
-    } else {
+    if (c.size() <= max_spheres)
+      keep_cover(best, best_cov, std::move(c), mid, std::move(v));
+    else
       lo = mid;
-    }
   }
   best.least_max_delta = best.delta;
   if (slack > 0) {
@@ -166,11 +161,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
     Coverage v = table->at(best.delta * (1 + slack));
     ++best.evaluations;
     std::vector<int> c = smallest_cover(v, kBudgetSearch, 0, nullptr);
-    if (c.size() <= max_spheres) {
-      best.delta *= 1 + slack;
-      best.chosen = std::move(c);
-      best_cov = std::move(v);
-    }
+    if (c.size() <= max_spheres) keep_cover(best, best_cov, std::move(c), best.delta * (1 + slack), std::move(v));
   }
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
   improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log, true);
