@@ -61,6 +61,11 @@ void Log::record_time(const std::string& stage, double seconds) {
   detail(stage + " took " + std::to_string(seconds) + " s");
 }
 
+void Log::join(const Log& other) {
+  warnings_.insert(warnings_.end(), other.warnings_.begin(), other.warnings_.end());
+  timings_.insert(timings_.end(), other.timings_.begin(), other.timings_.end());
+}
+
 StageTimer::StageTimer(Log& log, std::string stage)
     : log_(log), stage_(std::move(stage)), start_(std::chrono::steady_clock::now()) {
   if (stage_ != "total") log_.begin(stage_);

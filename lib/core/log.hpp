@@ -30,6 +30,11 @@ class Log {
   const std::vector<std::pair<std::string, double>>& timings() const { return timings_; }
   void record_time(const std::string& stage, double seconds);
 
+  // For a step that runs beside others: a log that prints as this one does and records apart
+  // (records are not shared across threads); join() then takes its warnings and timings in.
+  Log fork() const { return Log(tool_, verbosity_); }
+  void join(const Log& other);
+
  private:
   std::string tool_;
   int verbosity_;

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -72,26 +73,27 @@ class PoseMapper {
 
   // Each pose's solid, the rest's included: exact distances and, for open meshes (whose solid
   // also ends across the holes, where there are no triangles), the pose's own field at the
-  // spheres' voxel size. One rule then sets every radius.
-  void build_solids() {
+  // spheres' voxel size. One rule then sets every radius. Needs the poses alone, not the tets.
+  void build_solids(Log& log) {
+    const bool skinned = skin_ != nullptr;  // skinned_ is made beside this
     meshes_.push_back(&rest_);
     for (const PoseInput& input : poses_) meshes_.push_back(&input.mesh);
     // Pose by pose in parallel (each also parallel inside, where its steps allow).
     queries_.resize(meshes_.size());
     {
-      StageTimer t(log_, "pose-queries");
+      StageTimer t(log, "pose-queries");
       tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) { queries_[i] = std::make_unique<MeshQuery>(*meshes_[i]); });
     }
     open_solid_ = !find_defects(rest_).watertight();
     fields_.resize(meshes_.size());
     // Open meshes: the fields bound radii across the holes. Skinned: they put floors under every
     // pose's radii, so that a sphere's one radius asks few poses.
-    if (open_solid_ || skinned_) {
-      StageTimer t(log_, "pose-fields");
-      if (skinned_) depths_.resize(meshes_.size()), pose_inscribed_.resize(poses_.size());
+    if (open_solid_ || skinned) {
+      StageTimer t(log, "pose-fields");
+      if (skinned) depths_.resize(meshes_.size()), pose_inscribed_.resize(poses_.size());
       tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) {
-        const DenseField& field = pose_field(i, skinned_ != nullptr);
-        if (!skinned_) return;
+        const DenseField& field = pose_field(i, skinned);
+        if (!skinned) return;
         // Kept for floors as depths only; a frame's own candidates are listed now, while its
         // field is at hand (an open mesh's fields bound radii, and are kept whole).
         depths_[i] = depth_field(field);
@@ -108,7 +110,7 @@ class PoseMapper {
     }
     for (size_t i = 0; i < meshes_.size(); ++i)
       solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
-                         skinned_ ? &depths_[i] : nullptr, shapes_.empty() ? nullptr : &shapes_[i]});
+                         skinned ? &depths_[i] : nullptr, shapes_.empty() ? nullptr : &shapes_[i]});
   }
 
   // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
@@ -224,17 +226,9 @@ class PoseMapper {
 
   // Blend sites: the nearest rest tet vertex of each sphere (the paper's local blend).
   void assign_blend_sites() {
-    const size_t n = rest_centers_.size();
-    const std::vector<int> nearest = nearest_tet_vertices(tets_, rest_centers_);
-    std::vector<int> site_of_vertex(tets_.vertices.size(), -1);
-    std::vector<int> used(nearest);
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
-    for (int v : used) {
-      site_of_vertex[size_t(v)] = int(proxy_.sites.size());
-      proxy_.sites.push_back(tets_.vertices[size_t(v)]);
-    }
-    for (size_t s = 0; s < n; ++s) proxy_.sphere_sites.push_back(site_of_vertex[size_t(nearest[s])]);
+    const BlendSites b = blend_sites(tets_, rest_centers_);
+    proxy_.sites.insert(proxy_.sites.end(), b.sites.begin(), b.sites.end());
+    proxy_.sphere_sites.insert(proxy_.sphere_sites.end(), b.of_point.begin(), b.of_point.end());
   }
 
   // A rigged body's proxy carries each sphere's influence and its one radius.
@@ -473,9 +467,11 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
   PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
-  mapper.make_tets();
-  mapper.solve_map();
-  mapper.build_solids();
+  // Mesh_3 keeps one core: the poses' solids (their queries and, skinned or open, fields) are
+  // built on the other meanwhile.
+  Log beside = log.fork();
+  tbb::parallel_invoke([&] { mapper.make_tets(), mapper.solve_map(); }, [&] { mapper.build_solids(beside); });
+  log.join(beside);
   mapper.check_rest_spheres_fit();
   const bool joint = !opt.map_given && (opt.tolerance > 0 || opt.max_spheres > 0 || !spheres.candidates.empty());
   if (joint && spheres.candidates.empty())

@@ -353,4 +353,18 @@ std::vector<int> nearest_tet_vertices(const TetMesh& tets, const std::vector<Eig
   return nearest;
 }
 
+BlendSites blend_sites(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points) {
+  const std::vector<int> nearest = nearest_tet_vertices(tets, points);
+  std::vector<int> used(nearest), site_of_vertex(tets.vertices.size(), -1);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  BlendSites out;
+  for (int v : used) {
+    site_of_vertex[size_t(v)] = int(out.sites.size());
+    out.sites.push_back(tets.vertices[size_t(v)]);
+  }
+  for (int v : nearest) out.of_point.push_back(site_of_vertex[size_t(v)]);
+  return out;
+}
+
 }  // namespace spx

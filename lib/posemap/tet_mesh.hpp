@@ -40,4 +40,12 @@ TetMesh read_medit_tets(const std::string& path);
 // lower index).
 std::vector<int> nearest_tet_vertices(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points);
 
+// The paper's local blend: each point's site is its nearest tet vertex. `sites`: those vertices,
+// each once, by index; `of_point`: each point's index into them.
+struct BlendSites {
+  std::vector<Eigen::Vector3d> sites;
+  std::vector<int> of_point;
+};
+BlendSites blend_sites(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points);
+
 }  // namespace spx
