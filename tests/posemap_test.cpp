@@ -7,6 +7,8 @@
 #include <memory>
 #include <random>
 
+#include <tbb/global_control.h>
+
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "extract/asset.hpp"
@@ -654,6 +656,33 @@ TEST(PoseMap, SkinnedOpenArticulatedSampleMeetsTheToleranceInEveryFrame) {
   // limbs' tubes reaching into the pelvis and the torso).
   const json report = pose_map_report(r);
   for (const auto& pose : report["poses"]) EXPECT_GT(pose["walls_inside"]["left_out"].get<size_t>(), 0u);
+}
+
+// The poses' solids are built beside the tets and the map (pose_map), and the selection runs on
+// both cores: a skinned, open clip (its fields kept to bound radii) gives the same proxy, bit for
+// bit, on one thread.
+TEST(PoseMap, SkinnedClipIsTheSameOnOneThread) {
+  const ExtractedClip clip = robot_clip(6);
+  SpheresFile file;
+  pack_rest(clip.rest.mesh, 64, {kDefaultTolerancePercent, true}, file);
+  const PoseMapResult both = pose_map(clip.rest.mesh, "robot", clip.poses, file, {}, Log::silent(), &clip.skin);
+  PoseMapResult one;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = pose_map(clip.rest.mesh, "robot", clip.poses, file, {}, Log::silent(), &clip.skin);
+  }
+  ASSERT_EQ(both.proxy.poses.size(), one.proxy.poses.size());
+  ASSERT_GT(both.proxy.sphere_count(), 0u);
+  for (size_t i = 0; i < both.proxy.poses.size(); ++i) {
+    const SphereSet &a = both.proxy.poses[i].spheres, &b = one.proxy.poses[i].spheres;
+    ASSERT_EQ(a.size(), b.size()) << "pose " << i;
+    for (size_t s = 0; s < a.size(); ++s) {
+      EXPECT_EQ(a[s].center, b[s].center) << "pose " << i << " sphere " << s;
+      EXPECT_EQ(a[s].radius, b[s].radius) << "pose " << i << " sphere " << s;
+    }
+  }
+  EXPECT_EQ(both.proxy.sphere_sites, one.proxy.sphere_sites);
+  EXPECT_EQ(both.proxy.skin.spheres.size(), one.proxy.skin.spheres.size());
 }
 
 TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {
