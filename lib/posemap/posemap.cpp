@@ -470,7 +470,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   // Mesh_3 keeps one core: the poses' solids (their queries and, skinned or open, fields) are
   // built on the other meanwhile.
   Log beside = log.fork();
-  tbb::parallel_invoke([&] { mapper.make_tets(), mapper.solve_map(); }, [&] { mapper.build_solids(beside); });
+  tbb::parallel_invoke([&] { mapper.make_tets(); mapper.solve_map(); }, [&] { mapper.build_solids(beside); });
   log.join(beside);
   mapper.check_rest_spheres_fit();
   const bool joint = !opt.map_given && (opt.tolerance > 0 || opt.max_spheres > 0 || !spheres.candidates.empty());
