@@ -226,9 +226,9 @@ class PoseMapper {
 
   // Blend sites: the nearest rest tet vertex of each sphere (the paper's local blend).
   void assign_blend_sites() {
-    const BlendSites b = blend_sites(tets_, rest_centers_);
-    proxy_.sites.insert(proxy_.sites.end(), b.sites.begin(), b.sites.end());
-    proxy_.sphere_sites.insert(proxy_.sphere_sites.end(), b.of_point.begin(), b.of_point.end());
+    BlendSites b = blend_sites(tets_, rest_centers_);
+    proxy_.sites = std::move(b.sites);
+    proxy_.sphere_sites = std::move(b.of_point);
   }
 
   // A rigged body's proxy carries each sphere's influence and its one radius.

@@ -336,6 +336,8 @@ TetMesh read_medit_tets(const std::string& path) {
   return m;
 }
 
+namespace {
+// For each point, the index of the nearest tet vertex.
 std::vector<int> nearest_tet_vertices(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points) {
   std::vector<int> nearest(points.size(), -1);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
@@ -352,6 +354,7 @@ std::vector<int> nearest_tet_vertices(const TetMesh& tets, const std::vector<Eig
   });
   return nearest;
 }
+}  // namespace
 
 BlendSites blend_sites(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points) {
   const std::vector<int> nearest = nearest_tet_vertices(tets, points);

@@ -36,12 +36,9 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& l
 // A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections).
 TetMesh read_medit_tets(const std::string& path);
 
-// For each point, the index of the nearest tet vertex (brute force, in parallel; ties to the
-// lower index).
-std::vector<int> nearest_tet_vertices(const TetMesh& tets, const std::vector<Eigen::Vector3d>& points);
-
-// The paper's local blend: each point's site is its nearest tet vertex. `sites`: those vertices,
-// each once, by index; `of_point`: each point's index into them.
+// The paper's local blend: each point's site is its nearest tet vertex (brute force, in
+// parallel; ties to the lower index). `sites`: those vertices, each once, by index; `of_point`:
+// each point's index into them.
 struct BlendSites {
   std::vector<Eigen::Vector3d> sites;
   std::vector<int> of_point;
