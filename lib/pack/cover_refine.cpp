@@ -124,10 +124,37 @@ class OffGrid {
   std::vector<uint32_t> near_either(const std::vector<uint64_t>& around, const std::vector<Sphere>& b) const {
     std::vector<uint64_t> marked(around);
     mark_near(b, marked);
+    return set_bits(marked);
+  }
+  static std::vector<uint32_t> set_bits(const std::vector<uint64_t>& marked) {
     std::vector<uint32_t> out;
     for (size_t w = 0; w < marked.size(); ++w)
       for (uint64_t bits = marked[w]; bits; bits &= bits - 1) out.push_back(uint32_t(w * 64 + size_t(__builtin_ctzll(bits))));
     return out;
+  }
+
+  // What every direction of one move asks of the samples near the sphere's old place, asked
+  // once: each one's error, its error without the sphere, and that error's cost. The same
+  // arithmetic as asking it per direction, so the same sums to the bit.
+  struct Known {
+    static constexpr size_t none = size_t(-1);
+    std::vector<uint32_t> samples;  // ascending
+    std::vector<double> before, without, cost_before;
+  };
+  template <class Cost>
+  Known know_around(const std::vector<uint64_t>& around, size_t j, const Cost& cost) const {
+    Known k;
+    k.samples = set_bits(around);
+    k.before.resize(k.samples.size());
+    k.without.resize(k.samples.size());
+    k.cost_before.resize(k.samples.size());
+    for (size_t n = 0; n < k.samples.size(); ++n) {
+      const uint32_t i = k.samples[n];
+      k.before[n] = gap(i, sphere(size_t(first_[i]), i));
+      k.without[n] = error_without(i, j);
+      k.cost_before[n] = weighted_[i] ? cost(k.before[n]) : 0;
+    }
+    return k;
   }
 
   template <class Cost>
@@ -135,6 +162,7 @@ class OffGrid {
   bool move_one(size_t j, const std::vector<Sphere>& old, double s, double ceiling, const Cost& cost) {
     std::vector<uint64_t> around;  // the same for every direction
     mark_near(old, around);
+    const Known known = know_around(around, j, cost);
     // Each direction's place and its spheres there, asked of spheres_at once per place.
     std::vector<Eigen::Vector3d> to(static_cast<size_t>(directions_));
     std::vector<const Placed*> placed(to.size(), nullptr);
@@ -157,11 +185,17 @@ class OffGrid {
       std::vector<Sphere>& m = moved[size_t(d)];
       m = here.spheres;
       double sum = 0;
+      size_t next = 0;  // both lists ascend: the known ones are met in order
       for (uint32_t i : near_either(around, m)) {
-        const double before = gap(i, sphere(size_t(first_[i]), i));
-        const double after = std::min(error_without(i, j), gap(i, m[pose_[i]]));
+        while (next < known.samples.size() && known.samples[next] < i) ++next;
+        const size_t k = next < known.samples.size() && known.samples[next] == i ? next : Known::none;
+        const double before = k != Known::none ? known.before[k] : gap(i, sphere(size_t(first_[i]), i));
+        const double without = k != Known::none ? known.without[k] : error_without(i, j);
+        const double after = std::min(without, gap(i, m[pose_[i]]));
         if (after > (weighted_[i] ? ceiling : delta_) && after > before) return;
-        if (weighted_[i]) sum += cost(after) - cost(before);
+        // An unchanged error adds exactly 0: no cost asked.
+        if (weighted_[i] && after != before)
+          sum += cost(after) - (k != Known::none ? known.cost_before[k] : cost(before));
       }
       change[size_t(d)] = sum;
     });
