@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 
@@ -881,6 +882,65 @@ TEST(Cover, GapTableAndCoverageMatchAScanOfEveryPair) {
   EXPECT_GT(some.samples.size(), 1000u) << "too few pairs for the test to mean much";
   const std::vector<char> kept = representatives(p, p.merge * max_delta);
   EXPECT_LT(std::count(kept.begin(), kept.end(), 1), std::ptrdiff_t(n - 50)) << "too few merged for the test to mean much";
+}
+
+// The table keeps each gap as a float and asks the geometry where a gap's float ties delta's:
+// at a pair's own gap, one step of a double below and above it, the table and coverage_at give
+// exactly the pairs a scan of the exact gaps gives. Small spheres among many samples (rows put
+// in order by a sort) and large ones (by a bitmap) both.
+TEST(Cover, GapTableDecidesTheGapsAtDeltaExactly) {
+  const size_t n = 300, m = 20000;
+  const CoverProblem p = two_random_poses(23, n, m);
+  const double max_delta = 0.08;
+  struct Pair {
+    uint32_t candidate, sample;
+    double gap;
+  };
+  std::vector<Pair> pairs;  // every pair within max_delta, by candidate then sample
+  for (size_t c = 0; c < n; ++c)
+    for (size_t k = 0; k < 2; ++k)
+      for (size_t i = 0; i < m; ++i) {
+        const Sphere& s = p.spheres[k][c];
+        const double gap = (p.samples[k][i] - s.center).norm() - s.radius;
+        if (s.radius > 0 && gap <= max_delta) pairs.push_back({uint32_t(c), uint32_t(k * m + i), gap});
+      }
+  auto scan = [&](double delta) {
+    Coverage want;
+    want.sample_count = 2 * m;
+    want.start.assign(n + 1, 0);
+    for (const Pair& q : pairs)
+      if (q.gap <= delta) {
+        want.samples.push_back(q.sample);
+        ++want.start[q.candidate + 1];
+      }
+    for (size_t c = 0; c < n; ++c) want.start[c + 1] += want.start[c];
+    return want;
+  };
+  // Rows of both kinds: a few samples among a pose's 20 000, and a hundred or more.
+  const Coverage all = scan(max_delta);
+  size_t few = 0, many = 0;
+  for (size_t c = 0; c < n; ++c) {
+    const uint32_t size = all.start[c + 1] - all.start[c];
+    few += size > 0 && size < 20;
+    many += size > 100;
+  }
+  EXPECT_GT(few, 10u);
+  EXPECT_GT(many, 10u);
+  const GapTable table(p, max_delta);
+  size_t asked = 0;
+  for (size_t q = 0; q < pairs.size(); q += pairs.size() / 40) {
+    const double g = pairs[q].gap;
+    for (double delta : {g, std::nextafter(g, -1.0), std::nextafter(g, 1.0)}) {
+      if (delta > max_delta) continue;
+      const Coverage want = scan(delta), got = table.at(delta), direct = coverage_at(p, delta);
+      EXPECT_EQ(got.start, want.start) << "table at " << delta;
+      EXPECT_EQ(got.samples, want.samples) << "table at " << delta;
+      EXPECT_EQ(direct.start, want.start) << "coverage_at " << delta;
+      EXPECT_EQ(direct.samples, want.samples) << "coverage_at " << delta;
+      ++asked;
+    }
+  }
+  EXPECT_GT(asked, 100u);
 }
 
 // Brute force over every triangle: the distance from p to the mesh, and whether p is inside

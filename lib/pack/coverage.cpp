@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <tuple>
@@ -47,7 +48,57 @@ void for_each_covered(const SampleGrid& grid, const std::vector<Eigen::Vector3d>
 constexpr size_t kRowChunk = 256;
 
 uint32_t sample_of(uint32_t entry) { return entry; }
-uint32_t sample_of(const std::pair<uint32_t, double>& entry) { return entry.first; }
+uint32_t sample_of(uint64_t entry) { return uint32_t(entry >> 32); }
+
+// A gap table's entry: the sample, then the gap's float bits.
+uint64_t gap_entry(uint32_t sample, double gap) {
+  const float rounded = float(gap);
+  uint32_t bits = 0;
+  std::memcpy(&bits, &rounded, sizeof bits);
+  return uint64_t(sample) << 32 | bits;
+}
+float gap_of(uint64_t entry) {
+  const uint32_t bits = uint32_t(entry);
+  float out = 0;
+  std::memcpy(&out, &bits, sizeof out);
+  return out;
+}
+
+// Entries of distinct samples in [from, to) put in sample order. Many of them (a large sphere
+// at a large delta) are laid out by a bitmap of the range, a pass over its words in place of a
+// sort's comparisons; few are sorted. Either way the same order.
+template <class Entry>
+class RowSorter {
+ public:
+  void sort(Entry* begin, Entry* end, uint32_t from, uint32_t to) {
+    const size_t n = size_t(end - begin), words = (size_t(to - from) + 63) / 64;
+    if (n * kEntriesPerWord < words) {
+      std::sort(begin, end, [](const Entry& a, const Entry& b) { return sample_of(a) < sample_of(b); });
+      return;
+    }
+    if (bits_.size() < words) bits_.resize(words, 0);
+    if (slot_.size() < size_t(to - from)) slot_.resize(size_t(to - from));
+    size_t low = words, high = 0;
+    for (const Entry* e = begin; e != end; ++e) {
+      const uint32_t i = sample_of(*e) - from;
+      bits_[i >> 6] |= uint64_t(1) << (i & 63);
+      slot_[i] = *e;
+      low = std::min(low, size_t(i >> 6));
+      high = std::max(high, size_t(i >> 6));
+    }
+    Entry* out = begin;
+    for (size_t w = low; w <= high && n > 0; ++w) {
+      for (uint64_t b = bits_[w]; b; b &= b - 1) *out++ = slot_[w * 64 + size_t(__builtin_ctzll(b))];
+      bits_[w] = 0;
+    }
+  }
+
+ private:
+  // A sort costs each entry about what the pass costs for 16 words of the bitmap.
+  static constexpr size_t kEntriesPerWord = 16;
+  std::vector<uint64_t> bits_;
+  std::vector<Entry> slot_;
+};
 
 // Every (candidate, sample) pair within `delta`, in chunks of kRowChunk candidates side by side:
 // `keep(entries, sample, gap)` appends one to a chunk's entries, each row sorted by sample, then
@@ -65,19 +116,21 @@ void gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t
   const std::vector<char> active =
       problem.merge > 0 ? representatives(problem, problem.merge * delta) : std::vector<char>(candidates, 1);
   tbb::enumerable_thread_specific<std::vector<Entry>> buffers;
+  tbb::enumerable_thread_specific<RowSorter<Entry>> sorters;
   tbb::parallel_for(size_t(0), (candidates + kRowChunk - 1) / kRowChunk, [&](size_t chunk) {
     std::vector<Entry>& entries = buffers.local();
+    RowSorter<Entry>& sorter = sorters.local();
     entries.clear();
     std::vector<uint32_t> ends;
     const size_t first = chunk * kRowChunk, last = std::min(candidates, first + kRowChunk);
     for (size_t c = first; c < last; ++c) {
-      const size_t begin = entries.size();
-      if (active[c])
-        for (size_t k = 0; k < problem.samples.size(); ++k)
-          for_each_covered(grids[k], problem.samples[k], problem.spheres[k][c], delta,
-                           [&](uint32_t i, double gap) { keep(entries, offset[k] + i, gap); });
-      std::sort(entries.begin() + std::ptrdiff_t(begin), entries.end(),
-                [](const Entry& a, const Entry& b) { return sample_of(a) < sample_of(b); });
+      for (size_t k = 0; k < problem.samples.size() && active[c]; ++k) {
+        // A pose's part of the row: its samples come after the poses' before it.
+        const size_t begin = entries.size();
+        for_each_covered(grids[k], problem.samples[k], problem.spheres[k][c], delta,
+                         [&](uint32_t i, double gap) { keep(entries, offset[k] + i, gap); });
+        sorter.sort(entries.data() + begin, entries.data() + entries.size(), offset[k], offset[k + 1]);
+      }
       ends.push_back(uint32_t(entries.size()));
     }
     store(chunk, ends, entries);
@@ -241,48 +294,54 @@ void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& sampl
   }
 }
 
-GapTable::GapTable(const CoverProblem& problem, double max_delta) : max_delta_(max_delta) {
-  std::vector<uint32_t> offset;
+GapTable::GapTable(const CoverProblem& problem, double max_delta) : problem_(problem), max_delta_(max_delta) {
   chunks_.resize((problem.candidate_count() + kRowChunk - 1) / kRowChunk);
-  gather_rows<std::pair<uint32_t, double>>(
-      problem, max_delta, offset,
-      [](std::vector<std::pair<uint32_t, double>>& row, uint32_t sample, double gap) { row.emplace_back(sample, gap); },
-      [&](size_t k, const std::vector<uint32_t>& ends, const std::vector<std::pair<uint32_t, double>>& entries) {
-        Chunk& chunk = chunks_[k];
-        chunk.ends = ends;
-        chunk.samples.reserve(entries.size());
-        chunk.gaps.reserve(entries.size());
-        for (const auto& [sample, gap] : entries) {
-          chunk.samples.push_back(sample);
-          chunk.gaps.push_back(gap);
-        }
+  gather_rows<uint64_t>(
+      problem, max_delta, offset_,
+      [](std::vector<uint64_t>& row, uint32_t sample, double gap) { row.push_back(gap_entry(sample, gap)); },
+      [&](size_t k, const std::vector<uint32_t>& ends, const std::vector<uint64_t>& entries) {
+        chunks_[k].ends = ends;
+        chunks_[k].entries.assign(entries.begin(), entries.end());
       });
-  sample_count_ = offset.back();
   candidates_ = problem.candidate_count();
+}
+
+bool GapTable::within(size_t candidate, uint32_t sample, double delta) const {
+  const size_t k = size_t(std::upper_bound(offset_.begin(), offset_.end(), sample) - offset_.begin()) - 1;
+  const Sphere& s = problem_.spheres[k][candidate];
+  // As for_each_covered computes it.
+  return std::sqrt((problem_.samples[k][sample - offset_[k]] - s.center).squaredNorm()) - s.radius <= delta;
 }
 
 Coverage GapTable::at(double delta) const {
   delta = std::min(delta, max_delta_);
-  // Each chunk's rows filtered side by side, then laid end to end.
-  std::vector<std::vector<uint32_t>> kept(chunks_.size());
+  const float rounded = float(delta);
+  // Each chunk's rows filtered side by side (into room for all its entries), then laid end to end.
+  std::vector<std::unique_ptr<uint32_t[]>> kept(chunks_.size());
   std::vector<uint32_t> size(candidates_);
   tbb::parallel_for(size_t(0), chunks_.size(), [&](size_t k) {
     const Chunk& chunk = chunks_[k];
-    kept[k].reserve(chunk.samples.size());
+    kept[k].reset(new uint32_t[chunk.entries.size()]);
+    uint32_t* out = kept[k].get();
     for (uint32_t n = 0, c = 0; c < chunk.ends.size(); ++c) {
-      const size_t before = kept[k].size();
-      for (; n < chunk.ends[c]; ++n)
-        if (chunk.gaps[n] <= delta) kept[k].push_back(chunk.samples[n]);
-      size[k * kRowChunk + c] = uint32_t(kept[k].size() - before);
+      const uint32_t* before = out;
+      for (; n < chunk.ends[c]; ++n) {
+        const uint64_t e = chunk.entries[n];
+        const float gap = gap_of(e);
+        if (gap < rounded || (gap == rounded && within(k * kRowChunk + c, sample_of(e), delta))) *out++ = sample_of(e);
+      }
+      size[k * kRowChunk + c] = uint32_t(out - before);
     }
   });
   Coverage cov;
-  cov.sample_count = sample_count_;
+  cov.sample_count = offset_.back();
   cov.start.assign(candidates_ + 1, 0);
   for (size_t c = 0; c < candidates_; ++c) cov.start[c + 1] = cov.start[c] + size[c];
   cov.samples.resize(cov.start.back());
   tbb::parallel_for(size_t(0), kept.size(), [&](size_t k) {
-    std::copy(kept[k].begin(), kept[k].end(), cov.samples.begin() + cov.start[k * kRowChunk]);
+    const size_t first = k * kRowChunk, last = std::min(candidates_, first + kRowChunk);
+    std::copy(kept[k].get(), kept[k].get() + (cov.start[last] - cov.start[first]), cov.samples.begin() + cov.start[first]);
+    kept[k].reset();
   });
   return cov;
 }

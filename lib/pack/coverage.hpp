@@ -81,21 +81,27 @@ class CoverageCache {
 
 // The coverage at every delta up to `max_delta`, computed once: each candidate's samples with
 // their gaps. at(delta), for any delta <= max_delta, is coverage_at(problem, delta) of the
-// candidates that stand for the rest at merge x max_delta (all of them without `merge`).
+// candidates that stand for the rest at merge x max_delta (all of them without `merge`). The
+// table refers to `problem`, which must outlive it.
 class GapTable {
  public:
   GapTable(const CoverProblem& problem, double max_delta);
   Coverage at(double delta) const;
 
  private:
-  // Candidates in chunks as they were gathered side by side (none copied into one array).
+  // Candidates in chunks as they were gathered side by side (none copied into one array). An
+  // entry is a sample (the high half) and its gap rounded to a float (the low half): rounding is
+  // monotone, so a float gap below delta's float is within delta and one above is not; only a
+  // tie asks the geometry for the exact gap (half the memory and reads of a double per pair).
   struct Chunk {
     std::vector<uint32_t> ends;  // one past each candidate's last entry
-    std::vector<uint32_t> samples;
-    std::vector<double> gaps;
+    std::vector<uint64_t> entries;
   };
+  bool within(size_t candidate, uint32_t sample, double delta) const;
+  const CoverProblem& problem_;
   double max_delta_;
-  size_t sample_count_ = 0, candidates_ = 0;
+  std::vector<uint32_t> offset_;  // each pose's first stacked sample, and their count
+  size_t candidates_ = 0;
   std::vector<Chunk> chunks_;
 };
 
