@@ -24,6 +24,10 @@ size_t CoverProblem::sample_count() const {
 
 namespace {
 
+// A point's gap to a sphere, from their squared distance (as norm() computes it): one home, so
+// that a gap table's tie, decided again from the geometry, has the bits its pair was kept by.
+double gap_from(double squared, const Sphere& s) { return std::sqrt(squared) - s.radius; }
+
 // The coverage rule, in one place: visit(i, gap) for every point of `grid` (built on `points`)
 // that sphere `s` covers at delta (gap = |p - c| - r <= delta); a sphere of radius 0 covers none.
 template <class Visit>
@@ -37,7 +41,7 @@ void for_each_covered(const SampleGrid& grid, const std::vector<Eigen::Vector3d>
   grid.near(s.center, reach, [&](uint32_t i) {
     const double squared = (points[i] - s.center).squaredNorm();
     if (squared > beyond) return;
-    const double gap = std::sqrt(squared) - s.radius;  // as norm() computes it
+    const double gap = gap_from(squared, s);
     if (gap <= delta) visit(i, gap);
   });
 }
@@ -309,8 +313,7 @@ GapTable::GapTable(const CoverProblem& problem, double max_delta) : problem_(pro
 bool GapTable::within(size_t candidate, uint32_t sample, double delta) const {
   const size_t k = size_t(std::upper_bound(offset_.begin(), offset_.end(), sample) - offset_.begin()) - 1;
   const Sphere& s = problem_.spheres[k][candidate];
-  // As for_each_covered computes it.
-  return std::sqrt((problem_.samples[k][sample - offset_[k]] - s.center).squaredNorm()) - s.radius <= delta;
+  return gap_from((problem_.samples[k][sample - offset_[k]] - s.center).squaredNorm(), s) <= delta;
 }
 
 Coverage GapTable::at(double delta) const {
