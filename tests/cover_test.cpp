@@ -884,55 +884,48 @@ TEST(Cover, GapTableAndCoverageMatchAScanOfEveryPair) {
   EXPECT_LT(std::count(kept.begin(), kept.end(), 1), std::ptrdiff_t(n - 50)) << "too few merged for the test to mean much";
 }
 
-// The table keeps each gap as a float and asks the geometry where a gap's float ties delta's:
-// at a pair's own gap, one step of a double below and above it, the table and coverage_at give
-// exactly the pairs a scan of the exact gaps gives. Small spheres among many samples (rows put
-// in order by a sort) and large ones (by a bitmap) both.
-TEST(Cover, GapTableDecidesTheGapsAtDeltaExactly) {
-  const size_t n = 300, m = 20000;
-  const CoverProblem p = two_random_poses(23, n, m);
-  const double max_delta = 0.08;
+// Every pair of `p` within `max_delta`, by candidate then sample, and the coverage a scan of
+// their exact gaps gives at a delta.
+struct GapPairs {
   struct Pair {
     uint32_t candidate, sample;
     double gap;
   };
-  std::vector<Pair> pairs;  // every pair within max_delta, by candidate then sample
-  for (size_t c = 0; c < n; ++c)
-    for (size_t k = 0; k < 2; ++k)
-      for (size_t i = 0; i < m; ++i) {
-        const Sphere& s = p.spheres[k][c];
-        const double gap = (p.samples[k][i] - s.center).norm() - s.radius;
-        if (s.radius > 0 && gap <= max_delta) pairs.push_back({uint32_t(c), uint32_t(k * m + i), gap});
-      }
-  auto scan = [&](double delta) {
+  GapPairs(const CoverProblem& p, double max_delta) : candidates(p.candidate_count()), samples(p.sample_count()) {
+    for (size_t c = 0; c < candidates; ++c)
+      for (size_t k = 0, first = 0; k < p.samples.size(); first += p.samples[k++].size())
+        for (size_t i = 0; i < p.samples[k].size(); ++i) {
+          const Sphere& s = p.spheres[k][c];
+          const double gap = (p.samples[k][i] - s.center).norm() - s.radius;
+          if (s.radius > 0 && gap <= max_delta) pairs.push_back({uint32_t(c), uint32_t(first + i), gap});
+        }
+  }
+  Coverage scan(double delta) const {
     Coverage want;
-    want.sample_count = 2 * m;
-    want.start.assign(n + 1, 0);
+    want.sample_count = samples;
+    want.start.assign(candidates + 1, 0);
     for (const Pair& q : pairs)
       if (q.gap <= delta) {
         want.samples.push_back(q.sample);
         ++want.start[q.candidate + 1];
       }
-    for (size_t c = 0; c < n; ++c) want.start[c + 1] += want.start[c];
+    for (size_t c = 0; c < candidates; ++c) want.start[c + 1] += want.start[c];
     return want;
-  };
-  // Rows of both kinds: a few samples among a pose's 20 000, and a hundred or more.
-  const Coverage all = scan(max_delta);
-  size_t few = 0, many = 0;
-  for (size_t c = 0; c < n; ++c) {
-    const uint32_t size = all.start[c + 1] - all.start[c];
-    few += size > 0 && size < 20;
-    many += size > 100;
   }
-  EXPECT_GT(few, 10u);
-  EXPECT_GT(many, 10u);
+  size_t candidates, samples;
+  std::vector<Pair> pairs;
+};
+
+// At a pair's own gap, and one step of a double below and above it, the table and coverage_at
+// give exactly the pairs a scan of the exact gaps gives. Returns how many deltas were asked.
+size_t expect_table_exact_at_pair_gaps(const CoverProblem& p, const GapPairs& all, double max_delta) {
   const GapTable table(p, max_delta);
   size_t asked = 0;
-  for (size_t q = 0; q < pairs.size(); q += pairs.size() / 40) {
-    const double g = pairs[q].gap;
+  for (size_t q = 0; q < all.pairs.size(); q += all.pairs.size() / 40) {
+    const double g = all.pairs[q].gap;
     for (double delta : {g, std::nextafter(g, -1.0), std::nextafter(g, 1.0)}) {
       if (delta > max_delta) continue;
-      const Coverage want = scan(delta), got = table.at(delta), direct = coverage_at(p, delta);
+      const Coverage want = all.scan(delta), got = table.at(delta), direct = coverage_at(p, delta);
       EXPECT_EQ(got.start, want.start) << "table at " << delta;
       EXPECT_EQ(got.samples, want.samples) << "table at " << delta;
       EXPECT_EQ(direct.start, want.start) << "coverage_at " << delta;
@@ -940,7 +933,32 @@ TEST(Cover, GapTableDecidesTheGapsAtDeltaExactly) {
       ++asked;
     }
   }
-  EXPECT_GT(asked, 100u);
+  return asked;
+}
+
+// The table keeps each gap's bucket (as many bits as the samples' indices leave) and asks the
+// geometry where a gap's bucket is delta's: small spheres among many samples (rows put in order
+// by a sort) and large ones (by a bitmap), and 1.2 million samples (11-bit buckets, more pairs in
+// delta's).
+TEST(Cover, GapTableDecidesTheGapsAtDeltaExactly) {
+  const size_t n = 300, m = 20000;
+  const CoverProblem p = two_random_poses(23, n, m);
+  const double max_delta = 0.08;
+  const GapPairs all(p, max_delta);
+  // Rows of both kinds: a few samples among a pose's 20 000, and a hundred or more.
+  const Coverage every = all.scan(max_delta);
+  size_t few = 0, many = 0;
+  for (size_t c = 0; c < n; ++c) {
+    const uint32_t size = every.start[c + 1] - every.start[c];
+    few += size > 0 && size < 20;
+    many += size > 100;
+  }
+  EXPECT_GT(few, 10u);
+  EXPECT_GT(many, 10u);
+  EXPECT_GT(expect_table_exact_at_pair_gaps(p, all, max_delta), 100u);
+
+  const CoverProblem dense = two_random_poses(29, 12, 600000);
+  EXPECT_GT(expect_table_exact_at_pair_gaps(dense, GapPairs(dense, max_delta), max_delta), 100u);
 }
 
 // Brute force over every triangle: the distance from p to the mesh, and whether p is inside

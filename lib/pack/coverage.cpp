@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <tuple>
@@ -51,40 +50,27 @@ void for_each_covered(const SampleGrid& grid, const std::vector<Eigen::Vector3d>
 // pages per row) and the rows are never held twice.
 constexpr size_t kRowChunk = 256;
 
-uint32_t sample_of(uint32_t entry) { return entry; }
-uint32_t sample_of(uint64_t entry) { return uint32_t(entry >> 32); }
-
-// A gap table's entry: the sample, then the gap's float bits.
-uint64_t gap_entry(uint32_t sample, double gap) {
-  const float rounded = float(gap);
-  uint32_t bits = 0;
-  std::memcpy(&bits, &rounded, sizeof bits);
-  return uint64_t(sample) << 32 | bits;
-}
-float gap_of(uint64_t entry) {
-  const uint32_t bits = uint32_t(entry);
-  float out = 0;
-  std::memcpy(&out, &bits, sizeof out);
-  return out;
-}
+// A row's entry: its sample in the high bits and, in a gap table, the gap's bucket in the low
+// `shift` bits (0 in a coverage row: the entry is the sample).
+uint32_t sample_of(uint32_t entry, uint32_t shift) { return entry >> shift; }
 
 // Entries of distinct samples in [from, to) put in sample order. Many of them (a large sphere
 // at a large delta) are laid out by a bitmap of the range, a pass over its words in place of a
 // sort's comparisons; few are sorted. Either way the same order.
-template <class Entry>
 class RowSorter {
  public:
-  void sort(Entry* begin, Entry* end, uint32_t from, uint32_t to) {
+  using Entry = uint32_t;
+  void sort(Entry* begin, Entry* end, uint32_t from, uint32_t to, uint32_t shift) {
     const size_t n = size_t(end - begin), words = (size_t(to - from) + 63) / 64;
     if (n * kEntriesPerWord < words) {
-      std::sort(begin, end, [](const Entry& a, const Entry& b) { return sample_of(a) < sample_of(b); });
+      std::sort(begin, end);  // distinct samples in the high bits: the entries' order is theirs
       return;
     }
     if (bits_.size() < words) bits_.resize(words, 0);
     if (slot_.size() < size_t(to - from)) slot_.resize(size_t(to - from));
     size_t low = words, high = 0;
     for (const Entry* e = begin; e != end; ++e) {
-      const uint32_t i = sample_of(*e) - from;
+      const uint32_t i = sample_of(*e, shift) - from;
       bits_[i >> 6] |= uint64_t(1) << (i & 63);
       slot_[i] = *e;
       low = std::min(low, size_t(i >> 6));
@@ -105,11 +91,12 @@ class RowSorter {
 };
 
 // Every (candidate, sample) pair within `delta`, in chunks of kRowChunk candidates side by side:
-// `keep(entries, sample, gap)` appends one to a chunk's entries, each row sorted by sample, then
-// `store(chunk, ends, entries)` takes the chunk (`ends`: one past each of its rows).
-template <class Entry, class Keep, class Store>
-void gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t>& offset, Keep&& keep,
-                 Store&& store) {
+// `entry(sample, gap)` is its entry (the sample above `shift` bits), each row sorted by sample,
+// then `store(chunk, ends, entries)` takes the chunk (`ends`: one past each of its rows).
+template <class MakeEntry, class Store>
+void gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t>& offset, uint32_t shift,
+                 MakeEntry&& entry, Store&& store) {
+  using Entry = RowSorter::Entry;
   const size_t candidates = problem.candidate_count();
   std::vector<SampleGrid> grids;
   offset.assign(1, 0);
@@ -120,10 +107,10 @@ void gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t
   const std::vector<char> active =
       problem.merge > 0 ? representatives(problem, problem.merge * delta) : std::vector<char>(candidates, 1);
   tbb::enumerable_thread_specific<std::vector<Entry>> buffers;
-  tbb::enumerable_thread_specific<RowSorter<Entry>> sorters;
+  tbb::enumerable_thread_specific<RowSorter> sorters;
   tbb::parallel_for(size_t(0), (candidates + kRowChunk - 1) / kRowChunk, [&](size_t chunk) {
     std::vector<Entry>& entries = buffers.local();
-    RowSorter<Entry>& sorter = sorters.local();
+    RowSorter& sorter = sorters.local();
     entries.clear();
     std::vector<uint32_t> ends;
     const size_t first = chunk * kRowChunk, last = std::min(candidates, first + kRowChunk);
@@ -132,8 +119,8 @@ void gather_rows(const CoverProblem& problem, double delta, std::vector<uint32_t
         // A pose's part of the row: its samples come after the poses' before it.
         const size_t begin = entries.size();
         for_each_covered(grids[k], problem.samples[k], problem.spheres[k][c], delta,
-                         [&](uint32_t i, double gap) { keep(entries, offset[k] + i, gap); });
-        sorter.sort(entries.data() + begin, entries.data() + entries.size(), offset[k], offset[k + 1]);
+                         [&](uint32_t i, double gap) { entries.push_back(entry(offset[k] + i, gap)); });
+        sorter.sort(entries.data() + begin, entries.data() + entries.size(), offset[k], offset[k + 1], shift);
       }
       ends.push_back(uint32_t(entries.size()));
     }
@@ -183,8 +170,8 @@ Coverage coverage_at(const CoverProblem& problem, double delta) {
   std::vector<uint32_t> offset;
   std::vector<std::vector<uint32_t>> chunks((candidates + kRowChunk - 1) / kRowChunk);
   std::vector<uint32_t> size(candidates);
-  gather_rows<uint32_t>(
-      problem, delta, offset, [](std::vector<uint32_t>& row, uint32_t sample, double) { row.push_back(sample); },
+  gather_rows(
+      problem, delta, offset, 0, [](uint32_t sample, double) { return sample; },
       [&](size_t chunk, const std::vector<uint32_t>& ends, const std::vector<uint32_t>& entries) {
         for (size_t n = 0; n < ends.size(); ++n) size[chunk * kRowChunk + n] = ends[n] - (n > 0 ? ends[n - 1] : 0);
         chunks[chunk].assign(entries.begin(), entries.end());
@@ -299,16 +286,23 @@ void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& sampl
 }
 
 GapTable::GapTable(const CoverProblem& problem, double max_delta) : problem_(problem), max_delta_(max_delta) {
+  // The samples' indices take the high bits they need, the buckets the rest: 16 and more bits
+  // (65 536 buckets) up to 65 536 samples, 12 at a million.
+  const uint32_t largest = uint32_t(std::max<size_t>(problem.sample_count(), 2) - 1);
+  shift_ = uint32_t(std::min(31, __builtin_clz(largest)));
+  top_ = double((uint32_t(1) << shift_) - 1);
+  scale_ = max_delta > 0 ? top_ / max_delta : 0;
   chunks_.resize((problem.candidate_count() + kRowChunk - 1) / kRowChunk);
-  gather_rows<uint64_t>(
-      problem, max_delta, offset_,
-      [](std::vector<uint64_t>& row, uint32_t sample, double gap) { row.push_back(gap_entry(sample, gap)); },
-      [&](size_t k, const std::vector<uint32_t>& ends, const std::vector<uint64_t>& entries) {
+  gather_rows(
+      problem, max_delta, offset_, shift_, [&](uint32_t sample, double gap) { return sample << shift_ | bucket(gap); },
+      [&](size_t k, const std::vector<uint32_t>& ends, const std::vector<uint32_t>& entries) {
         chunks_[k].ends = ends;
         chunks_[k].entries.assign(entries.begin(), entries.end());
       });
   candidates_ = problem.candidate_count();
 }
+
+uint32_t GapTable::bucket(double gap) const { return gap > 0 ? uint32_t(std::min(top_, std::floor(gap * scale_))) : 0; }
 
 bool GapTable::within(size_t candidate, uint32_t sample, double delta) const {
   const size_t k = size_t(std::upper_bound(offset_.begin(), offset_.end(), sample) - offset_.begin()) - 1;
@@ -318,7 +312,7 @@ bool GapTable::within(size_t candidate, uint32_t sample, double delta) const {
 
 Coverage GapTable::at(double delta) const {
   delta = std::min(delta, max_delta_);
-  const float rounded = float(delta);
+  const uint32_t edge = bucket(delta), mask = (uint32_t(1) << shift_) - 1;
   // Each chunk's rows filtered side by side (into room for all its entries), then laid end to end.
   std::vector<std::unique_ptr<uint32_t[]>> kept(chunks_.size());
   std::vector<uint32_t> size(candidates_);
@@ -329,9 +323,8 @@ Coverage GapTable::at(double delta) const {
     for (uint32_t n = 0, c = 0; c < chunk.ends.size(); ++c) {
       const uint32_t* before = out;
       for (; n < chunk.ends[c]; ++n) {
-        const uint64_t e = chunk.entries[n];
-        const float gap = gap_of(e);
-        if (gap < rounded || (gap == rounded && within(k * kRowChunk + c, sample_of(e), delta))) *out++ = sample_of(e);
+        const uint32_t e = chunk.entries[n], b = e & mask;
+        if (b < edge || (b == edge && within(k * kRowChunk + c, sample_of(e, shift_), delta))) *out++ = sample_of(e, shift_);
       }
       size[k * kRowChunk + c] = uint32_t(out - before);
     }

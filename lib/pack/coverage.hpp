@@ -90,16 +90,20 @@ class GapTable {
 
  private:
   // Candidates in chunks as they were gathered side by side (none copied into one array). An
-  // entry is a sample (the high half) and its gap rounded to a float (the low half): rounding is
-  // monotone, so a float gap below delta's float is within delta and one above is not; only a
-  // tie asks the geometry for the exact gap (8 bytes a pair, where a sample and a double took 12).
+  // entry is a sample (the high bits) and its gap's bucket (the low shift_ bits): a monotone map of
+  // the gap onto [0, 2^shift_), so a bucket below delta's is within delta and one above is not;
+  // only delta's own bucket asks the geometry for the exact gap (4 bytes a pair, where a sample
+  // and a double took 12).
   struct Chunk {
     std::vector<uint32_t> ends;  // one past each candidate's last entry
-    std::vector<uint64_t> entries;
+    std::vector<uint32_t> entries;
   };
+  uint32_t bucket(double gap) const;
   bool within(size_t candidate, uint32_t sample, double delta) const;
   const CoverProblem& problem_;
   double max_delta_;
+  uint32_t shift_ = 0;  // the bucket's bits
+  double top_ = 0, scale_ = 0;  // the last bucket, and buckets per unit of gap
   std::vector<uint32_t> offset_;  // each pose's first stacked sample, and their count
   size_t candidates_ = 0;
   std::vector<Chunk> chunks_;
