@@ -10,6 +10,7 @@
 #include <memory>
 #include <tuple>
 
+#include "mesh/union_distance.hpp"
 #include "pack/sample_grid.hpp"
 
 namespace spx {
@@ -442,6 +443,16 @@ std::vector<double> least_gaps(const CoverProblem& problem) {
   std::vector<uint32_t> all(problem.sample_count());
   for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
   return least_gaps_of(problem, all);
+}
+
+double largest_gap_to(const CoverProblem& problem, size_t first, size_t count) {
+  double out = 0;
+  for (size_t p = 0; p < problem.samples.size(); ++p) {
+    const auto from = problem.spheres[p].begin() + long(first);
+    for (double gap : union_signed_distance(problem.samples[p], SphereSet(from, from + long(count))))
+      out = std::max(out, gap);
+  }
+  return out;
 }
 
 std::vector<uint32_t> bare_samples(const std::vector<Eigen::Vector3d>& samples, const SphereSet& spheres, double delta) {

@@ -116,6 +116,10 @@ std::vector<double> least_gaps(const CoverProblem& problem);
 // bare, the least delta that reaches them costs a scan of those few, not of all.
 std::vector<double> least_gaps_of(const CoverProblem& problem, const std::vector<uint32_t>& samples);
 
+// The largest gap of the problem's samples to the union of candidates [first, first + count) as
+// the problem has them: a delta at which those candidates are a cover.
+double largest_gap_to(const CoverProblem& problem, size_t first, size_t count);
+
 // The samples no sphere of `spheres` comes within `delta` of (gap > delta), ascending: what a
 // chosen set leaves bare in a pose the cover was not solved on.
 std::vector<uint32_t> bare_samples(const std::vector<Eigen::Vector3d>& samples, const SphereSet& spheres, double delta);

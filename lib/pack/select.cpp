@@ -12,24 +12,6 @@
 namespace spx {
 namespace {
 
-// The samples' gaps to the union of `spheres`: the median and max of the first `weighted` (the
-// vertices, where the error is measured) and the largest of all (what a cover's delta must reach).
-struct UnionGaps {
-  double median = 0, max = 0, largest = 0;
-};
-UnionGaps union_gaps(const std::vector<Eigen::Vector3d>& samples, size_t weighted, const SphereSet& spheres) {
-  const std::vector<double> gap = union_signed_distance(samples, spheres);
-  UnionGaps out;
-  out.largest = *std::max_element(gap.begin(), gap.end());
-  std::tie(out.median, out.max) = detail::median_and_max_of({gap.begin(), gap.begin() + long(weighted)});
-  return out;
-}
-
-// Whether a polished set is kept over the best so far: its max no higher, and its max times its
-// median lower (a lower max bought with a median that rises more, in proportion, is not kept;
-// nor is a lower median at a higher max).
-bool kept_over(const UnionGaps& a, const UnionGaps& b) { return a.max <= b.max && a.max * a.median < b.max * b.median; }
-
 // Budget mode, `rounds` times: the budget covered again from every candidate and every set
 // refined so far (the last one a cover at its largest gap, where the bisection starts), then
 // refined; the best set (kept_over) is kept, its cover with it. A refined sphere sits where no
@@ -59,6 +41,16 @@ void polish(const CoverProblem& problem, size_t budget, CoverSelection& out,
 }
 
 }  // namespace
+
+UnionGaps union_gaps(const std::vector<Eigen::Vector3d>& samples, size_t weighted, const SphereSet& spheres) {
+  const std::vector<double> gap = union_signed_distance(samples, spheres);
+  UnionGaps out;
+  out.largest = *std::max_element(gap.begin(), gap.end());
+  std::tie(out.median, out.max) = detail::median_and_max_of({gap.begin(), gap.begin() + long(weighted)});
+  return out;
+}
+
+bool kept_over(const UnionGaps& a, const UnionGaps& b) { return a.max <= b.max && a.max * a.median < b.max * b.median; }
 
 // Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
 // tolerance or the budget, then the centers refined off the grid.

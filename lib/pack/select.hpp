@@ -2,7 +2,9 @@
 // The cover method on a field and its mesh, as sphere-pack (and the benchmarks) call it:
 // inscribed candidates, surface samples, the set cover for a tolerance or a budget, then the
 // centres refined off the grid; and the options sphere-pack's two methods take.
+#include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "core/log.hpp"
 #include "pack/cover.hpp"
@@ -45,6 +47,17 @@ struct CoverSelection {
   SphereSet offered;           // every candidate
   SphereSet pool;              // the voxels' candidates and the chosen tangent ones (pose-map selects from them over every pose)
 };
+// The samples' gaps to the union of `spheres`: the median and max of the first `weighted` (the
+// vertices, where the error is measured) and the largest of all (what a cover's delta must reach).
+struct UnionGaps {
+  double median = 0, max = 0, largest = 0;
+};
+UnionGaps union_gaps(const std::vector<Eigen::Vector3d>& samples, size_t weighted, const SphereSet& spheres);
+// Whether budget mode's polish keeps set a over the best so far, b: its max no higher, and its
+// max times its median lower (a lower max bought with a median that rises more, in proportion,
+// is not kept; nor is a lower median at a higher max).
+bool kept_over(const UnionGaps& a, const UnionGaps& b);
+
 // Throws OptionError when `options` ask neither a tolerance nor a budget.
 CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& options,
                                Log& log = Log::silent());

@@ -7,26 +7,14 @@
 
 namespace spx {
 
-bool SelectionFrames::spheres_at(const Eigen::Vector3d& rest_center, std::vector<Sphere>& in_frames) const {
-  in_frames.resize(frame_count());
-  for (size_t f = 0; f < in_frames.size(); ++f) in_frames[f] = spheres_in({Sphere{rest_center, 0}}, f)[0];
-  return std::all_of(in_frames.begin(), in_frames.end(), [](const Sphere& s) { return s.radius > 0; });
-}
-
 size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vector<Eigen::Vector3d>>& samples,
                      double step, SphereSet& chosen, double delta, Log& log) {
   const size_t count = frames.frame_count();
   std::vector<size_t> weighted(count);
-  std::vector<SphereSet> spheres(count);
   std::vector<Eigen::Vector3d> centers;
   for (const Sphere& s : chosen) centers.push_back(s.center);
   for (size_t f = 0; f < count; ++f) weighted[f] = frames.frame_surface(f).vertices.size();
-  // Each chosen sphere in every frame as a move would make it (one that is 0 in some frame too).
-  std::vector<Sphere> in_frames;
-  for (const Sphere& s : chosen) {
-    frames.spheres_at(s.center, in_frames);
-    for (size_t f = 0; f < count; ++f) spheres[f].push_back(in_frames[f]);
-  }
+  std::vector<SphereSet> spheres = spheres_in_frames(frames, chosen);
   const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) { return frames.spheres_at(c, out); };
   const size_t moves = refine_jointly(samples, weighted, centers, spheres, at, delta, step, log, true);
   std::vector<size_t> order(chosen.size());

@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -31,12 +30,6 @@ constexpr double kNearlyBareCompacted = 0.75;
 // dozen rounds and more). What the second round's cover leaves past its delta the refinement,
 // which weighs every frame's samples, takes on; every frame's error is in the report.
 constexpr size_t kBudgetRounds = 2;
-
-double largest_displacement(const TriMesh& a, const TriMesh& b) {
-  double out = 0;
-  for (size_t v = 0; v < a.vertices.size(); ++v) out = std::max(out, (a.vertices[v] - b.vertices[v]).squaredNorm());
-  return std::sqrt(out);
-}
 
 template <class T, class Index>
 std::vector<T> pick(const std::vector<T>& all, const std::vector<Index>& which) {
@@ -111,7 +104,10 @@ class Selector {
     // only after the first round, change whether the tolerance was met (cover_for's rule).
     if (out.limited_by == Limit::tolerance || out.limited_by == Limit::resolution)
       out.limited_by = out.cover.uncoverable + out.bare_elsewhere > 0 ? Limit::resolution : Limit::tolerance;
-    if (refining()) out.refined_moves = refine(out.chosen, out.cover.delta);
+    if (refining()) {
+      out.refined_moves = refine(out.chosen, out.cover.delta);
+      polish(out);
+    }
     out.candidates = candidates_.size();
     out.from_frames = from_frames_;
     out.frames = active_;
@@ -128,6 +124,42 @@ class Selector {
   size_t refine(SphereSet& chosen, double delta) {
     for (size_t f = 0; f < frames_.frame_count(); ++f) samples(f);  // over every frame, as drawn here
     return refine_chosen(frames_, samples_, opt_.refine_step, chosen, delta, log_);
+  }
+
+  // Budget mode, opt_.polish_rounds times: the last refined set joins the candidates, the budget
+  // is covered again from the delta where that set is a cover (the problem's largest gap to it),
+  // and the cover is refined over every frame; the best set by kept_over on every frame's
+  // samples (the worst frame's max, the frames' mean median) is kept, its cover with it. After
+  // the refinement, which drew every frame's samples.
+  void polish(JointSelection& out) {
+    SphereSet current = out.chosen;
+    UnionGaps best = frame_gaps(frames_, samples_, current);
+    for (int round = 1; round <= opt_.polish_rounds; ++round) {
+      const size_t first = candidates_.size();
+      add_candidates(current);
+      size_t withdrawn = 0;
+      CoverProblem problem = cover_problem(withdrawn, true);
+      const double start = largest_gap_to(problem, first, current.size());
+      CoverResult cover = cover_with_budget(problem, opt_.budget, kRefinedBudgetSlack, 1e-2, log_, start);
+      // A radius the check lowers was counted on as larger: cover the same problem again.
+      while (one_ && lower_unchecked_radii(cover.chosen, out)) {
+        problem = cover_problem(withdrawn, true);
+        cover = cover_with_budget(problem, opt_.budget, kRefinedBudgetSlack, 1e-2, log_, start);
+      }
+      current = pick(candidates_, cover.chosen);
+      if (one_)
+        for (size_t n = 0; n < current.size(); ++n) current[n].radius = radius_[size_t(cover.chosen[n])];
+      const size_t moves = refine(current, cover.delta);
+      const UnionGaps now = frame_gaps(frames_, samples_, current);
+      log_.detail("polish " + std::to_string(round) + ": worst frame's vertex error max " + num(now.max) +
+                  ", mean median " + num(now.median) + " (kept so far: " + num(best.max) + ", " + num(best.median) + ")");
+      if (!kept_over(now, best)) continue;
+      best = now;
+      out.chosen = current;
+      out.cover = std::move(cover);
+      out.refined_moves = moves;
+      out.polished = size_t(round);
+    }
   }
 
   // Skinned: the share of delta past which a check adds a sample. Budget mode adds only the bare:
@@ -457,26 +489,6 @@ class Selector {
 };
 
 }  // namespace
-
-std::vector<size_t> spanning_frames(const SelectionFrames& frames, size_t count) {
-  const size_t n = frames.frame_count();
-  std::vector<size_t> taken{0};
-  if (n <= count + 1) {
-    taken.resize(n);
-    std::iota(taken.begin(), taken.end(), size_t(0));
-    return taken;
-  }
-  std::vector<double> apart(n);
-  for (size_t f = 0; f < n; ++f) apart[f] = largest_displacement(frames.frame_mesh(f), frames.frame_mesh(0));
-  while (taken.size() < count + 1) {
-    const size_t next = size_t(std::max_element(apart.begin(), apart.end()) - apart.begin());
-    taken.push_back(next);
-    for (size_t f = 0; f < n; ++f)
-      apart[f] = std::min(apart[f], largest_displacement(frames.frame_mesh(f), frames.frame_mesh(next)));
-  }
-  std::sort(taken.begin(), taken.end());
-  return taken;
-}
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,
                               Log& log) {

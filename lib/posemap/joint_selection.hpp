@@ -21,6 +21,7 @@
 #include "core/sphere.hpp"
 #include "mesh/mesh.hpp"
 #include "pack/cover.hpp"
+#include "pack/select.hpp"
 #include "posemap/skinned_map.hpp"
 
 namespace spx {
@@ -69,6 +70,11 @@ struct JointSelectionOptions {
   // eighth of it) where that lowers every frame's largest vertex error, then their total and
   // median (refine_jointly; each move's spheres by spheres_at); 0: they stay.
   double refine_step = 0;
+  // Budget mode, after the refinement: the refined spheres join the candidates, and the budget is
+  // covered and refined again this many times (sphere-pack's polish, over every frame); a set
+  // whose worst frame's max is no higher and whose product of it and the frames' mean median is
+  // lower is kept.
+  int polish_rounds = 2;
 };
 
 struct JointSelection {
@@ -84,10 +90,20 @@ struct JointSelection {
   size_t radii_checked = 0;     // skinned: chosen candidates whose one radius was checked in every frame
   size_t radii_lowered = 0;     // of those, the radii the check lowered (each lowering covers again)
   size_t refined_moves = 0;     // the chosen centres' moves off the candidates (refine_step)
+  size_t polished = 0;          // budget mode: the polish round whose set was kept (0: the first refinement's)
 };
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,
                               Log& log = Log::silent());
+
+// Each of `chosen`'s rest centres in every frame (spheres_at): per frame, in `chosen`'s order.
+std::vector<SphereSet> spheres_in_frames(const SelectionFrames& frames, const SphereSet& chosen);
+
+// Every frame's `samples` (each frame's vertices first) against `chosen` carried there, as a
+// refinement's move carries it: the worst frame's max and largest gap, and the frames' mean
+// median (the polish keeps a set by these).
+UnionGaps frame_gaps(const SelectionFrames& frames, const std::vector<std::vector<Eigen::Vector3d>>& samples,
+                     const SphereSet& chosen);
 
 // The first round's frames: the rest, then up to `count` poses, each the farthest (largest
 // vertex displacement) from those already taken; ascending.

@@ -110,7 +110,8 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
                       {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}},
           {"clip", {{"candidates_shrunk", sel.clip_shrunk}}},
           {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered}}},
-          {"refined_moves", sel.refined_moves}};
+          {"refined_moves", sel.refined_moves},
+          {"polished", sel.polished}};
 }
 
 json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {

@@ -52,6 +52,9 @@ struct PoseMapOptions {
   double clip_overshoot = 0;
   size_t area_samples = 4000;
   uint64_t seed = 1;
+  // Joint selection with a budget: covered and refined again this many times from the refined
+  // spheres (JointSelectionOptions::polish_rounds).
+  int polish_rounds = 2;
 };
 
 // Gap filling (PoseMapOptions::fill_gaps): how far each pose got.
