@@ -50,10 +50,9 @@ int main(int argc, char** argv) {
   tool.app.add_option("--seed", opt.seed, "Selection: seed of the surface samples")->capture_default_str();
   tool.app.add_option("--polish", opt.polish_rounds,
                       "Selection with --max-spheres: cover again this many times from the refined spheres, keeping a "
-                      "set with no higher max error over the poses and a lower max times median (0: faster, the "
-                      "first refinement's)")
-      ->check(CLI::Range(0, 16))
-      ->capture_default_str();
+                      "set with no higher max error over the poses and a lower max times median (default 1, and 0 "
+                      "for a rigged body; 0: faster, the first refinement's)")
+      ->check(CLI::Range(0, 16));
   tool.app.add_option("--fill-max", opt.fill_max_per_pose, "At most this many gap-filling spheres per pose")
       ->check(CLI::PositiveNumber);
   tool.name_option("poses", "--pose");

@@ -132,6 +132,7 @@ class Selector {
   // samples (the worst frame's max, the frames' mean median) is kept, its cover with it. After
   // the refinement, which drew every frame's samples.
   void polish(JointSelection& out) {
+    out.polish_rounds = opt_.polish_rounds;
     SphereSet current = out.chosen;
     UnionGaps best = frame_gaps(frames_, samples_, current);
     for (int round = 1; round <= opt_.polish_rounds; ++round) {

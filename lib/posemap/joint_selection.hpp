@@ -74,7 +74,7 @@ struct JointSelectionOptions {
   // covered and refined again this many times (sphere-pack's polish, over every frame); a set
   // whose worst frame's max is no higher and whose product of it and the frames' mean median is
   // lower is kept.
-  int polish_rounds = 2;
+  int polish_rounds = 1;
 };
 
 struct JointSelection {
@@ -90,6 +90,7 @@ struct JointSelection {
   size_t radii_checked = 0;     // skinned: chosen candidates whose one radius was checked in every frame
   size_t radii_lowered = 0;     // of those, the radii the check lowered (each lowering covers again)
   size_t refined_moves = 0;     // the chosen centres' moves off the candidates (refine_step)
+  int polish_rounds = 0;        // budget mode: the polish rounds run
   size_t polished = 0;          // budget mode: the polish round whose set was kept (0: the first refinement's)
 };
 

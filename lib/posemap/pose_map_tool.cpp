@@ -111,7 +111,7 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"clip", {{"candidates_shrunk", sel.clip_shrunk}}},
           {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered}}},
           {"refined_moves", sel.refined_moves},
-          {"polished", sel.polished}};
+          {"polish", {{"rounds", sel.polish_rounds}, {"kept", sel.polished}}}};
 }
 
 json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {

@@ -136,7 +136,7 @@ class PoseMapper {
     options.area_samples = opt_.area_samples;
     options.seed = opt_.seed;
     options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
-    options.polish_rounds = opt_.polish_rounds;
+    options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
     Frames frames(*this);
     const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
     const CoverResult& cover = selection.cover;
