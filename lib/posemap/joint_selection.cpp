@@ -133,6 +133,7 @@ class Selector {
   // the refinement, which drew every frame's samples.
   void polish(JointSelection& out) {
     out.polish_rounds = opt_.polish_rounds;
+    if (opt_.polish_rounds <= 0) return;  // no set to weigh the first refinement's against
     SphereSet current = out.chosen;
     UnionGaps best = frame_gaps(frames_, samples_, current);
     for (int round = 1; round <= opt_.polish_rounds; ++round) {
