@@ -1007,6 +1007,59 @@ TEST(Candidates, EverySampleIsReachedByItsOwnInscribedCandidate) {
   }
 }
 
+// The barrel sample and its field at `resolution` cells.
+std::pair<TriMesh, SdfResult> barrel_with_field(int resolution) {
+  TriMesh mesh = make_barrel().rest;
+  SdfOptions o;
+  o.resolution = resolution;
+  SdfResult sdf = build_sdf(mesh, o);
+  return {std::move(mesh), std::move(sdf)};
+}
+
+// Balls through a few samples alone are those the whole set gives them, each naming the sample
+// it touches; and the balls nested in one touch the same point, are inscribed (brute force), and
+// halve down to the first at most the least asked.
+TEST(Candidates, BallsThroughChosenSamplesAndNestedOnes) {
+  const auto [mesh, sdf] = barrel_with_field(24);
+  const MeshQuery query(mesh);
+  const SurfaceSamples samples = sample_surface(mesh, 300, 1);
+  const double start = deepest_radius(sdf.field);
+  const TangentCandidates all = tangent_candidates(query, mesh, samples, sdf.field, start, {});
+  ASSERT_EQ(all.touches.size(), all.spheres.size());
+  std::vector<uint32_t> which;
+  for (uint32_t i = 3; i < samples.points.size(); i += 37) which.push_back(i);
+  const TangentCandidates some = tangent_candidates(query, mesh, samples, which, nullptr, start, {});
+  size_t expected = 0;
+  for (size_t n = 0; n < all.spheres.size(); ++n) {
+    if (!std::binary_search(which.begin(), which.end(), all.touches[n])) continue;
+    ASSERT_LT(expected, some.spheres.size());
+    EXPECT_EQ(some.touches[expected], all.touches[n]);
+    EXPECT_EQ(some.spheres[expected].center, all.spheres[n].center);
+    EXPECT_EQ(some.spheres[expected].radius, all.spheres[n].radius);
+    ++expected;
+  }
+  EXPECT_EQ(expected, some.spheres.size());
+  const double least = 0.01 * mesh.diagonal();
+  const SphereSet nested = balls_through(query, samples, which, nullptr, start, {}, least);
+  EXPECT_GT(nested.size(), some.spheres.size()) << "each ball and smaller ones in it";
+  for (size_t n = 0; n < some.spheres.size(); ++n) {
+    const Eigen::Vector3d& p = samples.points[some.touches[n]];
+    const std::vector<Sphere> inner = nested_balls(query, p, some.spheres[n], least);
+    ASSERT_FALSE(inner.empty());
+    double last = some.spheres[n].radius;
+    for (const Sphere& s : inner) {
+      ASSERT_TRUE(brute_inside(mesh, s.center)) << s.center.transpose();
+      EXPECT_NEAR(s.radius, brute_distance(mesh, s.center), 1e-9 * mesh.diagonal());
+      EXPECT_LE((p - s.center).norm() - s.radius, (p - some.spheres[n].center).norm() - some.spheres[n].radius +
+                                                       1e-9 * mesh.diagonal()) << "it reaches the point as the ball does";
+      EXPECT_LT(s.radius, last);
+      last = s.radius;
+    }
+    EXPECT_LE(inner.back().radius, least);
+    if (inner.size() > 1) EXPECT_GT(inner[inner.size() - 2].radius, least);
+  }
+}
+
 // The shrinking ball against brute force: on a slab 0.02 thick and on a sphere of flat faces,
 // the offset of the ball tangent at a face's middle is the largest t whose ball at p + t n
 // holds no point of a triangle other than the face's own neighbours (bisected over every
@@ -1043,10 +1096,7 @@ TEST(Candidates, TangentBallIsTheLargestThatFits) {
 // (the report would name a finer resolution); with the tangent candidates the cover meets it,
 // and the max vertex error measured independently is within it, with no sphere past the surface.
 TEST(Candidates, ToleranceFinerThanTheFieldIsMet) {
-  const TriMesh mesh = make_barrel().rest;
-  SdfOptions o;
-  o.resolution = 10;
-  const SdfResult sdf = build_sdf(mesh, o);
+  const auto [mesh, sdf] = barrel_with_field(10);
   const MeshQuery query(mesh);
   SpherePackOptions opt;
   opt.tolerance = 0.004 * mesh.diagonal();

@@ -100,4 +100,17 @@ Sphere touching_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const 
   return {c, radius};
 }
 
+std::vector<Sphere> nested_balls(const MeshQuery& mesh, const Eigen::Vector3d& point, const Sphere& ball, double least) {
+  std::vector<Sphere> out;
+  const Eigen::Vector3d offset = ball.center - point;
+  for (double share = 0.5; ball.radius * share > 1e-9 * ball.radius; share *= 0.5) {
+    const Eigen::Vector3d c = point + share * offset;
+    const double r = mesh.distance(c);
+    if (!(r > 0) || !mesh.inside(c)) break;
+    out.push_back({c, r});
+    if (r <= least) break;
+  }
+  return out;
+}
+
 }  // namespace spx

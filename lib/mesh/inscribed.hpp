@@ -42,6 +42,12 @@ Sphere tangent_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const E
 Sphere touching_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward, double slack,
                      double max_offset, double min_radius);
 
+// Balls nested in `ball` that touch the surface where it does, at `point`: centres a half, a
+// quarter, ... of the way from `point` to the ball's centre, each radius the exact distance
+// there, down to the first whose radius is at most `least`. A skinned sphere keeps one radius
+// over a whole clip, and a smaller ball keeps more of its own where parts move against each other.
+std::vector<Sphere> nested_balls(const MeshQuery& mesh, const Eigen::Vector3d& point, const Sphere& ball, double least);
+
 // How far spheres grow by default (the offset at most doubles the radius): enough to reach the
 // medial axis from a candidate off it by a voxel or two, little enough that a pose's sphere
 // stays on the same part of the body as the rest sphere it came from.

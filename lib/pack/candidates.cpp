@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 
 #include "core/random.hpp"
 #include "core/tolerance.hpp"
@@ -149,17 +150,25 @@ double deepest_radius(const DenseField& field) {
 
 TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
                                      const DenseField& field, double start_radius, const CandidateOptions& opt) {
+  std::vector<uint32_t> every(samples.points.size());
+  std::iota(every.begin(), every.end(), 0u);
+  return tangent_candidates(mesh, surface, samples, every, &field, start_radius, opt);
+}
+
+TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
+                                     const std::vector<uint32_t>& which, const DenseField* field, double start_radius,
+                                     const CandidateOptions& opt) {
   const std::vector<Eigen::Vector3d> faces = face_normals(surface), normals = angle_weighted_normals(surface, faces);
   const size_t vertices = surface.vertices.size();
-  const double h = field.shape.voxel_size, diag = surface.diagonal();
+  const double diag = surface.diagonal();
   const double least = std::max(opt.min_radius, kTouchSlack * diag), slack = kTouchSlack * diag;
   start_radius = std::min(start_radius, opt.max_radius);
   // Per sample: the tangent ball, and where it misses the sample by more than the slack (a
   // corner of its own faces) also the ball that touches it.
-  std::vector<std::array<Sphere, 2>> balls(samples.points.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}});
+  std::vector<std::array<Sphere, 2>> balls(which.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}});
   auto bounded = [&](Sphere s) {
     if (opt.field_bounds_radius && s.radius > 0)
-      s.radius = std::max(0.0, std::min(s.radius, depth_bound(field, s.center) - kFieldMargin * h));
+      s.radius = std::max(0.0, std::min(s.radius, depth_bound(*field, s.center) - kFieldMargin * field->shape.voxel_size));
     s.radius = std::min(s.radius, opt.max_radius);
     if (s.radius < opt.min_radius) s.radius = 0;
     return s;
@@ -168,7 +177,8 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
     return s.radius > 0 && (p - s.center).norm() - s.radius <= slack;
   };
   tbb::parallel_for(tbb::blocked_range<size_t>(0, balls.size(), 32), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
+    for (size_t n = r.begin(); n != r.end(); ++n) {
+      const size_t i = which[n];
       const Eigen::Vector3d& p = samples.points[i];
       Eigen::Vector3d inward;
       std::vector<Eigen::Vector3d> own;
@@ -183,19 +193,32 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
       }
       if (!(inward.norm() > 0.5)) continue;  // no normal: a degenerate corner
       const Sphere tangent = tangent_ball(mesh, p, inward, own, start_radius, least);
-      balls[i][0] = bounded(tangent);
+      balls[n][0] = bounded(tangent);
       // A sharp corner's ball is small: within the slack of the corner it can be no larger.
       if (!reaches(tangent, p))
-        balls[i][1] = bounded(touching_ball(mesh, p, inward, slack, tangent.radius > 0 ? (tangent.center - p).norm() : start_radius,
+        balls[n][1] = bounded(touching_ball(mesh, p, inward, slack, tangent.radius > 0 ? (tangent.center - p).norm() : start_radius,
                                             1e-3 * slack));
     }
   });
   TangentCandidates out;
-  for (size_t i = 0; i < balls.size(); ++i) {
-    for (const Sphere& s : balls[i])
-      if (s.radius > 0) out.spheres.push_back(s);
-    out.touching += balls[i][1].radius > 0;
-    out.unreached += !(balls[i][1].radius > 0) && !reaches(balls[i][0], samples.points[i]);
+  for (size_t n = 0; n < balls.size(); ++n) {
+    for (const Sphere& s : balls[n])
+      if (s.radius > 0) out.spheres.push_back(s), out.touches.push_back(which[n]);
+    out.touching += balls[n][1].radius > 0;
+    out.unreached += !(balls[n][1].radius > 0) && !reaches(balls[n][0], samples.points[which[n]]);
+  }
+  return out;
+}
+
+SphereSet balls_through(const MeshQuery& mesh, const SurfaceSamples& samples, const std::vector<uint32_t>& which,
+                        const DenseField* field, double start_radius, const CandidateOptions& options,
+                        double nested_down_to) {
+  const TangentCandidates t = tangent_candidates(mesh, mesh.surface(), samples, which, field, start_radius, options);
+  SphereSet out;
+  for (size_t n = 0; n < t.spheres.size(); ++n) {
+    out.push_back(t.spheres[n]);
+    if (nested_down_to > 0)
+      for (const Sphere& s : nested_balls(mesh, samples.points[t.touches[n]], t.spheres[n], nested_down_to)) out.push_back(s);
   }
   return out;
 }

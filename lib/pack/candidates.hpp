@@ -95,6 +95,7 @@ constexpr double kTouchSlack = 1e-6;
 
 struct TangentCandidates {
   SphereSet spheres;
+  std::vector<uint32_t> touches;  // per sphere: the sample it touches (its index in the samples)
   size_t touching = 0;   // samples that needed a second, smaller ball to be reached
   size_t unreached = 0;  // samples no ball reaches within the slack (a knife edge, a flipped normal)
 };
@@ -108,6 +109,18 @@ struct TangentCandidates {
 // bounded by `field` across its holes (options.field_bounds_radius), as every radius is.
 TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
                                      const DenseField& field, double start_radius, const CandidateOptions& options);
+// The same for the samples `which` alone (indices into `samples`; pose-map's frames offer them
+// where nothing else reaches). `field` is needed only where it bounds radii.
+TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
+                                     const std::vector<uint32_t>& which, const DenseField* field, double start_radius,
+                                     const CandidateOptions& options);
+
+// Balls through the samples `which` of `samples` (drawn on mesh.surface()): tangent_candidates'
+// of each, then, where `nested_down_to` > 0, those nested in each (nested_balls) down to that
+// radius: a sphere that keeps one radius over a clip keeps more of a smaller one.
+SphereSet balls_through(const MeshQuery& mesh, const SurfaceSamples& samples, const std::vector<uint32_t>& which,
+                        const DenseField* field, double start_radius, const CandidateOptions& options,
+                        double nested_down_to);
 
 // The largest radius an inscribed ball of `field`'s solid can have, with a margin for the
 // field's own error.

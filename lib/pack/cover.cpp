@@ -85,6 +85,7 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
   const std::vector<uint32_t> bare = uncovered_samples(cov);
   r.uncoverable = bare.size();
+  r.uncovered = bare;
   // A tolerance out of reach: the least delta that would do is set by the bare samples alone
   // (every other is within delta).
   r.least_reachable = std::max(delta, largest_finite(least_gaps_of(problem, bare)));
@@ -100,6 +101,7 @@ const char* limit_wording(Limit limit) {
     case Limit::default_tolerance: return "met the default tolerance";
     case Limit::resolution: return "the field's resolution (some samples are out of reach)";
     case Limit::reach: return "samples no inscribed sphere reaches (sharp features under the least radius)";
+    case Limit::motion: return "vertices no skinned sphere reaches in every frame (where the skin folds)";
     case Limit::budget: return "max_spheres";
     case Limit::budget_over_tolerance: return "max_spheres (tighter than the tolerance)";
   }
@@ -166,7 +168,8 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
   improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log, true);
   best.lower_bound = lower_bound_of(best_cov, best.chosen.size());
-  best.uncoverable = uncovered_samples(best_cov).size();
+  best.uncovered = uncovered_samples(best_cov);
+  best.uncoverable = best.uncovered.size();
   log.detail("budget " + std::to_string(max_spheres) + ": delta " + num(best.delta) + " with " +
              std::to_string(best.chosen.size()) + " spheres after " + std::to_string(best.evaluations) + " covers");
   return best;

@@ -58,6 +58,7 @@ struct CoverResult {
   double least_max_delta = 0;  // budget mode: the least delta any cover of the budget met
   size_t lower_bound = 0;      // no cover at `delta` has fewer spheres
   size_t uncoverable = 0;      // samples no candidate covers at `delta` (then the tolerance is out of reach)
+  std::vector<uint32_t> uncovered;  // which (stacked indices, ascending)
   double least_reachable = 0;  // the smallest delta at which every sample can be covered
   int evaluations = 0;         // covers solved
   // Tolerance mode: the samples the reduction kept; a cover of them covers every sample.
@@ -74,7 +75,7 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
                          Log& log = Log::silent());
 
 // What decided a selection's size, and its words in reports and logs (limit_wording).
-enum class Limit { tolerance, default_tolerance, resolution, reach, budget, budget_over_tolerance };
+enum class Limit { tolerance, default_tolerance, resolution, reach, motion, budget, budget_over_tolerance };
 const char* limit_wording(Limit limit);
 
 // Budget mode's relaxation (cover_with_budget's slack, below).

@@ -15,11 +15,13 @@
 // the chosen centres over every frame's samples.
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/log.hpp"
 #include "core/sphere.hpp"
 #include "mesh/mesh.hpp"
+#include "pack/candidates.hpp"
 #include "pack/cover.hpp"
 #include "pack/select.hpp"
 #include "posemap/skinned_map.hpp"
@@ -55,6 +57,11 @@ class SelectionFrames {
   // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
   // reaches), mapped back to the rest; each of them offered once.
   virtual SphereSet frame_candidates(size_t frame, const std::vector<Eigen::Vector3d>& points, double reach) = 0;
+  // `frame`'s balls touching each of its samples `which` (indices into `drawn`, sample_surface of
+  // frame_surface), which nothing else reaches within `delta`: the largest inscribed ball tangent
+  // there and (one radius) balls nested in it down to delta's size, mapped back to the rest.
+  virtual SphereSet touching_candidates(size_t frame, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
+                                        double delta) = 0;
 };
 
 struct JointSelectionOptions {
@@ -82,10 +89,12 @@ struct JointSelection {
   CoverResult cover;
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, from_frames = 0, mostly_absent = 0, samples = 0;
+  size_t touched = 0, from_touching = 0;  // tolerance: samples out of reach offered balls touching them, and those balls
   std::vector<size_t> frames;   // the frames selected on, ascending (0: the rest)
   size_t rounds = 0;
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
   size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
+  size_t vertices_out_of_reach = 0;  // of those and the cover's uncoverable, the vertices
   size_t clip_shrunk = 0;       // skinned: candidates whose one radius the clip lowered
   size_t radii_checked = 0;     // skinned: chosen candidates whose one radius was checked in every frame
   size_t radii_lowered = 0;     // of those, the radii the check lowered (each lowering covers again)
@@ -96,6 +105,10 @@ struct JointSelection {
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,
                               Log& log = Log::silent());
+
+// The report's words for the selection's samples out of reach: how many, and why. `touching`:
+// the vertices among them were offered balls through them (tolerance mode).
+std::string out_of_reach_wording(const JointSelection& selection, bool skinned, bool touching);
 
 // Each of `chosen`'s rest centres in every frame (spheres_at): per frame, in `chosen`'s order.
 std::vector<SphereSet> spheres_in_frames(const SelectionFrames& frames, const SphereSet& chosen);

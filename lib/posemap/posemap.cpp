@@ -139,15 +139,9 @@ class PoseMapper {
     options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
     Frames frames(*this);
     const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
-    const CoverResult& cover = selection.cover;
-    const size_t uncoverable = cover.uncoverable + selection.bare_elsewhere;
-    if (uncoverable > 0)
-      log_.warn(std::to_string(uncoverable) + " surface samples over the poses are farther than " + num(cover.delta) +
-                " from every candidate sphere mapped there " +
-                (skinned_ ? "(a skinned sphere keeps one radius, the least over the frames: where parts move against each "
-                            "other no candidate keeps one large enough, whatever the resolution; thin parts at the "
-                            "field's resolution also need a finer sdf-build resolution)"
-                          : "(thin parts at the field's resolution; a finer sdf-build resolution gives candidates closer to them)"));
+    const bool touching = options.target > 0, missed = !touching || selection.vertices_out_of_reach > 0;
+    const std::string why = out_of_reach_wording(selection, bool(skinned_), touching);
+    if (selection.cover.uncoverable + selection.bare_elsewhere > 0) missed ? log_.warn(why) : log_.detail(why);
     summary.selection = selection;
     summary.selection_target = options.target;
     return selection.chosen;
@@ -301,8 +295,16 @@ class PoseMapper {
       return std::all_of(in_frames.begin(), in_frames.end(), [](const Sphere& s) { return s.radius > 0; });
     }
     SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
-      size_t lost = 0;
-      return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach), lost);
+      return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach));
+    }
+    // Skinned, nested balls down to half of delta: a sphere with one radius over the clip keeps more of those.
+    SphereSet touching_candidates(size_t f, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
+                                  double delta) override {
+      const MeshQuery& q = *m_.queries_[f];
+      SphereSet balls = balls_through(q, drawn, which, m_.open_solid_ ? &m_.pose_field(f) : nullptr,
+                                      std::min(m_.proxy_.max_radius, 0.5 * q.surface().diagonal()),
+                                      candidate_options(m_.pose_pack_options()), m_.skinned_ ? 0.5 * delta : 0);
+      return f == 0 ? balls : m_.map_back_to_rest(f - 1, balls);
     }
    private:
     PoseMapper& m_;
@@ -406,7 +408,7 @@ class PoseMapper {
                 num(target) + " (try a finer resolution for the spheres' field)");
     met = enough.met;
     reached = enough.max_error;
-    return map_back_to_rest(i, found.spheres, lost);
+    return map_back_to_rest(i, found.spheres, &lost);
   }
 
   // Pose i's own inscribed candidates that come within `reach` of any of `points` (samples of
@@ -422,9 +424,9 @@ class PoseMapper {
 
   // Through the inverse map (barycentric in pose i's deformed tets); those that land outside
   // the rest are counted in `lost`.
-  SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t& lost) const {
+  SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t* lost = nullptr) const {
     SphereSet back = undeform_centres(tets_, deformed_[i], in_pose, *queries_[0], proxy_.max_radius);
-    lost = in_pose.size() - back.size();
+    if (lost) *lost = in_pose.size() - back.size();
     return back;
   }
 

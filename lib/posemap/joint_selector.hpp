@@ -1,0 +1,186 @@
+#pragma once
+// Inside pose-map's joint selection (joint_selection.hpp says what it does): the selector's state
+// as it grows, and its steps. joint_selection.cpp runs the rounds (covers, checks, the polish);
+// selection_offers.cpp offers candidates (the spheres file's, each frame's own, and balls through
+// the vertices nothing else reaches) and tells which samples they reach.
+#include <Eigen/Core>
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "pack/coverage.hpp"
+#include "posemap/joint_selection.hpp"
+
+namespace spx {
+
+// The selection's state as it grows: the candidates (rest), the frames selected on whole, each
+// candidate's sphere there (not skinned) or its centre in every frame and its one radius
+// (skinned), and the samples of other frames added (skinned).
+class JointSelector {
+ public:
+  JointSelector(SelectionFrames& frames, const JointSelectionOptions& opt, Log& log)
+      : frames_(frames),
+        opt_(opt),
+        log_(log),
+        one_(frames.one_radius()),
+        own_(frames.frame_count()),
+        samples_(frames.frame_count()),
+        triangles_(frames.frame_count()),
+        touched_(frames.frame_count()),
+        offered_(frames.frame_count()),
+        extra_(frames.frame_count()),
+        held_(frames.frame_count()),
+        centers_(one_ ? frames.frame_count() : 0) {}
+
+  JointSelection run(const SphereSet& file_candidates);
+
+ private:
+  template <class T, class Index>
+  static std::vector<T> pick(const std::vector<T>& all, const std::vector<Index>& which) {
+    std::vector<T> out;
+    out.reserve(which.size());
+    for (Index i : which) out.push_back(all[size_t(i)]);
+    return out;
+  }
+  bool is_active(size_t f) const { return std::binary_search(active_.begin(), active_.end(), f); }
+
+  // Budget mode: the chosen centres are refined off the candidates (below).
+  bool refining() const { return opt_.budget > 0 && opt_.refine_step > 0; }
+  size_t refine(SphereSet& chosen, double delta);
+
+  // Budget mode, opt_.polish_rounds times: the last refined set joins the candidates, the budget
+  // is covered again from the delta where that set is a cover (the problem's largest gap to it),
+  // and the cover is refined over every frame; the best set by kept_over on every frame's
+  // samples (the worst frame's max, the frames' mean median) is kept, its cover with it. After
+  // the refinement, which drew every frame's samples.
+  void polish(JointSelection& out);
+
+  // Skinned: the share of delta past which a check adds a sample. Budget mode adds only the bare:
+  // its delta is the least the budget reaches, so most samples are covered by more than half of
+  // it, the nearly bare would be nearly every sample of the clip, and each round's budget cover
+  // (tables of every pair within delta) grows with them (48 frames of the elephant's walk at 64
+  // spheres took over 20 GB).
+  double nearly_bare() const;
+
+  // Skinned, tolerance: after each round the problem keeps only the samples its reduction kept
+  // (a cover of those covers the rest), so that a round costs what the hard samples of the clip
+  // cost, not what all its frames do. The candidates stay (each frame's were offered up front).
+  bool compacting() const { return one_ && opt_.budget == 0; }
+
+  // Each of the last problem's samples `stacked` (ascending) as fn(frame, index in its samples).
+  template <class Fn>
+  void for_each_stacked(const std::vector<uint32_t>& stacked, const Fn& fn) const {
+    size_t part = 0, first = 0;
+    for (uint32_t s : stacked) {
+      while (s >= first + layout_[part].second.size()) first += layout_[part++].second.size();
+      fn(layout_[part].first, layout_[part].second[s - first]);
+    }
+  }
+  // The reduction's kept samples (stacked indices of the last problem) by frame.
+  std::vector<std::vector<uint32_t>> kept_by_frame(const std::vector<uint32_t>& kept) const;
+  // Of the last problem's samples `stacked`, the vertices (where the error is measured).
+  size_t vertices_among(const std::vector<uint32_t>& stacked) const;
+
+  size_t samples_elsewhere() const;
+
+  const std::vector<Eigen::Vector3d>& samples(size_t f);
+
+  std::vector<uint32_t> every_sample(size_t f);
+  // Each frame's vertices, the samples the tolerance is on (each frame's samples start with them).
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> every_vertex_of(const std::vector<size_t>& frames);
+
+  // Tolerance mode: samples out of reach of every candidate are offered balls touching them.
+  bool touching() const { return opt_.target > 0; }
+  // Of each frame's samples `which`, the positions of those no candidate reaches within delta,
+  // after (touching) those not offered it before are offered balls touching them in their frame:
+  // a sample far from every medial voxel, or one whose candidates a skinned clip shrinks, is
+  // still reached by a ball through it. `cached`: as out_of_reach_of.
+  std::vector<std::vector<uint32_t>> touch_out_of_reach(
+      const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting, double delta, bool cached);
+
+  // Candidate c in frame f as the problem has it.
+  Sphere sphere(size_t c, size_t f) const { return one_ ? Sphere{centers_[f][c], radius_[c]} : own_[f][c]; }
+
+  // Tolerance mode, after the first round: the last cover completed for what was added, then
+  // searched briefly, so that it stays near the last one and the next check finds little new.
+  void warm_cover(const CoverProblem& problem, CoverResult& cover);
+
+  // Skinned: each chosen candidate's one radius, not checked before, checked against its exact
+  // radius in every frame (the carry skips frames by their fields' floors, which may be a
+  // fraction of a voxel high). Returns whether any was lowered.
+  bool lower_unchecked_radii(const std::vector<int>& chosen, JointSelection& out);
+
+  // More candidates: their spheres in the frames selected on or, skinned, their centres in every
+  // frame and their one radius.
+  void add_candidates(const SphereSet& more);
+
+  // Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
+  // samples no candidate of the spheres file comes within reach of are offered their own
+  // candidates.
+  void select_on_whole(const std::vector<size_t>& more);
+
+  // Skinned: every frame's samples far from the spheres file's candidates are offered that
+  // frame's own (what the one cover over every frame would be offered).
+  void offer_every_frame();
+
+  // Of each frame's samples `which`, those no candidate of the spheres file comes within reach
+  // of (and not offered before) are offered that frame's own candidates near them: every
+  // frame's far samples found first, then the pool grows frame by frame.
+  void offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting);
+
+  // Candidate c's radius in the rest (skinned: its one radius; a problem of samples alone has no
+  // spheres).
+  double rest_radius(const CoverProblem& problem, int c) const;
+
+  // The frames selected on, whole, then (skinned) the samples added from the others, as one
+  // cover problem. Candidates mostly absent are withdrawn (counted). Without `spheres`, the
+  // samples alone (a skinned candidate is absent in every frame or in none: none is withdrawn).
+  CoverProblem cover_problem(size_t& mostly_absent, bool spheres);
+
+  // Skinned: the samples the chosen spheres leave bare, or cover by less than kNearlyBare of
+  // delta, that the problem does not hold (one it held before only if bare outright). Those far
+  // from the spheres file's candidates are offered their frame's own first; then those some
+  // candidate reaches join the problem, the rest are counted in `out.bare_elsewhere` (the vertices
+  // among them in `out.vertices_out_of_reach`). `kept`
+  // (compacting): the samples the last problem's reduction kept; the problem becomes those and
+  // the samples joining. Returns how many joined.
+  size_t add_bare_samples(const std::vector<int>& chosen, double delta, JointSelection& out,
+                          const std::vector<uint32_t>* kept);
+
+  // Of each frame's samples `which`, the positions of those no candidate reaches. Compacting and
+  // `cached`, the cache finds them: the columns it computes are those the next round's problem asks for.
+  std::vector<std::vector<uint32_t>> out_of_reach_of(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& bare,
+                                                     double delta, bool cached);
+
+  // Not skinned: the frames not selected on where the chosen spheres (grown there) leave
+  // samples bare, the most first, at most frames_per_round.
+  std::vector<size_t> frames_left_bare(const std::vector<int>& chosen, double delta);
+
+  SelectionFrames& frames_;
+  const JointSelectionOptions& opt_;
+  Log& log_;
+  const bool one_;                                     // skinned: one radius per sphere
+  SphereSet candidates_;                               // rest pose
+  std::vector<size_t> active_;                         // frames selected on whole, ascending
+  std::vector<SphereSet> own_;                         // not skinned, per frame selected on: each candidate's sphere
+  std::vector<std::vector<Eigen::Vector3d>> samples_;  // per frame, drawn when first asked
+  std::vector<std::vector<int>> triangles_;            // per frame: each area sample's triangle (sample_surface)
+  std::vector<std::vector<char>> touched_;             // per frame and sample: offered balls touching it
+  std::vector<std::vector<char>> offered_;             // per frame and sample: its frame's candidates offered
+  std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not whole: its samples in the problem
+  std::vector<std::vector<char>> held_;                // per frame and sample: it has been in the problem
+  bool whole_ = true;                                  // the frames selected on are whole in the problem
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> layout_;  // the last problem's samples: (frame, which)
+  std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
+  std::vector<double> radius_;                         // skinned: each candidate's one radius
+  std::vector<char> checked_;                          // skinned: its radius checked in every frame
+  std::unique_ptr<CoverageCache> cache_;              // skinned, tolerance: the pairs kept from round to round
+  size_t from_frames_ = 0;
+  size_t touched_samples_ = 0, from_touching_ = 0;
+  size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
+  size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
+};
+
+}  // namespace spx

@@ -1,0 +1,179 @@
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "pack/candidates.hpp"
+#include "posemap/joint_selector.hpp"
+
+namespace spx {
+
+const std::vector<Eigen::Vector3d>& JointSelector::samples(size_t f) {
+  if (samples_[f].empty()) {
+    SurfaceSamples drawn = sample_surface(frames_.frame_surface(f), opt_.area_samples, opt_.seed);
+    samples_[f] = std::move(drawn.points);
+    triangles_[f] = std::move(drawn.triangle);
+    held_[f].assign(samples_[f].size(), 0);
+    touched_[f].assign(samples_[f].size(), 0);
+  }
+  return samples_[f];
+}
+
+// Each frame's vertices, the samples the tolerance is on (each frame's samples start with them).
+std::vector<std::pair<size_t, std::vector<uint32_t>>> JointSelector::every_vertex_of(
+    const std::vector<size_t>& frames) {
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> out;
+  for (size_t f : frames) {
+    out.emplace_back(f, std::vector<uint32_t>(frames_.frame_surface(f).vertices.size()));
+    std::iota(out.back().second.begin(), out.back().second.end(), 0u);
+    samples(f);  // drawn before a frame's balls are asked
+  }
+  return out;
+}
+
+// Of each frame's samples `which`, the positions of those no candidate reaches within delta,
+// after (touching) those not offered it before are offered balls touching them in their frame:
+// a sample far from every medial voxel, or one whose candidates a skinned clip shrinks, is
+// still reached by a ball through it. `cached`: as out_of_reach_of.
+std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
+    const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting, double delta, bool cached) {
+  std::vector<std::vector<uint32_t>> out = out_of_reach_of(wanting, delta, cached);
+  if (!touching()) return out;
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> again;  // (frame, samples) still to ask
+  std::vector<size_t> of;                                        // each one's entry in `wanting`
+  SphereSet balls;
+  for (size_t b = 0; b < wanting.size(); ++b) {
+    if (out[b].empty()) continue;
+    const size_t f = wanting[b].first;
+    std::vector<uint32_t> touch;
+    const size_t vertices = frames_.frame_surface(f).vertices.size();
+    for (uint32_t w : out[b]) {
+      const uint32_t i = wanting[b].second[w];
+      if (i < vertices && !touched_[f][i]) touched_[f][i] = 1, touch.push_back(i);
+    }
+    if (!touch.empty()) {
+      const SphereSet more = frames_.touching_candidates(f, {samples_[f], triangles_[f]}, touch, delta);
+      balls.insert(balls.end(), more.begin(), more.end());
+      touched_samples_ += touch.size();
+    }
+    again.emplace_back(f, pick(wanting[b].second, out[b]));
+    of.push_back(b);
+  }
+  if (balls.empty()) return out;
+  add_candidates(balls);
+  from_touching_ += balls.size();
+  const std::vector<std::vector<uint32_t>> still = out_of_reach_of(again, delta, cached);
+  for (size_t k = 0; k < again.size(); ++k) out[of[k]] = pick(out[of[k]], still[k]);
+  return out;
+}
+
+// More candidates: their spheres in the frames selected on or, skinned, their centres in every
+// frame and their one radius.
+void JointSelector::add_candidates(const SphereSet& more) {
+  candidates_.insert(candidates_.end(), more.begin(), more.end());
+  if (!one_) {
+    for (size_t f : active_) {
+      const SphereSet in = frames_.spheres_in(more, f);
+      own_[f].insert(own_[f].end(), in.begin(), in.end());
+    }
+    return;
+  }
+  const SkinnedMap::Carried carried = frames_.carry_skinned(more);
+  for (size_t f = 0; f < carried.centers.size(); ++f)
+    centers_[f].insert(centers_[f].end(), carried.centers[f].begin(), carried.centers[f].end());
+  // Held over the clip before any cover sees them: a cover of radii that hold only at the poses
+  // would be undone sphere by sphere, each replaced by another not yet held.
+  const std::vector<double> held = frames_.over_clip(carried.influences, carried.radii);
+  for (size_t i = 0; i < held.size(); ++i) clip_shrunk_ += held[i] < carried.radii[i];
+  radius_.insert(radius_.end(), held.begin(), held.end());
+  checked_.resize(radius_.size(), 0);
+}
+
+// Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
+// samples no candidate of the spheres file comes within reach of are offered their own
+// candidates.
+void JointSelector::select_on_whole(const std::vector<size_t>& more) {
+  if (more.empty()) return;
+  if (!one_)
+    for (size_t f : more) own_[f] = frames_.spheres_in(candidates_, f);
+  for (size_t f : more) {
+    extra_[f].clear();
+    held_[f].assign(samples(f).size(), 1);
+  }
+  active_.insert(active_.end(), more.begin(), more.end());
+  std::sort(active_.begin(), active_.end());
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
+  for (size_t f : more) wanting.emplace_back(f, every_sample(f));
+  offer_frame_candidates(wanting);
+}
+
+// Skinned: every frame's samples far from the spheres file's candidates are offered that
+// frame's own (what the one cover over every frame would be offered).
+void JointSelector::offer_every_frame() {
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
+  for (size_t f = 1; f < frames_.frame_count(); ++f)
+    if (!is_active(f)) wanting.emplace_back(f, every_sample(f));
+  offer_frame_candidates(wanting);
+}
+
+// Of each frame's samples `which`, those no candidate of the spheres file comes within reach
+// of (and not offered before) are offered that frame's own candidates near them: every
+// frame's far samples found first, then the pool grows frame by frame.
+void JointSelector::offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting) {
+  std::vector<std::vector<Eigen::Vector3d>> far(wanting.size());
+  // The file's candidates in the frames selected on, those mostly absent withdrawn as in the
+  // cover problem (a skinned candidate is absent everywhere or nowhere: other frames need none).
+  CoverProblem file_in_active;
+  for (size_t f : active_) {
+    SphereSet set(file_count_);
+    for (size_t c = 0; c < file_count_; ++c) set[c] = sphere(c, f);
+    file_in_active.spheres.push_back(std::move(set));
+  }
+  withdraw_mostly_absent(file_in_active);
+  for (const auto& [f, which] : wanting) samples(f);  // drawn once, before the frames run side by side
+  tbb::parallel_for(size_t(0), wanting.size(), [&](size_t n) {  // each frame once in `wanting`
+    const auto& [f, which] = wanting[n];
+    if (f == 0) return;
+    const std::vector<Eigen::Vector3d> points = pick(samples_[f], which);
+    const size_t k = size_t(std::lower_bound(active_.begin(), active_.end(), f) - active_.begin());
+    SphereSet file(file_count_);
+    for (size_t c = 0; c < file_count_; ++c) file[c] = is_active(f) ? file_in_active.spheres[k][c] : sphere(c, f);
+    std::vector<char>& offered = offered_[f];
+    offered.resize(samples_[f].size(), 0);
+    for (uint32_t s : bare_samples(points, file, opt_.reach))
+      if (!offered[which[s]]) {
+        offered[which[s]] = 1;
+        far[n].push_back(points[s]);
+      }
+  });
+  for (size_t n = 0; n < wanting.size(); ++n) {
+    if (far[n].empty()) continue;
+    SphereSet back = frames_.frame_candidates(wanting[n].first, far[n], opt_.reach);
+    // Skinned, a clip's alike frames offer much the same spheres again: one per place.
+    if (one_ && opt_.spacing > 0) back = pick(back, distinct_centres(candidates_, back, opt_.spacing));
+    add_candidates(back);
+    from_frames_ += back.size();
+  }
+}
+
+// Of each frame's samples `which`, the positions of those no candidate reaches. Compacting and
+// `cached`, the cache finds them: the columns it computes are those the next round's problem asks for.
+std::vector<std::vector<uint32_t>> JointSelector::out_of_reach_of(
+    const std::vector<std::pair<size_t, std::vector<uint32_t>>>& bare, double delta, bool cached) {
+  if (compacting() && cached) {
+    if (!(cache_ && cache_->delta() == delta)) cache_ = std::make_unique<CoverageCache>(delta);
+    std::vector<std::vector<Eigen::Vector3d>> points;
+    for (const auto& [f, which] : bare) points.push_back(pick(samples_[f], which));
+    return cache_->uncovered_joining(points, candidates_.size(),
+                                     [&](size_t part, size_t c) { return sphere(c, bare[part].first); }, bare);
+  }
+  std::vector<std::vector<uint32_t>> out(bare.size());
+  tbb::parallel_for(size_t(0), bare.size(), [&](size_t b) {  // frame by frame side by side
+    const auto& [f, which] = bare[b];
+    SphereSet all(candidates_.size());
+    for (size_t c = 0; c < all.size(); ++c) all[c] = sphere(c, f);
+    out[b] = bare_samples(pick(samples_[f], which), all, delta);
+  });
+  return out;
+}
+}  // namespace spx
