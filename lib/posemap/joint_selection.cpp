@@ -90,7 +90,11 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   out.vertices_out_of_reach += vertices_among(out.cover.uncovered);
   if (out.limited_by == Limit::tolerance || out.limited_by == Limit::resolution) {
     const bool bare = touching() ? out.vertices_out_of_reach > 0 : out.cover.uncoverable + out.bare_elsewhere > 0;
-    out.limited_by = !bare ? Limit::tolerance : !touching() ? Limit::resolution : one_ ? Limit::motion : Limit::reach;
+    // Across an open mesh's holes every radius is its field's bound, which a finer field raises.
+    out.limited_by = !bare ? Limit::tolerance
+                     : !touching() || opt_.field_bounds_radii ? Limit::resolution
+                     : one_ ? Limit::motion
+                            : Limit::reach;
   }
   if (refining()) {
     out.refined_moves = refine(out.chosen, out.cover.delta);
@@ -327,12 +331,12 @@ std::vector<size_t> JointSelector::frames_left_bare(const std::vector<int>& chos
   return out;
 }
 
-std::string out_of_reach_wording(const JointSelection& selection, bool skinned, bool touching) {
+std::string out_of_reach_wording(const JointSelection& selection, const JointSelectionOptions& options, bool skinned) {
   const size_t count = selection.cover.uncoverable + selection.bare_elsewhere;
   const size_t vertices = selection.vertices_out_of_reach;
   const std::string head = std::to_string(count) + " surface samples over the poses are farther than " +
                            num(selection.cover.delta) + " from every candidate sphere mapped there";
-  if (!touching)
+  if (!(options.target > 0))
     return head + (skinned ? " (a skinned sphere keeps one radius, the least over the frames: where parts move against "
                              "each other no candidate keeps one large enough, whatever the resolution; thin parts at "
                              "the field's resolution also need a finer sdf-build resolution)"
@@ -341,11 +345,14 @@ std::string out_of_reach_wording(const JointSelection& selection, bool skinned, 
   const std::string between = std::to_string(count - vertices) + " of them between the vertices, where the tolerance "
                               "is not asked and no ball of their own is offered";
   if (vertices == 0) return head + ": " + between;
-  return head + ": " + std::to_string(vertices) + " of them vertices, " +
-         (skinned ? "through which no ball keeps a radius in every frame (a skinned sphere keeps one radius, the least "
-                    "over the frames, and where the skin folds none does), whatever the resolution"
-                  : "which no inscribed ball through them reaches (sharp features)") +
-         "; " + between;
+  const std::string why =
+      options.field_bounds_radii
+          ? "which no ball through them reaches within the field's bound across the holes (a finer sdf-build "
+            "resolution raises it)"
+      : skinned ? "through which no ball keeps a radius in every frame (a skinned sphere keeps one radius, the least "
+                  "over the frames, and where the skin folds none does), whatever the resolution"
+                : "which no inscribed ball through them reaches (sharp features)";
+  return head + ": " + std::to_string(vertices) + " of them vertices, " + why + "; " + between;
 }
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,

@@ -69,6 +69,7 @@ struct JointSelectionOptions {
   size_t budget = 0;         // 0: none
   double reach = 0;          // frame candidates are offered within this of a bare sample
   double spacing = 0;        // skinned: a frame candidate within this of one offered (at rest) is not
+  bool field_bounds_radii = false;  // an open mesh: its fields bound every radius across its holes
   size_t area_samples = 4000;
   uint64_t seed = 1;
   size_t first_frames = 6;   // poses selected on in the first round (those farthest apart)
@@ -106,9 +107,9 @@ struct JointSelection {
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,
                               Log& log = Log::silent());
 
-// The report's words for the selection's samples out of reach: how many, and why. `touching`:
-// the vertices among them were offered balls through them (tolerance mode).
-std::string out_of_reach_wording(const JointSelection& selection, bool skinned, bool touching);
+// The report's words for the selection's samples out of reach: how many, and why (at a
+// tolerance the vertices among them were offered balls through them).
+std::string out_of_reach_wording(const JointSelection& selection, const JointSelectionOptions& options, bool skinned);
 
 // Each of `chosen`'s rest centres in every frame (spheres_at): per frame, in `chosen`'s order.
 std::vector<SphereSet> spheres_in_frames(const SelectionFrames& frames, const SphereSet& chosen);

@@ -133,14 +133,15 @@ class PoseMapper {
     options.reach = options.target > 0 ? options.target : default_tolerance(rest_.diagonal());
     // Not on open parts: half a voxel is much of a wall there (the robot's walk lost 50 samples).
     options.spacing = open_solid_ ? 0.0 : kFrameCandidateSpacing * field_options().voxel_size;
+    options.field_bounds_radii = open_solid_;
     options.area_samples = opt_.area_samples;
     options.seed = opt_.seed;
     options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
     options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
     Frames frames(*this);
     const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
-    const bool touching = options.target > 0, missed = !touching || selection.vertices_out_of_reach > 0;
-    const std::string why = out_of_reach_wording(selection, bool(skinned_), touching);
+    const std::string why = out_of_reach_wording(selection, options, bool(skinned_));
+    const bool missed = !(options.target > 0) || selection.vertices_out_of_reach > 0;
     if (selection.cover.uncoverable + selection.bare_elsewhere > 0) missed ? log_.warn(why) : log_.detail(why);
     summary.selection = selection;
     summary.selection_target = options.target;
