@@ -103,7 +103,7 @@ Sphere touching_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const 
 std::vector<Sphere> nested_balls(const MeshQuery& mesh, const Eigen::Vector3d& point, const Sphere& ball, double least) {
   std::vector<Sphere> out;
   const Eigen::Vector3d offset = ball.center - point;
-  for (double share = 0.5; ball.radius * share > 1e-9 * ball.radius; share *= 0.5) {
+  for (double share = 0.5; ball.radius > 0 && share > 1e-9; share *= 0.5) {
     const Eigen::Vector3d c = point + share * offset;
     const double r = mesh.distance(c);
     if (!(r > 0) || !mesh.inside(c)) break;

@@ -11,6 +11,9 @@
 // offer much the same candidates: one per place is kept (`spacing`). A skinned candidate's one
 // radius is held over the whole clip (over_clip) as it is offered, before any cover sees it.
 // Where every frame is selected on in the first round, that is the one cover over all of them.
+// At a tolerance, a vertex no candidate reaches in some frame is offered balls through it there,
+// so that only what no ball through it reaches (a fold of a skinned body's skin, an open part at
+// its field's resolution, a sharp feature) leaves the tolerance unmet, and the report says which.
 // Budget mode checks the other frames once (a round is a whole budget cover there), then refines
 // the chosen centres over every frame's samples.
 #include <Eigen/Core>
@@ -59,7 +62,7 @@ class SelectionFrames {
   virtual SphereSet frame_candidates(size_t frame, const std::vector<Eigen::Vector3d>& points, double reach) = 0;
   // `frame`'s balls touching each of its samples `which` (indices into `drawn`, sample_surface of
   // frame_surface), which nothing else reaches within `delta`: the largest inscribed ball tangent
-  // there and (one radius) balls nested in it down to delta's size, mapped back to the rest.
+  // there and (one radius) balls nested in it down to half of delta, mapped back to the rest.
   virtual SphereSet touching_candidates(size_t frame, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
                                         double delta) = 0;
 };
