@@ -549,7 +549,7 @@ TEST(Cover, BudgetsAreKeptAndDeltaIsMet) {
     EXPECT_LE(r.chosen.size(), budget);
     EXPECT_GE(r.chosen.size(), 1u);
     EXPECT_LE(r.lower_bound, r.chosen.size());
-    EXPECT_EQ(r.uncoverable, 0u);
+    EXPECT_EQ(r.uncoverable(), 0u);
     SphereSet spheres;
     for (int c : r.chosen) spheres.push_back(p.spheres[0][size_t(c)]);
     const std::vector<double> d = union_signed_distance(p.samples[0], spheres);
@@ -1103,10 +1103,10 @@ TEST(Candidates, ToleranceFinerThanTheFieldIsMet) {
   opt.area_samples = 500;
   opt.tangent_candidates = false;
   const CoverSelection voxels = select_by_cover(sdf.field, query, opt);
-  EXPECT_GT(voxels.cover.uncoverable, 0u) << "the field alone should fall short here";
+  EXPECT_GT(voxels.cover.uncoverable(), 0u) << "the field alone should fall short here";
   opt.tangent_candidates = true;
   const CoverSelection both = select_by_cover(sdf.field, query, opt);
-  EXPECT_EQ(both.cover.uncoverable, 0u);
+  EXPECT_EQ(both.cover.uncoverable(), 0u);
   EXPECT_GT(both.chosen_tangent, 0u);
   EXPECT_LE(vertex_error(mesh, both.spheres).max, opt.tolerance * (1 + 1e-9));
   for (const Sphere& s : both.spheres) {

@@ -480,7 +480,7 @@ void expect_joint_selection(const TriMesh& rest, const std::vector<PoseInput>& p
     }
   }
   ASSERT_TRUE(r.summary.selection.has_value()) << what;
-  EXPECT_EQ(r.summary.selection->cover.uncoverable + r.summary.selection->bare_elsewhere, 0u) << what;
+  EXPECT_EQ(r.summary.selection->cover.uncoverable() + r.summary.selection->bare_elsewhere, 0u) << what;
   EXPECT_LE(r.summary.selection->cover.lower_bound, n) << what;
   EXPECT_LE(double(n), 1.5 * double(alone.spheres.size())) << what << ": " << n << " jointly, " << alone.spheres.size()
                                                           << " for the rest alone";
@@ -994,7 +994,7 @@ TEST(PoseMap, ClipSelectionCoversEveryFrameAndCountsWhatNothingReaches) {
   options.area_samples = 200;
   const JointSelection selection = select_jointly(frames, candidates, options);
   EXPECT_FALSE(std::binary_search(selection.frames.begin(), selection.frames.end(), size_t(8)));
-  EXPECT_EQ(selection.cover.uncoverable, 0u);
+  EXPECT_EQ(selection.cover.uncoverable(), 0u);
   EXPECT_EQ(selection.bare_elsewhere, frames.frame_mesh(8).vertices.size() + options.area_samples);
   EXPECT_EQ(selection.vertices_out_of_reach, frames.frame_mesh(8).vertices.size());
   EXPECT_EQ(selection.limited_by, Limit::motion) << "vertices out of reach, even of balls through them: not met";
@@ -1076,7 +1076,7 @@ TEST(PoseMap, CompactedClipSelectionStillCoversEveryFrame) {
     every += c.samples;
     EXPECT_EQ(c.bare, 0u) << "frame " << f;
   }
-  EXPECT_EQ(selection.cover.uncoverable + selection.bare_elsewhere, 0u);
+  EXPECT_EQ(selection.cover.uncoverable() + selection.bare_elsewhere, 0u);
   EXPECT_LT(selection.samples, every / 4) << "the last problem should hold a few of the clip's samples";
 }
 

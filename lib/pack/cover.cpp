@@ -84,7 +84,6 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
   r.chosen = smallest_cover(cov, limits, 0, &r.lower_bound, log, {}, &r.kept_samples);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
   const std::vector<uint32_t> bare = uncovered_samples(cov);
-  r.uncoverable = bare.size();
   r.uncovered = bare;
   // A tolerance out of reach: the least delta that would do is set by the bare samples alone
   // (every other is within delta).
@@ -113,7 +112,7 @@ CoverResult cover_for(const CoverProblem& problem, double target, size_t budget,
   CoverResult cover;
   if (target > 0) {
     cover = cover_within(problem, target, kToleranceSearch, log);
-    limited_by = cover.uncoverable > 0 ? Limit::resolution : Limit::tolerance;
+    limited_by = cover.uncoverable() > 0 ? Limit::resolution : Limit::tolerance;
   }
   if (budget > 0 && (!(target > 0) || cover.chosen.size() > budget)) {
     cover = cover_with_budget(problem, budget, budget_slack, 1e-2, log);
@@ -169,7 +168,6 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log, true);
   best.lower_bound = lower_bound_of(best_cov, best.chosen.size());
   best.uncovered = uncovered_samples(best_cov);
-  best.uncoverable = best.uncovered.size();
   log.detail("budget " + std::to_string(max_spheres) + ": delta " + num(best.delta) + " with " +
              std::to_string(best.chosen.size()) + " spheres after " + std::to_string(best.evaluations) + " covers");
   return best;

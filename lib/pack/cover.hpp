@@ -57,8 +57,10 @@ struct CoverResult {
   double delta = 0;            // the coverage distance the cover meets
   double least_max_delta = 0;  // budget mode: the least delta any cover of the budget met
   size_t lower_bound = 0;      // no cover at `delta` has fewer spheres
-  size_t uncoverable = 0;      // samples no candidate covers at `delta` (then the tolerance is out of reach)
-  std::vector<uint32_t> uncovered;  // which (stacked indices, ascending)
+  // Samples no candidate covers at `delta` (then the tolerance is out of reach): stacked indices,
+  // ascending.
+  std::vector<uint32_t> uncovered;
+  size_t uncoverable() const { return uncovered.size(); }
   double least_reachable = 0;  // the smallest delta at which every sample can be covered
   int evaluations = 0;         // covers solved
   // Tolerance mode: the samples the reduction kept; a cover of them covers every sample.

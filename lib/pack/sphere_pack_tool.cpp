@@ -200,9 +200,9 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   pool = sel.pool;
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.surface(), spheres);
-  const bool met = !(target > 0) || (cover.uncoverable == 0 && error.max <= target * (1 + 1e-9));
-  if (target > 0 && cover.uncoverable > 0) {
-    const std::string out_of_reach = std::to_string(cover.uncoverable) +
+  const bool met = !(target > 0) || (cover.uncoverable() == 0 && error.max <= target * (1 + 1e-9));
+  if (target > 0 && cover.uncoverable() > 0) {
+    const std::string out_of_reach = std::to_string(cover.uncoverable()) +
                                      " surface samples are farther than it from every inscribed sphere (the farthest " +
                                      num(cover.least_reachable) + ")";
     // With every sample's own candidate only a sharp tip or edge under the least radius (or a
@@ -246,7 +246,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
                      {"delta", cover.delta},
                      {"least_max_delta", cover.least_max_delta > 0 ? json(cover.least_max_delta) : json(nullptr)},
                      {"lower_bound", cover.lower_bound},
-                     {"uncoverable_samples", cover.uncoverable},
+                     {"uncoverable_samples", cover.uncoverable()},
                      {"least_reachable_delta", cover.least_reachable},
                      {"covers_solved", cover.evaluations},
                      {"max_error", error.max},

@@ -89,7 +89,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   // on those no ball reaches, not on the field.
   out.vertices_out_of_reach += vertices_among(out.cover.uncovered);
   if (out.limited_by == Limit::tolerance || out.limited_by == Limit::resolution) {
-    const bool bare = touching() ? out.vertices_out_of_reach > 0 : out.cover.uncoverable + out.bare_elsewhere > 0;
+    const bool bare = touching() ? out.vertices_out_of_reach > 0 : out.out_of_reach() > 0;
     // Across an open mesh's holes every radius is its field's bound, which a finer field raises.
     out.limited_by = !bare ? Limit::tolerance
                      : !touching() || opt_.field_bounds_radii ? Limit::resolution
@@ -193,7 +193,6 @@ void JointSelector::warm_cover(const CoverProblem& problem, CoverResult& cover) 
            : coverage_at(problem, cover.delta);
   cover.chosen = smallest_cover(coverage, kWarmSearch, 0, nullptr, log_, cover.chosen, &cover.kept_samples);
   cover.uncovered = uncovered_samples(coverage);
-  cover.uncoverable = cover.uncovered.size();
 }
 
 // Skinned: each chosen candidate's one radius, not checked before, checked against its exact
@@ -332,7 +331,7 @@ std::vector<size_t> JointSelector::frames_left_bare(const std::vector<int>& chos
 }
 
 std::string out_of_reach_wording(const JointSelection& selection, const JointSelectionOptions& options, bool skinned) {
-  const size_t count = selection.cover.uncoverable + selection.bare_elsewhere;
+  const size_t count = selection.out_of_reach();
   const size_t vertices = selection.vertices_out_of_reach;
   const std::string head = std::to_string(count) + " surface samples over the poses are farther than " +
                            num(selection.cover.delta) + " from every candidate sphere mapped there";

@@ -104,7 +104,7 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"target", s.selection_target > 0 ? json(s.selection_target) : json(nullptr)},
           {"delta", sel.cover.delta},
           {"lower_bound", sel.cover.lower_bound},
-          {"uncoverable_samples", sel.cover.uncoverable + sel.bare_elsewhere},
+          {"uncoverable_samples", sel.out_of_reach()},
           {"uncoverable_vertices", sel.vertices_out_of_reach},
           {"spheres", sel.chosen.size()},
           {"limited_by", limit_wording(sel.limited_by)},

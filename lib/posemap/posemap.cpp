@@ -142,7 +142,7 @@ class PoseMapper {
     const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
     const std::string why = out_of_reach_wording(selection, options, bool(skinned_));
     const bool missed = !(options.target > 0) || selection.vertices_out_of_reach > 0;
-    if (selection.cover.uncoverable + selection.bare_elsewhere > 0) missed ? log_.warn(why) : log_.detail(why);
+    if (selection.out_of_reach() > 0) missed ? log_.warn(why) : log_.detail(why);
     summary.selection = selection;
     summary.selection_target = options.target;
     return selection.chosen;
