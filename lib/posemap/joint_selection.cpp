@@ -115,11 +115,6 @@ size_t JointSelector::refine(SphereSet& chosen, double delta) {
   return refine_chosen(frames_, samples_, opt_.refine_step, chosen, delta, log_);
 }
 
-// Budget mode, opt_.polish_rounds times: the last refined set joins the candidates, the budget
-// is covered again from the delta where that set is a cover (the problem's largest gap to it),
-// and the cover is refined over every frame; the best set by kept_over on every frame's
-// samples (the worst frame's max, the frames' mean median) is kept, its cover with it. After
-// the refinement, which drew every frame's samples.
 void JointSelector::polish(JointSelection& out) {
   out.polish_rounds = opt_.polish_rounds;
   if (opt_.polish_rounds <= 0) return;  // no set to weigh the first refinement's against
@@ -153,7 +148,6 @@ void JointSelector::polish(JointSelection& out) {
   }
 }
 
-// The reduction's kept samples (stacked indices of the last problem) by frame.
 std::vector<std::vector<uint32_t>> JointSelector::kept_by_frame(const std::vector<uint32_t>& kept) const {
   std::vector<std::vector<uint32_t>> out(frames_.frame_count());
   for_each_stacked(kept, [&](size_t f, uint32_t i) { out[f].push_back(i); });
@@ -161,10 +155,9 @@ std::vector<std::vector<uint32_t>> JointSelector::kept_by_frame(const std::vecto
   return out;
 }
 
-// Of the last problem's samples `stacked`, the vertices (where the error is measured).
 size_t JointSelector::vertices_among(const std::vector<uint32_t>& stacked) const {
   size_t n = 0;
-  for_each_stacked(stacked, [&](size_t f, uint32_t i) { n += i < frames_.frame_surface(f).vertices.size(); });
+  for_each_stacked(stacked, [&](size_t f, uint32_t i) { n += i < vertex_count(f); });
   return n;
 }
 
@@ -180,8 +173,6 @@ std::vector<uint32_t> JointSelector::every_sample(size_t f) {
   return out;
 }
 
-// Tolerance mode, after the first round: the last cover completed for what was added, then
-// searched briefly, so that it stays near the last one and the next check finds little new.
 void JointSelector::warm_cover(const CoverProblem& problem, CoverResult& cover) {
   // Skinned, a round's samples are mostly the last one's, and its candidates only grow: their
   // pairs are kept (a radius the check lowers clears them; one radius for every frame, so a
@@ -195,9 +186,6 @@ void JointSelector::warm_cover(const CoverProblem& problem, CoverResult& cover) 
   cover.uncovered = uncovered_samples(coverage);
 }
 
-// Skinned: each chosen candidate's one radius, not checked before, checked against its exact
-// radius in every frame (the carry skips frames by their fields' floors, which may be a
-// fraction of a voxel high). Returns whether any was lowered.
 bool JointSelector::lower_unchecked_radii(const std::vector<int>& chosen, JointSelection& out) {
   std::vector<size_t> unchecked;
   for (int c : chosen)
@@ -221,15 +209,10 @@ bool JointSelector::lower_unchecked_radii(const std::vector<int>& chosen, JointS
   return lowered > 0;
 }
 
-// Candidate c's radius in the rest (skinned: its one radius; a problem of samples alone has no
-// spheres).
 double JointSelector::rest_radius(const CoverProblem& problem, int c) const {
   return one_ ? radius_[size_t(c)] : problem.spheres[0][size_t(c)].radius;
 }
 
-// The frames selected on, whole, then (skinned) the samples added from the others, as one
-// cover problem. Candidates mostly absent are withdrawn (counted). Without `spheres`, the
-// samples alone (a skinned candidate is absent in every frame or in none: none is withdrawn).
 CoverProblem JointSelector::cover_problem(size_t& mostly_absent, bool spheres) {
   CoverProblem p;
   layout_.clear();
@@ -243,20 +226,13 @@ CoverProblem JointSelector::cover_problem(size_t& mostly_absent, bool spheres) {
     p.spheres.push_back(std::move(set));
   };
   if (whole_)
-    for (size_t f : active_) add(f, every_sample(f), frames_.frame_surface(f).vertices.size());
+    for (size_t f : active_) add(f, every_sample(f), vertex_count(f));
   for (size_t f = 0; f < extra_.size(); ++f)
     if (!extra_[f].empty()) add(f, extra_[f], 0);
   mostly_absent = spheres ? withdraw_mostly_absent(p) : 0;
   return p;
 }
 
-// Skinned: the samples the chosen spheres leave bare, or cover by less than kNearlyBare of
-// delta, that the problem does not hold (one it held before only if bare outright). Those far
-// from the spheres file's candidates are offered their frame's own first; then those some
-// candidate reaches join the problem, the rest are counted in `out.bare_elsewhere` (the vertices
-// among them in `out.vertices_out_of_reach`). `kept`
-// (compacting): the samples the last problem's reduction kept; the problem becomes those and
-// the samples joining. Returns how many joined.
 size_t JointSelector::add_bare_samples(const std::vector<int>& chosen, double delta, JointSelection& out,
                                        const std::vector<uint32_t>* kept) {
   const size_t frames = frames_.frame_count();
@@ -290,7 +266,7 @@ size_t JointSelector::add_bare_samples(const std::vector<int>& chosen, double de
     const std::vector<uint32_t>& out_of_reach_here = out_of_reach[b];
     out.bare_elsewhere += out_of_reach_here.size();
     for (uint32_t o : out_of_reach_here)
-      out.vertices_out_of_reach += which[o] < frames_.frame_surface(f).vertices.size();
+      out.vertices_out_of_reach += which[o] < vertex_count(f);
     for (size_t w = 0, o = 0; w < which.size(); ++w) {
       if (o < out_of_reach_here.size() && out_of_reach_here[o] == w) {
         ++o;
@@ -313,8 +289,6 @@ size_t JointSelector::add_bare_samples(const std::vector<int>& chosen, double de
   return added;
 }
 
-// Not skinned: the frames not selected on where the chosen spheres (grown there) leave
-// samples bare, the most first, at most frames_per_round.
 std::vector<size_t> JointSelector::frames_left_bare(const std::vector<int>& chosen, double delta) {
   const SphereSet rest = pick(candidates_, chosen);
   std::vector<std::pair<size_t, size_t>> bare;  // (count, frame)

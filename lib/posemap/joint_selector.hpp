@@ -45,6 +45,8 @@ class JointSelector {
     return out;
   }
   bool is_active(size_t f) const { return std::binary_search(active_.begin(), active_.end(), f); }
+  // Frame f's vertices: the first of its samples, and where the error (and the tolerance) is measured.
+  size_t vertex_count(size_t f) const { return frames_.frame_surface(f).vertices.size(); }
 
   // Budget mode: the chosen centres are refined off the candidates (below).
   bool refining() const { return opt_.budget > 0 && opt_.refine_step > 0; }
@@ -88,7 +90,7 @@ class JointSelector {
   const std::vector<Eigen::Vector3d>& samples(size_t f);
 
   std::vector<uint32_t> every_sample(size_t f);
-  // Each frame's vertices, the samples the tolerance is on (each frame's samples start with them).
+  // Each frame's vertices (its samples drawn here, before out_of_reach_of reads them side by side).
   std::vector<std::pair<size_t, std::vector<uint32_t>>> every_vertex_of(const std::vector<size_t>& frames);
 
   // Tolerance mode: samples out of reach of every candidate are offered balls touching them.
@@ -143,9 +145,9 @@ class JointSelector {
   // delta, that the problem does not hold (one it held before only if bare outright). Those far
   // from the spheres file's candidates are offered their frame's own first; then those some
   // candidate reaches join the problem, the rest are counted in `out.bare_elsewhere` (the vertices
-  // among them in `out.vertices_out_of_reach`). `kept`
-  // (compacting): the samples the last problem's reduction kept; the problem becomes those and
-  // the samples joining. Returns how many joined.
+  // among them in `out.vertices_out_of_reach`). `kept` (compacting): the samples the last
+  // problem's reduction kept; the problem becomes those and the samples joining. Returns how
+  // many joined.
   size_t add_bare_samples(const std::vector<int>& chosen, double delta, JointSelection& out,
                           const std::vector<uint32_t>* kept);
 

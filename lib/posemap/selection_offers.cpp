@@ -19,22 +19,17 @@ const std::vector<Eigen::Vector3d>& JointSelector::samples(size_t f) {
   return samples_[f];
 }
 
-// Each frame's vertices, the samples the tolerance is on (each frame's samples start with them).
 std::vector<std::pair<size_t, std::vector<uint32_t>>> JointSelector::every_vertex_of(
     const std::vector<size_t>& frames) {
   std::vector<std::pair<size_t, std::vector<uint32_t>>> out;
   for (size_t f : frames) {
-    out.emplace_back(f, std::vector<uint32_t>(frames_.frame_surface(f).vertices.size()));
+    out.emplace_back(f, std::vector<uint32_t>(vertex_count(f)));
     std::iota(out.back().second.begin(), out.back().second.end(), 0u);
-    samples(f);  // drawn before a frame's balls are asked
+    samples(f);
   }
   return out;
 }
 
-// Of each frame's samples `which`, the positions of those no candidate reaches within delta,
-// after (touching) those not offered it before are offered balls touching them in their frame:
-// a sample far from every medial voxel, or one whose candidates a skinned clip shrinks, is
-// still reached by a ball through it. `cached`: as out_of_reach_of.
 std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
     const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting, double delta, bool cached) {
   std::vector<std::vector<uint32_t>> out = out_of_reach_of(wanting, delta, cached);
@@ -46,7 +41,7 @@ std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
     if (out[b].empty()) continue;
     const size_t f = wanting[b].first;
     std::vector<uint32_t> touch;
-    const size_t vertices = frames_.frame_surface(f).vertices.size();
+    const size_t vertices = vertex_count(f);
     for (uint32_t w : out[b]) {
       const uint32_t i = wanting[b].second[w];
       if (i < vertices && !touched_[f][i]) touched_[f][i] = 1, touch.push_back(i);
@@ -67,8 +62,6 @@ std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
   return out;
 }
 
-// More candidates: their spheres in the frames selected on or, skinned, their centres in every
-// frame and their one radius.
 void JointSelector::add_candidates(const SphereSet& more) {
   candidates_.insert(candidates_.end(), more.begin(), more.end());
   if (!one_) {
@@ -89,9 +82,6 @@ void JointSelector::add_candidates(const SphereSet& more) {
   checked_.resize(radius_.size(), 0);
 }
 
-// Frames `more` are selected on whole: every candidate mapped there (not skinned), and their
-// samples no candidate of the spheres file comes within reach of are offered their own
-// candidates.
 void JointSelector::select_on_whole(const std::vector<size_t>& more) {
   if (more.empty()) return;
   if (!one_)
@@ -107,8 +97,6 @@ void JointSelector::select_on_whole(const std::vector<size_t>& more) {
   offer_frame_candidates(wanting);
 }
 
-// Skinned: every frame's samples far from the spheres file's candidates are offered that
-// frame's own (what the one cover over every frame would be offered).
 void JointSelector::offer_every_frame() {
   std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
   for (size_t f = 1; f < frames_.frame_count(); ++f)
@@ -116,9 +104,6 @@ void JointSelector::offer_every_frame() {
   offer_frame_candidates(wanting);
 }
 
-// Of each frame's samples `which`, those no candidate of the spheres file comes within reach
-// of (and not offered before) are offered that frame's own candidates near them: every
-// frame's far samples found first, then the pool grows frame by frame.
 void JointSelector::offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting) {
   std::vector<std::vector<Eigen::Vector3d>> far(wanting.size());
   // The file's candidates in the frames selected on, those mostly absent withdrawn as in the
@@ -156,8 +141,6 @@ void JointSelector::offer_frame_candidates(const std::vector<std::pair<size_t, s
   }
 }
 
-// Of each frame's samples `which`, the positions of those no candidate reaches. Compacting and
-// `cached`, the cache finds them: the columns it computes are those the next round's problem asks for.
 std::vector<std::vector<uint32_t>> JointSelector::out_of_reach_of(
     const std::vector<std::pair<size_t, std::vector<uint32_t>>>& bare, double delta, bool cached) {
   if (compacting() && cached) {
