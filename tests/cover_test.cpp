@@ -1017,8 +1017,9 @@ std::pair<TriMesh, SdfResult> barrel_with_field(int resolution) {
 }
 
 // Balls through a few samples alone are those the whole set gives them, each naming the sample
-// it touches; and the balls nested in one touch the same point, are inscribed (brute force), and
-// halve down to the first at most the least asked.
+// it touches; the balls nested in one touch the same point, are inscribed (brute force), and
+// halve down to the first at most the least asked; and the balls around it are inscribed and
+// reach it within the distance asked.
 TEST(Candidates, BallsThroughChosenSamplesAndNestedOnes) {
   const auto [mesh, sdf] = barrel_with_field(24);
   const MeshQuery query(mesh);
@@ -1039,12 +1040,27 @@ TEST(Candidates, BallsThroughChosenSamplesAndNestedOnes) {
     ++expected;
   }
   EXPECT_EQ(expected, some.spheres.size());
-  const double least = 0.01 * mesh.diagonal();
+  const double within = 0.02 * mesh.diagonal(), least = 0.5 * within;
   const SphereSet nested = balls_through(query, samples, which, nullptr, start, {}, least);
   EXPECT_GT(nested.size(), some.spheres.size()) << "each ball and smaller ones in it";
+  const SphereSet around_all = balls_around_samples(query, samples, which, nullptr, start, {}, within);
+  size_t at = 0;
   for (size_t n = 0; n < some.spheres.size(); ++n) {
     const Eigen::Vector3d& p = samples.points[some.touches[n]];
     const std::vector<Sphere> inner = nested_balls(query, p, some.spheres[n], least);
+    const bool second = n > 0 && some.touches[n - 1] == some.touches[n];
+    const std::vector<Sphere> around =
+        second ? std::vector<Sphere>{} : balls_around(query, p, some.spheres[n].center - p, within);
+    if (!second) EXPECT_GE(around.size(), 1u) << "at least the one along the ball's axis, half the distance in";
+    for (const Sphere& s : around) {
+      ASSERT_TRUE(brute_inside(mesh, s.center)) << s.center.transpose();
+      EXPECT_NEAR(s.radius, brute_distance(mesh, s.center), 1e-9 * mesh.diagonal());
+      EXPECT_LE((p - s.center).norm(), 0.95 * within * (1 + 1e-12)) << "it reaches the point within the distance";
+      ASSERT_LT(at, around_all.size());
+      EXPECT_EQ(around_all[at].center, s.center);
+      EXPECT_EQ(around_all[at].radius, s.radius);
+      ++at;
+    }
     ASSERT_FALSE(inner.empty());
     double last = some.spheres[n].radius;
     for (const Sphere& s : inner) {
@@ -1058,6 +1074,7 @@ TEST(Candidates, BallsThroughChosenSamplesAndNestedOnes) {
     EXPECT_LE(inner.back().radius, least);
     if (inner.size() > 1) EXPECT_GT(inner[inner.size() - 2].radius, least);
   }
+  EXPECT_EQ(at, around_all.size()) << "balls_around_samples: each sample's balls around, in order";
 }
 
 // The shrinking ball against brute force: on a slab 0.02 thick and on a sphere of flat faces,

@@ -1,8 +1,9 @@
 #include "mesh/inscribed.hpp"
 
 #include <algorithm>
-#include <vector>
+#include <cmath>
 #include <limits>
+#include <vector>
 
 namespace spx {
 
@@ -110,6 +111,24 @@ std::vector<Sphere> nested_balls(const MeshQuery& mesh, const Eigen::Vector3d& p
     out.push_back({c, r});
     if (r <= least) break;
   }
+  return out;
+}
+
+std::vector<Sphere> balls_around(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward,
+                                 double within) {
+  std::vector<Sphere> out;
+  if (!(within > 0) || !(inward.norm() > 0)) return out;
+  const Eigen::Vector3d n = inward.normalized(), u = n.unitOrthogonal(), v = n.cross(u);
+  constexpr double kPi = 3.14159265358979323846;
+  for (double share : {0.5, 0.75, 0.95})
+    for (int tilt = 0; tilt < 3; ++tilt)
+      for (int turn = 0; turn < (tilt == 0 ? 1 : 6); ++turn) {
+        const double a = tilt * kPi / 6, b = turn * kPi / 3;
+        const Eigen::Vector3d c =
+            point + share * within * (std::cos(a) * n + std::sin(a) * (std::cos(b) * u + std::sin(b) * v));
+        const double r = mesh.distance(c);
+        if (r > 0 && mesh.inside(c)) out.push_back({c, r});
+      }
   return out;
 }
 

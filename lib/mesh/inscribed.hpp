@@ -48,6 +48,15 @@ Sphere touching_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const 
 // over a whole clip, and a smaller ball keeps more of its own where parts move against each other.
 std::vector<Sphere> nested_balls(const MeshQuery& mesh, const Eigen::Vector3d& point, const Sphere& ball, double least);
 
+// Inscribed balls within `within` of `point`, off the surface: centres at a half, three quarters
+// and 0.95 of `within` from it, along `inward` and tilted 30 and 60 degrees from it six ways
+// round, each radius the exact distance there (a centre not inside gives none). Each reaches the
+// point within `within` whatever its radius. Where the skin folds, a ball touching a point is cut
+// in some frame of the clip, and a skinned sphere keeps one radius; a small ball a little deeper
+// or to one side can stay inside in every frame and still reach the point.
+std::vector<Sphere> balls_around(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward,
+                                 double within);
+
 // How far spheres grow by default (the offset at most doubles the radius): enough to reach the
 // medial axis from a candidate off it by a voxel or two, little enough that a pose's sphere
 // stays on the same part of the body as the rest sphere it came from.

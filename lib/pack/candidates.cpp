@@ -210,16 +210,41 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
   return out;
 }
 
+namespace {
+// tangent_candidates' balls through the samples `which`, each given to `add(point, ball, first)`
+// (`first`: the sample's first ball, its tangent one where that is not 0).
+template <class Add>
+void for_each_ball_through(const MeshQuery& mesh, const SurfaceSamples& samples, const std::vector<uint32_t>& which,
+                           const DenseField* field, double start_radius, const CandidateOptions& options,
+                           const Add& add) {
+  const TangentCandidates t = tangent_candidates(mesh, mesh.surface(), samples, which, field, start_radius, options);
+  for (size_t n = 0; n < t.spheres.size(); ++n)
+    add(samples.points[t.touches[n]], t.spheres[n], n == 0 || t.touches[n - 1] != t.touches[n]);
+}
+}  // namespace
+
 SphereSet balls_through(const MeshQuery& mesh, const SurfaceSamples& samples, const std::vector<uint32_t>& which,
                         const DenseField* field, double start_radius, const CandidateOptions& options,
                         double nested_down_to) {
-  const TangentCandidates t = tangent_candidates(mesh, mesh.surface(), samples, which, field, start_radius, options);
   SphereSet out;
-  for (size_t n = 0; n < t.spheres.size(); ++n) {
-    out.push_back(t.spheres[n]);
-    if (nested_down_to > 0)
-      for (const Sphere& s : nested_balls(mesh, samples.points[t.touches[n]], t.spheres[n], nested_down_to)) out.push_back(s);
-  }
+  for_each_ball_through(mesh, samples, which, field, start_radius, options,
+                        [&](const Eigen::Vector3d& p, const Sphere& ball, bool) {
+                          out.push_back(ball);
+                          if (nested_down_to > 0)
+                            for (const Sphere& s : nested_balls(mesh, p, ball, nested_down_to)) out.push_back(s);
+                        });
+  return out;
+}
+
+SphereSet balls_around_samples(const MeshQuery& mesh, const SurfaceSamples& samples, const std::vector<uint32_t>& which,
+                               const DenseField* field, double start_radius, const CandidateOptions& options,
+                               double within) {
+  SphereSet out;
+  for_each_ball_through(mesh, samples, which, field, start_radius, options,
+                        [&](const Eigen::Vector3d& p, const Sphere& ball, bool first) {
+                          if (!first) return;
+                          for (const Sphere& s : balls_around(mesh, p, ball.center - p, within)) out.push_back(s);
+                        });
   return out;
 }
 

@@ -121,6 +121,13 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
 SphereSet balls_through(const MeshQuery& mesh, const SurfaceSamples& samples, const std::vector<uint32_t>& which,
                         const DenseField* field, double start_radius, const CandidateOptions& options,
                         double nested_down_to);
+// Balls around the samples `which` (balls_around, within `within` of each) about the axis of
+// each one's first ball (tangent_candidates'; none where it has none): where a skinned
+// body's skin folds, every ball through a sample is cut in some frame, and a small one beside
+// it may stay inside in every frame.
+SphereSet balls_around_samples(const MeshQuery& mesh, const SurfaceSamples& samples, const std::vector<uint32_t>& which,
+                               const DenseField* field, double start_radius, const CandidateOptions& options,
+                               double within);
 
 // The largest radius an inscribed ball of `field`'s solid can have, with a margin for the
 // field's own error.

@@ -104,6 +104,8 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   out.from_frames = from_frames_;
   out.touched = touched_samples_;
   out.from_touching = from_touching_;
+  out.around = around_samples_;
+  out.from_around = from_around_;
   out.frames = active_;
   out.samples_elsewhere = samples_elsewhere();
   out.clip_shrunk = clip_shrunk_;
@@ -322,8 +324,8 @@ std::string out_of_reach_wording(const JointSelection& selection, const JointSel
       options.field_bounds_radii
           ? "which no ball through them reaches within the field's bound across the holes (a finer sdf-build "
             "resolution raises it)"
-      : skinned ? "through which no ball keeps a radius in every frame (a skinned sphere keeps one radius, the least "
-                  "over the frames, and where the skin folds none does), whatever the resolution"
+      : skinned ? "which no ball through them or around them keeps reaching in every frame (a skinned sphere keeps "
+                  "one radius, the least over the frames, and where the skin folds none does), whatever the resolution"
                 : "which no inscribed ball through them reaches (sharp features)";
   return head + ": " + std::to_string(vertices) + " of them vertices, " + why + "; " + between;
 }

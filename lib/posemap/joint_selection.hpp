@@ -11,9 +11,11 @@
 // offer much the same candidates: one per place is kept (`spacing`). A skinned candidate's one
 // radius is held over the whole clip (over_clip) as it is offered, before any cover sees it.
 // Where every frame is selected on in the first round, that is the one cover over all of them.
-// At a tolerance, a vertex no candidate reaches in some frame is offered balls through it there,
-// so that only what no ball through it reaches (a fold of a skinned body's skin, an open part at
-// its field's resolution, a sharp feature) leaves the tolerance unmet, and the report says which.
+// At a tolerance, a vertex no candidate reaches in some frame is offered balls through it there
+// and, skinned, where the skin folds and cuts every ball through it in some frame, small balls
+// around it; so that only what none of them reaches (a fold no ball beside the vertex stays
+// inside through, an open part at its field's resolution, a sharp feature) leaves the tolerance
+// unmet, and the report says which.
 // Budget mode checks the other frames once (a round is a whole budget cover there), then refines
 // the chosen centres over every frame's samples.
 #include <Eigen/Core>
@@ -63,8 +65,10 @@ class SelectionFrames {
   // `frame`'s balls touching each of its samples `which` (indices into `drawn`, sample_surface of
   // frame_surface), which nothing else reaches within `delta`: the largest inscribed ball tangent
   // there and (one radius) balls nested in it down to half of delta, mapped back to the rest.
+  // `around` (one radius, for the samples even those leave out of reach): balls around each
+  // sample within delta of it instead (balls_around), mapped back to the rest.
   virtual SphereSet touching_candidates(size_t frame, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
-                                        double delta) = 0;
+                                        double delta, bool around) = 0;
 };
 
 struct JointSelectionOptions {
@@ -94,6 +98,7 @@ struct JointSelection {
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, from_frames = 0, mostly_absent = 0, samples = 0;
   size_t touched = 0, from_touching = 0;  // tolerance: samples out of reach offered balls touching them, and those balls
+  size_t around = 0, from_around = 0;      // skinned: of those, still out of reach, offered balls around them
   std::vector<size_t> frames;   // the frames selected on, ascending (0: the rest)
   size_t rounds = 0;
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)

@@ -96,9 +96,11 @@ class JointSelector {
   // Tolerance mode: samples out of reach of every candidate are offered balls touching them.
   bool touching() const { return opt_.target > 0; }
   // Of each frame's samples `which`, the positions of those no candidate reaches within delta,
-  // after (touching) those not offered it before are offered balls touching them in their frame:
-  // a sample far from every medial voxel, or one whose candidates a skinned clip shrinks, is
-  // still reached by a ball through it. `cached`: as out_of_reach_of.
+  // after (touching) the vertices not offered it before are offered balls touching them in their
+  // frame: a sample far from every medial voxel, or one whose candidates a skinned clip shrinks,
+  // is still reached by a ball through it. Skinned, those still out of reach are then offered
+  // balls around them (a fold of the skin cuts every ball through a vertex in some frame, and a
+  // small ball beside it may stay inside in all). `cached`: as out_of_reach_of.
   std::vector<std::vector<uint32_t>> touch_out_of_reach(
       const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting, double delta, bool cached);
 
@@ -169,7 +171,7 @@ class JointSelector {
   std::vector<SphereSet> own_;                         // not skinned, per frame selected on: each candidate's sphere
   std::vector<std::vector<Eigen::Vector3d>> samples_;  // per frame, drawn when first asked
   std::vector<std::vector<int>> triangles_;            // per frame: each area sample's triangle (sample_surface)
-  std::vector<std::vector<char>> touched_;             // per frame and sample: offered balls touching it
+  std::vector<std::vector<char>> touched_;             // per frame and sample: offered balls touching it (1), around it (2)
   std::vector<std::vector<char>> offered_;             // per frame and sample: its frame's candidates offered
   std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not whole: its samples in the problem
   std::vector<std::vector<char>> held_;                // per frame and sample: it has been in the problem
@@ -181,6 +183,7 @@ class JointSelector {
   std::unique_ptr<CoverageCache> cache_;              // skinned, tolerance: the pairs kept from round to round
   size_t from_frames_ = 0;
   size_t touched_samples_ = 0, from_touching_ = 0;
+  size_t around_samples_ = 0, from_around_ = 0;  // skinned: vertices still out of reach offered balls around them
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
 };

@@ -99,6 +99,7 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"candidates", sel.candidates},
           {"candidates_from_poses", sel.from_frames},
           {"candidates_touching_samples", {{"samples", sel.touched}, {"candidates", sel.from_touching}}},
+          {"candidates_around_samples", {{"samples", sel.around}, {"candidates", sel.from_around}}},
           {"candidates_mostly_absent", sel.mostly_absent},
           {"samples", sel.samples},
           {"target", s.selection_target > 0 ? json(s.selection_target) : json(nullptr)},

@@ -16,7 +16,6 @@
 #include "mesh/defects.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/candidates.hpp"
-#include "pack/cover.hpp"
 #include "pack/pack.hpp"
 #include "posemap/clip_radius.hpp"
 #include "posemap/harmonic_map.hpp"
@@ -38,13 +37,7 @@ class PoseMapper {
  public:
   PoseMapper(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
              const SpheresFile& spheres, const PoseMapOptions& opt, const SkinFile* skin, ProxyModel& proxy, Log& log)
-      : rest_(rest),
-        rest_source_(rest_source),
-        poses_(poses),
-        spheres_(spheres),
-        opt_(opt),
-        skin_(skin),
-        proxy_(proxy),
+      : rest_(rest), rest_source_(rest_source), poses_(poses), spheres_(spheres), opt_(opt), skin_(skin), proxy_(proxy),
         log_(log) {}
 
   // The paper's tet mesh of M_0: CGAL Mesh_3, or the user's.
@@ -300,11 +293,13 @@ class PoseMapper {
     }
     // Skinned, nested balls down to half of delta: a sphere with one radius over the clip keeps more of those.
     SphereSet touching_candidates(size_t f, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
-                                  double delta) override {
+                                  double delta, bool around) override {
       const MeshQuery& q = *m_.queries_[f];
-      SphereSet balls = balls_through(q, drawn, which, m_.open_solid_ ? &m_.pose_field(f) : nullptr,
-                                      std::min(m_.proxy_.max_radius, 0.5 * q.surface().diagonal()),
-                                      candidate_options(m_.pose_pack_options()), m_.skinned_ ? 0.5 * delta : 0);
+      const DenseField* field = m_.open_solid_ ? &m_.pose_field(f) : nullptr;
+      const double start = std::min(m_.proxy_.max_radius, 0.5 * q.surface().diagonal());
+      const CandidateOptions o = candidate_options(m_.pose_pack_options());
+      const SphereSet balls = around ? balls_around_samples(q, drawn, which, field, start, o, delta)
+                                     : balls_through(q, drawn, which, field, start, o, m_.skinned_ ? 0.5 * delta : 0);
       return f == 0 ? balls : m_.map_back_to_rest(f - 1, balls);
     }
    private:

@@ -34,31 +34,37 @@ std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
     const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting, double delta, bool cached) {
   std::vector<std::vector<uint32_t>> out = out_of_reach_of(wanting, delta, cached);
   if (!touching()) return out;
-  std::vector<std::pair<size_t, std::vector<uint32_t>>> again;  // (frame, samples) still to ask
-  std::vector<size_t> of;                                        // each one's entry in `wanting`
-  SphereSet balls;
-  for (size_t b = 0; b < wanting.size(); ++b) {
-    if (out[b].empty()) continue;
-    const size_t f = wanting[b].first;
-    std::vector<uint32_t> touch;
-    const size_t vertices = vertex_count(f);
-    for (uint32_t w : out[b]) {
-      const uint32_t i = wanting[b].second[w];
-      if (i < vertices && !touched_[f][i]) touched_[f][i] = 1, touch.push_back(i);
+  // A vertex is offered balls through it once; skinned, one still out of reach is then offered
+  // balls around it once (touched_: 1, then 2).
+  for (char stage = 0; stage < (one_ ? 2 : 1); ++stage) {
+    std::vector<std::pair<size_t, std::vector<uint32_t>>> again;  // (frame, samples) still to ask
+    std::vector<size_t> of;                                        // each one's entry in `wanting`
+    SphereSet balls;
+    size_t offered = 0;
+    for (size_t b = 0; b < wanting.size(); ++b) {
+      if (out[b].empty()) continue;
+      const size_t f = wanting[b].first;
+      std::vector<uint32_t> touch;
+      const size_t vertices = vertex_count(f);
+      for (uint32_t w : out[b]) {
+        const uint32_t i = wanting[b].second[w];
+        if (i < vertices && touched_[f][i] == stage) touched_[f][i] = char(stage + 1), touch.push_back(i);
+      }
+      if (!touch.empty()) {
+        const SphereSet more = frames_.touching_candidates(f, {samples_[f], triangles_[f]}, touch, delta, stage == 1);
+        balls.insert(balls.end(), more.begin(), more.end());
+        offered += touch.size();
+      }
+      again.emplace_back(f, pick(wanting[b].second, out[b]));
+      of.push_back(b);
     }
-    if (!touch.empty()) {
-      const SphereSet more = frames_.touching_candidates(f, {samples_[f], triangles_[f]}, touch, delta);
-      balls.insert(balls.end(), more.begin(), more.end());
-      touched_samples_ += touch.size();
-    }
-    again.emplace_back(f, pick(wanting[b].second, out[b]));
-    of.push_back(b);
+    (stage == 0 ? touched_samples_ : around_samples_) += offered;
+    if (balls.empty()) continue;
+    add_candidates(balls);
+    (stage == 0 ? from_touching_ : from_around_) += balls.size();
+    const std::vector<std::vector<uint32_t>> still = out_of_reach_of(again, delta, cached);
+    for (size_t k = 0; k < again.size(); ++k) out[of[k]] = pick(out[of[k]], still[k]);
   }
-  if (balls.empty()) return out;
-  add_candidates(balls);
-  from_touching_ += balls.size();
-  const std::vector<std::vector<uint32_t>> still = out_of_reach_of(again, delta, cached);
-  for (size_t k = 0; k < again.size(); ++k) out[of[k]] = pick(out[of[k]], still[k]);
   return out;
 }
 
