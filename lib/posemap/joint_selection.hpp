@@ -98,7 +98,7 @@ struct JointSelection {
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, from_frames = 0, mostly_absent = 0, samples = 0;
   size_t touched = 0, from_touching = 0;  // tolerance: samples out of reach offered balls touching them, and those balls
-  size_t around = 0, from_around = 0;      // skinned: of those, still out of reach, offered balls around them
+  size_t around = 0, from_around = 0;      // skinned: those still out of reach offered balls around them
   std::vector<size_t> frames;   // the frames selected on, ascending (0: the rest)
   size_t rounds = 0;
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)

@@ -171,7 +171,7 @@ class JointSelector {
   std::vector<SphereSet> own_;                         // not skinned, per frame selected on: each candidate's sphere
   std::vector<std::vector<Eigen::Vector3d>> samples_;  // per frame, drawn when first asked
   std::vector<std::vector<int>> triangles_;            // per frame: each area sample's triangle (sample_surface)
-  std::vector<std::vector<char>> touched_;             // per frame and sample: offered balls touching it (1), around it (2)
+  std::vector<std::vector<char>> touched_;             // per frame and sample: balls through it offered (1), around (2)
   std::vector<std::vector<char>> offered_;             // per frame and sample: its frame's candidates offered
   std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not whole: its samples in the problem
   std::vector<std::vector<char>> held_;                // per frame and sample: it has been in the problem
@@ -183,7 +183,7 @@ class JointSelector {
   std::unique_ptr<CoverageCache> cache_;              // skinned, tolerance: the pairs kept from round to round
   size_t from_frames_ = 0;
   size_t touched_samples_ = 0, from_touching_ = 0;
-  size_t around_samples_ = 0, from_around_ = 0;  // skinned: vertices still out of reach offered balls around them
+  size_t around_samples_ = 0, from_around_ = 0;  // skinned: vertices offered balls around them
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
 };
