@@ -291,7 +291,8 @@ class PoseMapper {
     SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
       return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach));
     }
-    // Skinned, nested balls down to half of delta: a sphere with one radius over the clip keeps more of those.
+    // Skinned, nested balls down to half of delta: a sphere with one radius over the clip keeps more of those;
+    // `around`, the balls around each sample instead.
     SphereSet touching_candidates(size_t f, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
                                   double delta, bool around) override {
       const MeshQuery& q = *m_.queries_[f];
