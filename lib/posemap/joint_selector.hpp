@@ -131,8 +131,10 @@ class JointSelector {
 
   // Of each frame's samples `which`, those no candidate of the spheres file comes within reach
   // of (and not offered before) are offered that frame's own candidates near them: every
-  // frame's far samples found first, then the pool grows frame by frame.
-  void offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting);
+  // frame's far samples found first, then the pool grows frame by frame. `progress`: the stage's
+  // name for a percentage on a terminal (a whole clip's frames take a while).
+  void offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting,
+                              const char* progress = nullptr);
 
   // Candidate c's radius in the rest (skinned: its one radius; a problem of samples alone has no
   // spheres).

@@ -107,10 +107,11 @@ void JointSelector::offer_every_frame() {
   std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
   for (size_t f = 1; f < frames_.frame_count(); ++f)
     if (!is_active(f)) wanting.emplace_back(f, every_sample(f));
-  offer_frame_candidates(wanting);
+  offer_frame_candidates(wanting, "frames' own candidates");
 }
 
-void JointSelector::offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting) {
+void JointSelector::offer_frame_candidates(const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting,
+                                           const char* progress) {
   std::vector<std::vector<Eigen::Vector3d>> far(wanting.size());
   // The file's candidates in the frames selected on, those mostly absent withdrawn as in the
   // cover problem (a skinned candidate is absent everywhere or nowhere: other frames need none).
@@ -138,6 +139,7 @@ void JointSelector::offer_frame_candidates(const std::vector<std::pair<size_t, s
       }
   });
   for (size_t n = 0; n < wanting.size(); ++n) {
+    if (progress) log_.progress(progress, n + 1, wanting.size());
     if (far[n].empty()) continue;
     SphereSet back = frames_.frame_candidates(wanting[n].first, far[n], opt_.reach);
     // Skinned, a clip's alike frames offer much the same spheres again: one per place.
