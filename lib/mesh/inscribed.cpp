@@ -119,11 +119,10 @@ std::vector<Sphere> balls_around(const MeshQuery& mesh, const Eigen::Vector3d& p
   std::vector<Sphere> out;
   if (!(within > 0) || !(inward.norm() > 0)) return out;
   const Eigen::Vector3d n = inward.normalized(), u = n.unitOrthogonal(), v = n.cross(u);
-  constexpr double kPi = 3.14159265358979323846;
   for (double share : {0.5, 0.75, 0.95})
     for (int tilt = 0; tilt < 3; ++tilt)
       for (int turn = 0; turn < (tilt == 0 ? 1 : 6); ++turn) {
-        const double a = tilt * kPi / 6, b = turn * kPi / 3;
+        const double a = tilt * M_PI / 6, b = turn * M_PI / 3;
         const Eigen::Vector3d c =
             point + share * within * (std::cos(a) * n + std::sin(a) * (std::cos(b) * u + std::sin(b) * v));
         const double r = mesh.distance(c);

@@ -102,10 +102,10 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   }
   out.candidates = candidates_.size();
   out.from_frames = from_frames_;
-  out.touched = touched_samples_;
-  out.from_touching = from_touching_;
-  out.around = around_samples_;
-  out.from_around = from_around_;
+  out.touched = vertices_offered(1);
+  out.from_touching = balls_offered_[0];
+  out.around = vertices_offered(2);
+  out.from_around = balls_offered_[1];
   out.frames = active_;
   out.samples_elsewhere = samples_elsewhere();
   out.clip_shrunk = clip_shrunk_;
@@ -155,6 +155,13 @@ std::vector<std::vector<uint32_t>> JointSelector::kept_by_frame(const std::vecto
   for_each_stacked(kept, [&](size_t f, uint32_t i) { out[f].push_back(i); });
   for (auto& list : out) std::sort(list.begin(), list.end());
   return out;
+}
+
+size_t JointSelector::vertices_offered(char stage) const {
+  size_t n = 0;
+  for (const std::vector<char>& frame : touched_)
+    n += size_t(std::count_if(frame.begin(), frame.end(), [&](char t) { return t >= stage; }));
+  return n;
 }
 
 size_t JointSelector::vertices_among(const std::vector<uint32_t>& stacked) const {

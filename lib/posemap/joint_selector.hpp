@@ -82,6 +82,9 @@ class JointSelector {
   }
   // The reduction's kept samples (stacked indices of the last problem) by frame.
   std::vector<std::vector<uint32_t>> kept_by_frame(const std::vector<uint32_t>& kept) const;
+  // Vertices (over every frame) offered balls through them (stage 1) or, skinned, also around
+  // them (stage 2).
+  size_t vertices_offered(char stage) const;
   // Of the last problem's samples `stacked`, the vertices (where the error is measured).
   size_t vertices_among(const std::vector<uint32_t>& stacked) const;
 
@@ -184,8 +187,7 @@ class JointSelector {
   std::vector<char> checked_;                          // skinned: its radius checked in every frame
   std::unique_ptr<CoverageCache> cache_;              // skinned, tolerance: the pairs kept from round to round
   size_t from_frames_ = 0;
-  size_t touched_samples_ = 0, from_touching_ = 0;
-  size_t around_samples_ = 0, from_around_ = 0;  // skinned: vertices offered balls around them
+  size_t balls_offered_[2] = {0, 0};  // tolerance: balls through vertices out of reach, and (skinned) around them
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
 };

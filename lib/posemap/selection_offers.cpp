@@ -40,7 +40,6 @@ std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
     std::vector<std::pair<size_t, std::vector<uint32_t>>> again;  // (frame, samples) still to ask
     std::vector<size_t> of;                                        // each one's entry in `wanting`
     SphereSet balls;
-    size_t offered = 0;
     for (size_t b = 0; b < wanting.size(); ++b) {
       if (out[b].empty()) continue;
       const size_t f = wanting[b].first;
@@ -53,15 +52,13 @@ std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
       if (!touch.empty()) {
         const SphereSet more = frames_.touching_candidates(f, {samples_[f], triangles_[f]}, touch, delta, stage == 1);
         balls.insert(balls.end(), more.begin(), more.end());
-        offered += touch.size();
       }
       again.emplace_back(f, pick(wanting[b].second, out[b]));
       of.push_back(b);
     }
-    (stage == 0 ? touched_samples_ : around_samples_) += offered;
     if (balls.empty()) continue;
     add_candidates(balls);
-    (stage == 0 ? from_touching_ : from_around_) += balls.size();
+    balls_offered_[size_t(stage)] += balls.size();
     const std::vector<std::vector<uint32_t>> still = out_of_reach_of(again, delta, cached);
     for (size_t k = 0; k < again.size(); ++k) out[of[k]] = pick(out[of[k]], still[k]);
   }
