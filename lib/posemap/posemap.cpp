@@ -22,6 +22,7 @@
 #include "posemap/joint_selection.hpp"
 #include "posemap/pose_solid.hpp"
 #include "posemap/skinned_map.hpp"
+#include "posemap/spheres_fit.hpp"
 #include "sdf/sdf.hpp"
 
 namespace spx {
@@ -77,6 +78,8 @@ class PoseMapper {
       StageTimer t(log, "pose-queries");
       tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) { queries_[i] = std::make_unique<MeshQuery>(*meshes_[i]); });
     }
+    // Before anything is built at the spheres' voxel size.
+    check_spheres_fit(*queries_[0], spheres_, rest_source_);
     open_solid_ = !find_defects(rest_).watertight();
     fields_.resize(meshes_.size());
     // Open meshes: the fields bound radii across the holes. Skinned: they put floors under every
@@ -104,17 +107,6 @@ class PoseMapper {
     for (size_t i = 0; i < meshes_.size(); ++i)
       solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
                          skinned ? &depths_[i] : nullptr, shapes_.empty() ? nullptr : &shapes_[i]});
-  }
-
-  // The rest spheres must fit the rest mesh; if they do not, the inputs do not belong together.
-  void check_rest_spheres_fit() const {
-    const double slack = 1e-4 * rest_.diagonal();
-    size_t misfits = 0;
-    for (const auto& s : spheres_.spheres)
-      if (!queries_[0]->inside(s.center) || queries_[0]->distance(s.center) < s.radius - slack) ++misfits;
-    if (misfits > 0)
-      fail_input(rest_source_, std::to_string(misfits) + " of " + std::to_string(spheres_.spheres.size()) + " spheres do "
-                 "not fit inside this rest mesh (packed from another mesh, or are the rest mesh and a pose swapped?)");
   }
 
   // One sphere set for the rest and every pose (posemap/joint_selection.hpp), recorded in the
@@ -354,9 +346,13 @@ class PoseMapper {
   // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
   // `inside_only`: for the inside's depths and medial voxels alone (released before other use).
   const DenseField& pose_field(size_t i, bool inside_only = false) {
-    if (!fields_[i])
-      fields_[i] = std::make_unique<DenseField>(
-          build_sdf(*meshes_[i], field_options(inside_only), Log::silent(), &queries_[i]->boundary()).field);
+    if (!fields_[i]) try {
+        fields_[i] = std::make_unique<DenseField>(
+            build_sdf(*meshes_[i], field_options(inside_only), Log::silent(), &queries_[i]->boundary()).field);
+      } catch (const Error& e) {
+        if (e.code() != ExitCode::unsupported) throw;
+        fail_field_too_fine(e, spheres_, i == 0 ? rest_source_ : poses_[i - 1].source);
+      }
     return *fields_[i];
   }
   // An open mesh's fields bound every radius to the end; otherwise each is asked once (a skinned
@@ -472,7 +468,6 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   Log beside = log.fork();
   tbb::parallel_invoke([&] { mapper.make_tets(); mapper.solve_map(); }, [&] { mapper.build_solids(beside); });
   log.join(beside);
-  mapper.check_rest_spheres_fit();
   const bool joint = !opt.map_given && (opt.tolerance > 0 || opt.max_spheres > 0 || !spheres.candidates.empty());
   if (joint && spheres.candidates.empty())
     fail_option(opt.max_spheres > 0 ? "max_spheres" : "tolerance",

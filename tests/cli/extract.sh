@@ -130,6 +130,19 @@ PY
   expect 2 "skin-more-joints.json: pose '.*' joint_matrices does not hold one matrix per joint" "$out/bad.proxy.json" -- pm "${poses[@]}" --skin "$out/skin-more-joints.json"
   expect 2 "skin-infinite.json: .*1e999" "$out/bad.proxy.json" -- pm "${poses[@]}" --skin "$out/skin-infinite.json"
   expect 2 "rest.obj: is not the skin of its joint matrices" "$out/bad.proxy.json" -- pm --pose "$r/poses/pose-00.obj" --pose "$r/poses/rest.obj" --skin "$r/poses/skin.json"
+  # Another mesh's spheres (the car at a thousandth of its size, inside the cylinder): a skinned
+  # body's fields are built at the spheres' voxel; the failure says whose voxel, not a resolution.
+  /usr/bin/python3 -c "
+import sys
+out = open(sys.argv[2], 'w')
+for line in open(sys.argv[1]):
+    w = line.split()
+    out.write('v %g %g %g\n' % tuple(1e-3 * float(x) for x in w[1:4]) if w and w[0] == 'v' else line)
+" "$out/in/rest.obj" "$out/tiny.obj"
+  "$bin/sdf-build" "$out/tiny.obj" -o "$out/tiny.vdb" --resolution 48 -q
+  "$bin/sphere-pack" "$out/tiny.vdb" -o "$out/tiny.spheres.json" -q
+  expect 3 "rest.obj: the spheres file's voxel (.*tiny.obj) is too fine for this mesh: a .* grid needs" "$out/bad.proxy.json" -- \
+    "$bin/pose-map" --manifest "$r/poses/poses.json" --spheres "$out/tiny.spheres.json" -o "$out/bad.proxy.json"
   set -e
 fi
 echo "$passed passed, $fail failed"
