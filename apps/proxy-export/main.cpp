@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     if (!opt.poses.empty() && opt.rest.empty()) spx::fail_usage("--pose", "needs --rest");
     if (!manifest.empty()) spx::rest_and_poses(manifest, opt.rest, opt.poses);
-    opt.from_manifest = !manifest.empty();
+    opt.manifest = manifest;
     opt.spread = !stacked;
     spx::proxy_export_files(input, output, opt, tool.log, tool.report);
   });

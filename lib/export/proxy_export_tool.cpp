@@ -21,7 +21,7 @@ namespace {
 // The sphere unions with each pose's mesh coloured by its vertex error (as proxy-eval --colors).
 std::string colored_preview(const ProxyModel& proxy, const std::string& input, const std::string& ext,
                             const ExportOptions& options, Log& log) {
-  const std::vector<TriMesh> meshes = load_pose_meshes(options.rest, options.poses, proxy, input, log);
+  const std::vector<TriMesh> meshes = load_pose_meshes(options.rest, options.poses, proxy, input, log, options.manifest);
   std::vector<PoseError> evals;
   double scale = 0;
   for (size_t i = 0; i < meshes.size(); ++i) {
@@ -64,7 +64,7 @@ std::string physics_glb(const ProxyModel& proxy, const ExportOptions& options, L
 std::string page(const ProxyModel& proxy, const std::string& input, const std::string& output,
                  const ExportOptions& options, Log& log, json& report) {
   std::string up = options.up;
-  if (up.empty()) up = options.asset.empty() && !options.from_manifest ? "z" : "y";
+  if (up.empty()) up = options.asset.empty() && options.manifest.empty() ? "z" : "y";
   json data = page_data(proxy, std::filesystem::path(input).stem().stem().string(), up);
   size_t zero = 0;
   for (const Sphere& s : proxy.poses.at(0).spheres) zero += !(s.radius > 0);
@@ -82,7 +82,7 @@ std::string page(const ProxyModel& proxy, const std::string& input, const std::s
     for (const json& c : data["clips"])
       page["clips"].push_back({{"name", c["name"]}, {"frames", c["frames"]}, {"seconds", c["seconds"]}});
   } else if (!options.rest.empty()) {
-    add_blended_body(data, proxy, load_pose_meshes(options.rest, options.poses, proxy, input, log));
+    add_blended_body(data, proxy, load_pose_meshes(options.rest, options.poses, proxy, input, log, options.manifest));
     page["body"] = "examples";
   } else {
     log.warn("no body given: the page shows the spheres alone (--rest/--pose, --manifest or --asset adds the body "

@@ -22,7 +22,7 @@ struct ExportOptions {
   // .html: the ground plane's normal, "y" or "z" (empty: y with an asset or a manifest, z with
   // meshes given by --rest).
   std::string up;
-  bool from_manifest = false;  // rest and poses came from pose-extract's poses.json
+  std::string manifest;  // where rest and poses came from: pose-extract's poses.json (empty: --rest/--pose)
 };
 
 // proxy-export IN.proxy.json -o OUT.spx | OUT.json | OUT.glb | OUT.ply, or -o OUT.glb --physics [--asset A],

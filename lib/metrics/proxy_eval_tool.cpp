@@ -1,5 +1,6 @@
 #include "metrics/proxy_eval_tool.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -7,15 +8,27 @@
 #include "core/error.hpp"
 #include "core/subject.hpp"
 #include "io/scene.hpp"
+#include "mesh/mesh_query.hpp"
 
 namespace spx {
 
 std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::vector<std::string>& pose_paths,
-                                      const ProxyModel& proxy, const std::string& proxy_path, Log& log) {
+                                      const ProxyModel& proxy, const std::string& proxy_path, Log& log,
+                                      const std::string& manifest) {
+  const std::string count = proxy_path + " has " + std::to_string(proxy.poses.size() - 1) + " example poses";
+  if (pose_paths.size() + 1 != proxy.poses.size() && !manifest.empty())
+    fail_input(manifest, "lists " + std::to_string(pose_paths.size()) + " poses; " + count);
   if (pose_paths.size() + 1 != proxy.poses.size())
-    fail_option("poses", proxy_path + " has " + std::to_string(proxy.poses.size() - 1) + " example poses; " +
-                             std::to_string(pose_paths.size()) + " pose files were given");
+    fail_option("poses", count + "; " + std::to_string(pose_paths.size()) + " pose files were given");
   const LoadedMesh rest = load_mesh(rest_path);
+  // Made from another mesh, the proxy would be measured (or drawn) on it without a word.
+  const MeshQuery query(rest.mesh);
+  const SphereSet& spheres = proxy.poses[0].spheres;
+  const auto outside = std::count_if(spheres.begin(), spheres.end(), [&](const Sphere& s) { return s.radius > 0 && !query.inside(s.center); });
+  if (outside > 0)
+    fail_input(rest_path, std::to_string(outside) + " of the " + std::to_string(spheres.size()) + " rest spheres of " +
+                              proxy_path + " have their centres outside this mesh: the proxy was made from another (" +
+                              proxy.poses[0].source + ")");
   std::vector<TriMesh> meshes{rest.mesh};
   std::vector<TriMesh> poses = load_poses(pose_paths, rest);
   for (size_t i = 0; i < pose_paths.size(); ++i) {
@@ -119,7 +132,7 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
   if (!rest_path.empty()) {
     {
       StageTimer t(log, "load");
-      meshes = load_pose_meshes(rest_path, pose_paths, proxy, proxy_path, log);
+      meshes = load_pose_meshes(rest_path, pose_paths, proxy, proxy_path, log, opt.motion.manifest);
     }
     evaluate_examples(proxy, proxy_path, meshes, opt, log, report);
   }

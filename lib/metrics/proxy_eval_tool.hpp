@@ -19,9 +19,11 @@ struct EvalToolOptions {
   MotionToolOptions motion;  // --asset: over a clip (a rigged body's proxy)
 };
 
-// Loads M_0..M_e checked against each other (and against the proxy's pose count).
+// Loads M_0..M_e checked against each other and against the proxy: its pose count (a count
+// `manifest`, when they came from one, lists) and its rest spheres, whose centres lie inside the
+// rest mesh it was made from.
 std::vector<TriMesh> load_pose_meshes(const std::string& rest, const std::vector<std::string>& poses, const ProxyModel& proxy,
-                                      const std::string& proxy_path, Log& log);
+                                      const std::string& proxy_path, Log& log, const std::string& manifest = "");
 
 // proxy-eval's report of `r`: per pose and per blend the error, coverage and zero radii, the
 // blends' median and max, the runtime's blend time.

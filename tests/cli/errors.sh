@@ -118,6 +118,22 @@ expect 2 "rest.vdb: is an OpenVDB file" "$out/o.json" -- "$bin/pose-map" --rest 
 printf 'MeshVersionFormatted 1\nDimension 3\nVertices\n100000000000\n0 0 0 0\n' >"$out/huge.mesh"
 expect 2 "huge.mesh: section Vertices claims 100000000000 entries" "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
   --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/o.json" --tets "$out/huge.mesh"
+# A proxy measured or drawn on another mesh (the barrel moved away), or with a manifest of
+# another pose count: refused, naming the mesh or the manifest, not measured without a word.
+/usr/bin/python3 -c "
+import sys
+out = open(sys.argv[2], 'w')
+for line in open(sys.argv[1]):
+    w = line.split()
+    out.write('v %g %s %s\n' % (float(w[1]) + 100, w[2], w[3]) if w and w[0] == 'v' else line)
+" "$out/in/rest.obj" "$out/far.obj"
+expect 2 "far.obj: .* rest spheres of .*ok.proxy.json have their centres outside this mesh" "" -- \
+  "$bin/proxy-eval" "$out/ok.proxy.json" --rest "$out/far.obj" --pose "$out/far.obj"
+expect 2 "far.obj: .* have their centres outside this mesh: the proxy was made from another" "$out/far.glb" -- \
+  "$bin/proxy-export" "$out/ok.proxy.json" --rest "$out/far.obj" --pose "$out/far.obj" -o "$out/far.glb"
+"$bin/pose-extract" "$out/in/barrel-morph.glb" -o "$out/pm" --morph-targets -q
+expect 2 "pm/poses.json: lists [0-9]* poses; .*ok.proxy.json has 1 example poses" "" -- \
+  "$bin/proxy-eval" "$out/ok.proxy.json" --manifest "$out/pm/poses.json"
 if "$1/samples/runtime-demo" --help | grep -q "usage: runtime-demo"; then passed=$((passed + 1)); else
   echo "FAIL: runtime-demo --help"; fail=$((fail + 1)); fi
 
