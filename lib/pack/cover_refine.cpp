@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <unordered_map>
 
@@ -40,6 +41,9 @@ class OffGrid {
     second_.assign(points_.size(), -1);
     tbb::parallel_for(size_t(0), points_.size(), [&](size_t i) { rank(i); });
   }
+
+  // Called after each step length's rounds (progress).
+  void on_level(std::function<void()> fn) { on_level_ = std::move(fn); }
 
   // The weighted samples' median and largest error.
   std::pair<double, double> median_and_max() const {
@@ -82,6 +86,7 @@ class OffGrid {
         moves += this_round;
         if (this_round == 0) break;
       }
+      if (on_level_) on_level_();
     }
     return moves;
   }
@@ -227,6 +232,7 @@ class OffGrid {
   }
 
   int directions_;
+  std::function<void()> on_level_;
   std::vector<Eigen::Vector3d> points_;  // every pose's samples, stacked
   std::vector<uint32_t> pose_;           // per sample: its pose
   std::vector<char> weighted_;           // per sample: a vertex, whose error counts
@@ -274,15 +280,21 @@ constexpr int kAxes = 6, kAxesAndDiagonals = 14;
 // gain (frontier-bench, the bunny at 256: 20 passes took 19 s for a median 0.005 % of the
 // diagonal lower than 6 did in 7.5 s).
 constexpr int kMedianPasses = 6;
+constexpr const char* kRefining = "refining the centres";
 
 size_t refine_jointly(const std::vector<std::vector<Eigen::Vector3d>>& samples, const std::vector<size_t>& weighted,
                       std::vector<Eigen::Vector3d>& centers, std::vector<SphereSet>& spheres,
                       const PoseSpheresAt& spheres_at, double delta, double step, Log& log, bool keep_max) {
   if (centers.empty() || samples.empty()) return 0;
   OffGrid state(samples, weighted, centers, spheres, spheres_at, delta, keep_max ? kAxesAndDiagonals : kAxes);
+  // A percentage on a terminal, by the step lengths the passes run (the median's may end early).
+  const size_t levels = keep_max ? 4 + 3 + 4 * kMedianPasses : 3;
+  size_t done = 0;
+  state.on_level([&] { log.progress(kRefining, std::min(++done, levels - 1), levels); });
   if (!keep_max) {
     // Tolerance mode: the total, no sample leaving delta.
     const size_t moves = state.move_rounds(step, step / 4, delta, [](double e) { return e; });
+    log.progress(kRefining, levels, levels);
     log.detail("refined centers: " + std::to_string(moves) + " moves");
     return moves;
   }
@@ -298,6 +310,7 @@ size_t refine_jointly(const std::vector<std::vector<Eigen::Vector3d>>& samples, 
       state.median_and_max().first, delta, kMedianPasses,
       [&](const auto& cost) { return state.move_rounds(step, step / 8, ceiling, cost); },
       [&] { return state.median_and_max().first; });
+  log.progress(kRefining, levels, levels);
   log.detail("refined centers: " + std::to_string(for_max) + " moves for the max, " + std::to_string(for_total) +
              " for the total, " + std::to_string(for_median) + " for the median");
   return for_max + for_total + for_median;
