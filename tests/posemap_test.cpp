@@ -1250,6 +1250,49 @@ TEST(PoseMap, VerticesWhereTheSkinFoldsAreOfferedBallsAroundThem) {
   EXPECT_GT(sel.from_around, 0u);
 }
 
+// A host plays the whole clip, not the poses given: one frame of RiggedSimple's bend leaves
+// spheres that poke out of the cylinder at other times (some centres leave it). pose-map counts
+// them at every time of the skin's clip, as brute force over every time's mesh queried afresh
+// finds; before, its report said nothing between the poses.
+TEST(PoseMap, SpheresPokingOutBetweenThePosesAreCounted) {
+  SPX_REQUIRE_SHARED_DATA();
+  const ExtractedClip clip =
+      extract_clip(test::shared_data() + "/rigged-simple/RiggedSimple.glb", test::temp_dir("between"), 1, {0.5});
+  const TriMesh& rest = clip.rest.mesh;
+  SpheresFile file;
+  pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);
+  const PoseMapResult r = pose_map(rest, "bend", clip.poses, file, {}, Log::silent(), &clip.skin);
+  const ClipOvershoot& between = r.summary.between;
+  ASSERT_EQ(between.times, clip.skin.clip.times.size());
+  const ClipRadius meshes(clip.skin, rest, 1e30);
+  std::vector<TriMesh> mesh;
+  for (size_t t = 0; t < between.times; ++t) mesh.push_back(meshes.mesh_at(t));
+  std::vector<std::unique_ptr<MeshQuery>> at;
+  for (const TriMesh& m : mesh) at.push_back(std::make_unique<MeshQuery>(m));
+  size_t out = 0, outside = 0;
+  double worst = 0;
+  for (size_t s = 0; s < r.proxy.skin.spheres.size(); ++s) {
+    const SkinnedSphere& sk = r.proxy.skin.spheres[s];
+    const SkinInfluence follows{sk.joint, sk.weight, sk.center};
+    double past = 0;  // how far past the surface at worst (the radius where the centre leaves)
+    bool left = false;
+    for (size_t t = 0; t < between.times; ++t) {
+      const Eigen::Vector3d c = skin_point(follows, clip.skin.clip.matrices[t]);
+      left = left || !at[t]->inside(c);
+      past = std::max(past, at[t]->inside(c) ? sk.radius - at[t]->distance(c) : sk.radius);
+    }
+    if (past <= 1e-6 * rest.diagonal()) continue;
+    ++out;
+    outside += left;
+    worst = std::max(worst, past);
+  }
+  EXPECT_GT(out, 0u);
+  EXPECT_GT(outside, 0u);
+  EXPECT_EQ(between.spheres_out, out);
+  EXPECT_EQ(between.centres_outside, outside);
+  EXPECT_NEAR(between.worst, worst, 1e-9 * rest.diagonal());
+}
+
 // The clip between the poses: its meshes at the poses' own times are the extracted poses, and
 // the least radius over it is, sphere by sphere, what a MeshQuery of every clip mesh finds (the
 // refitted hierarchy and the pseudo-normals against trees and winding numbers built afresh).

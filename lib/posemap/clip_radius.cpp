@@ -7,6 +7,7 @@
 #include <optional>
 #include <tbb/parallel_for.h>
 
+#include "core/format.hpp"
 #include "mesh/mesh_query.hpp"
 
 namespace spx {
@@ -60,6 +61,28 @@ std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influenc
         out[i] = least_at(block[t], skin_point(influences[i], clip_.matrices[first + t]), out[i]);
     });
   }
+  return out;
+}
+
+ClipOvershoot check_over_clip(const SkinFile& skin, const TriMesh& rest, double max_radius, const SphereSet& spheres,
+                              const std::vector<SkinInfluence>& influences, Log& log) {
+  std::vector<double> radii;
+  for (const Sphere& s : spheres) radii.push_back(s.radius);
+  const std::vector<double> held = ClipRadius(skin, rest, max_radius).least(influences, radii);
+  const double rounding = 1e-6 * rest.diagonal();  // past float rounding of the exact distance
+  ClipOvershoot out{skin.clip.times.size()};
+  for (size_t i = 0; i < radii.size(); ++i) {
+    if (!(radii[i] > 0) || held[i] >= std::min(radii[i], max_radius) - rounding) continue;
+    ++out.spheres_out;
+    out.centres_outside += held[i] == 0;
+    out.worst = std::max(out.worst, radii[i] - held[i]);
+  }
+  // Counted past rounding; said past a thousandth of the diagonal, or where a centre leaves the body.
+  if (out.centres_outside > 0 || out.worst > 1e-3 * rest.diagonal())
+    log.warn("between the poses given, " + std::to_string(out.spheres_out) + " of " + std::to_string(radii.size()) +
+             " spheres poke out of the body at some of the clip's " + std::to_string(out.times) + " times (by up to " +
+             num(out.worst) + ", " + num(100 * out.worst / rest.diagonal()) + " % of the diagonal; " +
+             std::to_string(out.centres_outside) + " centres leave it): --hold-over-clip keeps them inside");
   return out;
 }
 

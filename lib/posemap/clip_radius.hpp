@@ -6,12 +6,21 @@
 // leg): a radius that holds only at the poses then pokes out between them.
 #include <vector>
 
+#include "core/log.hpp"
+#include "core/sphere.hpp"
 #include "io/skin_file.hpp"
 #include "mesh/deforming_query.hpp"
 #include "mesh/mesh.hpp"
 #include "posemap/skinned_map.hpp"
 
 namespace spx {
+
+// Skinned spheres checked at every time of a clip: how many poke out of the body at some time,
+// how many centres leave it, and how far past the surface the worst gets (at least; a length).
+struct ClipOvershoot {
+  size_t times = 0, spheres_out = 0, centres_outside = 0;
+  double worst = 0;
+};
 
 class ClipRadius {
  public:
@@ -44,5 +53,11 @@ class ClipRadius {
   SkinnedVertices vertices_;
   DeformingQuery deforming_;
 };
+
+// pose-map without --hold-over-clip: the written `spheres` (rest; each following its influence)
+// checked at every time of `skin`'s clip, where a host plays them, with a warning where one pokes
+// out by more than a thousandth of the diagonal or a centre leaves the body.
+ClipOvershoot check_over_clip(const SkinFile& skin, const TriMesh& rest, double max_radius, const SphereSet& spheres,
+                              const std::vector<SkinInfluence>& influences, Log& log);
 
 }  // namespace spx

@@ -168,6 +168,11 @@ json pose_map_report(const PoseMapResult& result) {
                                                {"overshoot", s.clip_overshoot},
                                                {"spheres_shrunk", s.clip_shrunk}}
                                         : json(nullptr)},
+            {"between_poses", s.between.times > 0 ? json{{"times", s.between.times},
+                                                         {"spheres_out", s.between.spheres_out},
+                                                         {"centres_outside", s.between.centres_outside},
+                                                         {"worst_overshoot", s.between.worst}}
+                                                  : json(nullptr)},
             {"data_points", s.data_points},
             {"dropped_points", s.dropped_points},
             {"centers_outside_tets", s.centers_outside_tets}}},

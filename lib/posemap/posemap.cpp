@@ -17,7 +17,6 @@
 #include "mesh/union_distance.hpp"
 #include "pack/candidates.hpp"
 #include "pack/pack.hpp"
-#include "posemap/clip_radius.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/pose_solid.hpp"
@@ -215,6 +214,14 @@ class PoseMapper {
   // A rigged body's proxy carries each sphere's influence and its one radius.
   void attach_skin() {
     if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres, influences_);
+  }
+
+  // Skinned, radii not held over the clip: the spheres checked at its other times, which a host
+  // plays (the poses given say nothing of them).
+  void check_between_poses(PoseMapSummary& out) const {
+    if (!skinned_ || clip_ || skin_->clip.empty() || skin_->morph_channels > 0) return;
+    StageTimer t(log_, "clip-check");
+    out.between = check_over_clip(*skin_, rest_, proxy_.max_radius, proxy_.poses[0].spheres, influences_, log_);
   }
 
   // Warnings for every radius 0, and the summary's tets, map, per-pose errors and zero radii.
@@ -484,6 +491,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   if (opt.fill_gaps) result.summary.fill = mapper.fill_gaps();
   mapper.assign_blend_sites();
   mapper.attach_skin();
+  mapper.check_between_poses(result.summary);
   mapper.summarize(result.summary);
   return result;
 }

@@ -15,6 +15,7 @@
 #include "io/spheres_file.hpp"
 #include "io/proxy_file.hpp"
 #include "io/skin_file.hpp"
+#include "posemap/clip_radius.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/tet_mesh.hpp"
 
@@ -85,6 +86,7 @@ struct PoseMapSummary {
   // spheres whose radius the clip lowered.
   size_t clip_times = 0, clip_shrunk = 0;
   double clip_overshoot = 0;  // how far a sphere may poke out at the clip's times (a length)
+  ClipOvershoot between;  // skinned, radii not held over the clip: the spheres at its times (times 0: not checked)
   size_t joints = 0, data_points = 0, dropped_points = 0, centers_outside_tets = 0;
   bool open_solid = false;  // radii also bounded across the holes by each pose's field
   // Per pose, the rest first: spheres of radius 0 by cause (centre outside, hole bound, on the
