@@ -198,6 +198,10 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const std::string limit =
       limit_wording(sel.limited_by == Limit::tolerance && is_default ? Limit::default_tolerance : sel.limited_by);
   pool = sel.pool;
+  // A budget past what any error needs: said, so that nobody asks for more.
+  if (sel.limited_by == Limit::budget && spheres.size() < opt.pack.max_spheres)
+    log.info(std::to_string(spheres.size()) + " of the " + std::to_string(opt.pack.max_spheres) +
+             " spheres asked: no other candidate lowered any sample's error");
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.surface(), spheres);
   const bool met = !(target > 0) || (cover.uncoverable() == 0 && error.max <= target * (1 + 1e-9));
