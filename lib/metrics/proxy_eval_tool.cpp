@@ -24,7 +24,8 @@ std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::v
   // Made from another mesh, the proxy would be measured (or drawn) on it without a word.
   const MeshQuery query(rest.mesh);
   const SphereSet& spheres = proxy.poses[0].spheres;
-  const auto outside = std::count_if(spheres.begin(), spheres.end(), [&](const Sphere& s) { return s.radius > 0 && !query.inside(s.center); });
+  const auto outside = std::count_if(spheres.begin(), spheres.end(),
+                                     [&](const Sphere& s) { return s.radius > 0 && !query.inside(s.center); });
   if (outside > 0)
     fail_input(rest_path, std::to_string(outside) + " of the " + std::to_string(spheres.size()) + " rest spheres of " +
                               proxy_path + " have their centres outside this mesh: the proxy was made from another (" +

@@ -17,7 +17,8 @@ void check_spheres_fit(const MeshQuery& rest, const SpheresFile& spheres, const 
   if (misfits > 0)
     fail_input(rest_source, std::to_string(misfits) + " of " + std::to_string(spheres.spheres.size()) +
                                 " spheres do not fit inside this rest mesh (packed from another mesh, or are the rest "
-                                "mesh and a pose swapped?)" + (spheres.mesh.empty() ? "" : "; the spheres file was " + packed_from(spheres)));
+                                "mesh and a pose swapped?)" +
+                                (spheres.mesh.empty() ? "" : "; the spheres file was " + packed_from(spheres)));
 }
 
 void fail_field_too_fine(const Error& e, const SpheresFile& spheres, const std::string& mesh_source) {
