@@ -1,6 +1,6 @@
 #include "export/physics_gltf.hpp"
 
-#include "export/asset_match.hpp"
+#include "metrics/rest_match.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "core/error.hpp"
 #include "core/subject.hpp"
 #include "io/spx_writer.hpp"
-#include "export/asset_match.hpp"
+#include "metrics/rest_match.hpp"
 #include "export/page_html.hpp"
 #include "export/physics_gltf.hpp"
 #include "extract/asset.hpp"

@@ -1,6 +1,5 @@
 #include "metrics/proxy_eval_tool.hpp"
 
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -8,28 +7,21 @@
 #include "core/error.hpp"
 #include "core/subject.hpp"
 #include "io/scene.hpp"
-#include "mesh/mesh_query.hpp"
+#include "metrics/rest_match.hpp"
 
 namespace spx {
 
 std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::vector<std::string>& pose_paths,
                                       const ProxyModel& proxy, const std::string& proxy_path, Log& log,
                                       const std::string& manifest) {
-  const std::string count = proxy_path + " has " + std::to_string(proxy.poses.size() - 1) + " example poses";
-  if (pose_paths.size() + 1 != proxy.poses.size() && !manifest.empty())
-    fail_input(manifest, "lists " + std::to_string(pose_paths.size()) + " poses; " + count);
-  if (pose_paths.size() + 1 != proxy.poses.size())
+  if (pose_paths.size() + 1 != proxy.poses.size()) {
+    const std::string count = proxy_path + " has " + std::to_string(proxy.poses.size() - 1) + " example poses";
+    if (!manifest.empty()) fail_input(manifest, "lists " + std::to_string(pose_paths.size()) + " poses; " + count);
     fail_option("poses", count + "; " + std::to_string(pose_paths.size()) + " pose files were given");
+  }
   const LoadedMesh rest = load_mesh(rest_path);
   // Made from another mesh, the proxy would be measured (or drawn) on it without a word.
-  const MeshQuery query(rest.mesh);
-  const SphereSet& spheres = proxy.poses[0].spheres;
-  const auto outside = std::count_if(spheres.begin(), spheres.end(),
-                                     [&](const Sphere& s) { return s.radius > 0 && !query.inside(s.center); });
-  if (outside > 0)
-    fail_input(rest_path, std::to_string(outside) + " of the " + std::to_string(spheres.size()) + " rest spheres of " +
-                              proxy_path + " have their centres outside this mesh: the proxy was made from another (" +
-                              proxy.poses[0].source + ")");
+  check_rest_holds(proxy, rest.mesh, rest_path, "mesh");
   std::vector<TriMesh> meshes{rest.mesh};
   std::vector<TriMesh> poses = load_poses(pose_paths, rest);
   for (size_t i = 0; i < pose_paths.size(); ++i) {

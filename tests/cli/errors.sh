@@ -127,9 +127,9 @@ for line in open(sys.argv[1]):
     w = line.split()
     out.write('v %g %s %s\n' % (float(w[1]) + 100, w[2], w[3]) if w and w[0] == 'v' else line)
 " "$out/in/rest.obj" "$out/far.obj"
-expect 2 "far.obj: .* rest spheres of .*ok.proxy.json have their centres outside this mesh" "" -- \
+expect 2 "far.obj: its rest does not hold the proxy's rest spheres (.* centres outside.*): not the mesh the proxy was made from" "" -- \
   "$bin/proxy-eval" "$out/ok.proxy.json" --rest "$out/far.obj" --pose "$out/far.obj"
-expect 2 "far.obj: .* have their centres outside this mesh: the proxy was made from another" "$out/far.glb" -- \
+expect 2 "far.obj: its rest does not hold the proxy's rest spheres (.* centres outside.*): not the mesh the proxy was made from" "$out/far.glb" -- \
   "$bin/proxy-export" "$out/ok.proxy.json" --rest "$out/far.obj" --pose "$out/far.obj" -o "$out/far.glb"
 "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "$out/pm" --morph-targets -q
 expect 2 "pm/poses.json: lists [0-9]* poses; .*ok.proxy.json has 1 example poses" "" -- \
