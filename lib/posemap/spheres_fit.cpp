@@ -3,11 +3,6 @@
 #include "core/format.hpp"
 
 namespace spx {
-namespace {
-std::string packed_from(const SpheresFile& spheres) {
-  return spheres.mesh.empty() ? std::string() : "packed from " + spheres.mesh;
-}
-}  // namespace
 
 void check_spheres_fit(const MeshQuery& rest, const SpheresFile& spheres, const std::string& rest_source) {
   const double slack = 1e-4 * rest.surface().diagonal();
@@ -18,14 +13,14 @@ void check_spheres_fit(const MeshQuery& rest, const SpheresFile& spheres, const 
     fail_input(rest_source, std::to_string(misfits) + " of " + std::to_string(spheres.spheres.size()) +
                                 " spheres do not fit inside this rest mesh (packed from another mesh, or are the rest "
                                 "mesh and a pose swapped?)" +
-                                (spheres.mesh.empty() ? "" : "; the spheres file was " + packed_from(spheres)));
+                                (spheres.mesh.empty() ? "" : "; the spheres file was packed from " + spheres.mesh));
 }
 
 void fail_field_too_fine(const Error& e, const SpheresFile& spheres, const std::string& mesh_source) {
   // The grid's size, without sdf-build's own advice (a coarser --resolution there means another spheres file here).
   const std::string grid = e.message().substr(0, e.message().find("; "));
   fail_unsupported(mesh_source, "the spheres file's voxel (" + num(spheres.voxel_size) +
-                                    (spheres.mesh.empty() ? "" : ", " + packed_from(spheres)) +
+                                    (spheres.mesh.empty() ? "" : ", packed from " + spheres.mesh) +
                                     ") is too fine for this mesh: " + grid +
                                     "; is the spheres file another mesh's, or in another unit? Else pack it from a "
                                     "coarser field (sdf-build --resolution, then sphere-pack)");
