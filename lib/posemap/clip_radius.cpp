@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <tbb/parallel_for.h>
 
 #include "core/format.hpp"
@@ -43,10 +44,17 @@ double ClipRadius::least_at(const Time& time, const Eigen::Vector3d& c, double r
   return std::isfinite(d) ? d + overshoot_ : r;
 }
 
-std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influences, const std::vector<double>& radius) const {
+std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influences, const std::vector<double>& radius,
+                                      const Log* log) const {
   std::vector<double> out(radius);
   for (double& r : out) r = r > 0 ? std::min(r, max_radius_) : 0.0;
+  // A percentage where the walk takes seconds: a million spheres times times.
+  if (out.size() * time_count() < size_t(1000000)) log = nullptr;
+  const std::string stage = "holding " + std::to_string(out.size()) + " spheres over the clip's " +
+                            std::to_string(time_count()) + " times";
+  const size_t blocks = (time_count() + kTimesAtOnce - 1) / kTimesAtOnce;
   for (size_t first = 0; first < time_count(); first += kTimesAtOnce) {
+    if (log) log->progress(stage.c_str(), first / kTimesAtOnce, blocks);
     const size_t count = std::min(kTimesAtOnce, time_count() - first);
     std::vector<Time> block(count);
     tbb::parallel_for(size_t(0), count, [&](size_t t) {
@@ -61,6 +69,7 @@ std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influenc
         out[i] = least_at(block[t], skin_point(influences[i], clip_.matrices[first + t]), out[i]);
     });
   }
+  if (log) log->progress(stage.c_str(), blocks, blocks);
   return out;
 }
 
@@ -68,7 +77,7 @@ ClipOvershoot check_over_clip(const SkinFile& skin, const TriMesh& rest, double 
                               const std::vector<SkinInfluence>& influences, Log& log) {
   std::vector<double> radii;
   for (const Sphere& s : spheres) radii.push_back(s.radius);
-  const std::vector<double> held = ClipRadius(skin, rest, max_radius).least(influences, radii);
+  const std::vector<double> held = ClipRadius(skin, rest, max_radius).least(influences, radii, &log);
   const double rounding = 1e-6 * rest.diagonal();  // past float rounding of the exact distance
   ClipOvershoot out{skin.clip.times.size()};
   for (size_t i = 0; i < radii.size(); ++i) {

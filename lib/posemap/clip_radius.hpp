@@ -35,8 +35,10 @@ class ClipRadius {
   // skinned at once, so memory stays that of a few meshes; each sphere's search there is bounded
   // by its least radius so far, which for a sphere the time does not shrink visits a few boxes.
   // A closed mesh's hierarchy is refitted to each time (DeformingQuery), another is queried
-  // afresh (MeshQuery, winding numbers: far slower). Independent of the thread count.
-  std::vector<double> least(const std::vector<SkinInfluence>& influences, const std::vector<double>& radius) const;
+  // afresh (MeshQuery, winding numbers: far slower). Independent of the thread count. With a
+  // `log`, a percentage on a terminal (thousands of candidates over a clip take a minute).
+  std::vector<double> least(const std::vector<SkinInfluence>& influences, const std::vector<double>& radius,
+                            const Log* log = nullptr) const;
 
   // The rest mesh skinned at clip time k, as pose-extract skins the asset.
   TriMesh mesh_at(size_t k) const;

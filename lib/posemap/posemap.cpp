@@ -170,7 +170,7 @@ class PoseMapper {
     const std::vector<SkinInfluence> influences(influences_.begin() + long(first), influences_.end());
     std::vector<double> radii(n);
     for (size_t s = 0; s < n; ++s) radii[s] = proxy_.poses[0].spheres[first + s].radius;
-    const std::vector<double> held = clip_->least(influences, radii);
+    const std::vector<double> held = clip_->least(influences, radii, &log_);
     for (size_t s = 0; s < n; ++s) {
       if (!(held[s] < radii[s])) continue;
       ++clip_shrunk_;
@@ -277,7 +277,7 @@ class PoseMapper {
     SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f); }
     bool one_radius() const override { return bool(m_.skinned_); }
     std::vector<double> over_clip(const std::vector<SkinInfluence>& in, const std::vector<double>& r) const override {
-      return m_.clip_ ? m_.clip_->least(in, r) : r;
+      return m_.clip_ ? m_.clip_->least(in, r, &m_.log_) : r;
     }
     SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override { return m_.skinned_->carry(rest, m_.solids_); }
     double exact_radius(const Eigen::Vector3d& c, size_t f) const override { return m_.solids_[f].exact_radius(c, false).value; }
