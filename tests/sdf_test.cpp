@@ -249,9 +249,14 @@ TEST(Sdf, RefusesGridsThatDoNotFitAndBadOptions) {
   try {
     build_sdf(box, huge);
     FAIL();
-  } catch (const Error& e) {
+  } catch (const GridTooLarge& e) {
     EXPECT_EQ(e.code(), ExitCode::unsupported);
     EXPECT_NE(std::string(e.what()).find("GiB"), std::string::npos) << e.what();
+    // The estimate alone, for callers with other advice (pose-map: another spheres file).
+    EXPECT_EQ(e.grid().rfind("a 1000", 0), 0u) << e.grid();
+    EXPECT_NE(e.grid().find(" grid needs about "), std::string::npos) << e.grid();
+    EXPECT_EQ(e.grid().find("coarser"), std::string::npos) << e.grid();
+    EXPECT_NE(std::string(e.what()).find("coarser resolution"), std::string::npos) << e.what();
   }
   SdfOptions zero;
   zero.resolution = 0;

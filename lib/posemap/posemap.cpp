@@ -356,8 +356,7 @@ class PoseMapper {
     if (!fields_[i]) try {
         fields_[i] = std::make_unique<DenseField>(
             build_sdf(*meshes_[i], field_options(inside_only), Log::silent(), &queries_[i]->boundary()).field);
-      } catch (const Error& e) {
-        if (e.code() != ExitCode::unsupported) throw;
+      } catch (const GridTooLarge& e) {
         fail_field_too_fine(e, spheres_, i == 0 ? rest_source_ : poses_[i - 1].source);
       }
     return *fields_[i];

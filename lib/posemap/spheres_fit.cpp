@@ -16,12 +16,11 @@ void check_spheres_fit(const MeshQuery& rest, const SpheresFile& spheres, const 
                                 (spheres.mesh.empty() ? "" : "; the spheres file was packed from " + spheres.mesh));
 }
 
-void fail_field_too_fine(const Error& e, const SpheresFile& spheres, const std::string& mesh_source) {
+void fail_field_too_fine(const GridTooLarge& e, const SpheresFile& spheres, const std::string& mesh_source) {
   // The grid's size, without sdf-build's own advice (a coarser --resolution there means another spheres file here).
-  const std::string grid = e.message().substr(0, e.message().find("; "));
   fail_unsupported(mesh_source, "the spheres file's voxel (" + num(spheres.voxel_size) +
                                     (spheres.mesh.empty() ? "" : ", packed from " + spheres.mesh) +
-                                    ") is too fine for this mesh: " + grid +
+                                    ") is too fine for this mesh: " + e.grid() +
                                     "; is the spheres file another mesh's, or in another unit? Else pack it from a "
                                     "coarser field (sdf-build --resolution, then sphere-pack)");
 }

@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "io/spheres_file.hpp"
 #include "mesh/mesh_query.hpp"
+#include "sdf/sdf.hpp"
 
 namespace spx {
 
@@ -13,7 +14,7 @@ namespace spx {
 void check_spheres_fit(const MeshQuery& rest, const SpheresFile& spheres, const std::string& rest_source);
 
 // A field at the spheres file's voxel over `mesh_source` was refused as too large for memory
-// (`e`, unsupported): the same failure, saying whose voxel it was and what to do.
-[[noreturn]] void fail_field_too_fine(const Error& e, const SpheresFile& spheres, const std::string& mesh_source);
+// (`e`): the same failure, saying whose voxel it was and what to do.
+[[noreturn]] void fail_field_too_fine(const GridTooLarge& e, const SpheresFile& spheres, const std::string& mesh_source);
 
 }  // namespace spx

@@ -126,7 +126,7 @@ TriMesh in_spatial_order(const TriMesh& mesh, const GridShape& shape) {
 }
 
 // Grid placement for a mesh: voxel size and padded extent. Throws Error(usage) on bad options
-// and Error(unsupported) when the grid would not fit in memory (the message gives the estimate).
+// and GridTooLarge when the grid would not fit in memory.
 GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimated_gib) {
   if (opt.voxel_size < 0 || !std::isfinite(opt.voxel_size))
     fail_option("voxel_size", "must be a positive number");
@@ -155,12 +155,10 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
   if (!(lo.cwiseAbs().maxCoeff() < index_limit && hi.cwiseAbs().maxCoeff() < index_limit))
     fail_option("voxel_size", "is too small for the mesh's coordinates (index space overflows)");
   if (need > opt.memory_limit_gib || voxels >= 2.0e9) {
-    char msg[400];
-    std::snprintf(msg, sizeof msg,
-                  "a %.0f x %.0f x %.0f grid needs about %s of memory, over the %.0f GiB limit; use a coarser "
-                  "resolution (or a higher memory limit on a larger machine)",
+    char grid[200];
+    std::snprintf(grid, sizeof grid, "a %.0f x %.0f x %.0f grid needs about %s of memory, over the %.0f GiB limit",
                   dims.x(), dims.y(), dims.z(), gib(need).c_str(), opt.memory_limit_gib);
-    fail_unsupported("", msg);
+    throw GridTooLarge(grid, "use a coarser resolution (or a higher memory limit on a larger machine)");
   }
   // OpenVDB's transforms need voxel_size^3 >= 3e-15 (math::Tolerance<double> in ScaleMap).
   constexpr double kSmallestVoxel = 1.5e-5;

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/error.hpp"
 #include "core/log.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/mesh.hpp"
@@ -33,6 +34,19 @@ struct SdfStats {
   double estimated_memory_gib = 0;
   bool bounded_by_holes = false;  // not watertight: distances also bounded across the holes
   nlohmann::json to_json() const;
+};
+
+// The grid the options ask for would not fit in memory (unsupported). `grid()` is the estimate
+// alone ("a 512 x 300 x 200 grid needs about 40 GiB of memory, over the 16 GiB limit"), for a
+// caller whose advice differs from sdf-build's (a coarser --resolution).
+class GridTooLarge : public Error {
+ public:
+  GridTooLarge(const std::string& grid, const std::string& advice)
+      : Error(ExitCode::unsupported, "", grid + "; " + advice), grid_(grid) {}
+  const std::string& grid() const { return grid_; }
+
+ private:
+  std::string grid_;
 };
 
 struct SdfResult {
