@@ -40,10 +40,13 @@ import json,sys
 f=json.load(open(sys.argv[1])); h=f[\"voxel_size\"]
 print(all(abs(c/h-round(c/h))<1e-6 for s in f[\"spheres\"] for c in s[:3]))" "$out/g.json")" = True ]'
 # --max-spheres past what any error needs: the spheres used are said, fewer than asked.
-said=$("$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/many.json" --max-spheres 100000 --polish 0 2>&1)
+said=$("$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/many.json" --max-spheres 100000 --polish 0 \
+  --report "$out/many.report.json" 2>&1)
 check "--max-spheres 100000: the spheres used not said" \
   'printf "%s" "$said" | grep -q "of the 100000 spheres asked: no other candidate lowered any sample" &&
    [ "$(field "$out/many.json" "len(r[\"spheres\"])")" -lt 100000 ]'
+check "--max-spheres 100000: the report says max_spheres decided" \
+  '[ "$(field "$out/many.report.json" "r[\"cover\"][\"limited_by\"].startswith(\"the candidates\")")" = True ]'
 
 # pose-map: --tet-size, --tets, --max-radius, the --fill-* options
 "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/p.proxy.json" -q --report "$out/p.json"
