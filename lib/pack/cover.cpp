@@ -103,8 +103,17 @@ const char* limit_wording(Limit limit) {
     case Limit::motion: return "vertices no skinned sphere reaches in every frame (where the skin folds)";
     case Limit::budget: return "max_spheres";
     case Limit::budget_over_tolerance: return "max_spheres (tighter than the tolerance)";
+    case Limit::candidates: return "the candidates (no other lowered any sample's error; fewer spheres than max_spheres)";
   }
   return "";
+}
+
+void note_unused_budget(Limit& limited_by, size_t used, size_t budget, Log& log) {
+  if (limited_by != Limit::budget || used >= budget) return;
+  limited_by = Limit::candidates;
+  // Said, so that nobody asks for more.
+  log.info(std::to_string(used) + " of the " + std::to_string(budget) +
+           " spheres asked: no other candidate lowered any sample's error");
 }
 
 CoverResult cover_for(const CoverProblem& problem, double target, size_t budget, Limit& limited_by, Log& log,

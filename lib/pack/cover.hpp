@@ -77,8 +77,12 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
                          Log& log = Log::silent());
 
 // What decided a selection's size, and its words in reports and logs (limit_wording).
-enum class Limit { tolerance, default_tolerance, resolution, reach, motion, budget, budget_over_tolerance };
+// `candidates`: a budget the selection did not fill, no other candidate lowering any sample's
+// error (set once the selection is done: until then it is `budget`, which the refinement keys on).
+enum class Limit { tolerance, default_tolerance, resolution, reach, motion, budget, budget_over_tolerance, candidates };
 const char* limit_wording(Limit limit);
+// Budget mode, once done: `candidates` where `used` spheres are fewer than the `budget`.
+void note_unused_budget(Limit& limited_by, size_t used, size_t budget, Log& log);
 
 // Budget mode's relaxation (cover_with_budget's slack, below).
 constexpr double kBudgetSlack = 0.1;

@@ -123,6 +123,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   // Largest first (what a host culls by), ties in candidate order.
   std::stable_sort(out.spheres.begin(), out.spheres.end(),
                    [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+  note_unused_budget(out.limited_by, out.spheres.size(), opt.pack.max_spheres, log);
   return out;
 }
 

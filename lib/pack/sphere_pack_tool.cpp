@@ -195,17 +195,9 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const SphereSet& spheres = sel.spheres;
   const CoverResult& cover = sel.cover;
   const double target = sel.target;
-  // A budget past what any error needs did not decide: the candidates did. Said, so that nobody
-  // asks for more.
-  const bool budget_unused = sel.limited_by == Limit::budget && spheres.size() < opt.pack.max_spheres;
   const std::string limit =
-      budget_unused ? "the candidates (no other lowered any sample's error; fewer spheres than max_spheres)"
-                    : limit_wording(sel.limited_by == Limit::tolerance && is_default ? Limit::default_tolerance
-                                                                                      : sel.limited_by);
+      limit_wording(sel.limited_by == Limit::tolerance && is_default ? Limit::default_tolerance : sel.limited_by);
   pool = sel.pool;
-  if (budget_unused)
-    log.info(std::to_string(spheres.size()) + " of the " + std::to_string(opt.pack.max_spheres) +
-             " spheres asked: no other candidate lowered any sample's error");
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.surface(), spheres);
   const bool met = !(target > 0) || (cover.uncoverable() == 0 && error.max <= target * (1 + 1e-9));

@@ -109,6 +109,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   out.frames = active_;
   out.samples_elsewhere = samples_elsewhere();
   out.clip_shrunk = clip_shrunk_;
+  note_unused_budget(out.limited_by, out.chosen.size(), opt_.budget, log_);
   return out;
 }
 

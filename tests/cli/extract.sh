@@ -86,6 +86,17 @@ for f in m["frames"]:
     allowed = 1e-6 * m["diagonal"] + (0 if f["seen"] else clip["overshoot"])
     assert s["overshoot"] <= allowed and s["centers_outside"] == 0, (f, allowed)
 PY
+  # A budget past what any error needs: the spheres used are said, and the report names the
+  # candidates as what decided, not max_spheres.
+  said=$("$bin/pose-map" --manifest "$r/poses/poses.json" --spheres "$r/rest.spheres.json" -o "$r/many.proxy.json" \
+    --max-spheres 100000 --polish 0 --report "$r/many.report.json" 2>&1)
+  check "pose-map --max-spheres 100000: the spheres used said, the candidates named" /usr/bin/python3 - \
+    "$r/many.report.json" "$said" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))["selection"]
+assert s["spheres"] < 100000 and s["limited_by"].startswith("the candidates"), s["limited_by"]
+assert "%d of the 100000 spheres asked" % s["spheres"] in sys.argv[2], sys.argv[2]
+PY
   check "skin.json's clip: every key, and 60 Hz or finer between them" /usr/bin/python3 - "$r/poses/skin.json" <<'PY'
 import json, sys
 c = json.load(open(sys.argv[1]))["clip"]
