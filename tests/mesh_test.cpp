@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <stdexcept>
 
@@ -373,6 +374,47 @@ TEST(DeformingQuery, SignedDistancesMatchBruteForceInEveryShape) {
   check_deforming_query(test::box_mesh({-1, -2, -0.5}, {1, 2, 0.5}), 2000, 3, false);
   SPX_REQUIRE_SHARED_DATA();
   check_deforming_query(load_mesh(test::shared_data() + "/elephant/rest.obj").mesh, 400, 4, true);
+}
+
+// The swept shape's test: some triangle nearer than a bound plus its vertices' largest inflation,
+// exactly where brute force finds the least of distance less inflation below the bound; and that
+// least is below the distance to any shape whose vertices moved within their inflation.
+TEST(DeformingQuery, InflatedSearchMatchesBruteForceAndBoundsEveryMovedShape) {
+  SPX_REQUIRE_SHARED_DATA();
+  const TriMesh rest = load_mesh(test::shared_data() + "/elephant/rest.obj").mesh;
+  const DeformingQuery query(rest);
+  const double diag = rest.diagonal();
+  const Eigen::AlignedBox3d box = rest.bounds();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1), unit(-1, 1);
+  std::vector<double> inflation(rest.vertices.size());
+  for (double& i : inflation) i = u(rng) < 0.7 ? 0.0 : 0.03 * diag * u(rng);  // most parts rigid
+  const DeformingQuery::Shape swept = query.swept(rest.vertices, inflation);
+  // Three shapes within the sweep: each vertex moved by at most its inflation.
+  std::vector<DeformingQuery::Shape> moved;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<Eigen::Vector3d> v = rest.vertices;
+    for (size_t i = 0; i < v.size(); ++i) {
+      Eigen::Vector3d d(unit(rng), unit(rng), unit(rng));
+      if (d.norm() > 0) v[i] += inflation[i] * u(rng) * d.normalized();
+    }
+    moved.push_back(query.shape(v));
+  }
+  for (int n = 0; n < 300; ++n) {
+    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto& t : rest.triangles) {
+      const double most = std::max({inflation[size_t(t[0])], inflation[size_t(t[1])], inflation[size_t(t[2])]});
+      const double d = (p - closest_point_on_triangle(p, rest.vertices[size_t(t[0])], rest.vertices[size_t(t[1])],
+                                                       rest.vertices[size_t(t[2])])).norm();
+      brute = std::min(brute, d - most);
+    }
+    for (double off : {1e-9, 1e-3, 0.05}) {
+      EXPECT_TRUE(swept.inflated_nearer_than(p, brute + off * diag)) << "point " << n << " off " << off;
+      EXPECT_FALSE(swept.inflated_nearer_than(p, brute - off * diag)) << "point " << n << " off " << off;
+    }
+    for (const DeformingQuery::Shape& s : moved) EXPECT_GE(std::abs(s.signed_distance(p)), brute) << "point " << n;
+  }
 }
 
 TEST(DeformingQuery, OpenMeshesAreNotClosed) {

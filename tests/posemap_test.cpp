@@ -1339,6 +1339,7 @@ TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
   for (const double overshoot : {0.0, 0.01 * diag}) {
     const ClipRadius loose(skin, rest.mesh, 1e30, overshoot);
     const std::vector<double> least = loose.least(influences, radius);
+    EXPECT_EQ(least, ClipRadius(skin, rest.mesh, 1e30, overshoot, false).least(influences, radius));
     std::vector<double> brute(radius);
     for (size_t k = 0; k < clip.time_count(); ++k) {
       const MeshQuery q(clip.mesh_at(k));
@@ -1355,6 +1356,48 @@ TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
     }
     EXPECT_GT(shrunk, 30u);  // the clip really bounds them
     EXPECT_GT(outside, 0u);  // and some centres leave the body between the poses
+  }
+}
+
+// The sweeps: a block of times where every triangle stays farther than a sphere's radius needs,
+// in the frame of its heaviest joint, is not asked. On the elephant's walk (its parts rigid on
+// their joints, the legs swinging past one another) they settle many blocks, and the radii are
+// those of every sphere walked through every one of the clip's times, to the bit.
+TEST(ClipRadius, SweptBlocksChangeNoRadius) {
+  SPX_REQUIRE_SHARED_DATA();
+  const ExtractedClip extracted = extract_clip(test::shared_data() + "/elephant/elephant-rigged.glb",
+                                               test::temp_dir("clip-sweep"), 1, {0.5});
+  const TriMesh& rest = extracted.rest.mesh;
+  const SkinFile& skin = extracted.skin;
+  ASSERT_GT(skin.clip.times.size(), 1000u);
+  const MeshQuery query(rest);
+  const Eigen::AlignedBox3d box = rest.bounds();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<SkinInfluence> influences;
+  std::vector<double> radius;
+  while (influences.size() < 250) {
+    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    if (!query.inside(p)) continue;
+    const size_t nearest = size_t(query.closest(p).triangle);
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
+    for (const auto& [j, x] : skin.vertex_weights[size_t(rest.triangles[nearest][0])]) w[j] += x;
+    SkinInfluence s = heaviest_four(w);
+    s.bind = p;
+    influences.push_back(s);
+    radius.push_back(query.distance(p));
+  }
+  for (const double overshoot : {0.0, 0.0025 * rest.diagonal()}) {
+    const ClipRadius sweeping(skin, rest, 1e30, overshoot), walking(skin, rest, 1e30, overshoot, false);
+    ClipRadius::Tally tally;
+    const std::vector<double> exact = walking.least(influences, radius);
+    EXPECT_EQ(sweeping.least(influences, radius, nullptr, &tally), exact) << overshoot;
+    EXPECT_GT(tally.settled, tally.blocks / (overshoot > 0 ? 4 : 10))
+        << "overshoot " << overshoot << ": " << tally.settled << " of " << tally.blocks;
+    // A hair above their least: only the block where each is least may lower it, and must.
+    std::vector<double> tight(exact);
+    for (double& r : tight) r *= 1 + 1e-9;
+    EXPECT_EQ(sweeping.least(influences, tight), walking.least(influences, tight)) << overshoot;
   }
 }
 

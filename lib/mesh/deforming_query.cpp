@@ -91,6 +91,24 @@ DeformingQuery::Shape DeformingQuery::shape(std::vector<Eigen::Vector3d> vertice
   return s;
 }
 
+DeformingQuery::Shape DeformingQuery::swept(std::vector<Eigen::Vector3d> vertices, std::vector<double> inflation) const {
+  Shape s = shape(std::move(vertices));
+  const size_t v = inflation.size();
+  s.inflation_ = std::move(inflation);
+  s.inflation_.resize(v + nodes_.size(), 0.0);
+  for (size_t n = nodes_.size(); n-- > 0;) {
+    const Node& node = nodes_[n];
+    double& most = s.inflation_[v + n];
+    if (node.left < 0) {
+      for (int i = node.first; i < node.first + node.count; ++i)
+        for (int k = 0; k < 3; ++k) most = std::max(most, s.inflation_[size_t(tri_[size_t(order_[size_t(i)])][k])]);
+    } else {
+      most = std::max(s.inflation_[v + size_t(node.left)], s.inflation_[v + size_t(node.right)]);
+    }
+  }
+  return s;
+}
+
 Eigen::Vector3d DeformingQuery::Shape::face_normal(int t) const {
   const Eigen::Vector3i& f = q_->tri_[size_t(t)];
   return (v_[size_t(f[1])] - v_[size_t(f[0])]).cross(v_[size_t(f[2])] - v_[size_t(f[0])]).normalized();
@@ -237,6 +255,36 @@ bool DeformingQuery::Shape::nearer_than(const Eigen::Vector3d& p, double bound) 
     return !found;
   });
   return found;
+}
+
+bool DeformingQuery::Shape::inflated_nearer_than(const Eigen::Vector3d& p, double bound) const {
+  const DeformingQuery& q = *q_;
+  const size_t nodes = q.nodes_.size(), v = inflation_.size() - nodes;
+  // Whether a node's box, grown by its largest inflation, may hold such a triangle.
+  auto may = [&](int n) {
+    const double reach = bound + inflation_[v + size_t(n)];
+    return reach > 0 && box_[size_t(n)].squaredExteriorDistance(p) < reach * reach;
+  };
+  std::array<int, 128> stack;
+  int top = 0;
+  if (nodes > 0 && may(0)) stack[size_t(top++)] = 0;
+  while (top > 0) {
+    const Node& node = q.nodes_[size_t(stack[size_t(--top)])];
+    if (node.left < 0) {
+      for (int i = node.first; i < node.first + node.count; ++i) {
+        const Eigen::Vector3i& f = q.tri_[size_t(q.order_[size_t(i)])];
+        const double reach =
+            bound + std::max({inflation_[size_t(f[0])], inflation_[size_t(f[1])], inflation_[size_t(f[2])]});
+        if (reach > 0 && (p - closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])]))
+                                 .squaredNorm() < reach * reach)
+          return true;
+      }
+      continue;
+    }
+    if (may(node.right)) stack[size_t(top++)] = node.right;
+    if (may(node.left)) stack[size_t(top++)] = node.left;
+  }
+  return false;
 }
 
 bool DeformingQuery::Shape::inside(const Eigen::Vector3d& p) const {

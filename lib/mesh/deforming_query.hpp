@@ -34,6 +34,10 @@ class DeformingQuery {
     // front face, -1 entering. Where parts pass through each other the count still says inside.
     // A ray that grazes an edge is cast again another way, and after a few, the exact sum decides.
     bool inside(const Eigen::Vector3d& p) const;
+    // With `inflation` (swept()): whether some triangle is nearer to p than `bound` plus its
+    // vertices' largest inflation. Where each vertex may move anywhere within its inflation, false
+    // says every shape of the sweep is at least `bound` from p. The search stops at the first found.
+    bool inflated_nearer_than(const Eigen::Vector3d& p, double bound) const;
 
    private:
     friend class DeformingQuery;
@@ -45,11 +49,15 @@ class DeformingQuery {
     const DeformingQuery* q_ = nullptr;
     std::vector<Eigen::Vector3d> v_;
     std::vector<Eigen::AlignedBox3d> box_;  // per node
+    std::vector<double> inflation_;         // swept(): per vertex, then per node its largest
     // Pseudo-normals, of the closest feature only (most of a shape's features are never closest).
     Eigen::Vector3d face_normal(int t) const;
     Eigen::Vector3d vertex_normal(int v) const;
   };
   Shape shape(std::vector<Eigen::Vector3d> vertices) const;
+  // The shape, each vertex v free to move within inflation[v] of vertices[v]: for
+  // least_inflated_within alone.
+  Shape swept(std::vector<Eigen::Vector3d> vertices, std::vector<double> inflation) const;
 
  private:
   struct Node {
