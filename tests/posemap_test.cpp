@@ -1293,6 +1293,30 @@ TEST(PoseMap, SpheresPokingOutBetweenThePosesAreCounted) {
   EXPECT_NEAR(between.worst, worst, 1e-9 * rest.diagonal());
 }
 
+// Spheres at `count` random interior points of `rest` (seeded), each following its nearest
+// vertex's 4 heaviest joints; the point is its bind (the rest matrices of the shared rigs are the
+// identity where they are bound).
+std::vector<SkinInfluence> random_followers(const TriMesh& rest, const SkinFile& skin, size_t count, unsigned seed) {
+  std::mt19937 rng(seed);
+  const WindingNumber wn(rest);
+  const Eigen::AlignedBox3d box = rest.bounds();
+  std::vector<SkinInfluence> out;
+  while (out.size() < count) {
+    std::uniform_real_distribution<double> u(0, 1);
+    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    if (!wn.inside(p)) continue;
+    size_t nearest = 0;
+    for (size_t v = 0; v < rest.vertices.size(); ++v)
+      if ((rest.vertices[v] - p).norm() < (rest.vertices[nearest] - p).norm()) nearest = v;
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
+    for (const auto& [j, x] : skin.vertex_weights[nearest]) w[j] += x;
+    SkinInfluence s = heaviest_four(w);
+    s.bind = p;
+    out.push_back(s);
+  }
+  return out;
+}
+
 // The clip between the poses: its meshes at the poses' own times are the extracted poses, and
 // the least radius over it is, sphere by sphere, what a MeshQuery of every clip mesh finds (the
 // refitted hierarchy and the pseudo-normals against trees and winding numbers built afresh).
@@ -1315,26 +1339,8 @@ TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
     const TriMesh mine = clip.mesh_at(at);
     for (size_t v = 0; v < pose.vertices.size(); ++v) ASSERT_LE((pose.vertices[v] - mine.vertices[v]).norm(), 1e-6 * diag);
   }
-  // Spheres at random interior points, each following its nearest vertex's 4 heaviest joints.
-  std::mt19937 rng(5);
-  const WindingNumber wn(rest.mesh);
-  const Eigen::AlignedBox3d box = rest.mesh.bounds();
-  std::vector<SkinInfluence> influences;
-  std::vector<double> radius;
-  while (influences.size() < 60) {
-    std::uniform_real_distribution<double> u(0, 1);
-    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    if (!wn.inside(p)) continue;
-    size_t nearest = 0;
-    for (size_t v = 0; v < rest.mesh.vertices.size(); ++v)
-      if ((rest.mesh.vertices[v] - p).norm() < (rest.mesh.vertices[nearest] - p).norm()) nearest = v;
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
-    for (const auto& [j, x] : skin.vertex_weights[nearest]) w[j] += x;
-    SkinInfluence s = heaviest_four(w);
-    s.bind = p;  // the rest matrices of this asset are the identity where it is bound
-    influences.push_back(s);
-    radius.push_back(0.2 * diag);
-  }
+  const std::vector<SkinInfluence> influences = random_followers(rest.mesh, skin, 60, 5);
+  const std::vector<double> radius(influences.size(), 0.2 * diag);
   // Strict, then with an overshoot allowed at the clip's times (the depth plus it; 0 outside).
   for (const double overshoot : {0.0, 0.01 * diag}) {
     const ClipRadius loose(skin, rest.mesh, 1e30, overshoot);
@@ -1371,22 +1377,9 @@ TEST(ClipRadius, SweptBlocksChangeNoRadius) {
   const SkinFile& skin = extracted.skin;
   ASSERT_GT(skin.clip.times.size(), 1000u);
   const MeshQuery query(rest);
-  const Eigen::AlignedBox3d box = rest.bounds();
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<SkinInfluence> influences;
+  const std::vector<SkinInfluence> influences = random_followers(rest, skin, 250, 11);
   std::vector<double> radius;
-  while (influences.size() < 250) {
-    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    if (!query.inside(p)) continue;
-    const size_t nearest = size_t(query.closest(p).triangle);
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
-    for (const auto& [j, x] : skin.vertex_weights[size_t(rest.triangles[nearest][0])]) w[j] += x;
-    SkinInfluence s = heaviest_four(w);
-    s.bind = p;
-    influences.push_back(s);
-    radius.push_back(query.distance(p));
-  }
+  for (const SkinInfluence& s : influences) radius.push_back(query.distance(s.bind));
   for (const double overshoot : {0.0, 0.0025 * rest.diagonal()}) {
     const ClipRadius sweeping(skin, rest, 1e30, overshoot), walking(skin, rest, 1e30, overshoot, false);
     ClipRadius::Tally tally;

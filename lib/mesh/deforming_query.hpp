@@ -56,7 +56,7 @@ class DeformingQuery {
   };
   Shape shape(std::vector<Eigen::Vector3d> vertices) const;
   // The shape, each vertex v free to move within inflation[v] of vertices[v]: for
-  // least_inflated_within alone.
+  // inflated_nearer_than alone.
   Shape swept(std::vector<Eigen::Vector3d> vertices, std::vector<double> inflation) const;
 
  private:

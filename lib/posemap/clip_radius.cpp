@@ -18,6 +18,7 @@ ClipRadius::ClipRadius(const SkinFile& skin, const TriMesh& rest, double max_rad
       clip_(skin.clip),
       rest_(rest),
       max_radius_(max_radius),
+      margin_(1e-9 * rest.diagonal()),
       vertices_(skin, rest.vertices),
       deforming_(rest) {}
 
@@ -121,8 +122,6 @@ std::vector<uint32_t> ClipRadius::unsettled(size_t first, const std::vector<Eige
     }
     sweep[j].emplace(deforming_.swept(std::move(at), std::move(moves)));
   });
-  // Rounding in the bound's sums, kept off the decision.
-  const double margin = 1e-9 * rest_.diagonal();
   std::vector<char> settled(todo.size(), 0);
   tbb::parallel_for(size_t(0), todo.size(), [&](size_t n) {
     const SkinInfluence& s = influences[todo[n]];
@@ -136,7 +135,7 @@ std::vector<uint32_t> ClipRadius::unsettled(size_t first, const std::vector<Eige
     // Through the block every surface point stays farther than (least - drift) in the frame, so
     // than shrink * (least - drift) in the world: its radius there at least that plus the overshoot.
     // And never reaching the centre, the surface leaves it inside, as it was at time first - 1.
-    const double needed = std::max((radius[todo[n]] - overshoot_) / shrink[j], 0.0) + drift + margin;
+    const double needed = std::max((radius[todo[n]] - overshoot_) / shrink[j], 0.0) + drift + margin_;
     settled[n] = !sweep[j]->inflated_nearer_than(from, needed);
   });
   std::vector<uint32_t> out;

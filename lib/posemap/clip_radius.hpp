@@ -72,6 +72,7 @@ class ClipRadius {
   const SkinClip& clip_;
   const TriMesh& rest_;
   double max_radius_;
+  double margin_;  // the sweeps' decisions kept off rounding in their sums: a billionth of the diagonal
   SkinnedVertices vertices_;
   DeformingQuery deforming_;
 };
