@@ -413,8 +413,54 @@ TEST(DeformingQuery, InflatedSearchMatchesBruteForceAndBoundsEveryMovedShape) {
       EXPECT_TRUE(swept.inflated_nearer_than(p, brute + off * diag)) << "point " << n << " off " << off;
       EXPECT_FALSE(swept.inflated_nearer_than(p, brute - off * diag)) << "point " << n << " off " << off;
     }
+    // The triangles it finds within a bound: those brute force finds, and none past `most`.
+    const double bound = brute + 0.02 * diag;
+    std::vector<int> expected, found;
+    for (size_t t = 0; t < rest.triangles.size(); ++t) {
+      const Eigen::Vector3i& f = rest.triangles[t];
+      const double most = std::max({inflation[size_t(f[0])], inflation[size_t(f[1])], inflation[size_t(f[2])]});
+      if ((p - closest_point_on_triangle(p, rest.vertices[size_t(f[0])], rest.vertices[size_t(f[1])],
+                                         rest.vertices[size_t(f[2])])).norm() < bound + most)
+        expected.push_back(int(t));
+    }
+    ASSERT_TRUE(swept.inflated_triangles_nearer_than(p, bound, expected.size(), found)) << "point " << n;
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected) << "point " << n;
+    EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, bound, expected.size() - 1, found)) << "point " << n;
+    EXPECT_EQ(found.size(), expected.size() - 1) << "point " << n;
     for (const DeformingQuery::Shape& s : moved) EXPECT_GE(std::abs(s.signed_distance(p)), brute) << "point " << n;
   }
+}
+
+// A triangle and a point each going in a straight line: the bound on their least distance over
+// the step is below the distance at every point of it (brute force, finely); and in some steps
+// the distance dips below both ends by more than a quarter of the farthest corner's move, so the
+// bound cannot be min(ends) less a quarter of it.
+TEST(DeformingQuery, StepBoundIsBelowEveryPointOfTheStep) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  auto point = [&] { return Eigen::Vector3d(unit(rng), unit(rng), unit(rng)); };
+  size_t dips = 0;
+  for (int n = 0; n < 2000; ++n) {
+    Corners from{point(), point(), point()}, to;
+    // Steps of every length: some pass the triangle through the origin between its ends.
+    const Eigen::Vector3d across = (n % 2 ? 0.1 : 2.0) * point();
+    for (size_t c = 0; c < 3; ++c) to[c] = from[c] + across + (n % 3 ? 0.0 : 0.3) * point();
+    const double a = distance_to_origin(from), b = distance_to_origin(to);
+    const double bound = least_distance_over_step(from, a, to, b);
+    double brute = std::min(a, b);
+    for (int k = 1; k < 1000; ++k) {
+      const double s = k / 1000.0;
+      Corners at;
+      for (size_t c = 0; c < 3; ++c) at[c] = (1 - s) * from[c] + s * to[c];
+      brute = std::min(brute, distance_to_origin(at));
+    }
+    EXPECT_LE(bound, brute + 1e-12) << "step " << n;
+    double most = 0;
+    for (size_t c = 0; c < 3; ++c) most = std::max(most, (to[c] - from[c]).norm());
+    dips += brute < std::min(a, b) - most / 4;
+  }
+  EXPECT_GT(dips, 20u);
 }
 
 TEST(DeformingQuery, OpenMeshesAreNotClosed) {

@@ -1366,7 +1366,7 @@ TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
 }
 
 // The sweeps: a block of times where every triangle stays farther than a sphere's radius needs,
-// in the frame of its heaviest joint, is not asked. On the elephant's walk (its parts rigid on
+// in the frame of its heaviest joint (the sweep, then the few near it each step), is not asked. On the elephant's walk (its parts rigid on
 // their joints, the legs swinging past one another) they settle many blocks, and the radii are
 // those of every sphere walked through every one of the clip's times, to the bit.
 TEST(ClipRadius, SweptBlocksChangeNoRadius) {
@@ -1385,7 +1385,9 @@ TEST(ClipRadius, SweptBlocksChangeNoRadius) {
     ClipRadius::Tally tally;
     const std::vector<double> exact = walking.least(influences, radius);
     EXPECT_EQ(sweeping.least(influences, radius, nullptr, &tally), exact) << overshoot;
-    EXPECT_GT(tally.settled, tally.blocks / (overshoot > 0 ? 4 : 10))
+    // Most of them even with no overshoot, where a sphere touches the surface at its least: the
+    // triangles near it, tested against its centre step by step, move with it (a tenth without).
+    EXPECT_GT(tally.settled, tally.blocks / 2)
         << "overshoot " << overshoot << ": " << tally.settled << " of " << tally.blocks;
     // A hair above their least: only the block where each is least may lower it, and must.
     std::vector<double> tight(exact);

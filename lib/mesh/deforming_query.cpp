@@ -13,6 +13,15 @@
 
 namespace spx {
 
+double distance_to_origin(const Corners& u) {
+  return closest_point_on_triangle(Eigen::Vector3d::Zero(), u[0], u[1], u[2]).norm();
+}
+
+double least_distance_over_step(const Corners& from, double from_distance, const Corners& to, double to_distance) {
+  const double most = std::max({(to[0] - from[0]).norm(), (to[1] - from[1]).norm(), (to[2] - from[2]).norm()});
+  return std::min(from_distance, to_distance) - most / 2;
+}
+
 DeformingQuery::DeformingQuery(const TriMesh& rest) : tri_(rest.triangles) {
   closed_ = !tri_.empty() && find_defects(rest).watertight();
   // Edges: each undirected edge once, for its pseudo-normal.
@@ -258,8 +267,15 @@ bool DeformingQuery::Shape::nearer_than(const Eigen::Vector3d& p, double bound) 
 }
 
 bool DeformingQuery::Shape::inflated_nearer_than(const Eigen::Vector3d& p, double bound) const {
+  std::vector<int> found;
+  return !inflated_triangles_nearer_than(p, bound, 0, found);
+}
+
+bool DeformingQuery::Shape::inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
+                                                           std::vector<int>& found) const {
   const DeformingQuery& q = *q_;
   const size_t nodes = q.nodes_.size(), v = inflation_.size() - nodes;
+  found.clear();
   // Whether a node's box, grown by its largest inflation, may hold such a triangle.
   auto may = [&](int n) {
     const double reach = bound + inflation_[v + size_t(n)];
@@ -272,19 +288,22 @@ bool DeformingQuery::Shape::inflated_nearer_than(const Eigen::Vector3d& p, doubl
     const Node& node = q.nodes_[size_t(stack[size_t(--top)])];
     if (node.left < 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        const Eigen::Vector3i& f = q.tri_[size_t(q.order_[size_t(i)])];
+        const int t = q.order_[size_t(i)];
+        const Eigen::Vector3i& f = q.tri_[size_t(t)];
         const double reach =
             bound + std::max({inflation_[size_t(f[0])], inflation_[size_t(f[1])], inflation_[size_t(f[2])]});
-        if (reach > 0 && (p - closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])]))
-                                 .squaredNorm() < reach * reach)
-          return true;
+        if (!(reach > 0 && (p - closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])]))
+                                   .squaredNorm() < reach * reach))
+          continue;
+        if (found.size() == most) return false;
+        found.push_back(t);
       }
       continue;
     }
     if (may(node.right)) stack[size_t(top++)] = node.right;
     if (may(node.left)) stack[size_t(top++)] = node.left;
   }
-  return false;
+  return true;
 }
 
 bool DeformingQuery::Shape::inside(const Eigen::Vector3d& p) const {

@@ -4,12 +4,23 @@
 // and inside is told by the closest point's angle-weighted pseudo-normal (Baerentzen and Aanaes
 // 2005), exact for a closed, consistently oriented, edge-manifold mesh. A MeshQuery per frame
 // would rebuild its trees and its winding-number expansions every time.
+#include <array>
 #include <optional>
 #include <vector>
 
 #include "mesh/mesh.hpp"
 
 namespace spx {
+
+// A triangle's corners less a point: the point at the origin.
+using Corners = std::array<Eigen::Vector3d, 3>;
+// The distance from the origin to the triangle.
+double distance_to_origin(const Corners& corners);
+// At most the least distance from the origin to the triangle as its corners go in straight lines
+// from `from` to `to` (each the same share of its way at once), the ends `from_distance` and
+// `to_distance` away: every point of the step is within s D of where it starts and (1 - s) D of
+// where it ends, D the farthest a corner goes, so at least min(from, to) - D / 2 from the origin.
+double least_distance_over_step(const Corners& from, double from_distance, const Corners& to, double to_distance);
 
 class DeformingQuery {
  public:
@@ -38,6 +49,10 @@ class DeformingQuery {
     // vertices' largest inflation. Where each vertex may move anywhere within its inflation, false
     // says every shape of the sweep is at least `bound` from p. The search stops at the first found.
     bool inflated_nearer_than(const Eigen::Vector3d& p, double bound) const;
+    // The same test, each such triangle (its index in the rest's list) into `found`, in no set
+    // order; false, with `found` incomplete, once there are more than `most`.
+    bool inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
+                                        std::vector<int>& found) const;
 
    private:
     friend class DeformingQuery;

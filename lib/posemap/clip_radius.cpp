@@ -1,6 +1,7 @@
 #include "posemap/clip_radius.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -35,34 +36,50 @@ struct ClipRadius::Time {
   std::unique_ptr<MeshQuery> query;            // another
 };
 
-double ClipRadius::least_at(const Time& time, const Eigen::Vector3d& c, double r) const {
+double ClipRadius::least_at(const Time& time, const Eigen::Vector3d& c, double r, double moved) const {
   if (time.query) return time.query->inside(c) ? std::min(r, time.query->distance(c) + overshoot_) : 0.0;
   // Only a surface nearer than r less the overshoot lowers r: the search looks no farther.
   const double bound = r - overshoot_;
   const double d = bound > 0 ? time.shape->signed_distance_within(c, bound) : std::numeric_limits<double>::infinity();
   if (d < 0) return -d + overshoot_;
-  // Nothing nearer: the centre is inside or out (a jump between times). Or the closest surface
+  // Nothing nearer, and nothing was at the time before: going straight from there, each point of
+  // the surface stays at least bound - moved / 2 from the centre (least_distance_over_step), so
+  // never reaches it, and the centre stays inside.
+  if (!std::isfinite(d) && moved < 2 * (bound - margin_)) return r;
+  // Otherwise the centre may be inside or out (a jump between times). Or the closest surface
   // says outside, which where parts of the body pass through each other (legs in a stride) can
   // be a wall inside the solid. The winding number decides.
   if (!time.shape->inside(c)) return 0.0;
   return std::isfinite(d) ? d + overshoot_ : r;
 }
 
-void ClipRadius::walk(size_t first, const std::vector<std::vector<Eigen::Vector3d>>& meshes,
-                      const std::vector<uint32_t>& todo, const std::vector<SkinInfluence>& influences,
-                      std::vector<double>& radius) const {
+void ClipRadius::walk(size_t first, const std::vector<Eigen::Vector3d>* before,
+                      const std::vector<std::vector<Eigen::Vector3d>>& meshes, const std::vector<uint32_t>& todo,
+                      const std::vector<SkinInfluence>& influences, std::vector<double>& radius) const {
   if (todo.empty()) return;
   std::vector<Time> block(meshes.size());
+  // Each time's farthest vertex move from the time before (none before the clip's first).
+  std::vector<double> step(meshes.size(), std::numeric_limits<double>::infinity());
   tbb::parallel_for(size_t(0), meshes.size(), [&](size_t t) {
     if (deforming_.closed())
       block[t].shape.emplace(deforming_.shape(meshes[t]));
     else
       block[t].query = std::make_unique<MeshQuery>(TriMesh{meshes[t], rest_.triangles});
+    const std::vector<Eigen::Vector3d>* last = t > 0 ? &meshes[t - 1] : before;
+    if (!last) return;
+    double most = 0;
+    for (size_t v = 0; v < meshes[t].size(); ++v) most = std::max(most, (meshes[t][v] - (*last)[v]).squaredNorm());
+    step[t] = std::sqrt(most);
   });
   tbb::parallel_for(size_t(0), todo.size(), [&](size_t n) {
     double& r = radius[todo[n]];
-    for (size_t t = 0; t < meshes.size() && r > 0; ++t)
-      r = least_at(block[t], skin_point(influences[todo[n]], clip_.matrices[first + t]), r);
+    const SkinInfluence& s = influences[todo[n]];
+    Eigen::Vector3d last = first > 0 ? skin_point(s, clip_.matrices[first - 1]) : Eigen::Vector3d::Zero();
+    for (size_t t = 0; t < meshes.size() && r > 0; ++t) {
+      const Eigen::Vector3d c = skin_point(s, clip_.matrices[first + t]);
+      r = least_at(block[t], c, r, step[t] + (c - last).norm());
+      last = c;
+    }
   });
 }
 
@@ -86,6 +103,38 @@ Inverse inverse_of(const Eigen::Matrix4d& m) {
 }
 // Past this, a joint's frame is not asked (the sweep's bound would be loose, or wrong).
 constexpr double kMostStretch = 1e-3;
+// A sphere the sweep finds more triangles near than this walks the block: the test below costs
+// about a time's search per 16 triangles.
+constexpr size_t kMostNear = 64;
+
+// Whether each of the `near` triangles stays at least `least` from the centre through the block,
+// in the joint's frame (`inverse`: time first - 1, then the block's), each corner and the centre
+// going in straight lines from time to time, so their difference too. The sweep bounds a
+// triangle's motion and the centre's apart; near a sphere whose surface moves with it (a ball
+// tangent where the skin blends joints) the difference barely moves.
+bool stays_farther(const std::vector<Eigen::Vector3i>& triangles, const std::vector<int>& near,
+                   const std::vector<Eigen::Vector3d>& before, const std::vector<std::vector<Eigen::Vector3d>>& meshes,
+                   const std::vector<Inverse>& inverse, const Eigen::Vector3d* centre, double least) {
+  for (int t : near) {
+    const Eigen::Vector3i& f = triangles[size_t(t)];
+    auto corners = [&](size_t k) {  // the triangle's corners less the centre at step k
+      Corners u;
+      for (size_t c = 0; c < 3; ++c)
+        u[c] = inverse[k](k == 0 ? before[size_t(f[int(c)])] : meshes[k - 1][size_t(f[int(c)])]) - centre[k];
+      return u;
+    };
+    Corners last = corners(0);
+    double last_distance = distance_to_origin(last);
+    for (size_t k = 1; k <= meshes.size(); ++k) {
+      const Corners now = corners(k);
+      const double distance = distance_to_origin(now);
+      if (least_distance_over_step(last, last_distance, now, distance) < least) return false;
+      last = now;
+      last_distance = distance;
+    }
+  }
+  return true;
+}
 }  // namespace
 
 std::vector<uint32_t> ClipRadius::unsettled(size_t first, const std::vector<Eigen::Vector3d>& before,
@@ -127,16 +176,23 @@ std::vector<uint32_t> ClipRadius::unsettled(size_t first, const std::vector<Eige
     const SkinInfluence& s = influences[todo[n]];
     const size_t j = size_t(s.joint[0]);
     if (!sweep[j]) return;
-    // The centre in the joint's frame, and the farthest it goes there in the block.
-    const Eigen::Vector3d from = inverse[j][0](skin_point(s, clip_.matrices[first - 1]));
+    // The centre in the joint's frame at time first - 1 and the block's, and the farthest it goes.
+    std::array<Eigen::Vector3d, kTimesAtOnce + 1> centre;
     double drift = 0;
-    for (size_t t = 0; t < count; ++t)
-      drift = std::max(drift, (inverse[j][t + 1](skin_point(s, clip_.matrices[first + t])) - from).norm());
-    // Through the block every surface point stays farther than (least - drift) in the frame, so
-    // than shrink * (least - drift) in the world: its radius there at least that plus the overshoot.
-    // And never reaching the centre, the surface leaves it inside, as it was at time first - 1.
-    const double needed = std::max((radius[todo[n]] - overshoot_) / shrink[j], 0.0) + drift + margin_;
-    settled[n] = !sweep[j]->inflated_nearer_than(from, needed);
+    for (size_t t = 0; t <= count; ++t) {
+      centre[t] = inverse[j][t](skin_point(s, clip_.matrices[first + t - 1]));
+      drift = std::max(drift, (centre[t] - centre[0]).norm());
+    }
+    // Through the block the surface must stay farther than `least` in the frame, so than
+    // shrink * least in the world: the radius there at least that plus the overshoot. And never
+    // reaching the centre, the surface leaves it inside, as it was at time first - 1.
+    const double least = std::max((radius[todo[n]] - overshoot_) / shrink[j], 0.0) + margin_;
+    // Each vertex and the centre go from time to time in straight lines in the frame. A triangle
+    // the sweep finds no nearer than least plus the centre's drift and its vertices' inflation
+    // stays farther than least throughout.
+    thread_local std::vector<int> near;
+    if (sweep[j]->inflated_triangles_nearer_than(centre[0], least + drift, kMostNear, near))
+      settled[n] = near.empty() || stays_farther(rest_.triangles, near, before, meshes, inverse[j], centre.data(), least);
   });
   std::vector<uint32_t> out;
   for (size_t n = 0; n < todo.size(); ++n)
@@ -161,7 +217,7 @@ std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influenc
   };
   // The first time asked of every sphere; then blocks, each swept from the time before it.
   std::vector<std::vector<Eigen::Vector3d>> meshes{vertices_.all(clip_.matrices[0])};
-  walk(0, meshes, alive(), influences, out);
+  walk(0, nullptr, meshes, alive(), influences, out);
   const size_t blocks = (time_count() - 1 + kTimesAtOnce - 1) / kTimesAtOnce;
   for (size_t first = 1; first < time_count(); first += kTimesAtOnce) {
     if (log) log->progress(stage.c_str(), (first - 1) / kTimesAtOnce, blocks);
@@ -173,7 +229,7 @@ std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influenc
     const size_t asked = todo.size();
     if (sweep_ && deforming_.closed()) todo = unsettled(first, before, meshes, todo, influences, out);
     if (tally) tally->blocks += asked, tally->settled += asked - todo.size();
-    walk(first, meshes, todo, influences, out);
+    walk(first, &before, meshes, todo, influences, out);
   }
   if (log) log->progress(stage.c_str(), blocks, blocks);
   return out;

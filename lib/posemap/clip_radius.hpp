@@ -39,7 +39,11 @@ class ClipRadius {
   // afresh (MeshQuery, winding numbers: far slower). On a closed mesh a sphere is first asked
   // once per block of times, in the frame of its heaviest joint, where the parts that move
   // rigidly with it stay put: where every triangle stays farther than its radius needs through
-  // the block, the block cannot lower it and its times are not asked (the same radii to the bit).
+  // the block (the sweep for most, then each of the few it finds near, step by step against the
+  // centre), the block cannot lower it and its times are not asked (the same radii to the bit).
+  // A time asked looks for the surface only as near as the radius needs; where nothing is, and
+  // the parts and the centre moved less than twice that since the time before, the centre is
+  // still inside without the winding number.
   // Independent of the thread count. With a `log`, a percentage on a terminal (thousands of
   // candidates over a clip take a minute). `tally`: how many of the spheres' blocks were asked
   // and how many of those the sweep settled.
@@ -54,10 +58,14 @@ class ClipRadius {
 
  private:
   struct Time;  // one time's mesh and what queries it
-  // The least of `r` and the radius of a sphere centred at c at that time.
-  double least_at(const Time& time, const Eigen::Vector3d& c, double r) const;
-  // The spheres `todo` walk the times from `first` (their meshes `meshes`) in order.
-  void walk(size_t first, const std::vector<std::vector<Eigen::Vector3d>>& meshes, const std::vector<uint32_t>& todo,
+  // The least of `r` and the radius of a sphere centred at c at that time. `moved`: how far the
+  // centre and the farthest vertex went since the time before, where the surface stayed at least
+  // r less the overshoot from it (infinite at the clip's first time).
+  double least_at(const Time& time, const Eigen::Vector3d& c, double r, double moved) const;
+  // The spheres `todo` walk the times from `first` (their meshes `meshes`; `before`, the mesh at
+  // time first - 1, none at the first) in order.
+  void walk(size_t first, const std::vector<Eigen::Vector3d>* before,
+            const std::vector<std::vector<Eigen::Vector3d>>& meshes, const std::vector<uint32_t>& todo,
             const std::vector<SkinInfluence>& influences, std::vector<double>& radius) const;
   // Of `todo`, those the times from `first` (`meshes`) might shrink: the others stay farther from
   // every triangle than their radius needs at every one of them, as the sweep from time
