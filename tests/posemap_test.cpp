@@ -1386,7 +1386,7 @@ TEST(ClipRadius, SweptBlocksChangeNoRadius) {
     const std::vector<double> exact = walking.least(influences, radius);
     EXPECT_EQ(sweeping.least(influences, radius, nullptr, &tally), exact) << overshoot;
     // Most of them even with no overshoot, where a sphere touches the surface at its least: the
-    // triangles near it, tested against its centre step by step, move with it (a tenth without).
+    // triangles near it, tested against its centre step by step, move with it (an eighth without).
     EXPECT_GT(tally.settled, tally.blocks / 2)
         << "overshoot " << overshoot << ": " << tally.settled << " of " << tally.blocks;
     // A hair above their least: only the block where each is least may lower it, and must.
