@@ -402,27 +402,26 @@ TEST(DeformingQuery, InflatedSearchMatchesBruteForceAndBoundsEveryMovedShape) {
   }
   for (int n = 0; n < 300; ++n) {
     const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    double brute = std::numeric_limits<double>::infinity();
+    // Per triangle, its distance less its corners' largest inflation; the least of them.
+    std::vector<double> gap;
     for (const auto& t : rest.triangles) {
       const double most = std::max({inflation[size_t(t[0])], inflation[size_t(t[1])], inflation[size_t(t[2])]});
-      const double d = (p - closest_point_on_triangle(p, rest.vertices[size_t(t[0])], rest.vertices[size_t(t[1])],
-                                                       rest.vertices[size_t(t[2])])).norm();
-      brute = std::min(brute, d - most);
+      gap.push_back((p - closest_point_on_triangle(p, rest.vertices[size_t(t[0])], rest.vertices[size_t(t[1])],
+                                                   rest.vertices[size_t(t[2])])).norm() - most);
     }
+    const double brute = *std::min_element(gap.begin(), gap.end());
+    std::vector<int> found;
     for (double off : {1e-9, 1e-3, 0.05}) {
-      EXPECT_TRUE(swept.inflated_nearer_than(p, brute + off * diag)) << "point " << n << " off " << off;
-      EXPECT_FALSE(swept.inflated_nearer_than(p, brute - off * diag)) << "point " << n << " off " << off;
+      EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, brute + off * diag, 0, found))
+          << "point " << n << " off " << off;
+      EXPECT_TRUE(swept.inflated_triangles_nearer_than(p, brute - off * diag, 0, found))
+          << "point " << n << " off " << off;
     }
     // The triangles it finds within a bound: those brute force finds, and none past `most`.
     const double bound = brute + 0.02 * diag;
-    std::vector<int> expected, found;
-    for (size_t t = 0; t < rest.triangles.size(); ++t) {
-      const Eigen::Vector3i& f = rest.triangles[t];
-      const double most = std::max({inflation[size_t(f[0])], inflation[size_t(f[1])], inflation[size_t(f[2])]});
-      if ((p - closest_point_on_triangle(p, rest.vertices[size_t(f[0])], rest.vertices[size_t(f[1])],
-                                         rest.vertices[size_t(f[2])])).norm() < bound + most)
-        expected.push_back(int(t));
-    }
+    std::vector<int> expected;
+    for (size_t t = 0; t < gap.size(); ++t)
+      if (gap[t] < bound) expected.push_back(int(t));
     ASSERT_TRUE(swept.inflated_triangles_nearer_than(p, bound, expected.size(), found)) << "point " << n;
     std::sort(found.begin(), found.end());
     EXPECT_EQ(found, expected) << "point " << n;

@@ -1366,9 +1366,10 @@ TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
 }
 
 // The sweeps: a block of times where every triangle stays farther than a sphere's radius needs,
-// in the frame of its heaviest joint (the sweep, then the few near it each step), is not asked. On the elephant's walk (its parts rigid on
-// their joints, the legs swinging past one another) they settle many blocks, and the radii are
-// those of every sphere walked through every one of the clip's times, to the bit.
+// in the frame of its heaviest joint (the sweep, then the few near it each step), is not asked.
+// On the elephant's walk (its parts rigid on their joints, the legs swinging past one another)
+// they settle many blocks, and the radii are those of every sphere walked through every one of
+// the clip's times, to the bit.
 TEST(ClipRadius, SweptBlocksChangeNoRadius) {
   SPX_REQUIRE_SHARED_DATA();
   const ExtractedClip extracted = extract_clip(test::shared_data() + "/elephant/elephant-rigged.glb",

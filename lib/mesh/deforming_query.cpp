@@ -266,11 +266,6 @@ bool DeformingQuery::Shape::nearer_than(const Eigen::Vector3d& p, double bound) 
   return found;
 }
 
-bool DeformingQuery::Shape::inflated_nearer_than(const Eigen::Vector3d& p, double bound) const {
-  std::vector<int> found;
-  return !inflated_triangles_nearer_than(p, bound, 0, found);
-}
-
 bool DeformingQuery::Shape::inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
                                                            std::vector<int>& found) const {
   const DeformingQuery& q = *q_;

@@ -45,12 +45,11 @@ class DeformingQuery {
     // front face, -1 entering. Where parts pass through each other the count still says inside.
     // A ray that grazes an edge is cast again another way, and after a few, the exact sum decides.
     bool inside(const Eigen::Vector3d& p) const;
-    // With `inflation` (swept()): whether some triangle is nearer to p than `bound` plus its
-    // vertices' largest inflation. Where each vertex may move anywhere within its inflation, false
-    // says every shape of the sweep is at least `bound` from p. The search stops at the first found.
-    bool inflated_nearer_than(const Eigen::Vector3d& p, double bound) const;
-    // The same test, each such triangle (its index in the rest's list) into `found`, in no set
-    // order; false, with `found` incomplete, once there are more than `most`.
+    // With `inflation` (swept()): each triangle nearer to p than `bound` plus its vertices'
+    // largest inflation (its index in the rest's list) into `found`, in no set order; false, with
+    // `found` incomplete, once there are more than `most` (with `most` 0, at the first). Where each
+    // vertex may move anywhere within its inflation, a triangle not found stays at least `bound`
+    // from p in every shape of the sweep.
     bool inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
                                         std::vector<int>& found) const;
 
@@ -71,7 +70,7 @@ class DeformingQuery {
   };
   Shape shape(std::vector<Eigen::Vector3d> vertices) const;
   // The shape, each vertex v free to move within inflation[v] of vertices[v]: for
-  // inflated_nearer_than alone.
+  // inflated_triangles_nearer_than alone.
   Shape swept(std::vector<Eigen::Vector3d> vertices, std::vector<double> inflation) const;
 
  private:

@@ -66,7 +66,7 @@ void ClipRadius::walk(size_t first, const std::vector<Eigen::Vector3d>* before,
     else
       block[t].query = std::make_unique<MeshQuery>(TriMesh{meshes[t], rest_.triangles});
     const std::vector<Eigen::Vector3d>* last = t > 0 ? &meshes[t - 1] : before;
-    if (!last) return;
+    if (!last || !deforming_.closed()) return;  // least_at asks it of a closed mesh alone
     double most = 0;
     for (size_t v = 0; v < meshes[t].size(); ++v) most = std::max(most, (meshes[t][v] - (*last)[v]).squaredNorm());
     step[t] = std::sqrt(most);
@@ -74,7 +74,7 @@ void ClipRadius::walk(size_t first, const std::vector<Eigen::Vector3d>* before,
   tbb::parallel_for(size_t(0), todo.size(), [&](size_t n) {
     double& r = radius[todo[n]];
     const SkinInfluence& s = influences[todo[n]];
-    Eigen::Vector3d last = first > 0 ? skin_point(s, clip_.matrices[first - 1]) : Eigen::Vector3d::Zero();
+    Eigen::Vector3d last = before ? skin_point(s, clip_.matrices[first - 1]) : Eigen::Vector3d::Zero();
     for (size_t t = 0; t < meshes.size() && r > 0; ++t) {
       const Eigen::Vector3d c = skin_point(s, clip_.matrices[first + t]);
       r = least_at(block[t], c, r, step[t] + (c - last).norm());
