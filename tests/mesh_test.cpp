@@ -8,6 +8,8 @@
 #include <atomic>
 #include <fstream>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -376,20 +378,43 @@ TEST(DeformingQuery, SignedDistancesMatchBruteForceInEveryShape) {
   check_deforming_query(load_mesh(test::shared_data() + "/elephant/rest.obj").mesh, 400, 4, true);
 }
 
+// The elephant swept: most vertices rigid (no inflation), the others free to move up to 3 % of
+// the diagonal. The query is held where the shape's pointer to it stays put.
+struct SweptElephant {
+  TriMesh rest;
+  std::unique_ptr<DeformingQuery> query;
+  std::vector<double> inflation;
+  std::optional<DeformingQuery::Shape> swept;
+  double diag = 0;
+  Eigen::AlignedBox3d box;
+};
+SweptElephant swept_elephant(std::mt19937& rng) {
+  SweptElephant e;
+  e.rest = load_mesh(test::shared_data() + "/elephant/rest.obj").mesh;
+  e.query = std::make_unique<DeformingQuery>(e.rest);
+  e.diag = e.rest.diagonal();
+  e.box = e.rest.bounds();
+  std::uniform_real_distribution<double> u(0, 1);
+  e.inflation.resize(e.rest.vertices.size());
+  for (double& i : e.inflation) i = u(rng) < 0.7 ? 0.0 : 0.03 * e.diag * u(rng);
+  e.swept.emplace(e.query->swept(e.rest.vertices, e.inflation));
+  return e;
+}
+
 // The swept shape's test: some triangle nearer than a bound plus its vertices' largest inflation,
 // exactly where brute force finds the least of distance less inflation below the bound; and that
 // least is below the distance to any shape whose vertices moved within their inflation.
 TEST(DeformingQuery, InflatedSearchMatchesBruteForceAndBoundsEveryMovedShape) {
   SPX_REQUIRE_SHARED_DATA();
-  const TriMesh rest = load_mesh(test::shared_data() + "/elephant/rest.obj").mesh;
-  const DeformingQuery query(rest);
-  const double diag = rest.diagonal();
-  const Eigen::AlignedBox3d box = rest.bounds();
   std::mt19937 rng(7);
+  const SweptElephant e = swept_elephant(rng);
+  const TriMesh& rest = e.rest;
+  const DeformingQuery& query = *e.query;
+  const std::vector<double>& inflation = e.inflation;
+  const DeformingQuery::Shape& swept = *e.swept;
+  const double diag = e.diag;
+  const Eigen::AlignedBox3d box = e.box;
   std::uniform_real_distribution<double> u(0, 1), unit(-1, 1);
-  std::vector<double> inflation(rest.vertices.size());
-  for (double& i : inflation) i = u(rng) < 0.7 ? 0.0 : 0.03 * diag * u(rng);  // most parts rigid
-  const DeformingQuery::Shape swept = query.swept(rest.vertices, inflation);
   // Three shapes within the sweep: each vertex moved by at most its inflation.
   std::vector<DeformingQuery::Shape> moved;
   for (int k = 0; k < 3; ++k) {
@@ -429,6 +454,49 @@ TEST(DeformingQuery, InflatedSearchMatchesBruteForceAndBoundsEveryMovedShape) {
     EXPECT_EQ(found.size(), expected.size() - 1) << "point " << n;
     for (const DeformingQuery::Shape& s : moved) EXPECT_GE(std::abs(s.signed_distance(p)), brute) << "point " << n;
   }
+}
+
+// Searches near one another from the leaves their region reaches (the tree entered once) find
+// what each finds from the root: the same triangles in the same order, and the same cap.
+TEST(DeformingQuery, GroupSearchFindsWhatEachSearchFinds) {
+  SPX_REQUIRE_SHARED_DATA();
+  std::mt19937 rng(11);
+  const SweptElephant e = swept_elephant(rng);
+  const DeformingQuery::Shape& swept = *e.swept;
+  const double diag = e.diag;
+  const Eigen::AlignedBox3d box = e.box;
+  const size_t triangles = e.rest.triangles.size();
+  std::uniform_real_distribution<double> u(0, 1), unit(-1, 1);
+  size_t compared = 0, capped = 0;
+  for (int g = 0; g < 60; ++g) {
+    // 16 points within a twentieth of the diagonal, each with its own bound.
+    const Eigen::Vector3d middle = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    std::vector<std::pair<Eigen::Vector3d, double>> asks;
+    Eigen::AlignedBox3d region;
+    for (int k = 0; k < 16; ++k) {
+      const Eigen::Vector3d p = middle + 0.05 * diag * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+      const double bound = (0.002 + 0.03 * u(rng)) * diag;
+      asks.emplace_back(p, bound);
+      region.extend(p - Eigen::Vector3d::Constant(bound));
+      region.extend(p + Eigen::Vector3d::Constant(bound));
+    }
+    std::vector<int> leaves, each, grouped;
+    swept.leaves_near(region, leaves);
+    for (const auto& [p, bound] : asks) {
+      ASSERT_TRUE(swept.inflated_triangles_nearer_than(p, bound, triangles, each));
+      ASSERT_TRUE(swept.inflated_triangles_nearer_than(p, bound, triangles, grouped, leaves));
+      EXPECT_EQ(grouped, each) << "group " << g;
+      compared += each.size();
+      if (each.empty()) continue;
+      // Capped one short: both stop at the same triangle.
+      EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, bound, each.size() - 1, grouped, leaves));
+      EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, bound, each.size() - 1, each));
+      EXPECT_EQ(grouped, each) << "group " << g;
+      ++capped;
+    }
+  }
+  EXPECT_GT(compared, size_t(5000));  // the asks reach the surface, not only empty space
+  EXPECT_GT(capped, size_t(300));
 }
 
 // A triangle and a point each going in a straight line: the bound on their least distance over

@@ -266,38 +266,85 @@ bool DeformingQuery::Shape::nearer_than(const Eigen::Vector3d& p, double bound) 
   return found;
 }
 
+bool DeformingQuery::Shape::may_reach(int n, const Eigen::Vector3d& p, double bound) const {
+  const double reach = bound + inflation_[inflation_.size() - q_->nodes_.size() + size_t(n)];
+  return reach > 0 && box_[size_t(n)].squaredExteriorDistance(p) < reach * reach;
+}
+
+bool DeformingQuery::Shape::add_inflated_near(int n, const Eigen::Vector3d& p, double bound, size_t most,
+                                              std::vector<int>& found) const {
+  const DeformingQuery& q = *q_;
+  const Node& node = q.nodes_[size_t(n)];
+  for (int i = node.first; i < node.first + node.count; ++i) {
+    const int t = q.order_[size_t(i)];
+    const Eigen::Vector3i& f = q.tri_[size_t(t)];
+    const double reach =
+        bound + std::max({inflation_[size_t(f[0])], inflation_[size_t(f[1])], inflation_[size_t(f[2])]});
+    if (!(reach > 0 && (p - closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])]))
+                               .squaredNorm() < reach * reach))
+      continue;
+    if (found.size() == most) return false;
+    found.push_back(t);
+  }
+  return true;
+}
+
 bool DeformingQuery::Shape::inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
                                                            std::vector<int>& found) const {
   const DeformingQuery& q = *q_;
-  const size_t nodes = q.nodes_.size(), v = inflation_.size() - nodes;
   found.clear();
-  // Whether a node's box, grown by its largest inflation, may hold such a triangle.
+  std::array<int, 128> stack;
+  int top = 0;
+  if (!q.nodes_.empty() && may_reach(0, p, bound)) stack[size_t(top++)] = 0;
+  while (top > 0) {
+    const int n = stack[size_t(--top)];
+    const Node& node = q.nodes_[size_t(n)];
+    if (node.left < 0) {
+      if (!add_inflated_near(n, p, bound, most, found)) return false;
+      continue;
+    }
+    if (may_reach(node.right, p, bound)) stack[size_t(top++)] = node.right;
+    if (may_reach(node.left, p, bound)) stack[size_t(top++)] = node.left;
+  }
+  return true;
+}
+
+void DeformingQuery::Shape::leaves_near(const Eigen::AlignedBox3d& region, std::vector<int>& leaves) const {
+  const DeformingQuery& q = *q_;
+  const size_t v = inflation_.size() - q.nodes_.size();
+  leaves.clear();
+  // A ball in the region that a node's grown box reaches: the box comes within its inflation of
+  // the region (no nearer test, so that an inflation of 0 keeps a box touching it).
   auto may = [&](int n) {
-    const double reach = bound + inflation_[v + size_t(n)];
-    return reach > 0 && box_[size_t(n)].squaredExteriorDistance(p) < reach * reach;
+    const Eigen::AlignedBox3d& box = box_[size_t(n)];
+    const Eigen::Vector3d gap =
+        (region.min() - box.max()).cwiseMax(box.min() - region.max()).cwiseMax(Eigen::Vector3d::Zero());
+    const double grow = inflation_[v + size_t(n)];
+    return gap.squaredNorm() <= grow * grow;
   };
   std::array<int, 128> stack;
   int top = 0;
-  if (nodes > 0 && may(0)) stack[size_t(top++)] = 0;
+  if (!q.nodes_.empty() && may(0)) stack[size_t(top++)] = 0;
   while (top > 0) {
-    const Node& node = q.nodes_[size_t(stack[size_t(--top)])];
+    const int n = stack[size_t(--top)];
+    const Node& node = q.nodes_[size_t(n)];
     if (node.left < 0) {
-      for (int i = node.first; i < node.first + node.count; ++i) {
-        const int t = q.order_[size_t(i)];
-        const Eigen::Vector3i& f = q.tri_[size_t(t)];
-        const double reach =
-            bound + std::max({inflation_[size_t(f[0])], inflation_[size_t(f[1])], inflation_[size_t(f[2])]});
-        if (!(reach > 0 && (p - closest_point_on_triangle(p, v_[size_t(f[0])], v_[size_t(f[1])], v_[size_t(f[2])]))
-                                   .squaredNorm() < reach * reach))
-          continue;
-        if (found.size() == most) return false;
-        found.push_back(t);
-      }
+      leaves.push_back(n);
       continue;
     }
     if (may(node.right)) stack[size_t(top++)] = node.right;
     if (may(node.left)) stack[size_t(top++)] = node.left;
   }
+}
+
+bool DeformingQuery::Shape::inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
+                                                           std::vector<int>& found,
+                                                           const std::vector<int>& leaves) const {
+  found.clear();
+  // A leaf the search from the root reaches passes this test, and so do its ancestors (their
+  // boxes hold its box and their inflation is at least its own): the same leaves, in order.
+  for (int n : leaves)
+    if (may_reach(n, p, bound) && !add_inflated_near(n, p, bound, most, found)) return false;
   return true;
 }
 

@@ -52,6 +52,13 @@ class DeformingQuery {
     // from p in every shape of the sweep.
     bool inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
                                         std::vector<int>& found) const;
+    // Many such searches near one another, the tree entered once: `leaves_near` gives the leaves
+    // (in the order the search meets them) whose box, grown by their vertices' largest inflation,
+    // comes within reach of `region`; then each search whose ball p +- bound lies in `region`
+    // finds, from those leaves alone, what the search above finds, in the same order.
+    void leaves_near(const Eigen::AlignedBox3d& region, std::vector<int>& leaves) const;
+    bool inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most, std::vector<int>& found,
+                                        const std::vector<int>& leaves) const;
 
    private:
     friend class DeformingQuery;
@@ -60,6 +67,11 @@ class DeformingQuery {
     std::optional<int> crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const;
     template <class Leaf>
     void search(const Eigen::Vector3d& p, double& best, Leaf&& leaf) const;
+    // Whether node n's box, grown by its largest inflation plus `bound`, reaches p.
+    bool may_reach(int n, const Eigen::Vector3d& p, double bound) const;
+    // Leaf n's triangles nearer to p than `bound` plus their inflation, into `found`; false once
+    // there are more than `most`.
+    bool add_inflated_near(int n, const Eigen::Vector3d& p, double bound, size_t most, std::vector<int>& found) const;
     const DeformingQuery* q_ = nullptr;
     std::vector<Eigen::Vector3d> v_;
     std::vector<Eigen::AlignedBox3d> box_;  // per node

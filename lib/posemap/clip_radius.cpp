@@ -106,6 +106,8 @@ constexpr double kMostStretch = 1e-3;
 // A sphere the sweep finds more triangles near than this walks the block (on the walk's 4 frames
 // held over its clip, 32, 128 and 256 took as long or longer).
 constexpr size_t kMostNear = 64;
+// Spheres of one joint near one another searched together (see unsettled).
+constexpr size_t kGroup = 16;
 
 // Whether each of the `near` triangles stays at least `least` from the centre through the block,
 // in the joint's frame (`inverse`: time first - 1, then the block's), each corner and the centre
@@ -134,6 +136,45 @@ bool stays_farther(const std::vector<Eigen::Vector3i>& triangles, const std::vec
     }
   }
   return true;
+}
+
+// Sphere indices by heaviest joint, then along a Morton curve through their bind points (a
+// joint's spheres near one another in the asset are near in its frame at every time), ties by index.
+std::vector<uint32_t> by_joint_then_place(const std::vector<SkinInfluence>& influences) {
+  Eigen::AlignedBox3d box;
+  for (const SkinInfluence& s : influences) box.extend(s.bind);
+  const Eigen::Vector3d scale = 1023.0 / box.sizes().cwiseMax(1e-300).array();
+  auto spread = [](uint64_t x) {  // 10 bits to every third of 30
+    x = (x | (x << 16)) & 0x030000FFull;
+    x = (x | (x << 8)) & 0x0300F00Full;
+    x = (x | (x << 4)) & 0x030C30C3ull;
+    return (x | (x << 2)) & 0x09249249ull;
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(influences.size());
+  for (size_t i = 0; i < influences.size(); ++i) {
+    const Eigen::Vector3d c = (influences[i].bind - box.min()).cwiseProduct(scale);
+    uint64_t code = 0;
+    for (int a = 0; a < 3; ++a) code |= spread(uint64_t(std::clamp(c[a], 0.0, 1023.0))) << a;
+    keyed[i] = {(uint64_t(uint32_t(influences[i].joint[0])) << 32) | code, uint32_t(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<uint32_t> out(keyed.size());
+  for (size_t i = 0; i < keyed.size(); ++i) out[i] = keyed[i].second;
+  return out;
+}
+
+// Of `todo` (in joint and then spatial order), runs [begin, end) of up to kGroup on one joint.
+std::vector<std::pair<size_t, size_t>> runs_of(const std::vector<uint32_t>& todo,
+                                               const std::vector<SkinInfluence>& influences) {
+  std::vector<std::pair<size_t, size_t>> out;
+  for (size_t n = 0; n < todo.size();) {
+    const int joint = influences[todo[n]].joint[0];
+    size_t end = n + 1;
+    while (end < todo.size() && end - n < kGroup && influences[todo[end]].joint[0] == joint) ++end;
+    out.emplace_back(n, end);
+    n = end;
+  }
+  return out;
 }
 }  // namespace
 
@@ -171,28 +212,47 @@ std::vector<uint32_t> ClipRadius::unsettled(size_t first, const std::vector<Eige
     }
     sweep[j].emplace(deforming_.swept(std::move(at), std::move(moves)));
   });
+  // Runs of spheres on one joint near one another share the sweep's descent from its root: the
+  // leaves near any of them, then each its own.
+  const std::vector<std::pair<size_t, size_t>> groups = runs_of(todo, influences);
   std::vector<char> settled(todo.size(), 0);
-  tbb::parallel_for(size_t(0), todo.size(), [&](size_t n) {
-    const SkinInfluence& s = influences[todo[n]];
-    const size_t j = size_t(s.joint[0]);
+  tbb::parallel_for(size_t(0), groups.size(), [&](size_t g) {
+    const auto [begin, end] = groups[g];
+    const size_t j = size_t(influences[todo[begin]].joint[0]);
     if (!sweep[j]) return;
-    // The centre in the joint's frame at time first - 1 and the block's, and the farthest it goes.
-    std::array<Eigen::Vector3d, kTimesAtOnce + 1> centre;
-    double drift = 0;
-    for (size_t t = 0; t <= count; ++t) {
-      centre[t] = inverse[j][t](skin_point(s, clip_.matrices[first + t - 1]));
-      drift = std::max(drift, (centre[t] - centre[0]).norm());
+    struct Ask {
+      Eigen::Vector3d centre[kTimesAtOnce + 1];
+      double least = 0, reach = 0;
+    };
+    std::array<Ask, kGroup> ask;
+    Eigen::AlignedBox3d region;
+    for (size_t n = begin; n < end; ++n) {
+      Ask& a = ask[n - begin];
+      const SkinInfluence& s = influences[todo[n]];
+      // The centre in the joint's frame at time first - 1 and the block's, and the farthest it goes.
+      double drift = 0;
+      for (size_t t = 0; t <= count; ++t) {
+        a.centre[t] = inverse[j][t](skin_point(s, clip_.matrices[first + t - 1]));
+        drift = std::max(drift, (a.centre[t] - a.centre[0]).norm());
+      }
+      // Through the block the surface must stay farther than `least` in the frame, so than
+      // shrink * least in the world: the radius there at least that plus the overshoot. And never
+      // reaching the centre, the surface leaves it inside, as it was at time first - 1.
+      a.least = std::max((radius[todo[n]] - overshoot_) / shrink[j], 0.0) + margin_;
+      // Each vertex and the centre go from time to time in straight lines in the frame. A
+      // triangle the sweep finds no nearer than least plus the centre's drift and its vertices'
+      // inflation stays farther than least throughout.
+      a.reach = a.least + drift;
+      region.extend(a.centre[0] - Eigen::Vector3d::Constant(a.reach));
+      region.extend(a.centre[0] + Eigen::Vector3d::Constant(a.reach));
     }
-    // Through the block the surface must stay farther than `least` in the frame, so than
-    // shrink * least in the world: the radius there at least that plus the overshoot. And never
-    // reaching the centre, the surface leaves it inside, as it was at time first - 1.
-    const double least = std::max((radius[todo[n]] - overshoot_) / shrink[j], 0.0) + margin_;
-    // Each vertex and the centre go from time to time in straight lines in the frame. A triangle
-    // the sweep finds no nearer than least plus the centre's drift and its vertices' inflation
-    // stays farther than least throughout.
-    thread_local std::vector<int> near;
-    if (sweep[j]->inflated_triangles_nearer_than(centre[0], least + drift, kMostNear, near))
-      settled[n] = near.empty() || stays_farther(rest_.triangles, near, before, meshes, inverse[j], centre.data(), least);
+    thread_local std::vector<int> leaves, near;
+    sweep[j]->leaves_near(region, leaves);
+    for (size_t n = begin; n < end; ++n) {
+      const Ask& a = ask[n - begin];
+      if (sweep[j]->inflated_triangles_nearer_than(a.centre[0], a.reach, kMostNear, near, leaves))
+        settled[n] = near.empty() || stays_farther(rest_.triangles, near, before, meshes, inverse[j], a.centre, a.least);
+    }
   });
   std::vector<uint32_t> out;
   for (size_t n = 0; n < todo.size(); ++n)
@@ -209,10 +269,13 @@ std::vector<double> ClipRadius::least(const std::vector<SkinInfluence>& influenc
   if (out.size() * time_count() < size_t(1000000)) log = nullptr;
   const std::string stage = "holding " + std::to_string(out.size()) + " spheres over the clip's " +
                             std::to_string(time_count()) + " times";
+  // Each sphere's times are its own, so any order gives the same radii: this one groups a joint's
+  // spheres near one another for the sweep (unsettled).
+  const std::vector<uint32_t> order = by_joint_then_place(influences);
   auto alive = [&] {
     std::vector<uint32_t> todo;
-    for (size_t i = 0; i < out.size(); ++i)
-      if (out[i] > 0) todo.push_back(uint32_t(i));
+    for (uint32_t i : order)
+      if (out[i] > 0) todo.push_back(i);
     return todo;
   };
   // The first time asked of every sphere; then blocks, each swept from the time before it.
