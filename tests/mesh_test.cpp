@@ -401,6 +401,15 @@ SweptElephant swept_elephant(std::mt19937& rng) {
   return e;
 }
 
+// The swept shape's search for one ball: the leaves its own box reaches, then the triangles.
+bool inflated_near(const DeformingQuery::Shape& swept, const Eigen::Vector3d& p, double bound, size_t most,
+                   std::vector<int>& found) {
+  std::vector<int> leaves;
+  const Eigen::Vector3d reach = Eigen::Vector3d::Constant(std::max(bound, 0.0));  // a point where negative
+  swept.leaves_near(Eigen::AlignedBox3d(p - reach, p + reach), leaves);
+  return swept.inflated_triangles_nearer_than(p, bound, most, found, leaves);
+}
+
 // The swept shape's test: some triangle nearer than a bound plus its vertices' largest inflation,
 // exactly where brute force finds the least of distance less inflation below the bound; and that
 // least is below the distance to any shape whose vertices moved within their inflation.
@@ -437,9 +446,9 @@ TEST(DeformingQuery, InflatedSearchMatchesBruteForceAndBoundsEveryMovedShape) {
     const double brute = *std::min_element(gap.begin(), gap.end());
     std::vector<int> found;
     for (double off : {1e-9, 1e-3, 0.05}) {
-      EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, brute + off * diag, 0, found))
+      EXPECT_FALSE(inflated_near(swept, p, brute + off * diag, 0, found))
           << "point " << n << " off " << off;
-      EXPECT_TRUE(swept.inflated_triangles_nearer_than(p, brute - off * diag, 0, found))
+      EXPECT_TRUE(inflated_near(swept, p, brute - off * diag, 0, found))
           << "point " << n << " off " << off;
     }
     // The triangles it finds within a bound: those brute force finds, and none past `most`.
@@ -447,17 +456,18 @@ TEST(DeformingQuery, InflatedSearchMatchesBruteForceAndBoundsEveryMovedShape) {
     std::vector<int> expected;
     for (size_t t = 0; t < gap.size(); ++t)
       if (gap[t] < bound) expected.push_back(int(t));
-    ASSERT_TRUE(swept.inflated_triangles_nearer_than(p, bound, expected.size(), found)) << "point " << n;
+    ASSERT_TRUE(inflated_near(swept, p, bound, expected.size(), found)) << "point " << n;
     std::sort(found.begin(), found.end());
     EXPECT_EQ(found, expected) << "point " << n;
-    EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, bound, expected.size() - 1, found)) << "point " << n;
+    EXPECT_FALSE(inflated_near(swept, p, bound, expected.size() - 1, found)) << "point " << n;
     EXPECT_EQ(found.size(), expected.size() - 1) << "point " << n;
     for (const DeformingQuery::Shape& s : moved) EXPECT_GE(std::abs(s.signed_distance(p)), brute) << "point " << n;
   }
 }
 
-// Searches near one another from the leaves their region reaches (the tree entered once) find
-// what each finds from the root: the same triangles in the same order, and the same cap.
+// Searches near one another from the leaves their run's region reaches (the tree entered once)
+// find what each finds from the leaves its own ball's box reaches: the same triangles in the same
+// order, and the same cap.
 TEST(DeformingQuery, GroupSearchFindsWhatEachSearchFinds) {
   SPX_REQUIRE_SHARED_DATA();
   std::mt19937 rng(11);
@@ -483,14 +493,14 @@ TEST(DeformingQuery, GroupSearchFindsWhatEachSearchFinds) {
     std::vector<int> leaves, each, grouped;
     swept.leaves_near(region, leaves);
     for (const auto& [p, bound] : asks) {
-      ASSERT_TRUE(swept.inflated_triangles_nearer_than(p, bound, triangles, each));
+      ASSERT_TRUE(inflated_near(swept, p, bound, triangles, each));
       ASSERT_TRUE(swept.inflated_triangles_nearer_than(p, bound, triangles, grouped, leaves));
       EXPECT_EQ(grouped, each) << "group " << g;
       compared += each.size();
       if (each.empty()) continue;
       // Capped one short: both stop at the same triangle.
       EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, bound, each.size() - 1, grouped, leaves));
-      EXPECT_FALSE(swept.inflated_triangles_nearer_than(p, bound, each.size() - 1, each));
+      EXPECT_FALSE(inflated_near(swept, p, bound, each.size() - 1, each));
       EXPECT_EQ(grouped, each) << "group " << g;
       ++capped;
     }

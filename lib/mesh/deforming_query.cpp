@@ -289,26 +289,6 @@ bool DeformingQuery::Shape::add_inflated_near(int n, const Eigen::Vector3d& p, d
   return true;
 }
 
-bool DeformingQuery::Shape::inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
-                                                           std::vector<int>& found) const {
-  const DeformingQuery& q = *q_;
-  found.clear();
-  std::array<int, 128> stack;
-  int top = 0;
-  if (!q.nodes_.empty() && may_reach(0, p, bound)) stack[size_t(top++)] = 0;
-  while (top > 0) {
-    const int n = stack[size_t(--top)];
-    const Node& node = q.nodes_[size_t(n)];
-    if (node.left < 0) {
-      if (!add_inflated_near(n, p, bound, most, found)) return false;
-      continue;
-    }
-    if (may_reach(node.right, p, bound)) stack[size_t(top++)] = node.right;
-    if (may_reach(node.left, p, bound)) stack[size_t(top++)] = node.left;
-  }
-  return true;
-}
-
 void DeformingQuery::Shape::leaves_near(const Eigen::AlignedBox3d& region, std::vector<int>& leaves) const {
   const DeformingQuery& q = *q_;
   const size_t v = inflation_.size() - q.nodes_.size();
@@ -341,8 +321,7 @@ bool DeformingQuery::Shape::inflated_triangles_nearer_than(const Eigen::Vector3d
                                                            std::vector<int>& found,
                                                            const std::vector<int>& leaves) const {
   found.clear();
-  // A leaf the search from the root reaches passes this test, and so do its ancestors (their
-  // boxes hold its box and their inflation is at least its own): the same leaves, in order.
+  // A leaf whose grown box reaches p is among them (the region holds the ball p +- bound).
   for (int n : leaves)
     if (may_reach(n, p, bound) && !add_inflated_near(n, p, bound, most, found)) return false;
   return true;

@@ -45,17 +45,15 @@ class DeformingQuery {
     // front face, -1 entering. Where parts pass through each other the count still says inside.
     // A ray that grazes an edge is cast again another way, and after a few, the exact sum decides.
     bool inside(const Eigen::Vector3d& p) const;
-    // With `inflation` (swept()): each triangle nearer to p than `bound` plus its vertices'
-    // largest inflation (its index in the rest's list) into `found`, in no set order; false, with
-    // `found` incomplete, once there are more than `most` (with `most` 0, at the first). Where each
-    // vertex may move anywhere within its inflation, a triangle not found stays at least `bound`
-    // from p in every shape of the sweep.
-    bool inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most,
-                                        std::vector<int>& found) const;
-    // Many such searches near one another, the tree entered once: `leaves_near` gives the leaves
-    // (in the order the search meets them) whose box, grown by their vertices' largest inflation,
-    // comes within reach of `region`; then each search whose ball p +- bound lies in `region`
-    // finds, from those leaves alone, what the search above finds, in the same order.
+    // With `inflation` (swept()), searches near one another entering the tree once: `leaves_near`
+    // gives the leaves whose box, grown by their vertices' largest inflation, comes within reach
+    // of `region`. Then for a ball p +- bound inside `region` (the point p where the bound is
+    // negative: inflation alone reaches it), inflated_triangles_nearer_than
+    // puts each triangle nearer to p than `bound` plus its vertices' largest inflation (its index
+    // in the rest's list) into `found`, in no set order; false, with `found` incomplete, once
+    // there are more than `most` (with `most` 0, at the first). Where each vertex may move
+    // anywhere within its inflation, a triangle not found stays at least `bound` from p in every
+    // shape of the sweep.
     void leaves_near(const Eigen::AlignedBox3d& region, std::vector<int>& leaves) const;
     bool inflated_triangles_nearer_than(const Eigen::Vector3d& p, double bound, size_t most, std::vector<int>& found,
                                         const std::vector<int>& leaves) const;
