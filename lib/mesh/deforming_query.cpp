@@ -266,8 +266,10 @@ bool DeformingQuery::Shape::nearer_than(const Eigen::Vector3d& p, double bound) 
   return found;
 }
 
+double DeformingQuery::Shape::grow(int n) const { return inflation_[inflation_.size() - q_->nodes_.size() + size_t(n)]; }
+
 bool DeformingQuery::Shape::may_reach(int n, const Eigen::Vector3d& p, double bound) const {
-  const double reach = bound + inflation_[inflation_.size() - q_->nodes_.size() + size_t(n)];
+  const double reach = bound + grow(n);
   return reach > 0 && box_[size_t(n)].squaredExteriorDistance(p) < reach * reach;
 }
 
@@ -291,7 +293,6 @@ bool DeformingQuery::Shape::add_inflated_near(int n, const Eigen::Vector3d& p, d
 
 void DeformingQuery::Shape::leaves_near(const Eigen::AlignedBox3d& region, std::vector<int>& leaves) const {
   const DeformingQuery& q = *q_;
-  const size_t v = inflation_.size() - q.nodes_.size();
   leaves.clear();
   // A ball in the region that a node's grown box reaches: the box comes within its inflation of
   // the region (no nearer test, so that an inflation of 0 keeps a box touching it).
@@ -299,8 +300,7 @@ void DeformingQuery::Shape::leaves_near(const Eigen::AlignedBox3d& region, std::
     const Eigen::AlignedBox3d& box = box_[size_t(n)];
     const Eigen::Vector3d gap =
         (region.min() - box.max()).cwiseMax(box.min() - region.max()).cwiseMax(Eigen::Vector3d::Zero());
-    const double grow = inflation_[v + size_t(n)];
-    return gap.squaredNorm() <= grow * grow;
+    return gap.squaredNorm() <= grow(n) * grow(n);
   };
   std::array<int, 128> stack;
   int top = 0;

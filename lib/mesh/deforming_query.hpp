@@ -65,6 +65,8 @@ class DeformingQuery {
     std::optional<int> crossings(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const;
     template <class Leaf>
     void search(const Eigen::Vector3d& p, double& best, Leaf&& leaf) const;
+    // Node n's vertices' largest inflation (swept(): kept after the vertices' own).
+    double grow(int n) const;
     // Whether node n's box, grown by its largest inflation plus `bound`, reaches p.
     bool may_reach(int n, const Eigen::Vector3d& p, double bound) const;
     // Leaf n's triangles nearer to p than `bound` plus their inflation, into `found`; false once
