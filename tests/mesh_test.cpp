@@ -691,8 +691,8 @@ TEST(SolidBoundary, DistancesAreToTheBoundaryAsBruteForceFindsIt) {
 
 // Inscribed spheres at random interior points of the barrel, grown: each grown sphere contains
 // the first, lies inside (its radius is the brute-force distance from its center), offsets
-// by at most the growth asked, keeps the cap; and many do grow. A hinted distance query gives
-// the plain one.
+// by at most the growth asked, keeps the cap, and lies in grown_extent's ball, which is no
+// larger than the growth allows; and many do grow. A hinted distance query gives the plain one.
 TEST(Inscribed, GrownSpheresContainTheFirstAndStayInside) {
   const TriMesh mesh = make_barrel().rest;
   const MeshQuery query(mesh);
@@ -719,6 +719,9 @@ TEST(Inscribed, GrownSpheresContainTheFirstAndStayInside) {
     for (double cap : {1e300, 0.8 * r + 0.5 * r * u(rng)}) {
       const Sphere first{c, std::min(r, cap)};
       const Sphere g = grow_inscribed(query, first, cap, 1.0);
+      const Sphere extent = grown_extent(first, query.closest(c), cap, 1.0);
+      EXPECT_LE((g.center - extent.center).norm() + g.radius, extent.radius) << "outside its extent";
+      EXPECT_LE(extent.radius, 2 * first.radius * (1 + 1e-5));
       EXPECT_GE(g.radius, first.radius);
       EXPECT_LE((g.center - c).norm() + first.radius, g.radius * (1 + 1e-6)) << "does not contain the first";
       EXPECT_TRUE(query.inside(g.center));

@@ -46,6 +46,17 @@ Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const Closest
   return {center, radius};
 }
 
+Sphere grown_extent(const Sphere& sphere, const ClosestPoint& p, double max_radius, double growth) {
+  // grow_inscribed's own conditions for growing; where it does not, it returns the sphere.
+  if (!(sphere.radius > 0) || !(growth > 0) || sphere.radius >= max_radius || !(p.distance > 0) ||
+      sphere.radius < p.distance * (1 - 1e-9))
+    return sphere;
+  const double reach = std::min(max_radius, p.distance * (1 + growth));
+  const Eigen::Vector3d normal = (sphere.center - p.point) / p.distance;
+  // The margin is far above the rounding of the normal, the offsets and the distances.
+  return {p.point + reach * normal, std::max(reach, sphere.radius) * (1 + 1e-6) + (sphere.center - p.point).norm() * 1e-6};
+}
+
 Sphere tangent_ball(const MeshQuery& mesh, const Eigen::Vector3d& point, const Eigen::Vector3d& inward,
                     const std::vector<Eigen::Vector3d>& own_corners, double start_radius, double min_radius) {
   double r = start_radius;

@@ -21,6 +21,11 @@ Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, double max_ra
 // The same given `closest`, mesh.closest(sphere.center), which the caller asked already.
 Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const ClosestPoint& closest, double max_radius,
                       double growth, const std::function<double(const Eigen::Vector3d&)>& bound = {});
+// A ball that holds what grow_inscribed returns for these arguments, whatever `bound`: the
+// grown balls are tangent at the closest point with centres along its normal, so each lies in
+// the largest the growth allows. For a caller that may skip the growth's queries where even
+// that ball is of no use.
+Sphere grown_extent(const Sphere& sphere, const ClosestPoint& closest, double max_radius, double growth);
 
 // The largest inscribed ball tangent to the surface at `point` (the shrinking ball of Ma et al.
 // 2012, on exact closest points): its center on the ray from `point` along `inward`, shrunk from

@@ -43,19 +43,30 @@ std::vector<MedialVoxel> medial_voxels(const DenseField& field) {
   return out;
 }
 
-Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
+CandidateSeed candidate_seed(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
   const Eigen::Vector3d& c = voxel.center;
   // A closed mesh's winding number is constant off its surface: more than a voxel deep by the
   // field (within a fraction of one of the truth) is inside without asking it. (An open mesh's
   // varies across its holes, where the field's depth says nothing.)
   const bool surely_inside = !opt.field_bounds_radius && voxel.depth > h;
-  if (!surely_inside && !mesh.inside(c)) return {c, 0.0};
+  if (!surely_inside && !mesh.inside(c)) return {{c, 0.0}, {}, false};
   if (opt.field_bounds_radius)
-    return {c, std::max(0.0, std::min({opt.max_radius, mesh.distance(c), voxel.depth - kFieldMargin * h}))};
+    return {{c, std::max(0.0, std::min({opt.max_radius, mesh.distance(c), voxel.depth - kFieldMargin * h}))}, {}, false};
   // Grown from the closest point that gives its radius: one query for both.
   const ClosestPoint closest = mesh.closest(c);
-  return grow_inscribed(mesh, {c, std::max(0.0, std::min(opt.max_radius, closest.tree_distance))}, closest,
-                        opt.max_radius, opt.growth);
+  return {{c, std::max(0.0, std::min(opt.max_radius, closest.tree_distance))}, closest, true};
+}
+
+Sphere seed_extent(const CandidateSeed& seed, const CandidateOptions& opt) {
+  return seed.grows ? grown_extent(seed.sphere, seed.closest, opt.max_radius, opt.growth) : seed.sphere;
+}
+
+Sphere grow_seed(const CandidateSeed& seed, const MeshQuery& mesh, const CandidateOptions& opt) {
+  return seed.grows ? grow_inscribed(mesh, seed.sphere, seed.closest, opt.max_radius, opt.growth) : seed.sphere;
+}
+
+Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
+  return grow_seed(candidate_seed(voxel, mesh, opt, h), mesh, opt);
 }
 
 SphereSet inscribed_candidates(const DenseField& field, const MeshQuery& mesh, const CandidateOptions& opt) {
@@ -91,7 +102,12 @@ SphereSet CandidatesOnDemand::offer_near(const std::vector<Eigen::Vector3d>& poi
       if (state_[v] == offered) continue;
       if (state_[v] == unknown) {
         if (!near(voxels_[v].center, candidate_extent(voxels_[v], options_, h_))) continue;
-        sphere_[v] = inscribed_candidate(voxels_[v], mesh, options_, h_);
+        // The growth's queries are most of a candidate's cost: skipped (and the voxel left for
+        // a later offer) where even the largest ball it could grow into reaches no point.
+        const CandidateSeed seed = candidate_seed(voxels_[v], mesh, options_, h_);
+        const Sphere extent = seed_extent(seed, options_);
+        if (!near(extent.center, extent.radius)) continue;
+        sphere_[v] = grow_seed(seed, mesh, options_);
         state_[v] = known;
       }
       const Sphere& s = sphere_[v];

@@ -228,13 +228,13 @@ std::vector<std::optional<Eigen::Vector3d>> undeform(const TetMesh& tets, const 
 }
 
 SphereSet undeform_centres(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed, const SphereSet& spheres,
-                           const MeshQuery& rest, double max_radius) {
+                           const MeshQuery& rest, double max_radius, bool radii) {
   std::vector<Eigen::Vector3d> centers;
   for (const Sphere& s : spheres) centers.push_back(s.center);
   const std::vector<std::optional<Eigen::Vector3d>> back = undeform(tets, deformed, centers);
   SphereSet out(back.size(), Sphere{{0, 0, 0}, -1});  // radius -1: outside
   tbb::parallel_for(size_t(0), back.size(), [&](size_t n) {
-    if (back[n] && rest.inside(*back[n])) out[n] = {*back[n], std::min(max_radius, rest.distance(*back[n]))};
+    if (back[n] && rest.inside(*back[n])) out[n] = {*back[n], radii ? std::min(max_radius, rest.distance(*back[n])) : 0.0};
   });
   out.erase(std::remove_if(out.begin(), out.end(), [](const Sphere& s) { return s.radius < 0; }), out.end());
   return out;

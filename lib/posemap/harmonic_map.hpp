@@ -52,9 +52,10 @@ class TetLocator {
 std::vector<std::optional<Eigen::Vector3d>> undeform(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed,
                                                      const std::vector<Eigen::Vector3d>& points);
 // The centres of `spheres` taken back so, those that land inside `rest` (in order), each with its
-// radius there: the distance to `rest`, at most `max_radius`.
+// radius there: the distance to `rest`, at most `max_radius`; or 0 where `radii` is false, for a
+// caller that finds the radii itself (a skinned body's carry, over the whole clip).
 SphereSet undeform_centres(const TetMesh& tets, const std::vector<Eigen::Vector3d>& deformed, const SphereSet& spheres,
-                           const MeshQuery& rest, double max_radius);
+                           const MeshQuery& rest, double max_radius, bool radii = true);
 
 class HarmonicMap {
  public:

@@ -60,13 +60,15 @@ class SelectionFrames {
   // has radius 0.
   virtual bool spheres_at(const Eigen::Vector3d& rest_center, std::vector<Sphere>& in_frames) const;
   // `frame`'s own inscribed spheres within `reach` of `points` (its samples no candidate
-  // reaches), mapped back to the rest; each of them offered once.
+  // reaches), mapped back to the rest; each of them offered once. With one radius (skinned) only
+  // the centres count: carry_skinned finds the radius over the clip, and the rest's is not asked.
   virtual SphereSet frame_candidates(size_t frame, const std::vector<Eigen::Vector3d>& points, double reach) = 0;
   // `frame`'s balls touching each of its samples `which` (indices into `drawn`, sample_surface of
   // frame_surface), which nothing else reaches within `delta`: the largest inscribed ball tangent
   // there and (one radius) balls nested in it down to half of delta, mapped back to the rest.
   // `around` (one radius, for the samples even those leave out of reach): balls around each
-  // sample within delta of it instead (balls_around), mapped back to the rest.
+  // sample within delta of it instead (balls_around), mapped back to the rest (one radius: the
+  // centres, as frame_candidates').
   virtual SphereSet touching_candidates(size_t frame, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
                                         double delta, bool around) = 0;
 };

@@ -288,7 +288,7 @@ class PoseMapper {
       return std::all_of(in_frames.begin(), in_frames.end(), [](const Sphere& s) { return s.radius > 0; });
     }
     SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
-      return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach));
+      return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach), nullptr, !one_radius());
     }
     // Skinned, nested balls down to half of delta: a sphere with one radius over the clip keeps more of those;
     // `around`, the balls around each sample instead.
@@ -300,7 +300,7 @@ class PoseMapper {
       const CandidateOptions o = candidate_options(m_.pose_pack_options());
       const SphereSet balls = around ? balls_around_samples(q, drawn, which, field, start, o, delta)
                                      : balls_through(q, drawn, which, field, start, o, m_.skinned_ ? 0.5 * delta : 0);
-      return f == 0 ? balls : m_.map_back_to_rest(f - 1, balls);
+      return f == 0 ? balls : m_.map_back_to_rest(f - 1, balls, nullptr, !one_radius());
     }
    private:
     PoseMapper& m_;
@@ -422,9 +422,10 @@ class PoseMapper {
   }
 
   // Through the inverse map (barycentric in pose i's deformed tets); those that land outside
-  // the rest are counted in `lost`.
-  SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t* lost = nullptr) const {
-    SphereSet back = undeform_centres(tets_, deformed_[i], in_pose, *queries_[0], proxy_.max_radius);
+  // the rest are counted in `lost`. Without `radii` (skinned candidates, whose carry finds each
+  // radius over the clip from the centre alone) every radius is 0.
+  SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t* lost = nullptr, bool radii = true) const {
+    SphereSet back = undeform_centres(tets_, deformed_[i], in_pose, *queries_[0], proxy_.max_radius, radii);
     if (lost) *lost = in_pose.size() - back.size();
     return back;
   }
