@@ -2,9 +2,12 @@
 // Helpers shared by the unit tests: real data beside the checkout, small generated meshes.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <system_error>
+#include <vector>
 
 #include "core/atomic_file.hpp"
 #include "extract/asset.hpp"
@@ -25,9 +28,25 @@ inline bool have_shared_data() { return std::filesystem::exists(shared_data() + 
     if (!::spx::test::have_shared_data()) GTEST_SKIP() << "no " << SPX_SHARED_DATA; \
   } while (0)
 
+// The folders temp_dir made, removed when the test program exits, so that runs of the suite do
+// not pile up in the temp folder (a full run writes about 100 MB there). SPX_KEEP_TEST_DIRS=1
+// keeps them, for a look after a failure.
+struct MadeDirs {
+  std::vector<std::filesystem::path> paths;
+  ~MadeDirs() {
+    if (std::getenv("SPX_KEEP_TEST_DIRS")) return;
+    std::error_code ignored;
+    for (const auto& p : paths) std::filesystem::remove_all(p, ignored);
+  }
+};
+inline MadeDirs& made_dirs() {
+  static MadeDirs dirs;
+  return dirs;
+}
+
 inline std::string temp_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("spx-test-" + name + "-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  if (std::filesystem::create_directories(dir)) made_dirs().paths.push_back(dir);
   return dir.string();
 }
 
