@@ -627,6 +627,7 @@ TEST(MeshQuery, FilteredAndHintedSearchesGiveCgalsOwnResultToTheBit) {
       const Eigen::Vector3d near = p + 0.01 * box.sizes().norm() * Eigen::Vector3d(step(rng), step(rng), step(rng));
       const ClosestPoint hinted = query.closest(p, query.closest(near));
       EXPECT_EQ(hinted.tree_distance, expected) << "point " << i;
+      EXPECT_EQ(query.distance(p, query.closest(near).point), expected) << "point " << i;
       EXPECT_EQ(hinted.point, c.point);
       // Another triangle only where the point is on both (a shared corner or edge: a tie).
       const auto& f = mesh.triangles[size_t(hinted.triangle)];
