@@ -1,0 +1,65 @@
+#!/usr/bin/python3
+"""The README and the measurement logs still say what the project has.
+
+Checks that README.md keeps its top-level sections (an edit that drops the rest of the file
+fails here, not in a reader's hands); that every relative link in it names a file that exists;
+and that every test the README and docs/notes/*.md cite (`Suite.Name`, where Suite is a test
+suite of tests/*.cpp) is a test, or the start of one's name (the docs shorten long names with
+"...").
+usage: check-docs.py SOURCE_DIR     (exit 1 listing every breach)
+"""
+import glob
+import os
+import re
+import sys
+
+SECTIONS = ["The two commands", "The tools", "Speed and accuracy", "Robustness", "The runtime header",
+            "A host in Bullet", "Samples", "Layout and layers"]
+TEST = re.compile(r"\bTEST(?:_F|_P)?\(\s*(\w+)\s*,\s*(\w+)\s*\)")
+CITED = re.compile(r"\b([A-Z]\w+)\.([A-Z]\w+)\b")
+LINK = re.compile(r"\]\(([^)#\s]+)")
+
+
+def tests_of(root):
+    out = set()
+    for path in glob.glob(os.path.join(root, "tests", "*.cpp")):
+        with open(path, encoding="utf-8") as f:
+            out.update(f"{a}.{b}" for a, b in TEST.findall(f.read()))
+    return out
+
+
+def breaches(root):
+    out = []
+    with open(os.path.join(root, "README.md"), encoding="utf-8") as f:
+        readme = f.read()
+    headings = re.findall(r"^## (.*)$", readme, re.M)
+    for s in SECTIONS:
+        if not any(h.startswith(s) for h in headings):
+            out.append(f"README.md: the section '## {s}' is missing")
+    for target in LINK.findall(readme):
+        if "://" not in target and not os.path.exists(os.path.join(root, target)):
+            out.append(f"README.md: link to {target}, which does not exist")
+    tests = tests_of(root)
+    suites = {t.split(".")[0] for t in tests}
+    docs = [os.path.join(root, "README.md")] + sorted(glob.glob(os.path.join(root, "docs", "notes", "*.md")))
+    for path in docs:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        for suite, name in sorted(set(CITED.findall(text))):
+            cited = f"{suite}.{name}"
+            if suite in suites and not any(t.startswith(cited) for t in tests):
+                out.append(f"{os.path.relpath(path, root)}: cites the test {cited}, which no test is")
+    return out
+
+
+def main():
+    root = sys.argv[1] if len(sys.argv) > 1 else "."
+    found = breaches(root)
+    for b in found:
+        print(b)
+    print(f"{len(found)} breaches")
+    return 1 if found else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
