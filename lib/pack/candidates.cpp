@@ -43,6 +43,16 @@ std::vector<MedialVoxel> medial_voxels(const DenseField& field) {
   return out;
 }
 
+namespace {
+// A candidate in two steps: its seed (the voxel's own sphere and, where it grows, its closest
+// point: one query), then the growth (grow_inscribed: a few queries more), which
+// CandidatesOnDemand skips where even the ball it could grow into is of no use (seed_extent).
+struct CandidateSeed {
+  Sphere sphere;
+  ClosestPoint closest;
+  bool grows = false;
+};
+
 CandidateSeed candidate_seed(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
   const Eigen::Vector3d& c = voxel.center;
   // A closed mesh's winding number is constant off its surface: more than a voxel deep by the
@@ -64,6 +74,7 @@ Sphere seed_extent(const CandidateSeed& seed, const CandidateOptions& opt) {
 Sphere grow_seed(const CandidateSeed& seed, const MeshQuery& mesh, const CandidateOptions& opt) {
   return seed.grows ? grow_inscribed(mesh, seed.sphere, seed.closest, opt.max_radius, opt.growth) : seed.sphere;
 }
+}  // namespace
 
 Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& opt, double h) {
   return grow_seed(candidate_seed(voxel, mesh, opt, h), mesh, opt);

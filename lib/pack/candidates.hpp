@@ -42,19 +42,8 @@ struct MedialVoxel {
 };
 std::vector<MedialVoxel> medial_voxels(const DenseField& field);
 
-// The candidate at one near-medial voxel of a field of voxel size h (radius 0 where it has none),
-// in two steps: its seed (the voxel's own sphere and, where it grows, its closest point: one
-// query), then the growth (grow_inscribed: a few queries more).
+// The candidate at one near-medial voxel of a field of voxel size h (radius 0 where it has none).
 Sphere inscribed_candidate(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& options, double h);
-struct CandidateSeed {
-  Sphere sphere;
-  ClosestPoint closest;
-  bool grows = false;
-};
-CandidateSeed candidate_seed(const MedialVoxel& voxel, const MeshQuery& mesh, const CandidateOptions& options, double h);
-Sphere grow_seed(const CandidateSeed& seed, const MeshQuery& mesh, const CandidateOptions& options);
-// A ball that holds what grow_seed returns (grown_extent).
-Sphere seed_extent(const CandidateSeed& seed, const CandidateOptions& options);
 
 // A radius about the voxel's centre that holds its candidate, grown or not, for a search that
 // skips voxels before paying for their candidates: the radius is the exact distance, which the
