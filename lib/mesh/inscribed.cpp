@@ -6,18 +6,32 @@
 #include <vector>
 
 namespace spx {
+namespace {
+// The growth's rule, shared by grow_inscribed and grown_extent. A sphere may grow at all (told
+// before its closest point is asked):
+bool can_grow(const Sphere& sphere, double max_radius, double growth) {
+  return sphere.radius > 0 && growth > 0 && !(sphere.radius >= max_radius);
+}
+// and grows from its closest point p only when tangent there, its radius the distance itself
+// (not a cap or a hole's bound):
+bool grows_from(const Sphere& sphere, const ClosestPoint& p, double max_radius, double growth) {
+  return can_grow(sphere, max_radius, growth) && p.distance > 0 && !(sphere.radius < p.distance * (1 - 1e-9));
+}
+// to offsets from p along its normal of at most this.
+double longest_offset(const ClosestPoint& p, double max_radius, double growth) {
+  return std::min(max_radius, p.distance * (1 + growth));
+}
+}  // namespace
 
 Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, double max_radius, double growth,
                       const std::function<double(const Eigen::Vector3d&)>& bound) {
-  if (!(sphere.radius > 0) || !(growth > 0) || sphere.radius >= max_radius) return sphere;
+  if (!can_grow(sphere, max_radius, growth)) return sphere;
   return grow_inscribed(mesh, sphere, mesh.closest(sphere.center), max_radius, growth, bound);
 }
 
 Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const ClosestPoint& p, double max_radius,
                       double growth, const std::function<double(const Eigen::Vector3d&)>& bound) {
-  if (!(sphere.radius > 0) || !(growth > 0) || sphere.radius >= max_radius) return sphere;
-  // Tangent at p only when the radius is the distance itself (not a cap or a hole's bound).
-  if (!(p.distance > 0) || sphere.radius < p.distance * (1 - 1e-9)) return sphere;
+  if (!grows_from(sphere, p, max_radius, growth)) return sphere;
   const Eigen::Vector3d normal = (sphere.center - p.point) / p.distance;
   auto radius_at = [&](const Eigen::Vector3d& q) {
     const double r = std::min(max_radius, mesh.distance(q, p.point));  // p: closest up to the end
@@ -26,7 +40,7 @@ Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const Closest
   // The offsets t whose ball of radius t at p + t n still fits form an interval from 0. Bisect
   // for its end, to 1/64 of the first radius; a miss at t with radius r < t also bounds the end
   // by (t + r) / 2, the distance being 1-Lipschitz.
-  double lo = p.distance, hi = std::min(max_radius, p.distance * (1 + growth)), radius = sphere.radius;
+  double lo = p.distance, hi = longest_offset(p, max_radius, growth), radius = sphere.radius;
   for (int step = 0; step < 7 && hi - lo > p.distance / 64; ++step) {
     const double t = step == 0 ? hi : 0.5 * (lo + hi);
     const double r = radius_at(p.point + t * normal);
@@ -47,11 +61,8 @@ Sphere grow_inscribed(const MeshQuery& mesh, const Sphere& sphere, const Closest
 }
 
 Sphere grown_extent(const Sphere& sphere, const ClosestPoint& p, double max_radius, double growth) {
-  // grow_inscribed's own conditions for growing; where it does not, it returns the sphere.
-  if (!(sphere.radius > 0) || !(growth > 0) || sphere.radius >= max_radius || !(p.distance > 0) ||
-      sphere.radius < p.distance * (1 - 1e-9))
-    return sphere;
-  const double reach = std::min(max_radius, p.distance * (1 + growth));
+  if (!grows_from(sphere, p, max_radius, growth)) return sphere;  // grow_inscribed returns it as it is
+  const double reach = longest_offset(p, max_radius, growth);
   const Eigen::Vector3d normal = (sphere.center - p.point) / p.distance;
   // The margin is far above the rounding of the normal, the offsets and the distances.
   return {p.point + reach * normal, std::max(reach, sphere.radius) * (1 + 1e-6) + (sphere.center - p.point).norm() * 1e-6};
