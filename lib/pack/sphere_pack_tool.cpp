@@ -20,10 +20,12 @@ namespace {
 
 // --mesh must be the mesh the field was built from: with a pose or another model, centers come
 // from one shape and radii from another. Its bounds must match those sdf-build recorded, and
-// its vertices must lie on the field's zero level (distance is 1-Lipschitz: a voxel's |value|
-// less its offset to the vertex bounds the vertex's own distance to the field's surface).
-void check_mesh_matches_field(const TriMesh& mesh, const std::string& mesh_path, const LoadedSdf& sdf,
+// the vertices of its solid's surface must lie on the field's zero level (distance is
+// 1-Lipschitz: a voxel's |value| less its offset to the vertex bounds the vertex's own distance
+// to the field's surface). Walls inside the solid, where parts overlap, are not on it.
+void check_mesh_matches_field(const MeshQuery& query, const std::string& mesh_path, const LoadedSdf& sdf,
                               const std::string& sdf_path) {
+  const TriMesh& mesh = query.mesh();
   const GridShape& g = sdf.field.shape;
   const double h = g.voxel_size;
   const auto source = sdf.metadata.find("spx_source_mesh");
@@ -31,8 +33,9 @@ void check_mesh_matches_field(const TriMesh& mesh, const std::string& mesh_path,
   auto mismatch = [&](const std::string& how) {
     fail_input(mesh_path, "is not the mesh " + sdf_path + built_from + " was built from: " + how);
   };
+  const std::vector<Eigen::Vector3d>& on_surface = query.surface().vertices;
   size_t off_surface = 0;
-  for (const Eigen::Vector3d& p : mesh.vertices) {
+  for (const Eigen::Vector3d& p : on_surface) {
     const Eigen::Vector3i v = ((p / h).array().round().cast<int>() - g.origin.array()).matrix();
     if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) {
       ++off_surface;
@@ -41,9 +44,9 @@ void check_mesh_matches_field(const TriMesh& mesh, const std::string& mesh_path,
     const double value = std::abs(sdf.field.values[g.index(v.x(), v.y(), v.z())]);
     off_surface += value - (g.world(v.x(), v.y(), v.z()) - p).norm() > 2 * h;
   }
-  if (off_surface > mesh.vertices.size() / 100)
-    mismatch(std::to_string(off_surface) + " of its " + std::to_string(mesh.vertices.size()) +
-             " vertices lie more than 2 voxels off the field's surface (a pose, or another model?)");
+  if (off_surface > on_surface.size() / 100)
+    mismatch(std::to_string(off_surface) + " of its solid's " + std::to_string(on_surface.size()) +
+             " surface vertices lie more than 2 voxels off the field's surface (a pose, or another model?)");
   const auto recorded = sdf.metadata.find("spx_source_bounds");
   if (recorded != sdf.metadata.end()) {
     std::istringstream in(recorded->second);
@@ -303,8 +306,8 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   if (!mesh_path.empty()) {
     StageTimer t(log, "mesh");
     const LoadedMesh loaded = load_mesh(mesh_path);
-    check_mesh_matches_field(loaded.mesh, mesh_path, sdf, input);
     mesh = about_file(mesh_path, [&] { return std::make_unique<MeshQuery>(loaded.mesh); });
+    check_mesh_matches_field(*mesh, mesh_path, sdf, input);
     if (asked.set()) warn_if_tolerance_is_huge(asked, loaded.mesh.diagonal(), log);
     // The tolerance becomes a length here, once, and travels down as one.
     if (in_force.set()) opt.tolerance = in_force.length(loaded.mesh.diagonal());

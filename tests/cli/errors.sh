@@ -55,7 +55,7 @@ expect 1 "tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh 
 expect 2 "dent.obj: is not the mesh .*rest.vdb (built from .*rest.obj) was built from: its bounding box differs" \
   "$out/m.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/dent.obj" -o "$out/m.json"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$out/other.obj"
-expect 2 "other.obj: is not the mesh .*rest.vdb .*: [0-9] of its 4 vertices lie more than 2 voxels off" \
+expect 2 "other.obj: is not the mesh .*rest.vdb .*: [0-9] of its solid's 4 surface vertices lie more than 2 voxels off" \
   "$out/m.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/other.obj" -o "$out/m.json"
 
 # Poses that do not share the rest topology.
