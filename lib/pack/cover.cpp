@@ -7,6 +7,8 @@
 #include <memory>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+
 #include "core/format.hpp"
 
 namespace spx {
@@ -92,6 +94,34 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
   log.detail("cover at " + num(delta) + ": " + std::to_string(r.chosen.size()) + " spheres (at least " +
              std::to_string(r.lower_bound) + "), " + std::to_string(cov.samples.size()) + " pairs");
   return r;
+}
+
+size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_t>& which, std::vector<int>& chosen) {
+  if (which.empty()) return 0;
+  const double reach = largest_finite(least_gaps_of(problem, which));
+  std::vector<uint32_t> pose_start(1, 0);
+  for (const auto& points : problem.samples) pose_start.push_back(pose_start.back() + uint32_t(points.size()));
+  // Each sample's candidates within reach, by a scan of every candidate (the samples are few).
+  std::vector<std::vector<uint32_t>> within(which.size());
+  tbb::parallel_for(size_t(0), which.size(), [&](size_t i) {
+    const size_t k = size_t(std::upper_bound(pose_start.begin(), pose_start.end(), which[i]) - pose_start.begin()) - 1;
+    const Eigen::Vector3d& p = problem.samples[k][which[i] - pose_start[k]];
+    const SphereSet& spheres = problem.spheres[k];
+    for (size_t c = 0; c < spheres.size(); ++c)
+      if (spheres[c].radius > 0 && (p - spheres[c].center).norm() - spheres[c].radius <= reach)
+        within[i].push_back(uint32_t(c));
+  });
+  std::vector<char> in(problem.candidate_count(), 0);
+  for (int c : chosen) in[size_t(c)] = 1;
+  std::vector<const std::vector<uint32_t>*> left;
+  for (const auto& candidates : within)
+    if (std::none_of(candidates.begin(), candidates.end(), [&](uint32_t c) { return in[c] != 0; }))
+      left.push_back(&candidates);
+  const Coverage rows = transposed(left.size(), problem.candidate_count(), [&](size_t i) { return *left[i]; });
+  const std::vector<int> added = greedy_cover(rows);
+  chosen.insert(chosen.end(), added.begin(), added.end());
+  std::sort(chosen.begin(), chosen.end());
+  return added.size();
 }
 
 const char* limit_wording(Limit limit) {

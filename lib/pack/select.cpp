@@ -86,6 +86,8 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     out.target = opt.tolerance;
     const double slack = refined ? kRefinedBudgetSlack : kBudgetSlack;
     out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log, slack);
+    if (out.limited_by == Limit::resolution)
+      out.out_of_reach_added = cover_out_of_reach(problem, out.cover.uncovered, out.cover.chosen);
   }
   // Where a sample's own candidate reaches it, the tolerance does not wait on the field (but
   // across an open mesh's holes every radius is the field's bound, which a finer field raises).

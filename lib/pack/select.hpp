@@ -44,6 +44,7 @@ struct CoverSelection {
   size_t chosen_tangent = 0;     // chosen spheres that came from tangent candidates
   size_t chosen_refined = 0;     // polished: chosen spheres that an earlier refinement placed
   size_t polished = 0;           // budget mode: the polish round whose set was kept (0: the first refinement's)
+  size_t out_of_reach_added = 0;  // spheres that bring the samples out of reach as near as any candidate comes
   SphereSet offered;           // every candidate
   SphereSet pool;              // the voxels' candidates and the chosen tangent ones (pose-map selects from them over every pose)
 };

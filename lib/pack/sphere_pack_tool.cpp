@@ -207,7 +207,8 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   if (target > 0 && cover.uncoverable() > 0) {
     const std::string out_of_reach = std::to_string(cover.uncoverable()) +
                                      " surface samples are farther than it from every inscribed sphere (the farthest " +
-                                     num(cover.least_reachable) + ")";
+                                     num(cover.least_reachable) + "; " + std::to_string(sel.out_of_reach_added) +
+                                     " of the spheres bring them that near)";
     // With every sample's own candidate only a sharp tip or edge under the least radius (or a
     // tolerance under float rounding) is out of reach, and no field helps: no resolution named.
     const bool field_limits = sel.limited_by != Limit::reach;
@@ -250,6 +251,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
                      {"least_max_delta", cover.least_max_delta > 0 ? json(cover.least_max_delta) : json(nullptr)},
                      {"lower_bound", cover.lower_bound},
                      {"uncoverable_samples", cover.uncoverable()},
+                     {"spheres_for_uncoverable_samples", sel.out_of_reach_added},
                      {"least_reachable_delta", cover.least_reachable},
                      {"covers_solved", cover.evaluations},
                      {"max_error", error.max},

@@ -54,6 +54,9 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
     else
       out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_,
                             refining() ? kRefinedBudgetSlack : kBudgetSlack);
+    // Not skinned, the vertices out of reach (where the tolerance is asked) as near as the
+    // candidates come. (A skinned candidate's spheres in a warm round are the cache's alone.)
+    if (!one_) out.out_of_reach_added = cover_out_of_reach(problem, vertices_in(out.cover.uncovered), out.cover.chosen);
     // A radius the check lowers was counted on as larger: cover the same problem again.
     if (one_ && lower_unchecked_radii(out.cover.chosen, out)) continue;
     std::vector<int> order = out.cover.chosen;
@@ -87,7 +90,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   // only after the first round, change whether the tolerance was met (cover_for's rule). Where
   // vertices out of reach were offered balls through them, the tolerance (on the vertices) waits
   // on those no ball reaches, not on the field.
-  out.vertices_out_of_reach += vertices_among(out.cover.uncovered);
+  out.vertices_out_of_reach += vertices_in(out.cover.uncovered).size();
   if (out.limited_by == Limit::tolerance || out.limited_by == Limit::resolution) {
     const bool bare = touching() ? out.vertices_out_of_reach > 0 : out.out_of_reach() > 0;
     // Across an open mesh's holes every radius is its field's bound, which a finer field raises.
@@ -130,6 +133,9 @@ void JointSelector::polish(JointSelection& out) {
     CoverProblem problem = cover_problem(withdrawn, true);
     const double start = largest_gap_to(problem, first, current.size());
     CoverResult cover = cover_with_budget(problem, opt_.budget, kRefinedBudgetSlack, 1e-2, log_, start);
+    // Not skinned, the vertices out of reach (where the tolerance is asked) as near as the
+    // candidates come. (A skinned candidate's spheres in a warm round are the cache's alone.)
+    if (!one_) out.out_of_reach_added = cover_out_of_reach(problem, vertices_in(out.cover.uncovered), out.cover.chosen);
     // A radius the check lowers was counted on as larger: cover the same problem again.
     while (one_ && lower_unchecked_radii(cover.chosen, out)) {
       problem = cover_problem(withdrawn, true);
@@ -165,10 +171,14 @@ size_t JointSelector::vertices_offered(char stage) const {
   return n;
 }
 
-size_t JointSelector::vertices_among(const std::vector<uint32_t>& stacked) const {
+std::vector<uint32_t> JointSelector::vertices_in(const std::vector<uint32_t>& stacked) const {
+  std::vector<uint32_t> out;
   size_t n = 0;
-  for_each_stacked(stacked, [&](size_t f, uint32_t i) { n += i < vertex_count(f); });
-  return n;
+  for_each_stacked(stacked, [&](size_t f, uint32_t i) {
+    if (i < vertex_count(f)) out.push_back(stacked[n]);
+    ++n;
+  });
+  return out;
 }
 
 size_t JointSelector::samples_elsewhere() const {
@@ -335,7 +345,11 @@ std::string out_of_reach_wording(const JointSelection& selection, const JointSel
       : skinned ? "which no ball through them or around them keeps reaching in every frame (a skinned sphere keeps "
                   "one radius, the least over the frames, and where the skin folds none does), whatever the resolution"
                 : "which no inscribed ball through them reaches (sharp features)";
-  return head + ": " + std::to_string(vertices) + " of them vertices, " + why + "; " + between;
+  const std::string near = selection.out_of_reach_added > 0
+                               ? " (" + std::to_string(selection.out_of_reach_added) +
+                                     " of the spheres bring them as near as any candidate comes)"
+                               : "";
+  return head + ": " + std::to_string(vertices) + " of them vertices, " + why + near + "; " + between;
 }
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,

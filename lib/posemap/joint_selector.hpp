@@ -86,7 +86,7 @@ class JointSelector {
   // them (stage 2).
   size_t vertices_offered(char stage) const;
   // Of the last problem's samples `stacked`, the vertices (where the error is measured).
-  size_t vertices_among(const std::vector<uint32_t>& stacked) const;
+  std::vector<uint32_t> vertices_in(const std::vector<uint32_t>& stacked) const;
 
   size_t samples_elsewhere() const;
 

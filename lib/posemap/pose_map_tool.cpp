@@ -107,6 +107,7 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"lower_bound", sel.cover.lower_bound},
           {"uncoverable_samples", sel.out_of_reach()},
           {"uncoverable_vertices", sel.vertices_out_of_reach},
+          {"spheres_for_uncoverable_vertices", sel.out_of_reach_added},
           {"spheres", sel.chosen.size()},
           {"limited_by", limit_wording(sel.limited_by)},
           {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
