@@ -96,9 +96,12 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
   return r;
 }
 
-size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_t>& which, std::vector<int>& chosen) {
+size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_t>& which, std::vector<int>& chosen,
+                          double* reach_out) {
+  if (reach_out) *reach_out = 0;
   if (which.empty()) return 0;
   const double reach = largest_finite(least_gaps_of(problem, which));
+  if (reach_out) *reach_out = reach;
   std::vector<uint32_t> pose_start(1, 0);
   for (const auto& points : problem.samples) pose_start.push_back(pose_start.back() + uint32_t(points.size()));
   // Each sample's candidates within reach, by a scan of every candidate (the samples are few).

@@ -80,8 +80,9 @@ CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits
 // candidates come: the fewest candidates (greedy) that bring each within the least delta at which
 // every one of them can be covered at all, added to `chosen` (past the samples it brings that near
 // already). A cover that left them bare would leave their error to chance. Returns how many were
-// added.
-size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_t>& which, std::vector<int>& chosen);
+// added; `reach`, where given, is set to that delta (0 where `which` is empty).
+size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_t>& which, std::vector<int>& chosen,
+                          double* reach = nullptr);
 
 // What decided a selection's size, and its words in reports and logs (limit_wording).
 // `candidates`: a budget the selection did not fill, no other candidate lowering any sample's

@@ -56,7 +56,9 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
                             refining() ? kRefinedBudgetSlack : kBudgetSlack);
     // Not skinned, the vertices out of reach (where the tolerance is asked) as near as the
     // candidates come. (A skinned candidate's spheres in a warm round are the cache's alone.)
-    if (!one_) out.out_of_reach_added = cover_out_of_reach(problem, vertices_in(out.cover.uncovered), out.cover.chosen);
+    if (!one_)
+      out.out_of_reach_added =
+          cover_out_of_reach(problem, vertices_in(out.cover.uncovered), out.cover.chosen, &out.out_of_reach_delta);
     // A radius the check lowers was counted on as larger: cover the same problem again.
     if (one_ && lower_unchecked_radii(out.cover.chosen, out)) continue;
     std::vector<int> order = out.cover.chosen;
@@ -133,9 +135,6 @@ void JointSelector::polish(JointSelection& out) {
     CoverProblem problem = cover_problem(withdrawn, true);
     const double start = largest_gap_to(problem, first, current.size());
     CoverResult cover = cover_with_budget(problem, opt_.budget, kRefinedBudgetSlack, 1e-2, log_, start);
-    // Not skinned, the vertices out of reach (where the tolerance is asked) as near as the
-    // candidates come. (A skinned candidate's spheres in a warm round are the cache's alone.)
-    if (!one_) out.out_of_reach_added = cover_out_of_reach(problem, vertices_in(out.cover.uncovered), out.cover.chosen);
     // A radius the check lowers was counted on as larger: cover the same problem again.
     while (one_ && lower_unchecked_radii(cover.chosen, out)) {
       problem = cover_problem(withdrawn, true);

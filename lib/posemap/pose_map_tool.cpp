@@ -108,6 +108,7 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"uncoverable_samples", sel.out_of_reach()},
           {"uncoverable_vertices", sel.vertices_out_of_reach},
           {"spheres_for_uncoverable_vertices", sel.out_of_reach_added},
+          {"least_reachable_delta", sel.out_of_reach_delta > 0 ? json(sel.out_of_reach_delta) : json(nullptr)},
           {"spheres", sel.chosen.size()},
           {"limited_by", limit_wording(sel.limited_by)},
           {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
