@@ -35,8 +35,10 @@ ExitCode code_of(const std::function<void()>& fn) {
   return ExitCode::ok;
 }
 
-// Sphere surfaces (26 directions at 98% of the radius) and centers lie in the winding-number solid.
-void expect_in_winding_solid(const TriMesh& mesh, const SphereSet& spheres, const std::string& what) {
+// Sphere surfaces (26 directions at 98% of the radius, `inset` further in) and centers lie in the
+// winding-number solid.
+void expect_in_winding_solid(const TriMesh& mesh, const SphereSet& spheres, const std::string& what,
+                             double inset = 0) {
   ASSERT_FALSE(spheres.empty()) << what;
   for (size_t s = 0; s < spheres.size(); ++s) {
     EXPECT_GT(winding_number_exact(mesh, spheres[s].center), 0.5) << what << " sphere " << s;
@@ -44,7 +46,8 @@ void expect_in_winding_solid(const TriMesh& mesh, const SphereSet& spheres, cons
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
           if (!dx && !dy && !dz) continue;
-          const Eigen::Vector3d p = spheres[s].center + 0.98 * spheres[s].radius * Eigen::Vector3d(dx, dy, dz).normalized();
+          const double in = std::max(0.0, 0.98 * spheres[s].radius - inset);
+          const Eigen::Vector3d p = spheres[s].center + in * Eigen::Vector3d(dx, dy, dz).normalized();
           EXPECT_GT(winding_number_exact(mesh, p), 0.5) << what << " sphere " << s << " pokes out at " << p.transpose();
         }
   }
@@ -86,9 +89,11 @@ TEST(BrokenData, SpherePackTakesTheMeshTheFieldWasBuiltFrom) {
               ExitCode::ok)
         << name;
     // The truck is a soup of open parts: at its rims the winding number's 1/2 level, which closes
-    // its holes, lies finer than a voxel, and its smallest spheres cross it (README, Robustness).
-    if (std::string(name) != "broken/truck.obj")
-      expect_in_winding_solid(load_mesh(path).mesh, read_spheres_file(dir + "/spheres.json").spheres, name);
+    // its holes, is placed by the field to a fraction of a voxel, and its smallest spheres cross it
+    // by up to 0.034 voxel (README, Robustness): checked the field's margin in from their surface.
+    const double voxel = sdf_report["grid"]["voxel_size"].get<double>();
+    const double inset = std::string(name) == "broken/truck.obj" ? kFieldMargin * voxel : 0.0;
+    expect_in_winding_solid(load_mesh(path).mesh, read_spheres_file(dir + "/spheres.json").spheres, name, inset);
   }
 }
 
