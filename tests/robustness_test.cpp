@@ -115,6 +115,49 @@ TEST(BrokenData, ZeroVolumeStopsWithAClearError) {
   EXPECT_EQ(code_of([&] { build_sdf(flat, {}); }), ExitCode::bad_input);
 }
 
+// A closed mesh whose triangles all face inward (an asset exported inside out): the winding
+// number is -1 within it, so by the tools' rule (inside past 1/2) it encloses nothing, and
+// sdf-build says so and how to mend it. Its pseudo-normals had marked the voxels just outside
+// its surface as inside: a shell of a field, written without a word, in which sphere-pack then
+// found no interior voxel.
+TEST(BrokenData, InsideOutMeshStopsWithAClearError) {
+  TriMesh box = test::box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
+  for (auto& t : box.triangles) std::swap(t[1], t[2]);
+  SdfOptions o;
+  o.resolution = 24;
+  try {
+    build_sdf(box, o);
+    ADD_FAILURE() << "an inside-out mesh gave a field";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input);
+    EXPECT_NE(std::string(e.what()).find("face inward"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("flip its faces"), std::string::npos) << e.what();
+  }
+}
+
+// One part inside out among others (a wheel exported inside out) encloses nothing and gets no
+// spheres: named, where an inward shell inside another part (a cavity) is not.
+TEST(BrokenData, InsideOutPartsAreNamedAndCavitiesAreNot) {
+  auto joined = [](const TriMesh& a, TriMesh b, bool flip_b) {
+    TriMesh out = a;
+    const int first = int(out.vertices.size());
+    for (const auto& v : b.vertices) out.vertices.push_back(v);
+    for (auto t : b.triangles) {
+      if (flip_b) std::swap(t[1], t[2]);
+      out.triangles.push_back(t + Eigen::Vector3i::Constant(first));
+    }
+    return out;
+  };
+  const TriMesh body = test::box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(3));
+  const TriMesh apart = joined(body, test::box_mesh(Eigen::Vector3d(4, 0, 0), Eigen::Vector3d(5, 1, 1)), true);
+  const MeshDefects d = find_defects(apart);
+  ASSERT_EQ(d.inside_out_parts.size(), 1u);
+  EXPECT_EQ(d.inside_out_parts[0].rfind("part 2 of 2 (", 0), 0u) << d.inside_out_parts[0];
+  const TriMesh cavity = joined(body, test::box_mesh(Eigen::Vector3d::Ones(), Eigen::Vector3d::Constant(2)), true);
+  EXPECT_TRUE(find_defects(cavity).inside_out_parts.empty());
+  EXPECT_TRUE(find_defects(body).inside_out_parts.empty());
+}
+
 TEST(GeneratedInput, DegenerateShapesAndScales) {
   TriMesh triangle;
   triangle.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

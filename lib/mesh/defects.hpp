@@ -1,6 +1,8 @@
 #pragma once
 // What is wrong with a mesh, as the sdf-build report names it.
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "mesh/mesh.hpp"
 
@@ -14,6 +16,10 @@ struct MeshDefects {
   size_t degenerate_triangles = 0;
   size_t components = 0;          // edge-connected pieces
   double signed_volume = 0;       // divergence theorem; negative when the mesh is inside out
+  // Closed pieces that face inward and lie in no other piece (the winding number is -1 within
+  // them: they enclose nothing, where a cavity's inward shell lies in the body around it), each
+  // as "part 2 of 3 (12 triangles around x, y, z)".
+  std::vector<std::string> inside_out_parts;
 
   bool watertight() const { return boundary_edges == 0 && non_manifold_edges == 0 && inconsistent_edges == 0; }
   nlohmann::json to_json() const;

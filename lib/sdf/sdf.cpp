@@ -389,7 +389,10 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
     StageTimer t(log, "surface-layer");
     rasterize_layer(work);
   }
-  const bool single_closed = stats.defects.watertight() && stats.defects.components == 1;
+  // Its pseudo-normals tell inside from outside as the winding number does only when it faces
+  // outward: one that faces inward (w = -1 within) is signed by winding numbers, as any other.
+  const bool single_closed =
+      stats.defects.watertight() && stats.defects.components == 1 && stats.defects.signed_volume > 0;
   {
     StageTimer t(log, "sign");
     if (single_closed) sign_closed_surface(work);
@@ -433,6 +436,9 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
     if (!stats.defects.watertight()) bound_across_holes(w);
     apply_sign(w);
   }
+  if (stats.interior_voxels == 0 && stats.defects.watertight() && stats.defects.signed_volume < 0)
+    fail_input("", "encloses no volume: its triangles face inward (signed volume " + num(stats.defects.signed_volume) +
+                       "), so the winding number is -1 within it, and inside is where it exceeds 1/2; flip its faces");
   if (stats.interior_voxels == 0)
     fail_input("", "encloses no volume at this resolution (flat, open with no inside, or thinner than a voxel of " +
                        num(shape.voxel_size) + "); try a finer resolution");

@@ -22,7 +22,11 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
              std::to_string(d.non_manifold_edges) + " non-manifold, " + std::to_string(d.inconsistent_edges) +
              " inconsistently oriented edges); inside is where the winding number exceeds 1/2");
   if (d.degenerate_triangles > 0) log.warn(input + ": " + std::to_string(d.degenerate_triangles) + " degenerate triangles");
-  if (d.watertight() && d.signed_volume < 0) log.warn(input + ": triangles face inward (negative volume); the winding-number sign is used as is");
+  // Where every part faces inward the field is empty, and build_sdf says so.
+  if (d.inside_out_parts.size() < d.components)
+    for (const std::string& part : d.inside_out_parts)
+      log.warn(input + ": " + part + " faces inward and lies in no other part: the winding number is -1 within it, "
+               "so it encloses no volume and gets no spheres; flip its faces");
   const Eigen::AlignedBox3d bounds = loaded.mesh.bounds();
   char box[200];
   std::snprintf(box, sizeof box, "%.9g %.9g %.9g %.9g %.9g %.9g", bounds.min().x(), bounds.min().y(), bounds.min().z(),
