@@ -6,6 +6,7 @@
 #include "pack/sphere_pack_tool.hpp"
 #include "sdf/sdf_build_tool.hpp"
 #include "mesh/union_distance.hpp"
+#include "mesh/components.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
 #include "synthetic/synthetic.hpp"
@@ -187,8 +188,13 @@ TEST(SpherePack, PartsOutOfReachAreNamedWithWhatWouldReachThem) {
   const json& parts = coarse["parts_out_of_reach"];
   ASSERT_GT(parts.size(), 2u);
   double finest = 0;
+  // The input's parts, not the solid surface's pieces of split triangles (each on vertices of
+  // its own: 1367 "parts" of one triangle each, at 24 cells, before).
+  const std::string of_parts = " of " + std::to_string(edge_components(load_mesh(dir + "/robot.obj").mesh).count) + " (";
   for (const json& part : parts) {
     EXPECT_EQ(part["part"].get<std::string>().rfind("part ", 0), 0u);
+    EXPECT_NE(part["part"].get<std::string>().find(of_parts), std::string::npos) << part["part"];
+    EXPECT_FALSE(part["flat"].get<bool>()) << part["part"];
     EXPECT_GT(part["vertices_out_of_reach"].get<size_t>(), 0u);
     EXPECT_GT(part["resolution_needed"].get<double>(), 24);
     finest = std::max(finest, part["resolution_needed"].get<double>());
@@ -218,6 +224,25 @@ TEST(SpherePack, PartsOutOfReachAreNamedWithWhatWouldReachThem) {
   EXPECT_FALSE(far["tolerance"]["met"].get<bool>());
   EXPECT_GT(far["cover"]["candidates_from"]["samples_unreached"].get<size_t>(), 0u);
   for (const json& part : far["parts_out_of_reach"]) EXPECT_FALSE(part.contains("resolution_needed"));
+
+  // A stray triangle far off (flat: it encloses no volume at any resolution) is named as flat,
+  // and no resolution is said to reach it (the figure had been 6464 cells).
+  TriMesh stray = make_car().rest;
+  const int first = int(stray.vertices.size());
+  const double d = stray.diagonal();
+  for (const Eigen::Vector3d& v : {Eigen::Vector3d(3 * d, 0, 0), Eigen::Vector3d(3 * d + 0.002 * d, 0, 0),
+                                   Eigen::Vector3d(3 * d, 0.002 * d, 0.001 * d)})
+    stray.vertices.push_back(v);
+  stray.triangles.emplace_back(first, first + 1, first + 2);
+  write_file_atomic(dir + "/stray.obj", to_obj(stray));
+  const json flat = pack_at("stray", 64, {});
+  ASSERT_TRUE(flat.contains("parts_out_of_reach"));
+  ASSERT_EQ(flat["parts_out_of_reach"].size(), 1u);
+  const json& part = flat["parts_out_of_reach"][0];
+  EXPECT_TRUE(part["flat"].get<bool>());
+  EXPECT_EQ(part["part"].get<std::string>().rfind("part 2 of 2 (1 triangle around", 0), 0u) << part["part"];
+  EXPECT_FALSE(part.contains("resolution_needed"));
+  EXPECT_FALSE(flat.contains("resolution_needed"));
 }
 
 }  // namespace

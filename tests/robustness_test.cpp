@@ -6,6 +6,7 @@
 #include "core/base64.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "tool/tool.hpp"
 #include "io/spx_writer.hpp"
 #include "mesh/defects.hpp"
@@ -156,6 +157,23 @@ TEST(BrokenData, InsideOutPartsAreNamedAndCavitiesAreNot) {
   const TriMesh cavity = joined(body, test::box_mesh(Eigen::Vector3d::Ones(), Eigen::Vector3d::Constant(2)), true);
   EXPECT_TRUE(find_defects(cavity).inside_out_parts.empty());
   EXPECT_TRUE(find_defects(body).inside_out_parts.empty());
+}
+
+// A stray triangle far off sets the grid's voxel and every tolerance in % of the diagonal:
+// named by sdf-build, with the diagonal it stretches; the body's own parts are not.
+TEST(BrokenData, AStrayTriangleFarOffIsNamed) {
+  TriMesh car = make_car().rest;
+  EXPECT_TRUE(find_defects(car).far_parts.empty());
+  const double d = car.diagonal();
+  const int first = int(car.vertices.size());
+  for (const Eigen::Vector3d& v : {Eigen::Vector3d(3 * d, 0, 0), Eigen::Vector3d(3 * d + 0.002 * d, 0, 0),
+                                   Eigen::Vector3d(3 * d, 0.002 * d, 0)})
+    car.vertices.push_back(v);
+  car.triangles.emplace_back(first, first + 1, first + 2);
+  const MeshDefects defects = find_defects(car);
+  ASSERT_EQ(defects.far_parts.size(), 1u);
+  EXPECT_NE(defects.far_parts[0].find(" of 2 (1 triangle around "), std::string::npos) << defects.far_parts[0];
+  EXPECT_NE(defects.far_parts[0].find("stretches the diagonal from " + num(d)), std::string::npos) << defects.far_parts[0];
 }
 
 TEST(GeneratedInput, DegenerateShapesAndScales) {

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/format.hpp"
+
 namespace spx {
 
 std::vector<EdgeUse> sorted_edge_uses(const TriMesh& mesh) {
@@ -47,5 +49,11 @@ Components components_of(size_t triangles, const std::vector<EdgeUse>& edges) {
 }
 
 Components edge_components(const TriMesh& mesh) { return components_of(mesh.triangles.size(), sorted_edge_uses(mesh)); }
+
+std::string piece_name(const std::string& kind, size_t number, size_t of, size_t triangles, const Eigen::Vector3d& around) {
+  return kind + " " + std::to_string(number) + " of " + std::to_string(of) + " (" + std::to_string(triangles) +
+         (triangles == 1 ? " triangle" : " triangles") + " around " + num(around.x()) + ", " + num(around.y()) + ", " +
+         num(around.z()) + ")";
+}
 
 }  // namespace spx

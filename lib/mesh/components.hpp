@@ -1,6 +1,7 @@
 #pragma once
 // Edge-connected pieces of a mesh: the bodies of a multi-part asset (two animals in one OBJ,
 // a car body and its wheels).
+#include <string>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -13,6 +14,9 @@ struct Components {
 };
 
 Components edge_components(const TriMesh& mesh);
+
+// A piece as messages name it: "part 2 of 13 (192 triangles around -0.28, 1.099, 0.05143)".
+std::string piece_name(const std::string& kind, size_t number, size_t of, size_t triangles, const Eigen::Vector3d& around);
 
 // One use of an edge by a triangle: its ends lo < hi, whether the triangle runs lo to hi.
 struct EdgeUse {

@@ -19,38 +19,69 @@ bool is_degenerate(const TriMesh& mesh, int t, double diagonal) {
 
 namespace {
 
-// The closed pieces (every edge of theirs used twice, in opposite directions) of negative volume
-// whose first corner the other pieces' winding number puts outside.
-std::vector<std::string> inside_out_parts(const TriMesh& mesh, const Components& parts, const std::vector<EdgeUse>& half) {
-  std::vector<char> closed(parts.count, 1);
-  for (size_t i = 0; i < half.size();) {
-    size_t j = i;
-    while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
-    if (j - i != 2 || half[i].forward == half[i + 1].forward) closed[size_t(parts.of_triangle[size_t(half[i].tri)])] = 0;
-    i = j;
-  }
-  std::vector<double> volume(parts.count, 0);
-  std::vector<size_t> count(parts.count, 0);
-  std::vector<Eigen::Vector3d> sum(parts.count, Eigen::Vector3d::Zero());
+// Each edge-connected piece's triangles, their centroids' sum, box and signed volume.
+struct Part {
+  size_t triangles = 0;
+  Eigen::Vector3d centroids = Eigen::Vector3d::Zero();
+  Eigen::AlignedBox3d box;
+  double volume = 0;
+  Eigen::Vector3d centre() const { return centroids / double(triangles); }
+};
+std::vector<Part> parts_of(const TriMesh& mesh, const Components& parts) {
+  std::vector<Part> out(parts.count);
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& f = mesh.triangles[t];
-    const size_t p = size_t(parts.of_triangle[t]);
-    volume[p] += mesh.vertices[f[0]].dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6.0;
-    ++count[p];
-    sum[p] += (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / 3;
+    const Eigen::Vector3d &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
+    Part& p = out[size_t(parts.of_triangle[t])];
+    ++p.triangles;
+    p.centroids += (a + b + c) / 3;
+    p.box.extend(a), p.box.extend(b), p.box.extend(c);
+    p.volume += a.dot(b.cross(c)) / 6.0;
   }
+  return out;
+}
+
+// How find_defects names a piece.
+std::string part_name(size_t p, const std::vector<Part>& parts) {
+  return piece_name("part", p + 1, parts.size(), parts[p].triangles, parts[p].centre());
+}
+
+// The closed pieces (`closed`: every edge of theirs used twice, in opposite directions) of
+// negative volume whose first corner the other pieces' winding number puts outside.
+std::vector<std::string> inside_out_parts(const TriMesh& mesh, const Components& components,
+                                          const std::vector<Part>& parts, const std::vector<char>& closed) {
   std::vector<std::string> out;
-  for (size_t p = 0; p < parts.count; ++p) {
-    if (!closed[p] || !(volume[p] < 0)) continue;
-    const size_t first = size_t(std::find(parts.of_triangle.begin(), parts.of_triangle.end(), int(p)) - parts.of_triangle.begin());
+  for (size_t p = 0; p < parts.size(); ++p) {
+    if (!closed[p] || !(parts[p].volume < 0)) continue;
     TriMesh others;
     others.vertices = mesh.vertices;
+    int corner = -1;
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
-      if (size_t(parts.of_triangle[t]) != p) others.triangles.push_back(mesh.triangles[t]);
-    if (winding_number_exact(others, mesh.vertices[size_t(mesh.triangles[first][0])]) > 0.5) continue;  // a cavity
-    const Eigen::Vector3d c = sum[p] / double(count[p]);
-    out.push_back("part " + std::to_string(p + 1) + " of " + std::to_string(parts.count) + " (" +
-                  std::to_string(count[p]) + " triangles around " + num(c.x()) + ", " + num(c.y()) + ", " + num(c.z()) + ")");
+      if (size_t(components.of_triangle[t]) != p)
+        others.triangles.push_back(mesh.triangles[t]);
+      else if (corner < 0)
+        corner = mesh.triangles[t][0];
+    if (winding_number_exact(others, mesh.vertices[size_t(corner)]) > 0.5) continue;  // a cavity
+    out.push_back(part_name(p, parts));
+  }
+  return out;
+}
+
+// Pieces of at most 1 % of the triangles whose removal shrinks the diagonal by a fifth or more:
+// each piece's box against the union of every other's (prefix and suffix unions).
+std::vector<std::string> far_parts(const std::vector<Part>& parts, size_t triangles) {
+  const size_t n = parts.size();
+  if (n < 2) return {};
+  std::vector<Eigen::AlignedBox3d> before(n + 1), after(n + 1);
+  for (size_t p = 0; p < n; ++p) before[p + 1] = before[p].merged(parts[p].box);
+  for (size_t p = n; p-- > 0;) after[p] = after[p + 1].merged(parts[p].box);
+  const double whole = before[n].diagonal().norm();
+  std::vector<std::string> out;
+  for (size_t p = 0; p < n; ++p) {
+    if (100 * parts[p].triangles > triangles) continue;
+    const double rest = before[p].merged(after[p + 1]).diagonal().norm();
+    if (rest > 0.8 * whole) continue;
+    out.push_back(part_name(p, parts) + " stretches the diagonal from " + num(rest) + " to " + num(whole));
   }
   return out;
 }
@@ -69,8 +100,12 @@ MeshDefects find_defects(const TriMesh& mesh) {
     const Eigen::Vector3d& p0 = mesh.vertices[f[0]];
     d.signed_volume += p0.dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6.0;
   }
-  // An edge's uses: counts and orientation per edge, and (one sort for both) the pieces.
+  // An edge's uses: counts and orientation per edge, and (one sort for both) the pieces, each
+  // closed where none of its edges is a defect.
   const std::vector<EdgeUse> half = sorted_edge_uses(mesh);
+  const Components components = components_of(mesh.triangles.size(), half);
+  d.components = components.count;
+  std::vector<char> closed(components.count, 1);
   for (size_t i = 0; i < half.size();) {
     size_t j = i;
     while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
@@ -78,11 +113,16 @@ MeshDefects find_defects(const TriMesh& mesh) {
     if (n == 1) ++d.boundary_edges;
     else if (n > 2) ++d.non_manifold_edges;
     else if (half[i].forward == half[i + 1].forward) ++d.inconsistent_edges;
+    else {
+      i = j;
+      continue;
+    }
+    closed[size_t(components.of_triangle[size_t(half[i].tri)])] = 0;
     i = j;
   }
-  const Components parts = components_of(mesh.triangles.size(), half);
-  d.components = parts.count;
-  d.inside_out_parts = inside_out_parts(mesh, parts, half);
+  const std::vector<Part> parts = parts_of(mesh, components);
+  d.inside_out_parts = inside_out_parts(mesh, components, parts, closed);
+  d.far_parts = far_parts(parts, mesh.triangles.size());
   return d;
 }
 
@@ -96,6 +136,7 @@ nlohmann::json MeshDefects::to_json() const {
           {"components", components},
           {"signed_volume", signed_volume},
           {"inside_out_parts", inside_out_parts},
+          {"far_parts", far_parts},
           {"watertight", watertight()}};
 }
 

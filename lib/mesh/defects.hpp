@@ -20,6 +20,11 @@ struct MeshDefects {
   // them: they enclose nothing, where a cavity's inward shell lies in the body around it), each
   // as "part 2 of 3 (12 triangles around x, y, z)".
   std::vector<std::string> inside_out_parts;
+  // Small pieces (at most 1 % of the triangles) apart from the rest, whose removal would shrink
+  // the bounding box's diagonal by a fifth or more: a stray triangle far off sets the voxel size
+  // and every tolerance given in % of the diagonal. Each named as above, then "stretches the
+  // diagonal from D to D'".
+  std::vector<std::string> far_parts;
 
   bool watertight() const { return boundary_edges == 0 && non_manifold_edges == 0 && inconsistent_edges == 0; }
   nlohmann::json to_json() const;

@@ -1,5 +1,8 @@
 #include "pack/sphere_pack_tool.hpp"
 
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <cmath>
@@ -137,63 +140,141 @@ double resolution_reaching(double resolution, double gap, double target) {
   return std::ceil(resolution * std::max(1.0, gap / target) * kSpare / kStep) * kStep;
 }
 
-// The parts (edge-connected pieces) whose vertices no candidate reaches within `target`: each
-// named by its triangles and centre, with how many vertices, the farthest, whether any
-// candidate lies in its box at all, and (given the field's `resolution`, where the field
-// limits the candidates) the resolution that would reach them. Warned about, the first few by name.
-json parts_out_of_reach(const TriMesh& mesh, const SphereSet& candidates, double target, double resolution, Log& log) {
-  const std::vector<double> gap = union_signed_distance(mesh.vertices, candidates);
-  const Components parts = edge_components(mesh);
-  std::vector<std::vector<int>> vertices_of(parts.count);
-  {
-    std::vector<int> part_of(mesh.vertices.size(), -1);
-    for (size_t t = 0; t < mesh.triangles.size(); ++t)
-      for (int k = 0; k < 3; ++k) part_of[size_t(mesh.triangles[t][k])] = parts.of_triangle[t];
-    for (size_t v = 0; v < part_of.size(); ++v)
-      if (part_of[v] >= 0) vertices_of[size_t(part_of[v])].push_back(int(v));
+// Whether every vertex of a part lies in one plane (a stray triangle, a flat decal): it encloses
+// no volume by the winding number, at any resolution.
+bool is_flat(const TriMesh& mesh, const std::vector<int>& vertices, const Eigen::AlignedBox3d& box) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int v : vertices) mean += mesh.vertices[size_t(v)];
+  mean /= double(vertices.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (int v : vertices) scatter += (mesh.vertices[size_t(v)] - mean) * (mesh.vertices[size_t(v)] - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter / double(vertices.size()));
+  return std::sqrt(std::max(0.0, solver.eigenvalues()[0])) <= 1e-7 * box.diagonal().norm();
+}
+
+// The parts (the input mesh's edge-connected pieces) whose vertices on the solid's surface no
+// candidate reaches within `target`: each named by its triangles and centre, with how many
+// vertices, the farthest, whether any candidate lies in its box at all, whether it is flat, and
+// (given the field's `resolution`, where the field limits the candidates, and not flat) the
+// resolution that would reach them. The surface's pieces of split triangles are on vertices of
+// their own: each belongs to the part of the triangle it is cut from.
+json parts_out_of_reach(const MeshQuery& query, const SphereSet& candidates, double target, double resolution) {
+  const TriMesh& input = query.mesh();
+  const TriMesh& surface = query.surface();
+  const std::vector<double> gap = union_signed_distance(surface.vertices, candidates);
+  const Components parts = edge_components(input);
+  const SolidBoundary& boundary = query.boundary();
+  std::vector<int> part_of(surface.vertices.size(), -1);  // each surface vertex's part
+  for (size_t t = 0; t < surface.triangles.size(); ++t) {
+    const int part = parts.of_triangle[boundary.whole() ? t : size_t(boundary.source[t])];
+    for (int k = 0; k < 3; ++k) part_of[size_t(surface.triangles[t][k])] = part;
   }
+  std::vector<std::vector<int>> vertices_of(parts.count);  // the input's, for the part's shape
   std::vector<size_t> triangles(parts.count, 0);
-  for (int p : parts.of_triangle) ++triangles[size_t(p)];
+  {
+    std::vector<int> input_part(input.vertices.size(), -1);
+    for (size_t t = 0; t < input.triangles.size(); ++t) {
+      ++triangles[size_t(parts.of_triangle[t])];
+      for (int k = 0; k < 3; ++k) input_part[size_t(input.triangles[t][k])] = parts.of_triangle[t];
+    }
+    for (size_t v = 0; v < input_part.size(); ++v)
+      if (input_part[v] >= 0) vertices_of[size_t(input_part[v])].push_back(int(v));
+  }
+  std::vector<size_t> far(parts.count, 0);
+  std::vector<double> farthest(parts.count, 0);
+  for (size_t v = 0; v < part_of.size(); ++v)
+    if (part_of[v] >= 0 && gap[v] > target) {
+      ++far[size_t(part_of[v])];
+      farthest[size_t(part_of[v])] = std::max(farthest[size_t(part_of[v])], gap[v]);
+    }
   json out = json::array();
   for (size_t p = 0; p < parts.count; ++p) {
+    if (far[p] == 0) continue;
     Eigen::AlignedBox3d box;
-    size_t far = 0;
-    double farthest = 0;
-    for (int v : vertices_of[p]) {
-      box.extend(mesh.vertices[size_t(v)]);
-      if (gap[size_t(v)] > target) ++far, farthest = std::max(farthest, gap[size_t(v)]);
-    }
-    if (far == 0) continue;
+    for (int v : vertices_of[p]) box.extend(input.vertices[size_t(v)]);
     bool holds_one = false;
     for (const Sphere& s : candidates) holds_one = holds_one || box.contains(s.center);
-    const Eigen::Vector3d c = box.center();
-    const double needed = resolution > 0 ? resolution_reaching(resolution, farthest, target) : 0;
-    const std::string name = "part " + std::to_string(p + 1) + " of " + std::to_string(parts.count) + " (" +
-                             std::to_string(triangles[p]) + " triangles around " + num(c.x()) + ", " + num(c.y()) +
-                             ", " + num(c.z()) + ")";
-    std::string advice;
-    if (needed > 0)
-      advice = std::string(holds_one ? "" : "; it holds no inscribed sphere at this resolution") + "; about " + num(needed) +
-               " cells would reach them";
-    if (out.size() < 5) log.warn(name + ": " + std::to_string(far) + " of its vertices out of reach" + advice);
-    json part = {{"part", name}, {"vertices_out_of_reach", far}, {"farthest", farthest}, {"holds_a_candidate", holds_one}};
-    if (needed > 0) part["resolution_needed"] = needed;
+    const bool flat = is_flat(input, vertices_of[p], box);
+    json part = {{"part", piece_name("part", p + 1, parts.count, triangles[p], box.center())},
+                 {"vertices_out_of_reach", far[p]},
+                 {"farthest", farthest[p]},
+                 {"holds_a_candidate", holds_one},
+                 {"flat", flat}};
+    if (resolution > 0 && !flat) part["resolution_needed"] = resolution_reaching(resolution, farthest[p], target);
     out.push_back(part);
   }
-  if (out.size() > 5) log.warn("and " + std::to_string(out.size() - 5) + " more parts (the report lists them)");
   return out;
+}
+
+// The parts out of reach warned about, the first few by name.
+void warn_parts_out_of_reach(const json& parts, Log& log) {
+  constexpr size_t kNamed = 5;
+  for (size_t n = 0; n < parts.size() && n < kNamed; ++n) {
+    const json& part = parts[n];
+    std::string advice;
+    if (part["flat"].get<bool>())
+      advice = "; it is flat (every vertex in one plane) and encloses no volume at any resolution";
+    else if (part.contains("resolution_needed"))
+      advice = std::string(part["holds_a_candidate"].get<bool>() ? "" : "; it holds no inscribed sphere at this resolution") +
+               "; about " + num(part["resolution_needed"].get<double>()) + " cells would reach them";
+    log.warn(part["part"].get<std::string>() + ": " + std::to_string(part["vertices_out_of_reach"].get<size_t>()) +
+             " of its vertices out of reach" + advice);
+  }
+  if (parts.size() > kNamed) log.warn("and " + std::to_string(parts.size() - kNamed) + " more parts (the report lists them)");
 }
 
 }  // namespace
 
 namespace {
 
+// A tolerance out of reach: how many samples, how far, what would reach them (a finer field,
+// or nothing where the field does not limit the candidates or the parts are flat), and the parts
+// they lie on; in the log and the report.
+void warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
+                       const CoverSelection& sel, Log& log, json& report) {
+  const CoverResult& cover = sel.cover;
+  const double target = sel.target;
+  const std::string out_of_reach = std::to_string(cover.uncoverable()) +
+                                   " surface samples are farther than it from every inscribed sphere (the farthest " +
+                                   num(cover.least_reachable) + ", as near as " + std::to_string(sel.out_of_reach_added) +
+                                   (sel.out_of_reach_added == 1 ? " more sphere brings" : " more spheres bring") +
+                                   " them)";
+  // With every sample's own candidate only a sharp tip or edge under the least radius (or a
+  // tolerance under float rounding) is out of reach, and no field helps: no resolution named.
+  const bool field_limits = sel.limited_by != Limit::reach;
+  const double resolution = field_limits ? field_resolution(sdf.field.shape) : 0;
+  const json parts = parts_out_of_reach(mesh, sel.offered, target, resolution);
+  // Flat parts enclose nothing at any resolution: the resolution named is the others'.
+  const auto is_flat_part = [](const json& part) { return part["flat"].get<bool>(); };
+  const bool all_flat = !parts.empty() && std::all_of(parts.begin(), parts.end(), is_flat_part);
+  if (field_limits && all_flat) {
+    log.warn("tolerance " + num(target) + " not met: " + out_of_reach +
+             "; the parts whose vertices are out of reach are flat, and no resolution reaches them");
+  } else if (field_limits) {
+    double needed = resolution_reaching(resolution, cover.least_reachable, target);
+    if (std::any_of(parts.begin(), parts.end(), is_flat_part)) {
+      needed = resolution;
+      for (const json& part : parts)
+        if (part.contains("resolution_needed")) needed = std::max(needed, part["resolution_needed"].get<double>());
+    }
+    log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
+             num(sdf.field.shape.voxel_size) + "): " + out_of_reach + "; a field of about " + num(needed) +
+             " cells (sdf-build --resolution " + num(needed) + ") would reach them");
+    report["resolution_needed"] = needed;
+  } else {
+    log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
+             " samples have no inscribed sphere of at least the least radius (" + num(opt.pack.min_radius) +
+             ") that reaches them");
+  }
+  warn_parts_out_of_reach(parts, log);
+  report["parts_out_of_reach"] = parts;
+}
+
 // select_by_cover, with its warnings and report; `in_force` is the tolerance opt.tolerance came
 // from (the default where `is_default`).
 SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
                                    const Tolerance& in_force, bool is_default, PackStats& stats, SphereSet& pool,
                                    Log& log, json& report) {
-  const double h = sdf.field.shape.voxel_size;
   const CoverSelection sel = select_by_cover(sdf.field, mesh, opt, log);
   const SphereSet& spheres = sel.spheres;
   const CoverResult& cover = sel.cover;
@@ -204,28 +285,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.surface(), spheres);
   const bool met = !(target > 0) || (cover.uncoverable() == 0 && error.max <= target * (1 + 1e-9));
-  if (target > 0 && cover.uncoverable() > 0) {
-    const std::string out_of_reach = std::to_string(cover.uncoverable()) +
-                                     " surface samples are farther than it from every inscribed sphere (the farthest " +
-                                     num(cover.least_reachable) + "; " + std::to_string(sel.out_of_reach_added) +
-                                     " of the spheres bring them that near)";
-    // With every sample's own candidate only a sharp tip or edge under the least radius (or a
-    // tolerance under float rounding) is out of reach, and no field helps: no resolution named.
-    const bool field_limits = sel.limited_by != Limit::reach;
-    const double resolution = field_limits ? field_resolution(sdf.field.shape) : 0;
-    if (field_limits) {
-      const double needed = resolution_reaching(resolution, cover.least_reachable, target);
-      log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
-               num(h) + "): " + out_of_reach + "; a field of about " + num(needed) + " cells (sdf-build --resolution " +
-               num(needed) + ") would reach them");
-      report["resolution_needed"] = needed;
-    } else {
-      log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
-               " samples have no inscribed sphere of at least the least radius (" + num(opt.pack.min_radius) +
-               ") that reaches them");
-    }
-    report["parts_out_of_reach"] = parts_out_of_reach(mesh.surface(), sel.offered, target, resolution, log);
-  }
+  if (target > 0 && cover.uncoverable() > 0) warn_out_of_reach(sdf, mesh, opt, sel, log, report);
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
   stats.min_radius = opt.pack.min_radius;

@@ -271,9 +271,7 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
         size_t solid = 0, triangles = 0;
         for (size_t k = 0; k <= b; ++k) solid += !bodies[k].seeds.empty();
         const Eigen::Vector3d c = body_box(surface, parts, b, triangles).center();
-        out.unmeshed_bodies.push_back("body " + std::to_string(solid) + " of " + std::to_string(solids) + " (" +
-                                      std::to_string(triangles) + " triangles around " + num(c.x()) + ", " +
-                                      num(c.y()) + ", " + num(c.z()) + ")");
+        out.unmeshed_bodies.push_back(piece_name("body", solid, solids, triangles, c));
         log.warn(out.unmeshed_bodies.back() + " produced no tetrahedra, even with tets of size " +
                  num(body_size[b]) + " there: its spheres follow the tets nearby");
       }

@@ -22,6 +22,9 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
              std::to_string(d.non_manifold_edges) + " non-manifold, " + std::to_string(d.inconsistent_edges) +
              " inconsistently oriented edges); inside is where the winding number exceeds 1/2");
   if (d.degenerate_triangles > 0) log.warn(input + ": " + std::to_string(d.degenerate_triangles) + " degenerate triangles");
+  for (const std::string& part : d.far_parts)
+    log.warn(input + ": " + part + ", and with it the voxel (--resolution counts along the longest side) and any "
+             "tolerance in % of the diagonal; remove it if it is stray");
   // Where every part faces inward the field is empty, and build_sdf says so.
   if (d.inside_out_parts.size() < d.components)
     for (const std::string& part : d.inside_out_parts)
