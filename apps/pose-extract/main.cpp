@@ -8,6 +8,7 @@ int main(int argc, char** argv) {
   spx::PoseExtractOptions opt;
   tool.app.add_option("input", input, "Asset: glTF/GLB, FBX, COLLADA (anything assimp reads)")->required();
   tool.app.add_option("-o,--output", dir, "Output folder")->required();
+  tool.writes_folder("--output");
   tool.app.add_option("--mesh", opt.mesh, "Only this mesh (or node); default: every mesh, merged into one body");
   auto* morph = tool.app.add_flag("--morph-targets", opt.morph_targets, "One pose per morph target (blend shape)");
   auto* anim = tool.app.add_option("--animation", opt.animation,

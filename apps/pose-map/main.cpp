@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
       ->excludes(rest_opt)->excludes(pose_opt)->excludes(skin_opt);
   tool.app.add_option("--spheres", spheres, "Rest spheres from sphere-pack")->required();
   tool.app.add_option("-o,--output", output, "Output .proxy.json")->required();
+  tool.writes_file("--output");
   tool.app.add_option("--tet-size", opt.tets.size, "Tet edge length (default: bounding-box diagonal / 30)");
   tool.app.add_option("--tets", opt.tet_file, "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");

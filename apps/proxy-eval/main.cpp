@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   tool.app.add_option("--coverage-samples", opt.eval.coverage_samples, "Grid cells along the longest side for coverage")
       ->capture_default_str();
   tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
+  tool.writes_file("--colors");
   tool.app.add_option("--color-pose", opt.color_pose, "Pose written to a .ply (0 = rest)")->capture_default_str();
   tool.app.add_option("--color-scale", opt.color_scale, "Error shown as full red (default: the largest max error)");
   auto& m = opt.motion;
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
   tool.app.add_option("--between", m.between, "With --asset: also this many times evenly between consecutive ones "
                       "(0: none)")->capture_default_str()->needs(asset_opt);
   tool.app.add_option("--chart", m.chart, "With --asset: error over the clip as an SVG chart")->needs(asset_opt);
+  tool.writes_file("--chart");
   std::string tolerance;
   tool.app.add_option("--tolerance", tolerance, "With --asset: the target, for ratios in the report (T or T% of the "
                       "rest diagonal)")->needs(asset_opt);

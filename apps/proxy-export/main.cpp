@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   bool stacked = false;
   tool.app.add_option("input", input, "Proxy from pose-map (.proxy.json)")->required();
   tool.app.add_option("-o,--output", output, "Output: .spx, .json, .glb, .ply or .html")->required();
+  tool.writes_file("--output");
   tool.app.add_option("--ply-pose", opt.pose, "Pose to write to .ply (0 = rest)")->capture_default_str();
   tool.app.add_flag("--stacked", stacked, "In .glb, keep poses in place instead of side by side");
   auto* rest_opt = tool.app.add_option("--rest", opt.rest, "Rest mesh M_0: previews colour each pose's mesh by its "

@@ -6,5 +6,6 @@ int main(int argc, char** argv) {
   std::string name, dir;
   tool.app.add_option("sample", name, "car, barrel or robot")->required();
   tool.app.add_option("-o,--output", dir, "Folder for rest.obj and one OBJ per pose")->required();
+  tool.writes_folder("--output");
   return tool.run(argc, argv, [&] { spx::sample_gen_files(name, dir, tool.log, tool.report); });
 }

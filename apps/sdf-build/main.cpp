@@ -8,6 +8,7 @@ int main(int argc, char** argv) {
   spx::SdfOptions opt;
   tool.app.add_option("input", input, "Mesh: OBJ, PLY, STL, OFF, glTF/GLB, FBX")->required();
   tool.app.add_option("-o,--output", output, "Output .vdb file")->required();
+  tool.writes_file("--output");
   auto* res = tool.app.add_option("--resolution", opt.resolution, "Voxels along the longest side of the bounding box")
                   ->capture_default_str();
   auto* vs = tool.app.add_option("--voxel-size", opt.voxel_size, "Voxel size in mesh units (instead of --resolution)");

@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   spx::SpherePackOptions opt;
   tool.app.add_option("input", input, "Signed distance field (.vdb from sdf-build)")->required();
   tool.app.add_option("-o,--output", output, "Output .spheres.json")->required();
+  tool.writes_file("--output");
   tool.app.add_option("--mesh", mesh, "The mesh the field was built from: exact radii, and the error is measured "
                                       "at its vertices (needed by the cover method and --tolerance; default: the mesh "
                                       "sdf-build recorded in the field, while it is there)");

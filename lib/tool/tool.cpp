@@ -2,8 +2,10 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <new>
 
@@ -30,6 +32,31 @@ Tool::Tool(std::string name, const std::string& description)
   app.add_option("--report", report_path_, "Write a machine-readable JSON report to this file");
   app.add_flag("-q,--quiet", quiet_, "Print errors only");
   app.add_flag("-v,--verbose", verbose_, "Print stage timings and details");
+}
+
+void Tool::check_output_folders() const {
+  namespace fs = std::filesystem;
+  auto given = [&](const std::vector<std::string>& flags) {
+    std::vector<std::string> out;
+    for (const std::string& flag : flags) {
+      const CLI::Option* option = app.get_option_no_throw(flag);
+      if (option && option->count() > 0) out.push_back(option->as<std::string>());
+    }
+    return out;
+  };
+  std::vector<std::string> files = given(file_outputs_);
+  if (!report_path_.empty()) files.push_back(report_path_);
+  // The folders the tool creates, and their parents.
+  std::vector<fs::path> created;
+  for (const std::string& folder : given(folder_outputs_))
+    for (fs::path p = fs::absolute(folder).lexically_normal(); !p.empty() && p != p.parent_path(); p = p.parent_path())
+      created.push_back(p);
+  for (const std::string& path : files) {
+    const fs::path folder = fs::absolute(path).lexically_normal().parent_path();
+    std::error_code ec;
+    if (fs::is_directory(folder, ec) || std::find(created.begin(), created.end(), folder) != created.end()) continue;
+    fail_write(path, "cannot create output: its folder " + folder.string() + " is not there");
+  }
 }
 
 std::string Tool::flag_for(const std::string& option) const {
@@ -59,6 +86,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
 
   ExitCode code = ExitCode::ok;
   try {
+    check_output_folders();
     StageTimer total(log, "total");
     body();
     total.stop();

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "core/json_io.hpp"
 #include "core/log.hpp"
@@ -28,13 +29,22 @@ class Tool {
 
   const std::string& name() const { return name_; }
 
+  // An option naming a file the tool writes (besides --report): a folder that is not there
+  // fails before the work, not after it.
+  void writes_file(const std::string& flag) { file_outputs_.push_back(flag); }
+  // An option naming a folder the tool creates (with its parents): a --report there is fine.
+  void writes_folder(const std::string& flag) { folder_outputs_.push_back(flag); }
+
   // The flag that sets the library option `option` when it is not "--" + the option with
   // '_' as '-' (proxy-export's "pose" is --ply-pose).
   void name_option(const std::string& option, const std::string& flag) { flags_[option] = flag; }
   std::string flag_for(const std::string& option) const;
 
  private:
+  // Fails (exit 4, naming the file) where an output's folder is not there.
+  void check_output_folders() const;
   std::map<std::string, std::string> flags_;
+  std::vector<std::string> file_outputs_, folder_outputs_;
   std::string name_;
   std::string report_path_;
   int quiet_ = 0;

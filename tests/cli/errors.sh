@@ -23,7 +23,13 @@ expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$o
 expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution abc
 expect 3 "GiB" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 20000
 expect 1 "Error:" "" -- "$bin/sdf-build" "$out/in/rest.obj" --no-such-option
-expect 4 "x.vdb" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/no/such/dir/x.vdb"
+expect 4 "x.vdb: cannot create output: its folder .*/no/such/dir is not there" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/no/such/dir/x.vdb"
+# An output's folder that is not there fails before the work, the others not written either.
+expect 4 "r.json: cannot create output: its folder" "$out/y.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/y.vdb" --report "$out/no/r.json"
+expect 4 "c.glb: cannot create output: its folder" "" -- "$bin/proxy-eval" "$out/none.proxy.json" --colors "$out/no/c.glb"
+# ... but a tool that creates its output folder takes a --report there.
+"$bin/sample-gen" barrel -o "$out/made/here" --report "$out/made/here/r.json" -q
+check "sample-gen writes its --report into the folder it creates" test -s "$out/made/here/r.json"
 expect 2 "rest.obj: not a readable OpenVDB" "$out/y.json" -- "$bin/sphere-pack" "$out/in/rest.obj" -o "$out/y.json"
 cp "$out/in/rest.obj" "$out/fake.vdb"
 expect 2 "fake.vdb" "$out/y.json" -- "$bin/sphere-pack" "$out/fake.vdb" -o "$out/y.json"
