@@ -243,6 +243,7 @@ TEST(SpherePack, PartsOutOfReachAreNamedWithWhatWouldReachThem) {
   EXPECT_EQ(part["part"].get<std::string>().rfind("part 2 of 2 (1 triangle around", 0), 0u) << part["part"];
   EXPECT_FALSE(part.contains("resolution_needed"));
   EXPECT_FALSE(flat.contains("resolution_needed"));
+  EXPECT_EQ(flat["tolerance"]["limited_by"].get<std::string>().rfind("flat parts", 0), 0u) << flat["tolerance"];
 }
 
 }  // namespace

@@ -87,7 +87,8 @@ size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_
 // What decided a selection's size, and its words in reports and logs (limit_wording).
 // `candidates`: a budget the selection did not fill, no other candidate lowering any sample's
 // error (set once the selection is done: until then it is `budget`, which the refinement keys on).
-enum class Limit { tolerance, default_tolerance, resolution, reach, motion, budget, budget_over_tolerance, candidates };
+// `flat`: the parts out of reach are flat (a stray triangle, a sheet), which no resolution fills.
+enum class Limit { tolerance, default_tolerance, resolution, reach, motion, flat, budget, budget_over_tolerance, candidates };
 const char* limit_wording(Limit limit);
 // Budget mode, once done: `candidates` where `used` spheres are fewer than the `budget`.
 void note_unused_budget(Limit& limited_by, size_t used, size_t budget, Log& log);

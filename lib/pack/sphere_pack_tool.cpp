@@ -229,8 +229,8 @@ namespace {
 
 // A tolerance out of reach: how many samples, how far, what would reach them (a finer field,
 // or nothing where the field does not limit the candidates or the parts are flat), and the parts
-// they lie on; in the log and the report.
-void warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
+// they lie on; in the log and the report. Returns whether every such part is flat.
+bool warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
                        const CoverSelection& sel, Log& log, json& report) {
   const CoverResult& cover = sel.cover;
   const double target = sel.target;
@@ -268,6 +268,7 @@ void warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const Sphere
   }
   warn_parts_out_of_reach(parts, log);
   report["parts_out_of_reach"] = parts;
+  return all_flat;
 }
 
 // select_by_cover, with its warnings and report; `in_force` is the tolerance opt.tolerance came
@@ -279,13 +280,15 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const SphereSet& spheres = sel.spheres;
   const CoverResult& cover = sel.cover;
   const double target = sel.target;
-  const std::string limit =
-      limit_wording(sel.limited_by == Limit::tolerance && is_default ? Limit::default_tolerance : sel.limited_by);
   pool = sel.pool;
   // The error as proxy-eval measures it, at the vertices.
   const ErrorStats error = vertex_error(mesh.surface(), spheres);
   const bool met = !(target > 0) || (cover.uncoverable() == 0 && error.max <= target * (1 + 1e-9));
-  if (target > 0 && cover.uncoverable() > 0) warn_out_of_reach(sdf, mesh, opt, sel, log, report);
+  const bool flat = target > 0 && cover.uncoverable() > 0 && warn_out_of_reach(sdf, mesh, opt, sel, log, report);
+  const Limit limited_by = flat ? Limit::flat
+                           : sel.limited_by == Limit::tolerance && is_default ? Limit::default_tolerance
+                                                                               : sel.limited_by;
+  const std::string limit = limit_wording(limited_by);
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
   stats.min_radius = opt.pack.min_radius;
