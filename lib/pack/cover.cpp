@@ -7,8 +7,6 @@
 #include <memory>
 #include <tuple>
 
-#include <tbb/parallel_for.h>
-
 #include "core/format.hpp"
 
 namespace spx {
@@ -102,26 +100,31 @@ size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_
   if (which.empty()) return 0;
   const double reach = largest_finite(least_gaps_of(problem, which));
   if (reach_out) *reach_out = reach;
-  std::vector<uint32_t> pose_start(1, 0);
-  for (const auto& points : problem.samples) pose_start.push_back(pose_start.back() + uint32_t(points.size()));
-  // Each sample's candidates within reach, by a scan of every candidate (the samples are few).
-  std::vector<std::vector<uint32_t>> within(which.size());
-  tbb::parallel_for(size_t(0), which.size(), [&](size_t i) {
-    const size_t k = size_t(std::upper_bound(pose_start.begin(), pose_start.end(), which[i]) - pose_start.begin()) - 1;
-    const Eigen::Vector3d& p = problem.samples[k][which[i] - pose_start[k]];
-    const SphereSet& spheres = problem.spheres[k];
-    for (size_t c = 0; c < spheres.size(); ++c)
-      if (spheres[c].radius > 0 && (p - spheres[c].center).norm() - spheres[c].radius <= reach)
-        within[i].push_back(uint32_t(c));
-  });
-  std::vector<char> in(problem.candidate_count(), 0);
-  for (int c : chosen) in[size_t(c)] = 1;
-  std::vector<const std::vector<uint32_t>*> left;
-  for (const auto& candidates : within)
-    if (std::none_of(candidates.begin(), candidates.end(), [&](uint32_t c) { return in[c] != 0; }))
-      left.push_back(&candidates);
-  const Coverage rows = transposed(left.size(), problem.candidate_count(), [&](size_t i) { return *left[i]; });
-  const std::vector<int> added = greedy_cover(rows);
+  // Those samples alone, each in its pose, against every candidate (none merged into another):
+  // the coverage rule at `reach`.
+  CoverProblem out_of_reach;
+  out_of_reach.spheres = problem.spheres;
+  out_of_reach.samples.resize(problem.samples.size());
+  size_t pose = 0, first = 0;
+  for (uint32_t s : which) {  // ascending
+    while (s >= first + problem.samples[pose].size()) first += problem.samples[pose++].size();
+    out_of_reach.samples[pose].push_back(problem.samples[pose][s - first]);
+  }
+  const Coverage rows = coverage_at(out_of_reach, reach);
+  // The fewest more candidates for the samples no chosen one covers there (the others' columns
+  // left empty: greedy skips them).
+  std::vector<char> covered(rows.sample_count, 0);
+  for (int c : chosen)
+    for (uint32_t n = rows.start[size_t(c)]; n < rows.start[size_t(c) + 1]; ++n) covered[rows.samples[n]] = 1;
+  Coverage bare;
+  bare.sample_count = rows.sample_count;
+  bare.start.assign(rows.start.size(), 0);
+  for (size_t c = 0; c + 1 < rows.start.size(); ++c) {
+    for (uint32_t n = rows.start[c]; n < rows.start[c + 1]; ++n)
+      if (!covered[rows.samples[n]]) bare.samples.push_back(rows.samples[n]);
+    bare.start[c + 1] = uint32_t(bare.samples.size());
+  }
+  const std::vector<int> added = greedy_cover(bare);
   chosen.insert(chosen.end(), added.begin(), added.end());
   std::sort(chosen.begin(), chosen.end());
   return added.size();
