@@ -16,6 +16,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/side_by_side.hpp"
+#include "mesh/components.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/deforming_query.hpp"
 #include "mesh/inscribed.hpp"
@@ -370,6 +371,49 @@ void check_deforming_query(const TriMesh& rest, int points, unsigned seed, bool 
     EXPECT_GT(checked_sides, points * 3 / 4);
     if (kind == 2 && overlaps) EXPECT_GT(deep, 0);  // the overlap was really probed
   }
+}
+
+// Each piece's shape from its own triangles alone: the box and count as brute force finds them,
+// the volume's sign by facing, flat only where every corner lies in one plane (a thin slab is not).
+TEST(Defects, PieceShapesAreEachPiecesOwn) {
+  TriMesh mesh = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  const auto add = [&mesh](const TriMesh& piece, bool flip) {
+    const int first = int(mesh.vertices.size());
+    for (const auto& v : piece.vertices) mesh.vertices.push_back(v);
+    for (auto f : piece.triangles) {
+      if (flip) std::swap(f[1], f[2]);
+      mesh.triangles.push_back(f.array() + first);
+    }
+  };
+  add(test::box_mesh({5, 0, 0}, {6, 1, 1}), true);
+  add(test::box_mesh({0, 3, 0}, {1, 3.001, 1}), false);  // a slab a thousandth thick
+  TriMesh decal;  // a tilted square far off, in one plane
+  const Eigen::Vector3d o(1e6, 2e6, -3e6), u = Eigen::Vector3d(1, 2, 3).normalized(), w = Eigen::Vector3d(3, 0, -1).normalized();
+  decal.vertices = {o, o + u, o + u + w, o + w};
+  decal.triangles = {{0, 1, 2}, {0, 2, 3}};
+  add(decal, false);
+  const Components pieces = edge_components(mesh);
+  const std::vector<PieceShape> shapes = piece_shapes(mesh, pieces);
+  ASSERT_EQ(shapes.size(), 4u);
+  for (size_t p = 0; p < shapes.size(); ++p) {
+    Eigen::AlignedBox3d box;
+    size_t triangles = 0;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (size_t(pieces.of_triangle[t]) == p) {
+        ++triangles;
+        for (int k = 0; k < 3; ++k) box.extend(mesh.vertices[size_t(mesh.triangles[t][k])]);
+      }
+    EXPECT_EQ(shapes[p].triangles, triangles) << p;
+    EXPECT_TRUE(shapes[p].box.isApprox(box)) << p;
+  }
+  EXPECT_NEAR(shapes[0].volume, 1, 1e-12);
+  EXPECT_NEAR(shapes[1].volume, -1, 1e-12);
+  EXPECT_NEAR(shapes[2].volume, 1e-3, 1e-12);
+  EXPECT_FALSE(shapes[0].flat);
+  EXPECT_FALSE(shapes[1].flat);
+  EXPECT_FALSE(shapes[2].flat);
+  EXPECT_TRUE(shapes[3].flat);
+  EXPECT_EQ(piece_name("part", 2, 4, shapes[1]), "part 2 of 4 (12 triangles around 5.5, 0.5, 0.5)");
 }
 
 TEST(DeformingQuery, SignedDistancesMatchBruteForceInEveryShape) {

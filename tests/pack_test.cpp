@@ -7,6 +7,7 @@
 #include "sdf/sdf_build_tool.hpp"
 #include "mesh/union_distance.hpp"
 #include "mesh/components.hpp"
+#include "mesh/defects.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
 #include "synthetic/synthetic.hpp"
@@ -241,6 +242,10 @@ TEST(SpherePack, PartsOutOfReachAreNamedWithWhatWouldReachThem) {
   const json& part = flat["parts_out_of_reach"][0];
   EXPECT_TRUE(part["flat"].get<bool>());
   EXPECT_EQ(part["part"].get<std::string>().rfind("part 2 of 2 (1 triangle around", 0), 0u) << part["part"];
+  // sdf-build names the same part around the same point.
+  const std::vector<std::string> far_parts = find_defects(stray).far_parts;
+  ASSERT_EQ(far_parts.size(), 1u);
+  EXPECT_EQ(far_parts[0].rfind(part["part"].get<std::string>() + " stretches", 0), 0u) << far_parts[0] << part["part"];
   EXPECT_FALSE(part.contains("resolution_needed"));
   EXPECT_FALSE(flat.contains("resolution_needed"));
   EXPECT_EQ(flat["tolerance"]["limited_by"].get<std::string>().rfind("flat parts", 0), 0u) << flat["tolerance"];

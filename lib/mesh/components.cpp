@@ -1,5 +1,6 @@
 #include "mesh/components.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -50,10 +51,43 @@ Components components_of(size_t triangles, const std::vector<EdgeUse>& edges) {
 
 Components edge_components(const TriMesh& mesh) { return components_of(mesh.triangles.size(), sorted_edge_uses(mesh)); }
 
-std::string piece_name(const std::string& kind, size_t number, size_t of, size_t triangles, const Eigen::Vector3d& around) {
-  return kind + " " + std::to_string(number) + " of " + std::to_string(of) + " (" + std::to_string(triangles) +
-         (triangles == 1 ? " triangle" : " triangles") + " around " + num(around.x()) + ", " + num(around.y()) + ", " +
-         num(around.z()) + ")";
+std::vector<PieceShape> piece_shapes(const TriMesh& mesh, const Components& pieces) {
+  std::vector<PieceShape> out(pieces.count);
+  std::vector<Eigen::Vector3d> mean(pieces.count, Eigen::Vector3d::Zero());
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& f = mesh.triangles[t];
+    const Eigen::Vector3d &a = mesh.vertices[size_t(f[0])], &b = mesh.vertices[size_t(f[1])], &c = mesh.vertices[size_t(f[2])];
+    const size_t p = size_t(pieces.of_triangle[t]);
+    PieceShape& piece = out[p];
+    ++piece.triangles;
+    piece.box.extend(a), piece.box.extend(b), piece.box.extend(c);
+    piece.volume += a.dot(b.cross(c)) / 6.0;
+    mean[p] += a + b + c;
+  }
+  // Flat: the corners' scatter about their mean has a (near) zero least axis. Two passes, so a
+  // piece far from the origin loses no digits to its squares.
+  std::vector<Eigen::Matrix3d> scatter(pieces.count, Eigen::Matrix3d::Zero());
+  for (size_t p = 0; p < pieces.count; ++p) mean[p] /= 3.0 * double(std::max<size_t>(1, out[p].triangles));
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const size_t p = size_t(pieces.of_triangle[t]);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d d = mesh.vertices[size_t(mesh.triangles[t][k])] - mean[p];
+      scatter[p] += d * d.transpose();
+    }
+  }
+  for (size_t p = 0; p < pieces.count; ++p) {
+    if (out[p].triangles == 0) continue;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter[p] / (3.0 * double(out[p].triangles)));
+    out[p].flat = std::sqrt(std::max(0.0, solver.eigenvalues()[0])) <= 1e-7 * out[p].box.diagonal().norm();
+  }
+  return out;
+}
+
+std::string piece_name(const std::string& kind, size_t number, size_t of, const PieceShape& piece) {
+  const Eigen::Vector3d around = piece.box.center();
+  return kind + " " + std::to_string(number) + " of " + std::to_string(of) + " (" + std::to_string(piece.triangles) +
+         (piece.triangles == 1 ? " triangle" : " triangles") + " around " + num(around.x()) + ", " + num(around.y()) +
+         ", " + num(around.z()) + ")";
 }
 
 }  // namespace spx

@@ -15,8 +15,20 @@ struct Components {
 
 Components edge_components(const TriMesh& mesh);
 
-// A piece as messages name it: "part 2 of 13 (192 triangles around -0.28, 1.099, 0.05143)".
-std::string piece_name(const std::string& kind, size_t number, size_t of, size_t triangles, const Eigen::Vector3d& around);
+// What the checks and messages ask of a piece: its triangles, box, signed volume (by the
+// divergence theorem: positive where a closed piece faces outward) and whether every corner lies
+// in one plane (a stray triangle, a decal: it encloses no volume at any resolution).
+struct PieceShape {
+  size_t triangles = 0;
+  Eigen::AlignedBox3d box;
+  double volume = 0;
+  bool flat = false;
+};
+std::vector<PieceShape> piece_shapes(const TriMesh& mesh, const Components& pieces);
+
+// A piece as messages name it, around its box's centre: "part 2 of 13 (192 triangles around
+// -0.28, 1.099, 0.05143)".
+std::string piece_name(const std::string& kind, size_t number, size_t of, const PieceShape& piece);
 
 // One use of an edge by a triangle: its ends lo < hi, whether the triangle runs lo to hi.
 struct EdgeUse {

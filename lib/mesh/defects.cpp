@@ -1,8 +1,5 @@
 #include "mesh/defects.hpp"
 
-#include <algorithm>
-#include <numeric>
-
 #include "core/format.hpp"
 #include "mesh/components.hpp"
 #include "mesh/winding_number.hpp"
@@ -19,37 +16,15 @@ bool is_degenerate(const TriMesh& mesh, int t, double diagonal) {
 
 namespace {
 
-// Each edge-connected piece's triangles, their centroids' sum, box and signed volume.
-struct Part {
-  size_t triangles = 0;
-  Eigen::Vector3d centroids = Eigen::Vector3d::Zero();
-  Eigen::AlignedBox3d box;
-  double volume = 0;
-  Eigen::Vector3d centre() const { return centroids / double(triangles); }
-};
-std::vector<Part> parts_of(const TriMesh& mesh, const Components& parts) {
-  std::vector<Part> out(parts.count);
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& f = mesh.triangles[t];
-    const Eigen::Vector3d &a = mesh.vertices[f[0]], &b = mesh.vertices[f[1]], &c = mesh.vertices[f[2]];
-    Part& p = out[size_t(parts.of_triangle[t])];
-    ++p.triangles;
-    p.centroids += (a + b + c) / 3;
-    p.box.extend(a), p.box.extend(b), p.box.extend(c);
-    p.volume += a.dot(b.cross(c)) / 6.0;
-  }
-  return out;
-}
-
 // How find_defects names a piece.
-std::string part_name(size_t p, const std::vector<Part>& parts) {
-  return piece_name("part", p + 1, parts.size(), parts[p].triangles, parts[p].centre());
+std::string part_name(size_t p, const std::vector<PieceShape>& parts) {
+  return piece_name("part", p + 1, parts.size(), parts[p]);
 }
 
 // The closed pieces (`closed`: every edge of theirs used twice, in opposite directions) of
 // negative volume whose first corner the other pieces' winding number puts outside.
 std::vector<std::string> inside_out_parts(const TriMesh& mesh, const Components& components,
-                                          const std::vector<Part>& parts, const std::vector<char>& closed) {
+                                          const std::vector<PieceShape>& parts, const std::vector<char>& closed) {
   std::vector<std::string> out;
   for (size_t p = 0; p < parts.size(); ++p) {
     if (!closed[p] || !(parts[p].volume < 0)) continue;
@@ -69,7 +44,7 @@ std::vector<std::string> inside_out_parts(const TriMesh& mesh, const Components&
 
 // Pieces of at most 1 % of the triangles whose removal shrinks the diagonal by a fifth or more:
 // each piece's box against the union of every other's (prefix and suffix unions).
-std::vector<std::string> far_parts(const std::vector<Part>& parts, size_t triangles) {
+std::vector<std::string> far_parts(const std::vector<PieceShape>& parts, size_t triangles) {
   const size_t n = parts.size();
   if (n < 2) return {};
   std::vector<Eigen::AlignedBox3d> before(n + 1), after(n + 1);
@@ -120,7 +95,7 @@ MeshDefects find_defects(const TriMesh& mesh) {
     closed[size_t(components.of_triangle[size_t(half[i].tri)])] = 0;
     i = j;
   }
-  const std::vector<Part> parts = parts_of(mesh, components);
+  const std::vector<PieceShape> parts = piece_shapes(mesh, components);
   d.inside_out_parts = inside_out_parts(mesh, components, parts, closed);
   d.far_parts = far_parts(parts, mesh.triangles.size());
   return d;

@@ -1,7 +1,5 @@
 #include "pack/sphere_pack_tool.hpp"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -140,18 +138,6 @@ double resolution_reaching(double resolution, double gap, double target) {
   return std::ceil(resolution * std::max(1.0, gap / target) * kSpare / kStep) * kStep;
 }
 
-// Whether every vertex of a part lies in one plane (a stray triangle, a flat decal): it encloses
-// no volume by the winding number, at any resolution.
-bool is_flat(const TriMesh& mesh, const std::vector<int>& vertices, const Eigen::AlignedBox3d& box) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int v : vertices) mean += mesh.vertices[size_t(v)];
-  mean /= double(vertices.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (int v : vertices) scatter += (mesh.vertices[size_t(v)] - mean) * (mesh.vertices[size_t(v)] - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter / double(vertices.size()));
-  return std::sqrt(std::max(0.0, solver.eigenvalues()[0])) <= 1e-7 * box.diagonal().norm();
-}
-
 // The parts (the input mesh's edge-connected pieces) whose vertices on the solid's surface no
 // candidate reaches within `target`: each named by its triangles and centre, with how many
 // vertices, the farthest, whether any candidate lies in its box at all, whether it is flat, and
@@ -169,17 +155,7 @@ json parts_out_of_reach(const MeshQuery& query, const SphereSet& candidates, dou
     const int part = parts.of_triangle[boundary.whole() ? t : size_t(boundary.source[t])];
     for (int k = 0; k < 3; ++k) part_of[size_t(surface.triangles[t][k])] = part;
   }
-  std::vector<std::vector<int>> vertices_of(parts.count);  // the input's, for the part's shape
-  std::vector<size_t> triangles(parts.count, 0);
-  {
-    std::vector<int> input_part(input.vertices.size(), -1);
-    for (size_t t = 0; t < input.triangles.size(); ++t) {
-      ++triangles[size_t(parts.of_triangle[t])];
-      for (int k = 0; k < 3; ++k) input_part[size_t(input.triangles[t][k])] = parts.of_triangle[t];
-    }
-    for (size_t v = 0; v < input_part.size(); ++v)
-      if (input_part[v] >= 0) vertices_of[size_t(input_part[v])].push_back(int(v));
-  }
+  const std::vector<PieceShape> shapes = piece_shapes(input, parts);
   std::vector<size_t> far(parts.count, 0);
   std::vector<double> farthest(parts.count, 0);
   for (size_t v = 0; v < part_of.size(); ++v)
@@ -190,12 +166,10 @@ json parts_out_of_reach(const MeshQuery& query, const SphereSet& candidates, dou
   json out = json::array();
   for (size_t p = 0; p < parts.count; ++p) {
     if (far[p] == 0) continue;
-    Eigen::AlignedBox3d box;
-    for (int v : vertices_of[p]) box.extend(input.vertices[size_t(v)]);
     bool holds_one = false;
-    for (const Sphere& s : candidates) holds_one = holds_one || box.contains(s.center);
-    const bool flat = is_flat(input, vertices_of[p], box);
-    json part = {{"part", piece_name("part", p + 1, parts.count, triangles[p], box.center())},
+    for (const Sphere& s : candidates) holds_one = holds_one || shapes[p].box.contains(s.center);
+    const bool flat = shapes[p].flat;
+    json part = {{"part", piece_name("part", p + 1, parts.count, shapes[p])},
                  {"vertices_out_of_reach", far[p]},
                  {"farthest", farthest[p]},
                  {"holds_a_candidate", holds_one},

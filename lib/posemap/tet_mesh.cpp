@@ -158,17 +158,6 @@ std::vector<size_t> unmeshed_bodies(const TetMesh& tets, const std::vector<Seede
   return out;
 }
 
-Eigen::AlignedBox3d body_box(const TriMesh& surface, const Components& parts, size_t body, size_t& triangles) {
-  Eigen::AlignedBox3d box;
-  triangles = 0;
-  for (size_t t = 0; t < surface.triangles.size(); ++t)
-    if (parts.of_triangle[t] == int(body)) {
-      ++triangles;
-      for (int k = 0; k < 3; ++k) box.extend(surface.vertices[size_t(surface.triangles[t][k])]);
-    }
-  return box;
-}
-
 // Mesh_3's sizing field: the tet size asked for, smaller inside the boxes of bodies too thin
 // for it.
 struct BodySizing {
@@ -247,6 +236,7 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
   namespace params = CGAL::parameters;
   const Components parts = edge_components(surface);
   std::vector<SeededDomain::Body> bodies = seed_bodies(surface, parts, level);
+  const std::vector<PieceShape> shapes = piece_shapes(surface, parts);
   SeededDomain domain(
       Domain::create_implicit_mesh_domain(
           params::function = level,
@@ -268,10 +258,9 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
       size_t solids = 0;
       for (const auto& body : bodies) solids += !body.seeds.empty();
       for (size_t b : thin) {
-        size_t solid = 0, triangles = 0;
+        size_t solid = 0;
         for (size_t k = 0; k <= b; ++k) solid += !bodies[k].seeds.empty();
-        const Eigen::Vector3d c = body_box(surface, parts, b, triangles).center();
-        out.unmeshed_bodies.push_back(piece_name("body", solid, solids, triangles, c));
+        out.unmeshed_bodies.push_back(piece_name("body", solid, solids, shapes[b]));
         log.warn(out.unmeshed_bodies.back() + " produced no tetrahedra, even with tets of size " +
                  num(body_size[b]) + " there: its spheres follow the tets nearby");
       }
@@ -279,8 +268,7 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
     }
     for (size_t b : thin) {
       body_size[b] /= 2;
-      size_t triangles = 0;
-      Eigen::AlignedBox3d box = body_box(surface, parts, b, triangles);
+      Eigen::AlignedBox3d box = shapes[b].box;
       box.extend(box.min() - Eigen::Vector3d::Constant(body_size[b]));
       box.extend(box.max() + Eigen::Vector3d::Constant(body_size[b]));
       sizing.finer.emplace_back(box, body_size[b]);
