@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <tuple>
 
 #include "core/format.hpp"
 
@@ -29,39 +28,38 @@ double diagonal_of(const CoverProblem& problem) {
 }
 constexpr int kMaxBudgetCovers = 60;
 
-// Budget mode's best cover so far: its candidates, the delta it meets and its coverage there.
-void keep_cover(CoverResult& best, Coverage& best_cov, std::vector<int> chosen, double delta, Coverage cov) {
+// Budget mode's best cover so far: its candidates and the delta it meets. (Its coverage is read
+// from the table again at the end: on a long clip each coverage holds hundreds of megabytes.)
+void keep_cover(CoverResult& best, std::vector<int> chosen, double delta) {
   best.chosen = std::move(chosen);
   best.delta = delta;
-  best_cov = std::move(cov);
 }
 
 // Budget mode's start: greedy covers from a small delta, doubled (a table each time) until one
 // fits the budget, then bisected to `precision`; the last table is left in `table`.
 void greedy_bisection(const CoverProblem& problem, size_t max_spheres, double reach, double precision, double lo_start,
-                      std::unique_ptr<GapTable>& table, CoverResult& best, Coverage& best_cov) {
+                      std::unique_ptr<GapTable>& table, CoverResult& best) {
   auto solve = [&](double delta) {
-    Coverage v = table->at(delta);
     ++best.evaluations;
-    return std::make_pair(greedy_cover(v), std::move(v));
+    return greedy_cover(table->at(delta));
   };
   // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
   double lo = lo_start, hi = std::max({lo_start * kFirstDeltaOverReach, kFirstDeltaFloor * diagonal_of(problem), 1e-12});
   table = std::make_unique<GapTable>(problem, hi * reach);
-  auto [cover, cov] = solve(hi);
+  std::vector<int> cover = solve(hi);
   while (cover.size() > max_spheres && best.evaluations < kMaxBudgetCovers) {
     lo = hi;
     hi *= 2;
     table = std::make_unique<GapTable>(problem, hi * reach);
-    std::tie(cover, cov) = solve(hi);
+    cover = solve(hi);
   }
-  keep_cover(best, best_cov, std::move(cover), hi, std::move(cov));
+  keep_cover(best, std::move(cover), hi);
   while (hi - lo > precision * hi && best.evaluations < kMaxBudgetCovers) {
     const double mid = 0.5 * (lo + hi);
-    auto [c, v] = solve(mid);
+    std::vector<int> c = solve(mid);
     if (c.size() <= max_spheres) {
       hi = mid;
-      keep_cover(best, best_cov, std::move(c), mid, std::move(v));
+      keep_cover(best, std::move(c), mid);
     } else {
       lo = mid;
     }
@@ -177,27 +175,24 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   // comes from the same table.
   const double reach = 1 + std::max(slack, 0.0);
   std::unique_ptr<GapTable> table;
-  Coverage best_cov;
   // Where a cover of the budget is known at first_delta, the search finds one there: greedy's
   // bisection (a table at each doubling) is not needed to start below.
   if (first_delta > lo_start) {
     table = std::make_unique<GapTable>(problem, first_delta * reach);
-    Coverage v = table->at(first_delta);
     ++best.evaluations;
-    std::vector<int> c = smallest_cover(v, kBudgetSearch, max_spheres, nullptr, log);
-    if (c.size() <= max_spheres) keep_cover(best, best_cov, std::move(c), first_delta, std::move(v));
+    std::vector<int> c = smallest_cover(table->at(first_delta), kBudgetSearch, max_spheres, nullptr, log);
+    if (c.size() <= max_spheres) keep_cover(best, std::move(c), first_delta);
   }
-  if (best.chosen.empty()) greedy_bisection(problem, max_spheres, reach, precision, lo_start, table, best, best_cov);
+  if (best.chosen.empty()) greedy_bisection(problem, max_spheres, reach, precision, lo_start, table, best);
   // The row-weighting search fits the budget at a smaller delta than greedy does: bisect
   // below greedy's delta, each cover searched until it fits.
   double lo = std::max(lo_start, (1 - kSearchReach) * best.delta);
   for (int step = 0; step < kSearchBisections && best.delta - lo > precision * best.delta; ++step) {
     const double mid = 0.5 * (lo + best.delta);
-    Coverage v = table->at(mid);
     ++best.evaluations;
-    std::vector<int> c = smallest_cover(v, kBudgetSearch, max_spheres, nullptr, log);
+    std::vector<int> c = smallest_cover(table->at(mid), kBudgetSearch, max_spheres, nullptr, log);
     if (c.size() <= max_spheres)
-      keep_cover(best, best_cov, std::move(c), mid, std::move(v));
+      keep_cover(best, std::move(c), mid);
     else
       lo = mid;
   }
@@ -205,12 +200,12 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   if (slack > 0) {
     // A little more max error buys a lower median: the cover at the relaxed delta is smaller,
     // and improve_cover spends the budget it leaves on the total error, then on the median.
-    Coverage v = table->at(best.delta * (1 + slack));
     ++best.evaluations;
-    std::vector<int> c = smallest_cover(v, kBudgetSearch, 0, nullptr);
-    if (c.size() <= max_spheres) keep_cover(best, best_cov, std::move(c), best.delta * (1 + slack), std::move(v));
+    std::vector<int> c = smallest_cover(table->at(best.delta * (1 + slack)), kBudgetSearch, 0, nullptr);
+    if (c.size() <= max_spheres) keep_cover(best, std::move(c), best.delta * (1 + slack));
   }
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
+  const Coverage best_cov = table->at(best.delta);
   improve_cover(problem, best_cov, best.delta, max_spheres, best.chosen, log, true);
   best.lower_bound = lower_bound_of(best_cov, best.chosen.size());
   best.uncovered = uncovered_samples(best_cov);
