@@ -15,6 +15,7 @@
 #include "pack/cover.hpp"
 #include "pack/median_descent.hpp"
 #include "pack/sample_grid.hpp"
+#include "pack/two_nearest.hpp"
 #include "pack/select.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "pack/weighted_cover.hpp"
@@ -184,6 +185,56 @@ TEST(Cover, SampleGridVisitsEverySampleWithinReach) {
           if ((points[i] - c).norm() <= reach) ASSERT_EQ(seen[i], 1) << "trial " << trial << ", sample " << i;
         }
       }
+    }
+  }
+}
+
+// The refinement's union of two balls' samples, gathered as the first ball's plus the samples of
+// the second's cells outside the first's: the same samples as both queries, each once.
+TEST(Cover, SampleGridCellsOutsideAnotherBallGiveTheUnion) {
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 30; ++trial) {
+    std::vector<Eigen::Vector3d> points(500 + rng() % 3000);
+    for (auto& p : points) p = {10 * u(rng), 4 * u(rng), 2 * u(rng)};
+    const detail::SampleGrid grid(points, trial % 2 == 0);
+    for (int q = 0; q < 50; ++q) {
+      const Eigen::Vector3d a(12 * u(rng) - 1, 6 * u(rng) - 1, 4 * u(rng) - 1);
+      const Eigen::Vector3d b = q % 3 == 0 ? Eigen::Vector3d(12 * u(rng) - 1, 6 * u(rng) - 1, 4 * u(rng) - 1)
+                                           : Eigen::Vector3d(a + 0.3 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      const double ra = 2 * u(rng), rb = 2 * u(rng);
+      std::vector<int> both(points.size(), 0), gathered(points.size(), 0);
+      grid.near(a, ra, [&](uint32_t i) { both[i] = 1; });
+      grid.near(b, rb, [&](uint32_t i) { both[i] = 1; });
+      grid.near(a, ra, [&](uint32_t i) { ++gathered[i]; });
+      grid.visit_cells(grid.cells_near(b, rb), grid.cells_near(a, ra), [&](uint32_t i) {
+        ++gathered[i];
+        return false;
+      });
+      for (size_t i = 0; i < points.size(); ++i) ASSERT_EQ(gathered[i], both[i]) << "trial " << trial << ", sample " << i;
+    }
+  }
+}
+
+// A sample's two nearest spheres after one moved, against ranking them all again: over random
+// moves with many equal gaps (ties go to the lower index), the moved sphere first, second or
+// neither before and after.
+TEST(Cover, TwoNearestAfterAMoveMatchesARankingOfAll) {
+  std::mt19937 rng(31);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const size_t n = 1 + rng() % 8;
+    std::vector<double> gaps(n);
+    for (double& g : gaps) g = double(rng() % 6) - 2;
+    auto gap = [&](size_t j) { return gaps[j]; };
+    detail::TwoNearest t = detail::two_nearest(n, gap);
+    for (int move = 0; move < 20; ++move) {
+      const size_t j = rng() % n;
+      const double old = gaps[j];
+      gaps[j] = double(rng() % 6) - 2;
+      t = detail::two_nearest_after_move(t, j, old, n, gap);
+      const detail::TwoNearest all = detail::two_nearest(n, gap);
+      ASSERT_EQ(t.first, all.first) << "trial " << trial << ", move " << move;
+      ASSERT_EQ(t.second, all.second) << "trial " << trial << ", move " << move;
     }
   }
 }

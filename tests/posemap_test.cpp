@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -768,6 +769,24 @@ TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {
   }
 }
 
+// `count` rest points drawn evenly over the rest's box that lie in f's tets (and pass `keep`),
+// each with where it lies.
+std::vector<std::pair<Eigen::Vector3d, TetLocator::Location>> points_in_tets(
+    const TriMesh& rest, const HarmonicMap& f, size_t count, unsigned seed,
+    const std::function<bool(const Eigen::Vector3d&)>& keep = {}) {
+  std::mt19937 rng(seed);
+  const Eigen::AlignedBox3d box = rest.bounds();
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::pair<Eigen::Vector3d, TetLocator::Location>> out;
+  while (out.size() < count) {
+    const Eigen::Vector3d c = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    if (keep && !keep(c)) continue;
+    const TetLocator::Location at = f.locator().locate(c);
+    if (at.tet >= 0) out.push_back({c, at});
+  }
+  return out;
+}
+
 // A skinned sphere follows the harmonic influence, or its closest surface point's where that
 // keeps it larger over the clip (choose). On the robot's rigid parts, each on its own joint, the
 // harmonic extension blends the pelvis and the thighs through the shared tets, and spheres there
@@ -801,16 +820,10 @@ TEST(PoseMap, SkinnedSphereKeepsTheInfluenceThatKeepsItLarger) {
     for (size_t i = 0; i < solids.size(); ++i) out = std::min(out, solids[i].radius(map.center(s, c, i), false).value);
     return out;
   };
-  std::mt19937 rng(5);
-  const Eigen::AlignedBox3d box = rest.bounds();
-  std::uniform_real_distribution<double> u(0, 1);
-  size_t tried = 0, surface_wins = 0;
-  while (tried < 300) {
-    const Eigen::Vector3d c = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    if (!(solids[0].radius(c, false).value > 0)) continue;
-    const TetLocator::Location at = f.locator().locate(c);
-    if (at.tet < 0) continue;
-    ++tried;
+  size_t surface_wins = 0;
+  for (const auto& [c, at] : points_in_tets(rest, f, 300, 5, [&](const Eigen::Vector3d& p) {
+         return solids[0].radius(p, false).value > 0;
+       })) {
     const SkinnedMap::Choice chosen = map.choose(c, at, solids);
     const double harmonic = least(map.influence(c, at), c), surface = least(map.surface_influence(c, *queries[0]), c);
     EXPECT_EQ(chosen.radius, least(chosen.influence, c)) << c.transpose();
@@ -818,6 +831,60 @@ TEST(PoseMap, SkinnedSphereKeepsTheInfluenceThatKeepsItLarger) {
     surface_wins += surface > harmonic;
   }
   EXPECT_GT(surface_wins, 10u);
+}
+
+// A refinement's trial (spheres without the causes) reuses what choose() found each pose keeps
+// and asks only the others; its radius must be what asking every pose gives (surely_at_least,
+// else the exact radius), and the spheres written (every pose exact) the least over the poses
+// of the exact radius at the chosen influence's centres. On a closed skinned body with every
+// shortcut on (floors, the refitted hierarchy's bounded searches and ray count), the floors
+// taken from the rest's field for every pose: where the body moves they lie, choose() skips
+// poses by them, and the checks after it must not.
+TEST(PoseMap, SkinnedTrialRadiusAsksWhatChooseSkipped) {
+  SPX_REQUIRE_SHARED_DATA();
+  const ExtractedClip clip = extract_clip(test::shared_data() + "/rigged-simple/RiggedSimple.glb",
+                                          test::temp_dir("skinned-trial"), 1, {0.4, 0.8, 1.2, 1.6, 2.0});
+  const TriMesh& rest = clip.rest.mesh;
+  std::vector<const TriMesh*> meshes{&rest};
+  for (const PoseInput& p : clip.poses) meshes.push_back(&p.mesh);
+  const TetMesh tets = tetrahedralize(rest, {});
+  const HarmonicMap f(tets, rest);
+  const SkinnedMap map(clip.skin, f);
+  const DeformingQuery deforming(rest);
+  ASSERT_TRUE(deforming.closed());
+  SdfOptions o;
+  o.voxel_size = rest.diagonal() / 64;
+  const DepthField rest_depths = depth_field(build_sdf(rest, o).field);
+  std::vector<std::unique_ptr<MeshQuery>> queries;
+  std::vector<DeformingQuery::Shape> shapes;
+  for (const TriMesh* m : meshes) {
+    queries.push_back(std::make_unique<MeshQuery>(*m));
+    shapes.push_back(deforming.shape(m->vertices));
+  }
+  std::vector<PoseSolid> solids;
+  for (size_t i = 0; i < meshes.size(); ++i)
+    solids.push_back({queries[i].get(), nullptr, std::numeric_limits<double>::infinity(), &rest_depths, &shapes[i]});
+  size_t lowered = 0;
+  for (const auto& [c, at] : points_in_tets(rest, f, 2000, 11)) {
+    SkinInfluence followed;
+    const auto trial = map.spheres(c, at, solids, false, &followed);
+    const auto written = map.spheres(c, at, solids, true, nullptr);
+    const SkinnedMap::Choice chosen = map.choose(c, at, solids);
+    double asked = chosen.radius, least = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < solids.size(); ++i) {
+      const Eigen::Vector3d center = map.center(chosen.influence, c, i);
+      if (!solids[i].surely_at_least(center, asked)) asked = std::min(asked, solids[i].exact_radius(center, false).value);
+      least = std::min(least, solids[i].exact_radius(center, false).value);
+    }
+    lowered += asked < chosen.radius;
+    ASSERT_EQ(trial.size(), solids.size());
+    for (size_t i = 0; i < solids.size(); ++i) {
+      EXPECT_EQ(trial[i].first.center, map.center(chosen.influence, c, i)) << c.transpose() << ", pose " << i;
+      EXPECT_EQ(trial[i].first.radius, asked) << c.transpose() << ", pose " << i;
+      EXPECT_EQ(written[i].first.radius, least) << c.transpose() << ", pose " << i;
+    }
+  }
+  EXPECT_GT(lowered, 20u) << "the floors must make choose() skip poses that lower the radius";
 }
 
 // The influence kept per sphere against a brute-force ranking: the 4 largest weights (ties to

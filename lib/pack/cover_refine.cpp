@@ -10,6 +10,7 @@
 #include "pack/cover.hpp"
 #include "pack/median_descent.hpp"
 #include "pack/sample_grid.hpp"
+#include "pack/two_nearest.hpp"
 
 namespace spx {
 using detail::descend_median;
@@ -95,19 +96,16 @@ class OffGrid {
   const Sphere& sphere(size_t j, size_t i) const { return spheres_[pose_[i]][j]; }
   double gap(size_t i, const Sphere& s) const { return (points_[i] - s.center).norm() - s.radius; }
   void rank(size_t i) {
-    int a = -1, b = -1;
-    double ga = 0, gb = 0;
-    for (size_t j = 0; j < centers_.size(); ++j) {
-      const double g = gap(i, sphere(j, i));
-      if (a < 0 || g < ga) {
-        b = a, gb = ga;
-        a = int(j), ga = g;
-      } else if (b < 0 || g < gb) {
-        b = int(j), gb = g;
-      }
-    }
-    first_[i] = a;
-    second_[i] = b;
+    set_rank(i, detail::two_nearest(centers_.size(), [&](size_t j) { return gap(i, sphere(j, i)); }));
+  }
+  // rank(i) after sphere j alone moved from `old` (in each pose): most samples ask it alone.
+  void rerank(size_t i, size_t j, const std::vector<Sphere>& old) {
+    set_rank(i, detail::two_nearest_after_move({first_[i], second_[i]}, j, gap(i, old[pose_[i]]), centers_.size(),
+                                               [&](size_t k) { return gap(i, sphere(k, i)); }));
+  }
+  void set_rank(size_t i, detail::TwoNearest t) {
+    first_[i] = t.first;
+    second_[i] = t.second;
   }
   double error_without(size_t i, size_t j) const {
     const int k = first_[i] == int(j) ? second_[i] : first_[i];
@@ -123,13 +121,30 @@ class OffGrid {
         marked[n >> 6] |= uint64_t(1) << (n & 63);
       });
   }
-  // Those near a sphere whose samples are marked in `around` or near `b`, ascending: read back
-  // from the bits in order (a sort of thousands of indices per direction was a tenth of a
-  // joint refinement's time).
-  std::vector<uint32_t> near_either(const std::vector<uint64_t>& around, const std::vector<Sphere>& b) const {
-    std::vector<uint64_t> marked(around);
-    mark_near(b, marked);
-    return set_bits(marked);
+  // The grid cells mark_near visits for a sphere that is `s` in each pose.
+  std::vector<SampleGrid::Cells> cells_near(const std::vector<Sphere>& s) const {
+    std::vector<SampleGrid::Cells> out(s.size());
+    for (size_t p = 0; p < s.size(); ++p) out[p] = grids_[p].cells_near(s[p].center, s[p].radius + delta_);
+    return out;
+  }
+  // Those in `around` (ascending: the samples of the cells `around_cells`) or near `b`,
+  // ascending. A move is short: most of b's cells are around's, and only the samples of the
+  // others are gathered, sorted and merged in (marking every sample near b in a bitmap of the
+  // whole clip's and reading it back was most of a joint refinement's time over 48 frames).
+  std::vector<uint32_t> near_either(const std::vector<uint32_t>& around,
+                                    const std::vector<SampleGrid::Cells>& around_cells,
+                                    const std::vector<Sphere>& b) const {
+    std::vector<uint32_t> more;
+    for (size_t p = 0; p < b.size(); ++p)
+      grids_[p].visit_cells(grids_[p].cells_near(b[p].center, b[p].radius + delta_), around_cells[p], [&](uint32_t i) {
+        more.push_back(first_of_[p] + i);
+        return false;
+      });
+    if (more.empty()) return around;
+    std::sort(more.begin(), more.end());
+    std::vector<uint32_t> out(around.size() + more.size());
+    std::merge(around.begin(), around.end(), more.begin(), more.end(), out.begin());
+    return out;
   }
   static std::vector<uint32_t> set_bits(const std::vector<uint64_t>& marked) {
     std::vector<uint32_t> out;
@@ -144,12 +159,16 @@ class OffGrid {
   struct Known {
     static constexpr size_t none = size_t(-1);
     std::vector<uint32_t> samples;  // ascending
+    std::vector<SampleGrid::Cells> cells;  // per pose, the cells that hold them
     std::vector<double> before, without, cost_before;
   };
   template <class Cost>
-  Known know_around(const std::vector<uint64_t>& around, size_t j, const Cost& cost) const {
+  Known know_around(const std::vector<Sphere>& old, size_t j, const Cost& cost) const {
     Known k;
+    std::vector<uint64_t> around;
+    mark_near(old, around);
     k.samples = set_bits(around);
+    k.cells = cells_near(old);
     k.before.resize(k.samples.size());
     k.without.resize(k.samples.size());
     k.cost_before.resize(k.samples.size());
@@ -165,9 +184,8 @@ class OffGrid {
   template <class Cost>
   // Sphere j, `old` in each pose, moved by `s` where that cuts the cost most.
   bool move_one(size_t j, const std::vector<Sphere>& old, double s, double ceiling, const Cost& cost) {
-    std::vector<uint64_t> around;  // the same for every direction
-    mark_near(old, around);
-    const Known known = know_around(around, j, cost);
+    const Known known = know_around(old, j, cost);  // the same for every direction
+    const std::vector<uint32_t>& around = known.samples;
     // Each direction's place and its spheres there, asked of spheres_at once per place.
     std::vector<Eigen::Vector3d> to(static_cast<size_t>(directions_));
     std::vector<const Placed*> placed(to.size(), nullptr);
@@ -191,7 +209,7 @@ class OffGrid {
       m = here.spheres;
       double sum = 0;
       size_t next = 0;  // both lists ascend: the known ones are met in order
-      for (uint32_t i : near_either(around, m)) {
+      for (uint32_t i : near_either(around, known.cells, m)) {
         while (next < known.samples.size() && known.samples[next] < i) ++next;
         const size_t k = next < known.samples.size() && known.samples[next] == i ? next : Known::none;
         const double before = k != Known::none ? known.before[k] : gap(i, sphere(size_t(first_[i]), i));
@@ -216,7 +234,7 @@ class OffGrid {
     if (best < 0) return false;
     centers_[j] += s * direction(best);
     for (size_t p = 0; p < spheres_.size(); ++p) spheres_[p][j] = moved[size_t(best)][p];
-    for (uint32_t i : near_either(around, moved[size_t(best)])) rank(i);
+    for (uint32_t i : near_either(around, known.cells, moved[size_t(best)])) rerank(i, j, old);
     return true;
   }
 

@@ -43,12 +43,29 @@ class SampleGrid {
   // samples visited as near() does, until the first that does.
   template <class Found>
   bool any_near(const Eigen::Vector3d& c, double reach, Found&& found) const {
-    // A ball clear of the samples' box meets none (the cells below clamp to the box's edge).
-    if (((c - box_.min()).array() < -reach).any() || ((c - box_.max()).array() > reach).any()) return false;
-    const Eigen::Vector3i lo = index(c - Eigen::Vector3d::Constant(reach)), hi = index(c + Eigen::Vector3d::Constant(reach));
-    for (int i = lo.x(); i <= hi.x(); ++i)
-      for (int j = lo.y(); j <= hi.y(); ++j)
-        for (int k = lo.z(); k <= hi.z(); ++k) {
+    return visit_cells(cells_near(c, reach), Cells{}, found);
+  }
+
+  // A box of cells, inclusive; empty where lo > hi on some axis.
+  struct Cells {
+    Eigen::Vector3i lo = Eigen::Vector3i::Zero(), hi = Eigen::Vector3i::Constant(-1);
+    bool contains(int i, int j, int k) const {
+      return i >= lo.x() && i <= hi.x() && j >= lo.y() && j <= hi.y() && k >= lo.z() && k <= hi.z();
+    }
+  };
+  // The cells near() visits for a ball.
+  Cells cells_near(const Eigen::Vector3d& c, double reach) const {
+    // A ball clear of the samples' box meets none (the cells clamp to the box's edge).
+    if (((c - box_.min()).array() < -reach).any() || ((c - box_.max()).array() > reach).any()) return {};
+    return {index(c - Eigen::Vector3d::Constant(reach)), index(c + Eigen::Vector3d::Constant(reach))};
+  }
+  // found(i) for the samples of the cells in `box` but not in `skip`, until it holds for one.
+  template <class Found>
+  bool visit_cells(const Cells& box, const Cells& skip, Found&& found) const {
+    for (int i = box.lo.x(); i <= box.hi.x(); ++i)
+      for (int j = box.lo.y(); j <= box.hi.y(); ++j)
+        for (int k = box.lo.z(); k <= box.hi.z(); ++k) {
+          if (skip.contains(i, j, k)) continue;
           const size_t cell = size_t(i) + size_t(dims_.x()) * (size_t(j) + size_t(dims_.y()) * size_t(k));
           for (uint32_t n = start_[cell]; n < start_[cell + 1]; ++n)
             if (found(order_[n])) return true;

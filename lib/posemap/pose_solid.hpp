@@ -31,7 +31,11 @@ struct PoseSolid {
   // (asked for the spheres written, not for every candidate); the radius is the same either way.
   // A floor (below) past a whole voxel is taken to put c inside without a winding number; where
   // there is a `shape`, inside is its ray count (the same answer on a closed mesh, cheaper).
-  Radius radius(const Eigen::Vector3d& c, bool cause = true) const { return radius_at(c, cause, true); }
+  // `closest`, where given, gets mesh->closest(c) where the radius asked it (a positive radius
+  // did): the same radius, one query for a caller that needs both.
+  Radius radius(const Eigen::Vector3d& c, bool cause = true, ClosestPoint* closest = nullptr) const {
+    return radius_at(c, cause, true, closest);
+  }
   // The same with no floor trusted: what a skinned sphere's one radius is checked against.
   Radius exact_radius(const Eigen::Vector3d& c, bool cause = true) const { return radius_at(c, cause, false); }
   // The sphere at c by this rule, grown to the largest that contains it (grow_inscribed), the

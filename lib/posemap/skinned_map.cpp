@@ -101,7 +101,11 @@ SkinInfluence SkinnedMap::influence(const Eigen::Vector3d& p, const TetLocator::
 }
 
 SkinInfluence SkinnedMap::surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest) const {
-  const ClosestPoint q = rest.closest(p);
+  return surface_influence(p, rest, rest.closest(p));
+}
+
+SkinInfluence SkinnedMap::surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest,
+                                            const ClosestPoint& q) const {
   const auto& t = rest.mesh().triangles[size_t(q.triangle)];
   const Eigen::VectorXd w = q.barycentric[0] * vertex_weights_.row(t[0]).transpose() +
                             q.barycentric[1] * vertex_weights_.row(t[1]).transpose() +
@@ -116,9 +120,12 @@ bool same_weights(const SkinInfluence& a, const SkinInfluence& b) { return a.joi
 
 // The least of the radii by `solids` of a sphere following `s` from rest centre c, asking a pose
 // only where its floor is below the least so far (lowest floors first); given up as soon as it
-// is at most `beaten` (the radius another influence keeps).
+// is at most `beaten` (the radius another influence keeps). `kept`, where given, gets per pose a
+// radius the pose was found to keep (its radius asked, or one surely_at_least told), 0 where
+// the pose was not asked.
 double least_radius(const SkinnedMap& map, const SkinInfluence& s, const Eigen::Vector3d& c,
-                    const std::vector<PoseSolid>& solids, double rest_radius, double beaten) {
+                    const std::vector<PoseSolid>& solids, double rest_radius, double beaten,
+                    std::vector<double>* kept) {
   std::vector<std::pair<double, size_t>> floors;
   std::vector<Eigen::Vector3d> centers(solids.size());
   for (size_t i = 1; i < solids.size(); ++i) {
@@ -126,33 +133,45 @@ double least_radius(const SkinnedMap& map, const SkinInfluence& s, const Eigen::
     floors.push_back({solids[i].radius_floor(centers[i]), i});
   }
   std::sort(floors.begin(), floors.end());
+  if (kept) kept->assign(solids.size(), 0.0);
+  if (kept) (*kept)[0] = rest_radius;
   double least = rest_radius;
   for (const auto& [floor, i] : floors) {
     if (floor >= least || least <= beaten) break;
-    if (solids[i].surely_at_least(centers[i], least)) continue;
-    least = std::min(least, solids[i].radius(centers[i], false).value);
+    double r = least;
+    if (!solids[i].surely_at_least(centers[i], least)) {
+      r = solids[i].radius(centers[i], false).value;
+      least = std::min(least, r);
+    }
+    if (kept) (*kept)[i] = r;
   }
   return least;
 }
 }  // namespace
 
 SkinnedMap::Choice SkinnedMap::choose(const Eigen::Vector3d& c, const TetLocator::Location& at,
-                                      const std::vector<PoseSolid>& solids) const {
-  const double rest_radius = solids[0].radius(c, false).value;
+                                      const std::vector<PoseSolid>& solids, std::vector<double>* kept) const {
+  ClosestPoint on_rest;  // asked where the rest radius is positive, as the surface's influence needs
+  const double rest_radius = solids[0].radius(c, false, &on_rest).value;
   Choice harmonic{influence(c, at), 0};
-  harmonic.radius = least_radius(*this, harmonic.influence, c, solids, rest_radius, -1);
+  harmonic.radius = least_radius(*this, harmonic.influence, c, solids, rest_radius, -1, kept);
   if (harmonic.radius >= rest_radius || !(rest_radius > 0)) return harmonic;
-  Choice surface{surface_influence(c, *solids[0].mesh), 0};
+  Choice surface{surface_influence(c, *solids[0].mesh, on_rest), 0};
   if (same_weights(surface.influence, harmonic.influence)) return harmonic;
-  surface.radius = least_radius(*this, surface.influence, c, solids, rest_radius, harmonic.radius);
-  return surface.radius > harmonic.radius ? surface : harmonic;
+  std::vector<double> surface_kept;
+  surface.radius = least_radius(*this, surface.influence, c, solids, rest_radius, harmonic.radius,
+                                kept ? &surface_kept : nullptr);
+  if (!(surface.radius > harmonic.radius)) return harmonic;
+  if (kept) *kept = std::move(surface_kept);
+  return surface;
 }
 
 std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen::Vector3d& c,
                                                                      const TetLocator::Location& at,
                                                                      const std::vector<PoseSolid>& solids, bool cause,
                                                                      SkinInfluence* followed) const {
-  const Choice chosen = choose(c, at, solids);
+  std::vector<double> kept;
+  const Choice chosen = choose(c, at, solids, cause ? nullptr : &kept);
   if (followed) *followed = chosen.influence;
   // choose() skips the poses whose floors are above its radius: the radius written is checked
   // against every pose exactly.
@@ -161,8 +180,10 @@ std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen:
   for (size_t i = 0; i < solids.size(); ++i) {
     const Eigen::Vector3d center = this->center(chosen.influence, c, i);
     // Without the causes (a refinement's trial), a pose that surely keeps the radius so far asks
-    // no exact query: the least is the same.
-    if (!cause && solids[i].surely_at_least(center, radius)) {
+    // no exact query: the least is the same. choose() found what most poses keep, by the same
+    // tests (its radius trusts the floor for inside as surely_at_least does); the radius only
+    // falls from there, so those poses keep it still.
+    if (!cause && ((radius > 0 && kept[i] >= radius) || solids[i].surely_at_least(center, radius))) {
       out.push_back({{center, 0}, PoseSolid::Zero::none});
       continue;
     }

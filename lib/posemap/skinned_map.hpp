@@ -61,6 +61,8 @@ class SkinnedMap {
   SkinInfluence influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const;
   // The influence of rest point p's closest point on the rest mesh (`rest`).
   SkinInfluence surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest) const;
+  // The same given `closest`, rest.closest(p), which the caller asked already.
+  SkinInfluence surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest, const ClosestPoint& closest) const;
   // The influence a sphere centred at rest point c follows, and its one radius (the least of its
   // radii by `solids`, one per pose, over every pose): the harmonic influence, or the surface's
   // where that keeps a larger radius (the rest's radius bounds both, so a harmonic sphere that
@@ -69,7 +71,9 @@ class SkinnedMap {
     SkinInfluence influence;
     double radius = 0;
   };
-  Choice choose(const Eigen::Vector3d& c, const TetLocator::Location& at, const std::vector<PoseSolid>& solids) const;
+  // `kept`, where given, gets per pose a radius it surely keeps (0 where choose did not ask it).
+  Choice choose(const Eigen::Vector3d& c, const TetLocator::Location& at, const std::vector<PoseSolid>& solids,
+                std::vector<double>* kept = nullptr) const;
   // Rest point c (of influence s) in pose i (0: the rest, c itself).
   Eigen::Vector3d center(const SkinInfluence& s, const Eigen::Vector3d& c, size_t i) const {
     return i == 0 ? c : skin_point(s, matrices(i));
