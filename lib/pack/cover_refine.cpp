@@ -94,7 +94,8 @@ class OffGrid {
 
  private:
   const Sphere& sphere(size_t j, size_t i) const { return spheres_[pose_[i]][j]; }
-  double gap(size_t i, const Sphere& s) const { return (points_[i] - s.center).norm() - s.radius; }
+  static double gap_to(const Eigen::Vector3d& point, const Sphere& s) { return (point - s.center).norm() - s.radius; }
+  double gap(size_t i, const Sphere& s) const { return gap_to(points_[i], s); }
   void rank(size_t i) {
     set_rank(i, detail::two_nearest(centers_.size(), [&](size_t j) { return gap(i, sphere(j, i)); }));
   }
@@ -127,24 +128,19 @@ class OffGrid {
     for (size_t p = 0; p < s.size(); ++p) out[p] = grids_[p].cells_near(s[p].center, s[p].radius + delta_);
     return out;
   }
-  // Those in `around` (ascending: the samples of the cells `around_cells`) or near `b`,
-  // ascending. A move is short: most of b's cells are around's, and only the samples of the
-  // others are gathered, sorted and merged in (marking every sample near b in a bitmap of the
+  // The samples near `b` (a sphere in each pose) that are not of the cells `around` (per pose),
+  // ascending. A move is short: most of b's cells are its old place's, whose samples are known,
+  // and only the others' are gathered and sorted (marking every sample near b in a bitmap of the
   // whole clip's and reading it back was most of a joint refinement's time over 48 frames).
-  std::vector<uint32_t> near_either(const std::vector<uint32_t>& around,
-                                    const std::vector<SampleGrid::Cells>& around_cells,
-                                    const std::vector<Sphere>& b) const {
+  std::vector<uint32_t> more_near(const std::vector<SampleGrid::Cells>& around, const std::vector<Sphere>& b) const {
     std::vector<uint32_t> more;
     for (size_t p = 0; p < b.size(); ++p)
-      grids_[p].visit_cells(grids_[p].cells_near(b[p].center, b[p].radius + delta_), around_cells[p], [&](uint32_t i) {
+      grids_[p].visit_cells(grids_[p].cells_near(b[p].center, b[p].radius + delta_), around[p], [&](uint32_t i) {
         more.push_back(first_of_[p] + i);
         return false;
       });
-    if (more.empty()) return around;
     std::sort(more.begin(), more.end());
-    std::vector<uint32_t> out(around.size() + more.size());
-    std::merge(around.begin(), around.end(), more.begin(), more.end(), out.begin());
-    return out;
+    return more;
   }
   static std::vector<uint32_t> set_bits(const std::vector<uint64_t>& marked) {
     std::vector<uint32_t> out;
@@ -154,14 +150,33 @@ class OffGrid {
   }
 
   // What every direction of one move asks of the samples near the sphere's old place, asked
-  // once: each one's error, its error without the sphere, and that error's cost. The same
-  // arithmetic as asking it per direction, so the same sums to the bit.
+  // once: each one's error, its error without the sphere, and that error's cost, and the sample
+  // itself side by side with the others (the directions read them in turn). The same arithmetic
+  // as asking it per direction, so the same sums to the bit.
   struct Known {
     static constexpr size_t none = size_t(-1);
     std::vector<uint32_t> samples;  // ascending
     std::vector<SampleGrid::Cells> cells;  // per pose, the cells that hold them
     std::vector<double> before, without, cost_before;
+    std::vector<Eigen::Vector3d> points;
+    std::vector<uint32_t> pose;
+    std::vector<char> weighted;
   };
+  // visit(i, k) for the samples near the sphere's old place (k: each one's place in `known`) or
+  // in `more` (k: Known::none), ascending, while it returns true; false where it stopped.
+  template <class Visit>
+  static bool visit_either(const Known& known, const std::vector<uint32_t>& more, Visit&& visit) {
+    size_t k = 0, x = 0;
+    while (k < known.samples.size() || x < more.size()) {
+      if (x == more.size() || (k < known.samples.size() && known.samples[k] < more[x])) {
+        if (!visit(known.samples[k], k)) return false;
+        ++k;
+      } else if (!visit(more[x++], Known::none)) {
+        return false;
+      }
+    }
+    return true;
+  }
   template <class Cost>
   Known know_around(const std::vector<Sphere>& old, size_t j, const Cost& cost) const {
     Known k;
@@ -172,8 +187,14 @@ class OffGrid {
     k.before.resize(k.samples.size());
     k.without.resize(k.samples.size());
     k.cost_before.resize(k.samples.size());
+    k.points.resize(k.samples.size());
+    k.pose.resize(k.samples.size());
+    k.weighted.resize(k.samples.size());
     for (size_t n = 0; n < k.samples.size(); ++n) {
       const uint32_t i = k.samples[n];
+      k.points[n] = points_[i];
+      k.pose[n] = pose_[i];
+      k.weighted[n] = weighted_[i];
       k.before[n] = gap(i, sphere(size_t(first_[i]), i));
       k.without[n] = error_without(i, j);
       k.cost_before[n] = weighted_[i] ? cost(k.before[n]) : 0;
@@ -185,7 +206,6 @@ class OffGrid {
   // Sphere j, `old` in each pose, moved by `s` where that cuts the cost most.
   bool move_one(size_t j, const std::vector<Sphere>& old, double s, double ceiling, const Cost& cost) {
     const Known known = know_around(old, j, cost);  // the same for every direction
-    const std::vector<uint32_t>& around = known.samples;
     // Each direction's place and its spheres there, asked of spheres_at once per place.
     std::vector<Eigen::Vector3d> to(static_cast<size_t>(directions_));
     std::vector<const Placed*> placed(to.size(), nullptr);
@@ -208,19 +228,18 @@ class OffGrid {
       std::vector<Sphere>& m = moved[size_t(d)];
       m = here.spheres;
       double sum = 0;
-      size_t next = 0;  // both lists ascend: the known ones are met in order
-      for (uint32_t i : near_either(around, known.cells, m)) {
-        while (next < known.samples.size() && known.samples[next] < i) ++next;
-        const size_t k = next < known.samples.size() && known.samples[next] == i ? next : Known::none;
-        const double before = k != Known::none ? known.before[k] : gap(i, sphere(size_t(first_[i]), i));
-        const double without = k != Known::none ? known.without[k] : error_without(i, j);
-        const double after = std::min(without, gap(i, m[pose_[i]]));
-        if (after > (weighted_[i] ? ceiling : delta_) && after > before) return;
+      const bool within = visit_either(known, more_near(known.cells, m), [&](uint32_t i, size_t k) {
+        const bool is_known = k != Known::none;
+        const double before = is_known ? known.before[k] : gap(i, sphere(size_t(first_[i]), i));
+        const double without = is_known ? known.without[k] : error_without(i, j);
+        const double after = std::min(without, is_known ? gap_to(known.points[k], m[known.pose[k]]) : gap(i, m[pose_[i]]));
+        const bool weighted = is_known ? known.weighted[k] : weighted_[i];
+        if (after > (weighted ? ceiling : delta_) && after > before) return false;
         // An unchanged error adds exactly 0: no cost asked.
-        if (weighted_[i] && after != before)
-          sum += cost(after) - (k != Known::none ? known.cost_before[k] : cost(before));
-      }
-      change[size_t(d)] = sum;
+        if (weighted && after != before) sum += cost(after) - (is_known ? known.cost_before[k] : cost(before));
+        return true;
+      });
+      if (within) change[size_t(d)] = sum;
     });
     for (size_t d = 0; d < to.size(); ++d)
       if (!placed[d]) asked_.emplace(to[d], std::move(fresh[d]));
@@ -234,7 +253,10 @@ class OffGrid {
     if (best < 0) return false;
     centers_[j] += s * direction(best);
     for (size_t p = 0; p < spheres_.size(); ++p) spheres_[p][j] = moved[size_t(best)][p];
-    for (uint32_t i : near_either(around, known.cells, moved[size_t(best)])) rerank(i, j, old);
+    visit_either(known, more_near(known.cells, moved[size_t(best)]), [&](uint32_t i, size_t) {
+      rerank(i, j, old);
+      return true;
+    });
     return true;
   }
 
