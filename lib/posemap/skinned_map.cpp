@@ -133,8 +133,10 @@ double least_radius(const SkinnedMap& map, const SkinInfluence& s, const Eigen::
     floors.push_back({solids[i].radius_floor(centers[i]), i});
   }
   std::sort(floors.begin(), floors.end());
-  if (kept) kept->assign(solids.size(), 0.0);
-  if (kept) (*kept)[0] = rest_radius;
+  if (kept) {
+    kept->assign(solids.size(), 0.0);
+    (*kept)[0] = rest_radius;
+  }
   double least = rest_radius;
   for (const auto& [floor, i] : floors) {
     if (floor >= least || least <= beaten) break;
