@@ -825,7 +825,8 @@ TEST(PoseMap, SkinnedSphereKeepsTheInfluenceThatKeepsItLarger) {
          return solids[0].radius(p, false).value > 0;
        })) {
     const SkinnedMap::Choice chosen = map.choose(c, at, solids);
-    const double harmonic = least(map.influence(c, at), c), surface = least(map.surface_influence(c, *queries[0]), c);
+    const double harmonic = least(map.influence(c, at), c);
+    const double surface = least(map.surface_influence(c, *queries[0], queries[0]->closest(c)), c);
     EXPECT_EQ(chosen.radius, least(chosen.influence, c)) << c.transpose();
     EXPECT_EQ(chosen.radius, std::max(harmonic, surface)) << c.transpose();
     surface_wins += surface > harmonic;
@@ -878,6 +879,8 @@ TEST(PoseMap, SkinnedTrialRadiusAsksWhatChooseSkipped) {
     }
     lowered += asked < chosen.radius;
     ASSERT_EQ(trial.size(), solids.size());
+    EXPECT_EQ(followed.joint, chosen.influence.joint) << c.transpose();
+    EXPECT_EQ(followed.weight, chosen.influence.weight) << c.transpose();
     for (size_t i = 0; i < solids.size(); ++i) {
       EXPECT_EQ(trial[i].first.center, map.center(chosen.influence, c, i)) << c.transpose() << ", pose " << i;
       EXPECT_EQ(trial[i].first.radius, asked) << c.transpose() << ", pose " << i;

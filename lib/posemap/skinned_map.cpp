@@ -100,10 +100,6 @@ SkinInfluence SkinnedMap::influence(const Eigen::Vector3d& p, const TetLocator::
   return s;
 }
 
-SkinInfluence SkinnedMap::surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest) const {
-  return surface_influence(p, rest, rest.closest(p));
-}
-
 SkinInfluence SkinnedMap::surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest,
                                             const ClosestPoint& q) const {
   const auto& t = rest.mesh().triangles[size_t(q.triangle)];

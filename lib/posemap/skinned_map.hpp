@@ -59,9 +59,8 @@ class SkinnedMap {
 
   // The harmonic influence of rest point p, at `at` in the tets.
   SkinInfluence influence(const Eigen::Vector3d& p, const TetLocator::Location& at) const;
-  // The influence of rest point p's closest point on the rest mesh (`rest`).
-  SkinInfluence surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest) const;
-  // The same given `closest`, rest.closest(p), which the caller asked already.
+  // The influence of rest point p's closest point on the rest mesh (`rest`): `closest`,
+  // rest.closest(p), which the caller asks (choose() asks it once for the rest radius too).
   SkinInfluence surface_influence(const Eigen::Vector3d& p, const MeshQuery& rest, const ClosestPoint& closest) const;
   // The influence a sphere centred at rest point c follows, and its one radius (the least of its
   // radii by `solids`, one per pose, over every pose): the harmonic influence, or the surface's
