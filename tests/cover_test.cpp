@@ -931,6 +931,11 @@ TEST(Cover, GapTableAndCoverageMatchAScanOfEveryPair) {
   }
   const Coverage some = table.at(max_delta);
   EXPECT_GT(some.samples.size(), 1000u) << "too few pairs for the test to mean much";
+  // Shrunk, the table keeps the representatives of its first max_delta.
+  GapTable shrunk(p, max_delta);
+  shrunk.shrink(0.06);
+  for (double delta : {0.0, 0.01, 0.05, 0.06})
+    expect_same(shrunk.at(delta), scan(delta, max_delta), "shrunk table at " + std::to_string(delta));
   const std::vector<char> kept = representatives(p, p.merge * max_delta);
   EXPECT_LT(std::count(kept.begin(), kept.end(), 1), std::ptrdiff_t(n - 50)) << "too few merged for the test to mean much";
 }
@@ -968,14 +973,20 @@ struct GapPairs {
 };
 
 // At a pair's own gap, and one step of a double below and above it, the table and coverage_at
-// give exactly the pairs a scan of the exact gaps gives. Returns how many deltas were asked.
-size_t expect_table_exact_at_pair_gaps(const CoverProblem& p, const GapPairs& all, double max_delta) {
-  const GapTable table(p, max_delta);
+// give exactly the pairs a scan of the exact gaps gives; with `shrunk_to`, the table built up
+// to max_delta then shrunk to it, asked below it. Returns how many deltas were asked.
+size_t expect_table_exact_at_pair_gaps(const CoverProblem& p, const GapPairs& all, double max_delta,
+                                       double shrunk_to = 0) {
+  GapTable table(p, max_delta);
+  if (shrunk_to > 0) table.shrink(shrunk_to);
+  const double asked_up_to = shrunk_to > 0 ? shrunk_to : max_delta;
+  std::vector<double> gaps;
+  for (size_t q = 0; q < all.pairs.size(); q += all.pairs.size() / 40) gaps.push_back(all.pairs[q].gap);
+  if (shrunk_to > 0) gaps.push_back(shrunk_to);
   size_t asked = 0;
-  for (size_t q = 0; q < all.pairs.size(); q += all.pairs.size() / 40) {
-    const double g = all.pairs[q].gap;
+  for (double g : gaps) {
     for (double delta : {g, std::nextafter(g, -1.0), std::nextafter(g, 1.0)}) {
-      if (delta > max_delta) continue;
+      if (delta > asked_up_to) continue;
       const Coverage want = all.scan(delta), got = table.at(delta), direct = coverage_at(p, delta);
       EXPECT_EQ(got.start, want.start) << "table at " << delta;
       EXPECT_EQ(got.samples, want.samples) << "table at " << delta;
@@ -1007,9 +1018,15 @@ TEST(Cover, GapTableDecidesTheGapsAtDeltaExactly) {
   EXPECT_GT(few, 10u);
   EXPECT_GT(many, 10u);
   EXPECT_GT(expect_table_exact_at_pair_gaps(p, all, max_delta), 100u);
+  // Shrunk to a pair's own gap, so that the pairs of its bucket lie on both sides of the edge.
+  const double shrunk_to = all.pairs[all.pairs.size() / 2].gap;
+  EXPECT_GT(expect_table_exact_at_pair_gaps(p, all, max_delta, shrunk_to), 40u);
 
   const CoverProblem dense = two_random_poses(29, 12, 600000);
-  EXPECT_GT(expect_table_exact_at_pair_gaps(dense, GapPairs(dense, max_delta), max_delta), 100u);
+  const GapPairs dense_pairs(dense, max_delta);
+  EXPECT_GT(expect_table_exact_at_pair_gaps(dense, dense_pairs, max_delta), 100u);
+  EXPECT_GT(expect_table_exact_at_pair_gaps(dense, dense_pairs, max_delta, dense_pairs.pairs[dense_pairs.pairs.size() / 2].gap),
+            40u);
 }
 
 // Brute force over every triangle: the distance from p to the mesh, and whether p is inside

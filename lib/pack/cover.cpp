@@ -60,6 +60,7 @@ void greedy_bisection(const CoverProblem& problem, size_t max_spheres, double re
     if (c.size() <= max_spheres) {
       hi = mid;
       keep_cover(best, std::move(c), mid);
+      table->shrink(hi * reach);  // nothing past it is asked from here on
     } else {
       lo = mid;
     }

@@ -87,6 +87,11 @@ class GapTable {
  public:
   GapTable(const CoverProblem& problem, double max_delta);
   Coverage at(double delta) const;
+  // Drops the pairs past `max_delta` (below the table's own): a bisection that has found a cover
+  // at some delta asks only below it from then on, and each at() reads the pairs it keeps. The
+  // candidates standing for the rest stay those of the table's first max_delta, so at() below
+  // it gives what it gave before.
+  void shrink(double max_delta);
 
  private:
   // Candidates in chunks as they were gathered side by side (none copied into one array). An
