@@ -30,27 +30,28 @@ class WeightedCover {
     member_sum_.assign(m, 0);
     weight_.assign(m, 1);
     bare_at_.assign(m, -1);
-    cand_.assign(n, Candidate{});
+    word_.assign(n, 0);
+    can_add_.assign(n, 1);
     bare_since_.assign(m, 0);
     stamp_.assign(n, 0);
     in_.assign(n, 0);
     for (uint32_t s = 0; s < m; ++s)
       if (by.row_size(s) > 0) make_bare(s);
     for (size_t c = 0; c < n; ++c)  // every sample starts bare, of weight 1
-      cand_[c].word = packed(int64_t(cov.row_size(c)), int64_t(cov.row_size(c)));
+      word_[c] = packed(int64_t(cov.row_size(c)), int64_t(cov.row_size(c)));
   }
 
   void add(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 1;
-    cand_[c].word = packed(-score(c), 0);
+    word_[c] = packed(-score(c), 0);
     stamp_[c] = step;
     members_.push_back(c);
     for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
       const uint32_t s = cov_.samples[k];
       const uint32_t before = count_[s]++;
       if (before == 1) {
-        cand_[member_sum_[s]].word += packed(weight_[s], 0);  // its one member no longer alone
+        word_[member_sum_[s]] += packed(weight_[s], 0);  // its one member no longer alone
         if (thorough_) mark_changed(s, c);
       }
       member_sum_[s] += c;
@@ -63,21 +64,21 @@ class WeightedCover {
   void remove(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 0;
-    cand_[c].word = -cand_[c].word;  // a member's word is its stored part alone (no bare samples)
+    word_[c] = -word_[c];  // a member's word is its stored part alone (no bare samples)
     stamp_[c] = step;
-    cand_[c].can_add = 0;
+    can_add_[c] = 0;
     members_.erase(std::find(members_.begin(), members_.end(), c));
     for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
       const uint32_t s = cov_.samples[k];
       const uint32_t after = --count_[s];
       member_sum_[s] -= c;
       if (after == 1) {
-        cand_[member_sum_[s]].word -= packed(weight_[s], 0);  // its one member now alone
+        word_[member_sum_[s]] -= packed(weight_[s], 0);  // its one member now alone
         if (thorough_) mark_changed(s, c);
       }
       if (after > 0) continue;
       make_bare(s);
-      cand_[c].word += packed(-raised_, 1);
+      word_[c] += packed(-raised_, 1);
       shift_gains(s, c, weight_[s] - raised_, 1);  // a gain to every candidate covering it
     }
   }
@@ -89,24 +90,24 @@ class WeightedCover {
   void shift_gains(uint32_t s, uint32_t changed, int64_t delta, int32_t bare) {
     const uint32_t* o = by_.samples.data() + by_.start[s];
     const uint32_t* end = by_.samples.data() + by_.start[s + 1];
-    Candidate* cand = cand_.data();
+    int64_t* word = word_.data();
+    char* can_add = can_add_.data();
     const int64_t step = packed(delta, bare);
     work_ += uint64_t(end - o);
     for (; o != end; ++o)
       if (*o != changed) {
-        Candidate& k = cand[*o];
-        k.word += step;
-        k.can_add = 1;
+        word[*o] += step;
+        can_add[*o] = 1;
       }
   }
 
   void mark_changed(uint32_t s, uint32_t changed) {
     const uint32_t* o = by_.samples.data() + by_.start[s];
     const uint32_t* end = by_.samples.data() + by_.start[s + 1];
-    Candidate* cand = cand_.data();
+    char* can_add = can_add_.data();
     work_ += uint64_t(end - o);
     for (; o != end; ++o)
-      if (*o != changed) cand[*o].can_add = 1;
+      if (*o != changed) can_add[*o] = 1;
   }
 
   // Bare samples weigh one more, so the candidates covering them gain (counted: see above). The
@@ -130,7 +131,7 @@ class WeightedCover {
     for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
       const uint32_t c = by_.samples[n];
       if (fallback == UINT32_MAX || better(c, fallback)) fallback = c;
-      if (cand_[c].can_add && (best == UINT32_MAX || better(c, best))) best = c;
+      if (can_add_[c] && (best == UINT32_MAX || better(c, best))) best = c;
     }
     return best == UINT32_MAX ? fallback : best;
   }
@@ -141,7 +142,7 @@ class WeightedCover {
   uint32_t bare(size_t i) const { return bare_[i]; }
   const std::vector<uint32_t>& members() const { return members_; }
   int64_t score(uint32_t c) const {
-    const int64_t word = cand_[c].word;
+    const int64_t word = word_[c];
     return (word >> kBareBits) + (word & (kBareUnit - 1)) * raised_;
   }
   int64_t weight(uint32_t s) const { return weight_[s] + (bare_at_[s] >= 0 ? raised_ - bare_since_[s] : 0); }
@@ -174,19 +175,16 @@ class WeightedCover {
   const bool thorough_;
   std::vector<uint32_t> count_;
   std::vector<uint32_t> member_sum_;  // the sum of the members covering each sample: its one member where count is 1
-  // Per candidate, together (a sample turning bare or covered touches both): its score's stored
-  // part and the bare samples it covers (0 for a member) in one word, stored part * 2^24 + bare
-  // count, so that a change to both is one addition; and whether it may be added. A row has
+  // Per candidate: its score's stored part and the bare samples it covers (0 for a member) in one
+  // word, stored part * 2^24 + bare count, so that a change to both is one addition. A row has
   // fewer than 2^24 samples and a stored part is at most a row's samples times the steps, far
-  // inside the 40 bits left.
+  // inside the 40 bits left. Whether it may be added lies apart: the words alone are half the
+  // memory the pair took padded together, so a step's updates miss the cache less.
   static constexpr int kBareBits = 24;
   static constexpr int64_t kBareUnit = int64_t(1) << kBareBits;
   static int64_t packed(int64_t stored, int64_t bare) { return stored * kBareUnit + bare; }
-  struct Candidate {
-    int64_t word = 0;
-    char can_add = 1;
-  };
-  std::vector<Candidate> cand_;
+  std::vector<int64_t> word_;
+  std::vector<char> can_add_;
   std::vector<int64_t> weight_, bare_at_, bare_since_;
   std::vector<uint64_t> stamp_;
   std::vector<char> in_;
