@@ -68,6 +68,18 @@ class CoverState {
     for (uint32_t n = cov_.start[size_t(c)]; n < cov_.start[size_t(c) + 1]; ++n) update(cov_.samples[n]);
   }
   bool chosen(int c) const { return in_[size_t(c)] != 0; }
+  // Whether candidates a and b may cover one sample both: their spheres grown by delta meet in
+  // some pose (with a margin far above the gaps' rounding).
+  bool may_share(int a, int b) const {
+    for (const SphereSet& pose : problem_.spheres) {
+      const Sphere &x = pose[size_t(a)], &y = pose[size_t(b)];
+      if (!(x.radius > 0) || !(y.radius > 0)) continue;
+      const double reach = x.radius + y.radius + 2 * delta_;
+      const double margin = 1e-9 * (reach + x.center.lpNorm<Eigen::Infinity>() + y.center.lpNorm<Eigen::Infinity>());
+      if ((x.center - y.center).norm() <= reach + margin) return true;
+    }
+    return false;
+  }
   int first(uint32_t s) const { return first_[s]; }
   int second(uint32_t s) const { return second_[s]; }
   const uint32_t* covering_begin(uint32_t s) const { return by_.data() + by_start_[s]; }
@@ -108,10 +120,25 @@ class CoverState {
 // Swaps: a sphere for one that covers every sample only it covers, cutting the summed cost of
 // the weighted samples' errors most, in rounds while any does; none takes a sample's error past
 // `limit`. Returns the swaps made.
+//
+// A slot's trial reads the states of the samples its sphere and its options cover, and a swap
+// changes those of the two spheres' samples alone; so after the first round, a slot whose
+// spheres may share no sample with any swapped since its last trial would find again that no
+// swap helps, and is not tried (the same swaps as trying it).
 template <class Cost>
 size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::vector<int>& chosen, const Cost& cost,
                    double limit = std::numeric_limits<double>::infinity()) {
-  size_t swaps = 0;
+  std::vector<std::pair<int, int>> swapped;     // this call's swaps, in order
+  std::vector<size_t> tried(chosen.size(), 0);  // swaps made before each slot's last trial
+  auto touched = [&](size_t slot, const std::vector<int>& options) {
+    for (size_t k = tried[slot]; k < swapped.size(); ++k)
+      for (int x : {swapped[k].first, swapped[k].second}) {
+        if (state.may_share(chosen[slot], x)) return true;
+        for (int c : options)
+          if (state.may_share(c, x)) return true;
+      }
+    return false;
+  };
   for (int round = 0; round < 4; ++round) {
     size_t this_round = 0;
     for (size_t slot = 0; slot < chosen.size(); ++slot) {
@@ -130,6 +157,8 @@ size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::ve
       std::vector<int> options;
       for (const uint32_t* c = state.covering_begin(anchor); c != state.covering_end(anchor); ++c)
         if (!state.chosen(int(*c))) options.push_back(int(*c));
+      if (round > 0 && !touched(slot, options)) continue;
+      tried[slot] = swapped.size();
       std::vector<double> change(options.size(), std::numeric_limits<double>::infinity());
       tbb::parallel_for(size_t(0), options.size(), [&](size_t o) {
         const int in = options[o];
@@ -156,13 +185,13 @@ size_t swap_rounds(CoverState& state, const Coverage& cov, double delta, std::ve
         if (change[o] < -1e-12 * delta && (best == options.size() || change[o] < change[best])) best = o;
       if (best == options.size()) continue;
       state.swap(out, options[best]);
+      swapped.emplace_back(out, options[best]);
       chosen[slot] = options[best];
       ++this_round;
     }
-    swaps += this_round;
     if (this_round == 0) break;
   }
-  return swaps;
+  return swapped.size();
 }
 
 // The weighted samples' median and largest error.
