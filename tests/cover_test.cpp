@@ -888,6 +888,23 @@ TEST(Cover, SwapsEndWhereNoSwapLowersTheTotal) {
   }
 }
 
+// A swap that moves the error of a sample an option of another slot covers, and none of that
+// slot's own: on a line, A (at 0) and B (at 3.5) chosen, C (at 1.2) and B' (at 3.7) not, radii
+// 0.5, delta 1. In the first round A for C loses 0.1 (0.2 more at the sample at 0.5, 0.1 less at
+// 2.3, which B covers at 0.7), and B for B' gains 0.2 (0.2 less at 4.4 and 4.45, 0.2 more at 2.3).
+// After it, the sample at 2.3 is at 0.9, so A for C gains 0.1: the second round must try A again,
+// although B and B' share no sample with A, since they do with its option C.
+TEST(Cover, SwapsRetryASlotWhoseOptionASwapReached) {
+  CoverProblem p;
+  p.spheres.push_back({{{0, 0, 0}, 0.5}, {{3.5, 0, 0}, 0.5}, {{1.2, 0, 0}, 0.5}, {{3.7, 0, 0}, 0.5}});
+  p.samples.push_back({{0.5, 0, 0}, {2.3, 0, 0}, {4.4, 0, 0}, {4.45, 0, 0}});
+  p.weighted.push_back(4);
+  const Coverage cov = coverage_at(p, 1.0);
+  std::vector<int> chosen = {0, 1};
+  improve_cover(p, cov, 1.0, chosen.size(), chosen);
+  EXPECT_EQ(chosen, (std::vector<int>{2, 3}));
+}
+
 // Representatives against brute force: largest first, a candidate is left out exactly when an
 // earlier kept one nearly contains it in both poses; and then every sample's gap to some kept
 // candidate is within the slack of its gap to the one left out.
