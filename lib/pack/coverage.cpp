@@ -6,9 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
-#include <tuple>
 
 #include "mesh/union_distance.hpp"
 #include "pack/sample_grid.hpp"
