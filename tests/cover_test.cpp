@@ -297,7 +297,9 @@ TEST(Cover, ReductionDropsExactlyTheImpliedAndDominated) {
 // The search's incremental scores against a recount after every move, both configuration
 // rules: a member's score is minus the weight of the samples it alone covers (found through the
 // sum of the members covering each sample), a non-member's the weight of the bare samples it
-// covers. Random adds, removes and weight raises on random instances, with repeated rows.
+// covers. Random adds, removes and weight raises on random instances, with repeated rows. And
+// whether each non-member may be added, against the rule kept apart: not once it left, again
+// once a sample of its turned bare or covered (thorough: or its count changed at 2 or below).
 TEST(Cover, SearchScoresAgainstRecount) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 60; ++trial) {
@@ -305,11 +307,23 @@ TEST(Cover, SearchScoresAgainstRecount) {
     std::vector<std::vector<uint32_t>> rows = random_rows(rng, candidates, samples);
     if (trial % 2 == 0) rows[1] = rows[0];
     const Coverage c = coverage_of(rows, samples), by = covering_candidates(c);
-    detail::WeightedCover state(c, by, trial % 3 == 0);
+    const bool thorough = trial % 3 == 0;
+    detail::WeightedCover state(c, by, thorough);
+    std::vector<char> may(candidates, 1);
+    std::vector<uint32_t> before(samples, 0);  // each sample's count before the move
     for (uint64_t step = 1; step <= 200; ++step) {
       const uint32_t k = uint32_t(rng() % candidates);
-      if (state.in(k)) state.remove(k, step);
-      else state.add(k, step);
+      const bool adding = !state.in(k);
+      if (adding) state.add(k, step);
+      else state.remove(k, step);
+      for (uint32_t s : rows[k]) {
+        const uint32_t from = before[s], to = adding ? from + 1 : from - 1;
+        before[s] = to;
+        if (std::min(from, to) == 0 || (thorough && std::min(from, to) == 1))
+          for (uint32_t o = 0; o < candidates; ++o)
+            if (o != k && std::binary_search(rows[o].begin(), rows[o].end(), s)) may[o] = 1;
+      }
+      if (!adding) may[k] = 0;
       if (rng() % 3 == 0) state.raise_bare_weights();
       std::vector<uint32_t> count(samples, 0);
       for (uint32_t m : state.members())
@@ -319,6 +333,8 @@ TEST(Cover, SearchScoresAgainstRecount) {
         for (uint32_t s : rows[o])
           if (state.in(o) ? count[s] == 1 : count[s] == 0) expected += state.in(o) ? -state.weight(s) : state.weight(s);
         ASSERT_EQ(state.score(o), expected) << "trial " << trial << ", step " << step << ", candidate " << o;
+        if (!state.in(o))
+          ASSERT_EQ(state.may_add(o), may[o] != 0) << "trial " << trial << ", step " << step << ", candidate " << o;
       }
       size_t bare = 0;
       for (uint32_t s = 0; s < samples; ++s) bare += count[s] == 0 && by.row_size(s) > 0;

@@ -25,20 +25,19 @@ class WeightedCover {
  public:
   WeightedCover(const Coverage& cov, const Coverage& by, bool thorough) : cov_(cov), by_(by), thorough_(thorough) {
     const size_t n = cov.start.size() - 1, m = cov.sample_count;
-    if (m >= size_t(kBareUnit)) throw std::length_error("cover search: more samples than a score word counts");
+    if (m >= size_t(kMayAdd)) throw std::length_error("cover search: more samples than a score word counts");
     count_.assign(m, 0);
     member_sum_.assign(m, 0);
     weight_.assign(m, 1);
     bare_at_.assign(m, -1);
     word_.assign(n, 0);
-    can_add_.assign(n, 1);
     bare_since_.assign(m, 0);
     stamp_.assign(n, 0);
     in_.assign(n, 0);
     for (uint32_t s = 0; s < m; ++s)
       if (by.row_size(s) > 0) make_bare(s);
     for (size_t c = 0; c < n; ++c)  // every sample starts bare, of weight 1
-      word_[c] = packed(int64_t(cov.row_size(c)), int64_t(cov.row_size(c)));
+      word_[c] = packed(int64_t(cov.row_size(c)), int64_t(cov.row_size(c))) | kMayAdd;
   }
 
   void add(uint32_t c, uint64_t step) {
@@ -64,9 +63,8 @@ class WeightedCover {
   void remove(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 0;
-    word_[c] = -word_[c];  // a member's word is its stored part alone (no bare samples)
+    word_[c] = -(word_[c] & ~kMayAdd);  // a member's word is its stored part alone (no bare samples); not to add
     stamp_[c] = step;
-    can_add_[c] = 0;
     members_.erase(std::find(members_.begin(), members_.end(), c));
     for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
       const uint32_t s = cov_.samples[k];
@@ -85,29 +83,28 @@ class WeightedCover {
 
   // Sample s became bare or covered: every candidate covering it but `changed` (none of them a
   // member) gains `delta` in its stored part and `bare` bare samples, and its configuration
-  // changed. Raw pointers: the char stores would otherwise make the compiler reload the vectors'
-  // data at every entry.
+  // changed: one read and one write of its word. (The bare count stays within its bits, so the
+  // flag above it is kept by the sum.) `changed` is updated with the others and then given its
+  // word back: no test at every entry.
   void shift_gains(uint32_t s, uint32_t changed, int64_t delta, int32_t bare) {
     const uint32_t* o = by_.samples.data() + by_.start[s];
     const uint32_t* end = by_.samples.data() + by_.start[s + 1];
     int64_t* word = word_.data();
-    char* can_add = can_add_.data();
     const int64_t step = packed(delta, bare);
+    const int64_t kept = word[changed];
     work_ += uint64_t(end - o);
-    for (; o != end; ++o)
-      if (*o != changed) {
-        word[*o] += step;
-        can_add[*o] = 1;
-      }
+    for (; o != end; ++o) word[*o] = (word[*o] + step) | kMayAdd;
+    word[changed] = kept;
   }
 
   void mark_changed(uint32_t s, uint32_t changed) {
     const uint32_t* o = by_.samples.data() + by_.start[s];
     const uint32_t* end = by_.samples.data() + by_.start[s + 1];
-    char* can_add = can_add_.data();
+    int64_t* word = word_.data();
+    const int64_t kept = word[changed];
     work_ += uint64_t(end - o);
-    for (; o != end; ++o)
-      if (*o != changed) can_add[*o] = 1;
+    for (; o != end; ++o) word[*o] |= kMayAdd;
+    word[changed] = kept;
   }
 
   // Bare samples weigh one more, so the candidates covering them gain (counted: see above). The
@@ -131,7 +128,7 @@ class WeightedCover {
     for (uint32_t n = by_.start[s]; n < by_.start[s + 1]; ++n) {
       const uint32_t c = by_.samples[n];
       if (fallback == UINT32_MAX || better(c, fallback)) fallback = c;
-      if (can_add_[c] && (best == UINT32_MAX || better(c, best))) best = c;
+      if (may_add(c) && (best == UINT32_MAX || better(c, best))) best = c;
     }
     return best == UINT32_MAX ? fallback : best;
   }
@@ -143,10 +140,12 @@ class WeightedCover {
   const std::vector<uint32_t>& members() const { return members_; }
   int64_t score(uint32_t c) const {
     const int64_t word = word_[c];
-    return (word >> kBareBits) + (word & (kBareUnit - 1)) * raised_;
+    return (word >> kBareBits) + (word & (kMayAdd - 1)) * raised_;
   }
   int64_t weight(uint32_t s) const { return weight_[s] + (bare_at_[s] >= 0 ? raised_ - bare_since_[s] : 0); }
   bool in(uint32_t c) const { return in_[c] != 0; }
+  // Whether a candidate not in may be added back: its configuration changed since it left.
+  bool may_add(uint32_t c) const { return (word_[c] & kMayAdd) != 0; }
 
  private:
   bool better(uint32_t a, uint32_t b) const {
@@ -175,16 +174,17 @@ class WeightedCover {
   const bool thorough_;
   std::vector<uint32_t> count_;
   std::vector<uint32_t> member_sum_;  // the sum of the members covering each sample: its one member where count is 1
-  // Per candidate: its score's stored part and the bare samples it covers (0 for a member) in one
-  // word, stored part * 2^24 + bare count, so that a change to both is one addition. A row has
-  // fewer than 2^24 samples and a stored part is at most a row's samples times the steps, far
-  // inside the 40 bits left. Whether it may be added lies apart: the words alone are half the
-  // memory the pair took padded together, so a step's updates miss the cache less.
+  // Per candidate, one word: its score's stored part, whether it may be added, and the bare
+  // samples it covers (0 for a member), stored part * 2^24 + may-add * 2^23 + bare count, so
+  // that a step's update to a candidate is one read and one write. A row has fewer than 2^23
+  // samples, so the count never reaches the flag, and a stored part is at most a row's samples
+  // times the steps, far inside the 40 bits left. (A member's may-add is never read, and is
+  // cleared when it leaves.)
   static constexpr int kBareBits = 24;
   static constexpr int64_t kBareUnit = int64_t(1) << kBareBits;
+  static constexpr int64_t kMayAdd = int64_t(1) << (kBareBits - 1);
   static int64_t packed(int64_t stored, int64_t bare) { return stored * kBareUnit + bare; }
   std::vector<int64_t> word_;
-  std::vector<char> can_add_;
   std::vector<int64_t> weight_, bare_at_, bare_since_;
   std::vector<uint64_t> stamp_;
   std::vector<char> in_;
