@@ -141,6 +141,41 @@ TEST(Sdf, SphereInteriorDistancesAreAccurate) {
   EXPECT_NE(sdf.stats.sign_method.find("closed surface"), std::string::npos);
 }
 
+// depth_bound (a floor under radii) against its definition: the largest of the 8 voxels around
+// a point less their offsets to it, or 0, at random points in and around a sphere's field, and
+// the same from the field's held 16-bit depths.
+TEST(Sdf, DepthBoundIsTheBestOfTheEightVoxelsAround) {
+  SdfOptions opt;
+  opt.resolution = 24;
+  const DenseField field = build_sdf(test::uv_sphere(1.0, 24, 48), opt).field;
+  const DepthField held = depth_field(field);
+  const GridShape& g = field.shape;
+  auto brute = [&](const GridShape& shape, const Eigen::Vector3d& c, auto&& depth) {
+    const Eigen::Vector3d at = c / shape.voxel_size - shape.origin.cast<double>();
+    double best = 0;
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 2; ++k) {
+          const Eigen::Vector3i v = at.array().floor().cast<int>().matrix() + Eigen::Vector3i(i, j, k);
+          if ((v.array() < 0).any() || (v.array() >= shape.dims.array()).any()) continue;
+          best = std::max(best, depth(shape.index(v.x(), v.y(), v.z())) - (shape.world(v.x(), v.y(), v.z()) - c).norm());
+        }
+    return best;
+  };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.3, 1.3);
+  size_t positive = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const Eigen::Vector3d c(u(rng), u(rng), u(rng));
+    const double whole = depth_bound(field, c);
+    ASSERT_EQ(whole, brute(g, c, [&](size_t i) { return -double(field.values[i]); })) << c.transpose();
+    ASSERT_EQ(depth_bound(held, c), brute(held.shape, c, [&](size_t i) { return held.unit * held.depth[i]; }))
+        << c.transpose();
+    positive += whole > 0;
+  }
+  EXPECT_GT(positive, 3000u);
+}
+
 TEST(Sdf, OpenMeshSignFollowsTheWindingNumber) {
   SPX_REQUIRE_SHARED_DATA();
   const TriMesh mesh = load_mesh(test::shared_data() + "/cylinder/rest.obj").mesh;

@@ -103,7 +103,9 @@ double depth_bound_in(const GridShape& g, const Eigen::Vector3d& c, Depth&& dept
   for (int corner = 0; corner < 8; ++corner) {
     const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
     if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
-    best = std::max(best, depth(g.index(v.x(), v.y(), v.z())) - (g.world(v.x(), v.y(), v.z()) - c).norm());
+    // A voxel no deeper than the best so far cannot beat it, whatever its offset: no square root.
+    const double d = depth(g.index(v.x(), v.y(), v.z()));
+    if (d > best) best = std::max(best, d - (g.world(v.x(), v.y(), v.z()) - c).norm());
   }
   return best;
 }
