@@ -294,6 +294,32 @@ TEST(Cover, ReductionDropsExactlyTheImpliedAndDominated) {
   }
 }
 
+// bare_samples against a scan of every pair by the coverage rule (|p - c| - r <= delta; a sphere
+// of radius 0 covers nothing), from sparse spheres to spheres that overlap many times over (where
+// most samples a ball reaches are already covered and passed over).
+TEST(Cover, BareSamplesMatchAScanOfEveryPair) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 12; ++trial) {
+    std::vector<Eigen::Vector3d> samples(2000 + rng() % 2000);
+    for (auto& p : samples) p = Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng));
+    SphereSet spheres(trial % 2 ? 4 + size_t(trial) : 20 + 40 * size_t(trial));
+    const double largest = trial % 2 ? 0.6 : 0.15;
+    for (Sphere& s : spheres)
+      s = {Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng)), rng() % 7 == 0 ? 0.0 : largest * (0.5 + 0.5 * u(rng))};
+    const double delta = 0.02 * (trial % 3);
+    std::vector<uint32_t> expected;
+    for (uint32_t i = 0; i < samples.size(); ++i) {
+      bool covered = false;
+      for (const Sphere& s : spheres) covered = covered || (s.radius > 0 && (samples[i] - s.center).norm() - s.radius <= delta);
+      if (!covered) expected.push_back(i);
+    }
+    EXPECT_EQ(bare_samples(samples, spheres, delta), expected) << "trial " << trial;
+    EXPECT_GT(expected.size(), 0u) << "trial " << trial;
+    EXPECT_LT(expected.size(), samples.size()) << "trial " << trial;
+  }
+}
+
 // The search's incremental scores against a recount after every move, both configuration
 // rules: a member's score is minus the weight of the samples it alone covers (found through the
 // sum of the members covering each sample), a non-member's the weight of the bare samples it

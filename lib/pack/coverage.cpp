@@ -28,15 +28,17 @@ double gap_from(double squared, const Sphere& s) { return std::sqrt(squared) - s
 
 // The coverage rule, in one place: visit(i, gap) for every point of `grid` (built on `points`)
 // that sphere `s` covers at delta (gap = |p - c| - r <= delta); a sphere of radius 0 covers none.
+// `skip`, where given: points i with skip[i] set are not visited.
 template <class Visit>
 void for_each_covered(const SampleGrid& grid, const std::vector<Eigen::Vector3d>& points, const Sphere& s, double delta,
-                      Visit&& visit) {
+                      Visit&& visit, const char* skip = nullptr) {
   if (!(s.radius > 0)) return;
   const double reach = s.radius + delta;
   // Past this squared distance a point is surely farther than reach, whatever the rounding of
   // the gap below: no square root for the grid's points outside the ball (about half of them).
   const double beyond = reach * reach * (1 + 1e-9);
   grid.near(s.center, reach, [&](uint32_t i) {
+    if (skip && skip[i]) return;
     const double squared = (points[i] - s.center).squaredNorm();
     if (squared > beyond) return;
     const double gap = gap_from(squared, s);
@@ -374,7 +376,10 @@ std::vector<uint32_t> bare_samples(const std::vector<Eigen::Vector3d>& samples, 
   if (samples.empty()) return out;
   const SampleGrid grid(samples);
   std::vector<char> covered(samples.size(), 0);
-  for (const Sphere& s : spheres) for_each_covered(grid, samples, s, delta, [&](uint32_t i, double) { covered[i] = 1; });
+  // A sample already covered is passed over before its distance is taken: where spheres overlap,
+  // most of those a ball reaches are.
+  for (const Sphere& s : spheres)
+    for_each_covered(grid, samples, s, delta, [&](uint32_t i, double) { covered[i] = 1; }, covered.data());
   for (size_t i = 0; i < samples.size(); ++i)
     if (!covered[i]) out.push_back(uint32_t(i));
   return out;
