@@ -336,7 +336,7 @@ TEST(Cover, SearchScoresAgainstRecount) {
     const bool thorough = trial % 3 == 0;
     detail::WeightedCover state(c, by, thorough);
     std::vector<char> may(candidates, 1);
-    std::vector<uint32_t> before(samples, 0);  // each sample's count before the move
+    std::vector<uint32_t> before(samples, 0);  // each sample's count as the moves so far leave it
     for (uint64_t step = 1; step <= 200; ++step) {
       const uint32_t k = uint32_t(rng() % candidates);
       const bool adding = !state.in(k);

@@ -63,7 +63,9 @@ class WeightedCover {
   void remove(uint32_t c, uint64_t step) {
     work_ += cov_.row_size(c);
     in_[c] = 0;
-    word_[c] = -(word_[c] & ~kMayAdd);  // a member's word is its stored part alone (no bare samples); not to add
+    // A member's word is its stored part alone (no bare samples); once out, it may not be added
+    // until its configuration changes.
+    word_[c] = -(word_[c] & ~kMayAdd);
     stamp_[c] = step;
     members_.erase(std::find(members_.begin(), members_.end(), c));
     for (uint32_t k = cov_.start[c]; k < cov_.start[c + 1]; ++k) {
