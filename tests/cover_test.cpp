@@ -103,6 +103,79 @@ TEST(Cover, GreedyAndLowerBoundAgainstBruteForce) {
   EXPECT_GE(lagrangian_total, combinatorial_total);
 }
 
+// Greedy as written down: every candidate's gain summed afresh at every step (the weights of
+// its bare samples, 1 / their degree, in row order), the largest taken, ties to the lower
+// index; then the redundant spheres dropped, smallest row first.
+std::vector<int> plain_greedy(const Coverage& c, const std::vector<int>& start) {
+  const size_t n = c.start.size() - 1;
+  std::vector<uint32_t> degree(c.sample_count, 0);
+  for (uint32_t s : c.samples) ++degree[s];
+  std::vector<char> covered(c.sample_count, 0);
+  for (int k : start)
+    for (uint32_t i = c.start[size_t(k)]; i < c.start[size_t(k) + 1]; ++i) covered[c.samples[i]] = 1;
+  std::vector<int> chosen(start);
+  for (;;) {
+    double best = 0;
+    int pick = -1;
+    for (size_t k = 0; k < n; ++k) {
+      double gain = 0;
+      for (uint32_t i = c.start[k]; i < c.start[k + 1]; ++i)
+        if (!covered[c.samples[i]]) gain += 1.0 / degree[c.samples[i]];
+      if (gain > best) best = gain, pick = int(k);
+    }
+    if (pick < 0) break;
+    chosen.push_back(pick);
+    for (uint32_t i = c.start[size_t(pick)]; i < c.start[size_t(pick) + 1]; ++i) covered[c.samples[i]] = 1;
+  }
+  std::vector<uint32_t> times(c.sample_count, 0);
+  for (int k : chosen)
+    for (uint32_t i = c.start[size_t(k)]; i < c.start[size_t(k) + 1]; ++i) ++times[c.samples[i]];
+  std::vector<int> order(chosen);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return c.row_size(size_t(a)) < c.row_size(size_t(b)); });
+  std::vector<int> dropped;
+  for (int k : order) {
+    bool redundant = true;
+    for (uint32_t i = c.start[size_t(k)]; i < c.start[size_t(k) + 1]; ++i) redundant = redundant && times[c.samples[i]] >= 2;
+    if (!redundant) continue;
+    dropped.push_back(k);
+    for (uint32_t i = c.start[size_t(k)]; i < c.start[size_t(k) + 1]; ++i) --times[c.samples[i]];
+  }
+  chosen.erase(std::remove_if(chosen.begin(), chosen.end(),
+                              [&](int k) { return std::find(dropped.begin(), dropped.end(), k) != dropped.end(); }),
+               chosen.end());
+  return chosen;
+}
+
+// The lazy greedy, whose counts read only the samples still bare, chooses what the plain one
+// does, to the candidate and its order: rows of every length, ties everywhere (rows repeated,
+// samples of equal degree), partial covers to complete; and a coverage given up to it keeps
+// every row's samples.
+TEST(Cover, GreedyMatchesThePlainGreedy) {
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 200; ++trial) {
+    const size_t candidates = 5 + rng() % 60, samples = 10 + rng() % 200;
+    std::vector<std::vector<uint32_t>> rows(candidates);
+    for (auto& r : rows) {
+      const uint32_t share = 1 + rng() % 12;  // from nearly every sample to a few
+      for (uint32_t s = 0; s < samples; ++s)
+        if (rng() % share == 0) r.push_back(s);
+    }
+    if (trial % 4 == 0) rows[rows.size() / 2] = rows.front();
+    const Coverage c = coverage_of(rows, samples);
+    std::vector<int> start;
+    if (trial % 3 == 0) start = {int(rng() % candidates)};
+    EXPECT_EQ(greedy_cover(c, start), plain_greedy(c, start)) << "trial " << trial;
+    Coverage used = c;
+    EXPECT_EQ(greedy_cover(std::move(used), start), plain_greedy(c, start)) << "trial " << trial;
+    ASSERT_EQ(used.start, c.start) << "trial " << trial;
+    for (size_t k = 0; k < candidates; ++k) {
+      std::vector<uint32_t> row(used.samples.begin() + used.start[k], used.samples.begin() + used.start[k + 1]);
+      std::sort(row.begin(), row.end());
+      EXPECT_EQ(row, rows[k]) << "trial " << trial << ", row " << k;
+    }
+  }
+}
+
 // Tiny random instances, some with repeated rows and columns: the reduction keeps the
 // optimum and a cover of the reduced problem covers the original; the row-weighting search
 // returns a cover no larger than its start and, on instances this small, the optimum.

@@ -123,7 +123,7 @@ size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_
       if (!covered[rows.samples[n]]) bare.samples.push_back(rows.samples[n]);
     bare.start[c + 1] = uint32_t(bare.samples.size());
   }
-  const std::vector<int> added = greedy_cover(bare);
+  const std::vector<int> added = greedy_cover(std::move(bare));
   chosen.insert(chosen.end(), added.begin(), added.end());
   std::sort(chosen.begin(), chosen.end());
   return added.size();

@@ -30,9 +30,29 @@ std::vector<uint32_t> sample_degrees(const Coverage& cov) {
   return std::move(part[0]);
 }
 
+// The weight of the samples in [bare, end) not yet covered, summed in order; those move to
+// the front, in order, and `bare` ends past them.
+double gain_of_bare(uint32_t*& bare, uint32_t* end, const char* covered, const double* weight) {
+  double g = 0;
+  uint32_t* out = bare;
+  for (uint32_t* n = bare; n != end; ++n) {
+    const uint32_t s = *n;
+    if (covered[s]) continue;
+    g += weight[s];
+    *n = *out;
+    *out++ = s;
+  }
+  bare = out;
+  return g;
+}
+
 }  // namespace
 
 std::vector<int> greedy_cover(const Coverage& cov, const std::vector<int>& start) {
+  return greedy_cover(Coverage(cov), start);
+}
+
+std::vector<int> greedy_cover(Coverage&& cov, const std::vector<int>& start) {
   const size_t candidates = cov.start.size() - 1;
   std::vector<char> covered(cov.sample_count, 0);
   for (int c : start)
@@ -43,10 +63,15 @@ std::vector<int> greedy_cover(const Coverage& cov, const std::vector<int>& start
   std::vector<double> weight(cov.sample_count, 0);
   for (size_t s = 0; s < weight.size(); ++s) weight[s] = degree[s] ? 1.0 / degree[s] : 0;
   // Lazy greedy: a popped gain is recounted, and the candidate taken only if it still leads.
+  // A count moves the row's covered samples behind its bare ones, the bare ones kept in order,
+  // and the next count reads only those: the same sums (a covered sample added nothing), at the
+  // cost of what is still bare. Late in a large cover most of a row is covered.
+  std::vector<uint32_t> bare_end(cov.start.begin() + 1, cov.start.end());
   auto gain_of = [&](size_t c) {
-    double g = 0;
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n)
-      if (!covered[cov.samples[n]]) g += weight[cov.samples[n]];
+    uint32_t* const samples = cov.samples.data();
+    uint32_t* bare = samples + cov.start[c];
+    const double g = gain_of_bare(bare, samples + bare_end[c], covered.data(), weight.data());
+    bare_end[c] = uint32_t(bare - samples);
     return g;
   };
   // The first gains side by side (a pass over every pair); the keys are distinct, so the order
@@ -69,7 +94,7 @@ std::vector<int> greedy_cover(const Coverage& cov, const std::vector<int>& start
       continue;
     }
     chosen.push_back(int(c));
-    for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) covered[cov.samples[n]] = 1;
+    for (uint32_t n = cov.start[c]; n < bare_end[c]; ++n) covered[cov.samples[n]] = 1;  // the rest were
   }
   // Redundant spheres, smallest first: every sample also covered by another chosen sphere.
   std::vector<uint32_t> times(cov.sample_count, 0);

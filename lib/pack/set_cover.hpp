@@ -67,6 +67,8 @@ Coverage transposed(size_t rows, size_t columns, Row&& row) {
 // covers are skipped (the caller counts them). `start`: a partial cover to complete (a cover
 // of fewer samples, repaired). Returns candidate indices.
 std::vector<int> greedy_cover(const Coverage& coverage, const std::vector<int>& start = {});
+// The same, using `coverage` up: each row keeps its samples, in another order.
+std::vector<int> greedy_cover(Coverage&& coverage, const std::vector<int>& start = {});
 
 // The same cover problem made smaller without changing its optimum: a sample whose candidates
 // include all of another's is dropped (covering the other covers it), then a candidate whose
