@@ -176,6 +176,114 @@ TEST(Cover, GreedyMatchesThePlainGreedy) {
   }
 }
 
+// shrink_cover's rule written down, its counts taken afresh for every candidate: in candidate
+// order, a candidate not chosen is added; the chosen spheres it covers every sample of that only
+// they cover are dropped in turn (in the order its row first meets them) where then redundant;
+// the move is kept when two or more go. Up to three passes; `moves`: the moves kept.
+std::vector<int> plain_shrink(const Coverage& c, const std::vector<int>& chosen, size_t& moves) {
+  const size_t n = c.start.size() - 1;
+  auto row = [&](size_t k) { return std::vector<uint32_t>(c.samples.begin() + c.start[k], c.samples.begin() + c.start[k + 1]); };
+  std::vector<char> in(n, 0);
+  for (int k : chosen) in[size_t(k)] = 1;
+  size_t kept = 0;
+  for (int pass = 0; pass < 3; ++pass) {
+    size_t this_pass = 0;
+    for (size_t a = 0; a < n; ++a) {
+      if (in[a] || c.row_size(a) == 0) continue;
+      std::vector<uint32_t> times(c.sample_count, 0);
+      for (size_t k = 0; k < n; ++k)
+        if (in[k])
+          for (uint32_t s : row(k)) ++times[s];
+      std::vector<int> owner(c.sample_count, -1);
+      for (size_t k = 0; k < n; ++k)
+        if (in[k])
+          for (uint32_t s : row(k))
+            if (times[s] == 1) owner[s] = int(k);
+      const std::vector<uint32_t> mine = row(a);
+      std::vector<int> could;
+      for (uint32_t s : mine) {
+        const int k = owner[s];
+        if (k < 0 || std::find(could.begin(), could.end(), k) != could.end()) continue;
+        bool all = true;
+        for (uint32_t t : row(size_t(k))) all = all && (owner[t] != k || std::binary_search(mine.begin(), mine.end(), t));
+        if (all) could.push_back(k);
+      }
+      if (could.size() < 2) continue;
+      for (uint32_t s : mine) ++times[s];
+      std::vector<int> dropped;
+      for (int k : could) {
+        bool redundant = true;
+        for (uint32_t s : row(size_t(k))) redundant = redundant && times[s] >= 2;
+        if (!redundant) continue;
+        dropped.push_back(k);
+        for (uint32_t s : row(size_t(k))) --times[s];
+      }
+      if (dropped.size() < 2) continue;
+      in[a] = 1;
+      for (int k : dropped) in[size_t(k)] = 0;
+      ++this_pass;
+    }
+    kept += this_pass;
+    if (this_pass == 0) break;
+  }
+  moves = kept;
+  if (kept == 0) return chosen;
+  std::vector<int> out;
+  for (size_t k = 0; k < n; ++k)
+    if (in[k]) out.push_back(int(k));
+  return out;
+}
+
+// shrink_cover, which asks side by side which candidates of a chunk are worth trying, keeps the
+// moves the rule keeps, in order. The cover: the samples in groups, a candidate each; among the
+// other candidates, unions of two or three groups (a move each, where the groups are still
+// chosen) and small rows; small instances and large ones of several chunks.
+TEST(Cover, ShrinkMatchesItsRule) {
+  std::mt19937 rng(23);
+  size_t moves = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const bool large = trial % 10 == 0;
+    const size_t samples = large ? 1500 : 20 + rng() % 200, others = large ? 6000 : 10 + rng() % 100;
+    std::vector<std::vector<uint32_t>> groups;
+    for (uint32_t s = 0; s < samples;) {
+      groups.emplace_back();
+      for (size_t size = 2 + rng() % 4; size > 0 && s < samples; --size) groups.back().push_back(s++);
+    }
+    std::vector<std::vector<uint32_t>> rows = groups;
+    for (size_t k = 0; k < others; ++k) {
+      std::vector<uint32_t> r;
+      if (rng() % 2) {
+        for (size_t n = 2 + rng() % 2; n > 0; --n) {
+          const auto& g = groups[rng() % groups.size()];
+          r.insert(r.end(), g.begin(), g.end());
+        }
+      }
+      for (size_t n = rng() % 3; n > 0; --n) r.push_back(uint32_t(rng() % samples));
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      rows.push_back(r);
+    }
+    std::vector<uint32_t> order(rows.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::shuffle(order.begin(), order.end(), rng);
+    std::vector<std::vector<uint32_t>> shuffled(rows.size());
+    std::vector<int> chosen;
+    for (size_t k = 0; k < rows.size(); ++k) {
+      shuffled[k] = rows[order[k]];
+      if (order[k] < groups.size()) chosen.push_back(int(k));
+    }
+    const Coverage c = coverage_of(shuffled, samples);
+    size_t expected_moves = 0;
+    const std::vector<int> expected = plain_shrink(c, chosen, expected_moves);
+    std::vector<int> shrunk = chosen;
+    EXPECT_EQ(shrink_cover(c, shrunk), expected_moves) << "trial " << trial;
+    EXPECT_EQ(shrunk, expected) << "trial " << trial;
+    EXPECT_TRUE(covers_all(c, shrunk)) << "trial " << trial;
+    moves += expected_moves;
+  }
+  EXPECT_GT(moves, 500u);
+}
+
 // Tiny random instances, some with repeated rows and columns: the reduction keeps the
 // optimum and a cover of the reduced problem covers the original; the row-weighting search
 // returns a cover no larger than its start and, on instances this small, the optimum.

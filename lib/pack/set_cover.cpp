@@ -1,6 +1,7 @@
 #include "pack/set_cover.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -133,19 +134,30 @@ class Shrink {
   }
   bool in(uint32_t c) const { return in_[c] != 0; }
 
-  // Adds c and drops the spheres it makes redundant; keeps the move when two or more go.
-  bool try_add(uint32_t c) {
+  // The spheres c covers every sample of that only they cover (`hits`: all 0, and left so): the
+  // ones adding c could make redundant. Reads the state only.
+  std::vector<uint32_t> could_drop(uint32_t c, std::vector<uint32_t>& hits) const {
     std::vector<uint32_t> touched;
     for (uint32_t n = cov_.start[c]; n < cov_.start[c + 1]; ++n) {
       const int k = owner_[cov_.samples[n]];
       if (k < 0) continue;
-      if (hits_[size_t(k)]++ == 0) touched.push_back(uint32_t(k));
+      if (hits[size_t(k)]++ == 0) touched.push_back(uint32_t(k));
     }
     std::vector<uint32_t> could;
     for (uint32_t k : touched) {
-      if (hits_[k] == critical_[k]) could.push_back(k);
-      hits_[k] = 0;
+      if (hits[k] == critical_[k]) could.push_back(k);
+      hits[k] = 0;
     }
+    return could;
+  }
+  // Whether try_add(c) could keep its move: it tries only where two spheres could go.
+  bool worth_trying(uint32_t c, std::vector<uint32_t>& hits) const {
+    return !in(c) && cov_.row_size(c) > 0 && could_drop(c, hits).size() >= 2;
+  }
+
+  // Adds c and drops the spheres it makes redundant; keeps the move when two or more go.
+  bool try_add(uint32_t c) {
+    const std::vector<uint32_t> could = could_drop(c, hits_);
     if (could.size() < 2) return false;
     account(c, +1);
     std::vector<uint32_t> dropped;
@@ -197,16 +209,33 @@ class Shrink {
   std::vector<uint32_t> critical_, hits_;
 };
 
-// Local search on a cover: add a candidate, drop every sphere it makes redundant, keep the move
-// when that removes two or more. Returns the spheres saved.
+}  // namespace
+
 size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
   const size_t candidates = cov.start.size() - 1;
   Shrink state(cov, chosen);
   size_t shrunk = 0;
+  // Few moves are kept, and until one is the state stays as it was: which candidates of a chunk
+  // are worth trying is asked side by side, then they are tried in order. After a kept move the
+  // rest of the chunk is tried one by one, as the state now is.
+  constexpr uint32_t kChunk = 4096;
+  tbb::enumerable_thread_specific<std::vector<uint32_t>> hits([&] { return std::vector<uint32_t>(candidates, 0); });
+  std::vector<char> worth(kChunk);
   for (int pass = 0; pass < 3; ++pass) {
     size_t this_pass = 0;
-    for (uint32_t c = 0; c < candidates; ++c)
-      if (!state.in(c) && cov.row_size(c) > 0 && state.try_add(c)) ++this_pass;
+    for (uint32_t first = 0; first < candidates; first += kChunk) {
+      const uint32_t last = uint32_t(std::min<size_t>(candidates, size_t(first) + kChunk));
+      tbb::parallel_for(tbb::blocked_range<uint32_t>(first, last, 256), [&](const tbb::blocked_range<uint32_t>& r) {
+        std::vector<uint32_t>& mine = hits.local();
+        for (uint32_t c = r.begin(); c != r.end(); ++c) worth[c - first] = state.worth_trying(c, mine);
+      });
+      bool changed = false;
+      for (uint32_t c = first; c < last; ++c)
+        if ((changed || worth[c - first]) && !state.in(c) && cov.row_size(c) > 0 && state.try_add(c)) {
+          ++this_pass;
+          changed = true;
+        }
+    }
     shrunk += this_pass;
     if (this_pass == 0) break;
   }
@@ -217,6 +246,8 @@ size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
   }
   return shrunk;
 }
+
+namespace {
 
 // Whether sorted a is a subset of sorted b.
 constexpr std::ptrdiff_t kMergeRatio = 8;

@@ -70,6 +70,12 @@ std::vector<int> greedy_cover(const Coverage& coverage, const std::vector<int>& 
 // The same, using `coverage` up: each row keeps its samples, in another order.
 std::vector<int> greedy_cover(Coverage&& coverage, const std::vector<int>& start = {});
 
+// Local search on a cover, in candidate order, up to three passes: add a candidate, drop in turn
+// each chosen sphere it could make redundant (it covers every sample only that sphere covers)
+// that is then redundant, keep the move when two or more go. Returns the moves kept; a changed
+// cover is returned ascending.
+size_t shrink_cover(const Coverage& coverage, std::vector<int>& chosen);
+
 // The same cover problem made smaller without changing its optimum: a sample whose candidates
 // include all of another's is dropped (covering the other covers it), then a candidate whose
 // samples another candidate also covers is dropped. Samples no candidate covers are dropped.
