@@ -1129,17 +1129,16 @@ TEST(Cover, SwapsRetryASlotWhoseOptionASwapReached) {
 }
 
 // Representatives against brute force: largest first, a candidate is left out exactly when an
-// earlier kept one nearly contains it in both poses; and then every sample's gap to some kept
-// candidate is within the slack of its gap to the one left out.
-TEST(Cover, RepresentativesMatchBruteForce) {
-  const CoverProblem p = two_random_poses(5, 400, 200);
-  const double slack = 0.03;
-  const std::vector<char> got = representatives(p, slack);
-  std::vector<size_t> order(400);
+// earlier kept one nearly contains it in both poses (also over several of the blocks whose
+// containments are found side by side); and then every sample's gap to some kept candidate is
+// within the slack of its gap to the one left out.
+std::vector<char> representatives_by_brute_force(const CoverProblem& p, double slack, size_t& left_out) {
+  const size_t n_all = p.candidate_count();
+  std::vector<size_t> order(n_all);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return p.spheres[0][a].radius > p.spheres[0][b].radius; });
-  std::vector<char> want(400, 0);
-  size_t left_out = 0;
+  std::vector<char> want(n_all, 0);
+  left_out = 0;
   for (size_t n = 0; n < order.size(); ++n) {
     const size_t a = order[n];
     bool held = false;
@@ -1156,6 +1155,38 @@ TEST(Cover, RepresentativesMatchBruteForce) {
     want[a] = !held;
     left_out += held;
   }
+  return want;
+}
+
+TEST(Cover, RepresentativesMatchBruteForce) {
+  {
+    const CoverProblem large = two_random_poses(6, 5000, 100);
+    size_t left_out = 0;
+    EXPECT_EQ(representatives(large, 0.03), representatives_by_brute_force(large, 0.03, left_out));
+    EXPECT_GT(left_out, 500u) << "too few left out for the test to mean much";
+  }
+  {
+    // Chains: b nearly contains b', b' nearly contains a, b does not (so a stays, b' being left
+    // out): in 1 500 groups of three, scaled apart so that their ranks interleave.
+    std::mt19937 rng(7);
+    CoverProblem chains;
+    chains.spheres.emplace_back();
+    std::vector<char> want;
+    for (int g = 0; g < 1500; ++g) {
+      const double s = 1 + 0.2 * double(rng() % 1000) / 1000;
+      const Eigen::Vector3d at(10.0 * g, 0, 0), x(s, 0, 0);
+      chains.spheres[0].push_back({at, s});
+      chains.spheres[0].push_back({at + 0.02 * x, 0.99 * s});
+      chains.spheres[0].push_back({at + 0.055 * x, 0.98 * s});
+      want.insert(want.end(), {1, 0, 1});
+    }
+    EXPECT_EQ(representatives(chains, 0.03), want);
+  }
+  const CoverProblem p = two_random_poses(5, 400, 200);
+  const double slack = 0.03;
+  const std::vector<char> got = representatives(p, slack);
+  size_t left_out = 0;
+  const std::vector<char> want = representatives_by_brute_force(p, slack, left_out);
   EXPECT_EQ(got, want);
   EXPECT_GT(left_out, 20u) << "too few left out for the test to mean much";
   for (size_t a = 0; a < 400; ++a) {

@@ -154,14 +154,26 @@ std::vector<char> representatives(const CoverProblem& problem, double slack) {
     return true;
   };
   // Each kept sphere (largest first) leaves out the smaller ones it nearly contains: those lie
-  // within its radius and the slack.
+  // within its radius and the slack. A block of the order at a time: what each of its spheres
+  // kept so far contains is found side by side, then left out in order by those still kept.
   std::vector<uint32_t> rank(n);
   for (size_t k = 0; k < n; ++k) rank[order[k]] = uint32_t(k);
-  for (uint32_t b : order) {
-    if (!kept[b]) continue;
-    grid.near(centres[b], first[b].radius + slack, [&](uint32_t a) {
-      if (rank[a] > rank[b] && kept[a] && contains(b, a)) kept[a] = 0;
+  constexpr size_t kBlock = 1024;
+  std::vector<std::vector<uint32_t>> inside(kBlock);
+  for (size_t from = 0; from < n; from += kBlock) {
+    const size_t to = std::min(n, from + kBlock);
+    tbb::parallel_for(size_t(from), to, [&](size_t k) {
+      const uint32_t b = order[k];
+      std::vector<uint32_t>& out = inside[k - from];
+      out.clear();
+      if (!kept[b]) return;
+      grid.near(centres[b], first[b].radius + slack, [&](uint32_t a) {
+        if (rank[a] > rank[b] && kept[a] && contains(b, a)) out.push_back(a);
+      });
     });
+    for (size_t k = from; k < to; ++k)
+      if (kept[order[k]])
+        for (uint32_t a : inside[k - from]) kept[a] = 0;
   }
   return kept;
 }
