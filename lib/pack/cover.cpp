@@ -35,12 +35,18 @@ void keep_cover(CoverResult& best, std::vector<int> chosen, double delta) {
   best.delta = delta;
 }
 
+// Budget mode's covers take seconds each on a long clip: the one under way, on a terminal.
+void announce_cover(const Log& log, size_t max_spheres, size_t cover, double delta) {
+  log.begin("covering for " + std::to_string(max_spheres) + " spheres: cover " + std::to_string(cover) + ", delta " +
+            num(delta));
+}
+
 // Budget mode's start: greedy covers from a small delta, doubled (a table each time) until one
 // fits the budget, then bisected to `precision`; the last table is left in `table`.
 void greedy_bisection(const CoverProblem& problem, size_t max_spheres, double reach, double precision, double lo_start,
-                      std::unique_ptr<GapTable>& table, CoverResult& best) {
+                      std::unique_ptr<GapTable>& table, CoverResult& best, const Log& log) {
   auto solve = [&](double delta) {
-    ++best.evaluations;
+    announce_cover(log, max_spheres, ++best.evaluations, delta);
     return greedy_cover(table->at(delta));
   };
   // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
@@ -180,17 +186,17 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   // bisection (a table at each doubling) is not needed to start below.
   if (first_delta > lo_start) {
     table = std::make_unique<GapTable>(problem, first_delta * reach);
-    ++best.evaluations;
+    announce_cover(log, max_spheres, ++best.evaluations, first_delta);
     std::vector<int> c = smallest_cover(table->at(first_delta), kBudgetSearch, max_spheres, nullptr, log);
     if (c.size() <= max_spheres) keep_cover(best, std::move(c), first_delta);
   }
-  if (best.chosen.empty()) greedy_bisection(problem, max_spheres, reach, precision, lo_start, table, best);
+  if (best.chosen.empty()) greedy_bisection(problem, max_spheres, reach, precision, lo_start, table, best, log);
   // The row-weighting search fits the budget at a smaller delta than greedy does: bisect
   // below greedy's delta, each cover searched until it fits.
   double lo = std::max(lo_start, (1 - kSearchReach) * best.delta);
   for (int step = 0; step < kSearchBisections && best.delta - lo > precision * best.delta; ++step) {
     const double mid = 0.5 * (lo + best.delta);
-    ++best.evaluations;
+    announce_cover(log, max_spheres, ++best.evaluations, mid);
     std::vector<int> c = smallest_cover(table->at(mid), kBudgetSearch, max_spheres, nullptr, log);
     if (c.size() <= max_spheres)
       keep_cover(best, std::move(c), mid);
@@ -201,7 +207,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   if (slack > 0) {
     // A little more max error buys a lower median: the cover at the relaxed delta is smaller,
     // and improve_cover spends the budget it leaves on the total error, then on the median.
-    ++best.evaluations;
+    announce_cover(log, max_spheres, ++best.evaluations, best.delta * (1 + slack));
     std::vector<int> c = smallest_cover(table->at(best.delta * (1 + slack)), kBudgetSearch, 0, nullptr);
     if (c.size() <= max_spheres) keep_cover(best, std::move(c), best.delta * (1 + slack));
   }

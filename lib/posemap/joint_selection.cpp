@@ -49,6 +49,8 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
     const bool warm = out.rounds > 1 && opt_.budget == 0;
     // Skinned, a warm round's pairs come from the cache, which asks for the few spheres it needs.
     const CoverProblem problem = cover_problem(out.mostly_absent, !(warm && one_));
+    log_.begin("joint selection, round " + std::to_string(out.rounds) + " (" + std::to_string(problem.sample_count()) +
+               " samples)");
     if (warm)
       warm_cover(problem, out.cover);
     else
