@@ -49,13 +49,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
     const bool warm = out.rounds > 1 && opt_.budget == 0;
     // Skinned, a warm round's pairs come from the cache, which asks for the few spheres it needs.
     const CoverProblem problem = cover_problem(out.mostly_absent, !(warm && one_));
-    log_.begin("joint selection, round " + std::to_string(out.rounds) + " (" + std::to_string(problem.sample_count()) +
-               " samples)");
-    if (warm)
-      warm_cover(problem, out.cover);
-    else
-      out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_,
-                            refining() ? kRefinedBudgetSlack : kBudgetSlack);
+    cover_round(problem, warm, out);
     // Not skinned, the vertices out of reach (where the tolerance is asked) as near as the
     // candidates come. (A skinned candidate's spheres in a warm round are the cache's alone.)
     if (!one_)
@@ -192,6 +186,17 @@ std::vector<uint32_t> JointSelector::every_sample(size_t f) {
   std::vector<uint32_t> out(samples(f).size());
   std::iota(out.begin(), out.end(), 0u);
   return out;
+}
+
+void JointSelector::cover_round(const CoverProblem& problem, bool warm, JointSelection& out) {
+  // A round's cover takes seconds on a long clip: the round under way, on a terminal.
+  log_.begin("joint selection, round " + std::to_string(out.rounds) + " (" + std::to_string(problem.sample_count()) +
+             " samples)");
+  if (warm)
+    warm_cover(problem, out.cover);
+  else
+    out.cover = cover_for(problem, opt_.target, opt_.budget, out.limited_by, log_,
+                          refining() ? kRefinedBudgetSlack : kBudgetSlack);
 }
 
 void JointSelector::warm_cover(const CoverProblem& problem, CoverResult& cover) {

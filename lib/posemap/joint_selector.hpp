@@ -110,6 +110,8 @@ class JointSelector {
   // Candidate c in frame f as the problem has it.
   Sphere sphere(size_t c, size_t f) const { return one_ ? Sphere{centers_[f][c], radius_[c]} : own_[f][c]; }
 
+  // The round's cover, in full or (`warm`) from the last round's.
+  void cover_round(const CoverProblem& problem, bool warm, JointSelection& out);
   // Tolerance mode, after the first round: the last cover completed for what was added, then
   // searched briefly, so that it stays near the last one and the next check finds little new.
   void warm_cover(const CoverProblem& problem, CoverResult& cover);
