@@ -133,6 +133,8 @@ class Shrink {
     find_owners();
   }
   bool in(uint32_t c) const { return in_[c] != 0; }
+  // A candidate a move may add: not chosen, and covering something.
+  bool can_add(uint32_t c) const { return !in(c) && cov_.row_size(c) > 0; }
 
   // The spheres c covers every sample of that only they cover (`hits`: all 0, and left so): the
   // ones adding c could make redundant. Reads the state only.
@@ -152,7 +154,7 @@ class Shrink {
   }
   // Whether try_add(c) could keep its move: it tries only where two spheres could go.
   bool worth_trying(uint32_t c, std::vector<uint32_t>& hits) const {
-    return !in(c) && cov_.row_size(c) > 0 && could_drop(c, hits).size() >= 2;
+    return can_add(c) && could_drop(c, hits).size() >= 2;
   }
 
   // Adds c and drops the spheres it makes redundant; keeps the move when two or more go.
@@ -231,7 +233,7 @@ size_t shrink_cover(const Coverage& cov, std::vector<int>& chosen) {
       });
       bool changed = false;
       for (uint32_t c = first; c < last; ++c)
-        if ((changed || worth[c - first]) && !state.in(c) && cov.row_size(c) > 0 && state.try_add(c)) {
+        if ((changed || worth[c - first]) && state.can_add(c) && state.try_add(c)) {
           ++this_pass;
           changed = true;
         }
