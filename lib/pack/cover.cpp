@@ -35,10 +35,12 @@ void keep_cover(CoverResult& best, std::vector<int> chosen, double delta) {
   best.delta = delta;
 }
 
-// Budget mode's covers take seconds each on a long clip: the one under way, on a terminal.
-void announce_cover(const Log& log, size_t max_spheres, size_t cover, double delta) {
-  log.begin("covering for " + std::to_string(max_spheres) + " spheres: cover " + std::to_string(cover) + ", delta " +
-            num(delta));
+// Counts a cover of budget mode at delta. They take seconds each on a long clip: the one under
+// way is shown on a terminal.
+void count_cover(CoverResult& best, const Log& log, size_t max_spheres, double delta) {
+  ++best.evaluations;
+  log.begin("covering for " + std::to_string(max_spheres) + " spheres: cover " + std::to_string(best.evaluations) +
+            ", delta " + num(delta));
 }
 
 // Budget mode's start: greedy covers from a small delta, doubled (a table each time) until one
@@ -46,7 +48,7 @@ void announce_cover(const Log& log, size_t max_spheres, size_t cover, double del
 void greedy_bisection(const CoverProblem& problem, size_t max_spheres, double reach, double precision, double lo_start,
                       std::unique_ptr<GapTable>& table, CoverResult& best, const Log& log) {
   auto solve = [&](double delta) {
-    announce_cover(log, max_spheres, ++best.evaluations, delta);
+    count_cover(best, log, max_spheres, delta);
     return greedy_cover(table->at(delta));
   };
   // Below the largest least gap some sample cannot be covered; above it, grow until it fits.
@@ -186,7 +188,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   // bisection (a table at each doubling) is not needed to start below.
   if (first_delta > lo_start) {
     table = std::make_unique<GapTable>(problem, first_delta * reach);
-    announce_cover(log, max_spheres, ++best.evaluations, first_delta);
+    count_cover(best, log, max_spheres, first_delta);
     std::vector<int> c = smallest_cover(table->at(first_delta), kBudgetSearch, max_spheres, nullptr, log);
     if (c.size() <= max_spheres) keep_cover(best, std::move(c), first_delta);
   }
@@ -196,7 +198,7 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   double lo = std::max(lo_start, (1 - kSearchReach) * best.delta);
   for (int step = 0; step < kSearchBisections && best.delta - lo > precision * best.delta; ++step) {
     const double mid = 0.5 * (lo + best.delta);
-    announce_cover(log, max_spheres, ++best.evaluations, mid);
+    count_cover(best, log, max_spheres, mid);
     std::vector<int> c = smallest_cover(table->at(mid), kBudgetSearch, max_spheres, nullptr, log);
     if (c.size() <= max_spheres)
       keep_cover(best, std::move(c), mid);
@@ -207,9 +209,10 @@ CoverResult cover_with_budget(const CoverProblem& problem, size_t max_spheres, d
   if (slack > 0) {
     // A little more max error buys a lower median: the cover at the relaxed delta is smaller,
     // and improve_cover spends the budget it leaves on the total error, then on the median.
-    announce_cover(log, max_spheres, ++best.evaluations, best.delta * (1 + slack));
-    std::vector<int> c = smallest_cover(table->at(best.delta * (1 + slack)), kBudgetSearch, 0, nullptr);
-    if (c.size() <= max_spheres) keep_cover(best, std::move(c), best.delta * (1 + slack));
+    const double relaxed = best.delta * (1 + slack);
+    count_cover(best, log, max_spheres, relaxed);
+    std::vector<int> c = smallest_cover(table->at(relaxed), kBudgetSearch, 0, nullptr);
+    if (c.size() <= max_spheres) keep_cover(best, std::move(c), relaxed);
   }
   if (best.chosen.size() > max_spheres) best.chosen.resize(max_spheres);  // never over budget
   const Coverage best_cov = table->at(best.delta);
