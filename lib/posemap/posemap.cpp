@@ -4,19 +4,20 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include "core/error.hpp"
-#include "core/format.hpp"
 #include "core/tolerance.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/candidates.hpp"
 #include "pack/pack.hpp"
+#include "posemap/gap_filling.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/pose_solid.hpp"
@@ -106,12 +107,24 @@ class PoseMapper {
     for (size_t i = 0; i < meshes_.size(); ++i)
       solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
                          skinned ? &depths_[i] : nullptr, shapes_.empty() ? nullptr : &shapes_[i]});
+    // Under the joint selection every sphere is grown in every pose (a host can only skin a
+    // skinned one). Its first step carries the file's candidates into every pose; into the rest
+    // that needs no tets, so it is done here, while Mesh_3 keeps the other core.
+    grow_ = !skinned && selects_jointly();
+    if (grow_ && !spheres_.candidates.empty()) {
+      StageTimer t(log, "rest-growth");
+      rest_grown_ = carry(spheres_.candidates, 0);
+    }
+  }
+
+  // The joint selection runs (rather than the file's spheres mapped as given).
+  bool selects_jointly() const {
+    return !opt_.map_given && (opt_.tolerance > 0 || opt_.max_spheres > 0 || !spheres_.candidates.empty());
   }
 
   // One sphere set for the rest and every pose (posemap/joint_selection.hpp), recorded in the
   // summary. Returns the chosen candidates (rest pose).
   SphereSet select_jointly(const SphereSet& file_candidates, PoseMapSummary& summary) {
-    grow_ = !skinned_;  // every sphere in every pose grown from here on (a host can only skin a skinned one)
     JointSelectionOptions options;
     std::tie(options.target, options.budget) = selection_size();
     options.reach = options.target > 0 ? options.target : default_tolerance(rest_.diagonal());
@@ -191,10 +204,17 @@ class PoseMapper {
     out.min_radius = opt_.fill_min_radius > 0 ? opt_.fill_min_radius : 0.75 * field_options().voxel_size;
     out.target = opt_.fill_tolerance > 0 ? opt_.fill_tolerance : spheres_.tolerance;
     if (!(out.target > 0)) out.target = out.errors_before[0].max;
+    PackOptions pack = pose_pack_options();
+    pack.min_radius = out.min_radius;
     for (size_t i = 0; i < poses_.size(); ++i) {
+      DenseField field = pose_field(i + 1);
+      release_field(i + 1);
+      const PoseGaps gaps = pack_pose_gaps(std::move(field), proxy_.poses[i + 1].spheres, *queries_[i + 1], pack,
+                                           out.target, opt_.fill_max_per_pose, poses_[i].source, log_);
       GapFilling::Pose pose;
-      const SphereSet back =
-          gap_spheres_of_pose(i, out.min_radius, out.target, pose.lost_outside_rest, pose.target_met, pose.max_error_reached);
+      pose.target_met = gaps.target_met;
+      pose.max_error_reached = gaps.max_error_reached;
+      const SphereSet back = map_back_to_rest(i, gaps.spheres, &pose.lost_outside_rest);
       map_spheres(back);
       pose.added = back.size();
       out.poses.push_back(pose);
@@ -274,7 +294,11 @@ class PoseMapper {
     size_t frame_count() const override { return m_.meshes_.size(); }
     const TriMesh& frame_mesh(size_t f) const override { return *m_.meshes_[f]; }
     const TriMesh& frame_surface(size_t f) const override { return m_.queries_[f]->surface(); }
-    SphereSet spheres_in(const SphereSet& rest, size_t f) const override { return m_.carry(rest, f); }
+    SphereSet spheres_in(const SphereSet& rest, size_t f) const override {
+      // The file's candidates at rest were carried beside the tets (build_solids).
+      if (f == 0 && m_.rest_grown_ && same_spheres(rest, m_.spheres_.candidates)) return *m_.rest_grown_;
+      return m_.carry(rest, f);
+    }
     bool one_radius() const override { return bool(m_.skinned_); }
     std::vector<double> over_clip(const std::vector<SkinInfluence>& in, const std::vector<double>& r) const override {
       return m_.clip_ ? m_.clip_->least(in, r, &m_.log_) : r;
@@ -318,6 +342,12 @@ class PoseMapper {
       }
     });
     return out;
+  }
+
+  static bool same_spheres(const SphereSet& a, const SphereSet& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const Sphere& x, const Sphere& y) {
+      return x.center == y.center && x.radius == y.radius;
+    });
   }
 
   // Not skinned: rest center c (at `at` in the tets) in pose i (0: the rest): its center through
@@ -380,36 +410,6 @@ class PoseMapper {
     return out;
   }
 
-  // Pose i's own interior less what its spheres cover, packed greedily; the fewest of those
-  // that bring it within `target` (as sphere-pack's tolerance), mapped back to rest.
-  SphereSet gap_spheres_of_pose(size_t i, double min_radius, double target, size_t& lost, bool& met, double& reached) {
-    DenseField field = pose_field(i + 1);
-    release_field(i + 1);
-    // Not a candidate center where a mapped sphere already covers it.
-    for (const auto& s : proxy_.poses[i + 1].spheres)
-      if (s.radius > 0) clear_inside(field.values, field.shape, s.center, s.radius);
-    PackOptions pack = pose_pack_options();
-    pack.min_radius = min_radius;
-    PackResult found = pack_spheres(field, pack, queries_[i + 1].get());
-    const TriMesh& surface = queries_[i + 1]->surface();
-    ToleranceResult enough = fewest_spheres_within(surface, found.spheres, target, proxy_.poses[i + 1].spheres);
-    if (!enough.met) {
-      // Out of reach at this voxel size: keep only the spheres that lower the max error.
-      const ToleranceResult best = fewest_spheres_within(surface, found.spheres, enough.max_error * (1 + 1e-9),
-                                                         proxy_.poses[i + 1].spheres);
-      enough.count = best.count;
-    }
-    size_t keep = enough.count;
-    if (opt_.fill_max_per_pose > 0) keep = std::min(keep, opt_.fill_max_per_pose);
-    found.spheres.resize(keep);
-    if (!enough.met)
-      log_.warn(poses_[i].source + ": gap filling reaches max error " + num(enough.max_error) + ", not the target " +
-                num(target) + " (try a finer resolution for the spheres' field)");
-    met = enough.met;
-    reached = enough.max_error;
-    return map_back_to_rest(i, found.spheres, &lost);
-  }
-
   // Pose i's own inscribed candidates that come within `reach` of any of `points` (samples of
   // that pose no mapped candidate reaches) and were not offered before, in pose coordinates.
   SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
@@ -457,6 +457,7 @@ class PoseMapper {
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
   bool grow_ = false;                                    // spheres grown in every pose (joint selection)
+  std::optional<SphereSet> rest_grown_;                  // the file's candidates carried into the rest (grown)
 };
 
 }  // namespace
@@ -475,7 +476,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   Log beside = log.fork();
   tbb::parallel_invoke([&] { mapper.make_tets(); mapper.solve_map(); }, [&] { mapper.build_solids(beside); });
   log.join(beside);
-  const bool joint = !opt.map_given && (opt.tolerance > 0 || opt.max_spheres > 0 || !spheres.candidates.empty());
+  const bool joint = mapper.selects_jointly();
   if (joint && spheres.candidates.empty())
     fail_option(opt.max_spheres > 0 ? "max_spheres" : "tolerance",
                 "needs a spheres file with candidates (sphere-pack's cover method)");
