@@ -25,6 +25,7 @@
 #include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
 #include "posemap/clip_radius.hpp"
+#include "posemap/gap_filling.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "pack/candidates.hpp"
@@ -290,6 +291,53 @@ TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
     EXPECT_GE(rest.distance(s.center), s.radius - 1e-9);
   }
   EXPECT_EQ(r.proxy.sphere_sites.size(), r.proxy.poses[0].spheres.size());
+}
+
+// A pose's gaps: the spheres kept are the shortest prefix of the packing that meets the target
+// with the spheres the pose has (checked against every prefix), inside the pose; out of reach,
+// the shortest that reaches the least error any prefix does; never past the count asked.
+TEST(GapFilling, KeepsTheShortestPrefixThatMeetsTheTarget) {
+  const SampleAsset car = make_car();
+  const TriMesh& pose = car.pose(1);
+  const MeshQuery q(pose);
+  SdfOptions so;
+  so.voxel_size = pose.diagonal() / 48;
+  const DenseField field = build_sdf(pose, so).field;
+  PackOptions pack;
+  pack.min_radius = 0.75 * so.voxel_size;
+  SphereSet mapped = pack_spheres(field, pack, &q).spheres;
+  mapped.resize(4);  // what the pose has: its largest few
+  const SphereSet all = pack_spheres([&] {
+    DenseField f = field;
+    for (const auto& s : mapped) clear_inside(f.values, f.shape, s.center, s.radius);
+    return f;
+  }(), pack, &q).spheres;
+  const auto error_with = [&](size_t k) {
+    SphereSet u = mapped;
+    u.insert(u.end(), all.begin(), all.begin() + long(k));
+    return vertex_error(q.surface(), u).max;
+  };
+  const double target = 0.5 * (error_with(0) + error_with(all.size()));
+  const PoseGaps met = pack_pose_gaps(field, mapped, q, pack, target, 0, "pose", Log::silent());
+  ASSERT_TRUE(met.target_met);
+  const size_t k = met.spheres.size();
+  ASSERT_GT(k, 0u);
+  EXPECT_LE(error_with(k), target);
+  EXPECT_GT(error_with(k - 1), target);
+  EXPECT_DOUBLE_EQ(met.max_error_reached, error_with(k));
+  for (size_t i = 0; i < k; ++i) {
+    EXPECT_EQ(met.spheres[i].center, all[i].center);
+    EXPECT_GE(q.distance(met.spheres[i].center), met.spheres[i].radius - 1e-9);
+  }
+  EXPECT_LE(pack_pose_gaps(field, mapped, q, pack, target, 2, "pose", Log::silent()).spheres.size(), 2u);
+  // Out of reach: the least error of any prefix (the whole packing's: errors only fall as
+  // spheres join), by the shortest prefix that reaches it.
+  const PoseGaps short_of = pack_pose_gaps(field, mapped, q, pack, 1e-9, 0, "pose", Log::silent());
+  EXPECT_FALSE(short_of.target_met);
+  const double least = error_with(all.size());
+  const size_t n = short_of.spheres.size();
+  EXPECT_LE(error_with(n), least * (1 + 1e-9));
+  if (n > 0) EXPECT_GT(error_with(n - 1), least * (1 + 1e-9));
 }
 
 }  // namespace
