@@ -1,0 +1,164 @@
+#pragma once
+// Inside pose_map() (posemap.hpp says what it does): its steps and the state they share.
+// posemap.cpp takes the steps in order (the tets and the map, the poses' solids, the spheres
+// mapped, gap filling, the summary); pose_spheres.cpp carries spheres into the poses, offers a
+// pose's own candidates, maps them back to the rest and shows the poses to the joint selection.
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/log.hpp"
+#include "mesh/deforming_query.hpp"
+#include "mesh/mesh.hpp"
+#include "mesh/mesh_query.hpp"
+#include "pack/candidates.hpp"
+#include "pack/pack.hpp"
+#include "posemap/harmonic_map.hpp"
+#include "posemap/pose_solid.hpp"
+#include "posemap/posemap.hpp"
+#include "posemap/skinned_map.hpp"
+#include "sdf/sdf.hpp"
+
+namespace spx::detail {
+
+// Skinned: a frame's own candidate within this many voxels (at rest) of one offered is not (at 48
+// frames of the elephant's walk, a quarter as many candidates and no more spheres).
+constexpr double kFrameCandidateSpacing = 0.5;
+
+// pose-map's steps, in the order pose_map() takes them, and the state they share: the tets and
+// the map f, each pose's tet vertices and solid, and the proxy as it grows.
+class PoseMapper {
+ public:
+  PoseMapper(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
+             const SpheresFile& spheres, const PoseMapOptions& opt, const SkinFile* skin, ProxyModel& proxy, Log& log)
+      : rest_(rest), rest_source_(rest_source), poses_(poses), spheres_(spheres), opt_(opt), skin_(skin), proxy_(proxy),
+        log_(log) {}
+
+  // The paper's tet mesh of M_0: CGAL Mesh_3, or the user's.
+  void make_tets();
+
+  // f: the surface motion of every pose carried to the tet vertices; for a rigged body the skin,
+  // its weights carried in by the same extension, and the tets skinned (for the inverse map).
+  void solve_map();
+
+  // Each pose's solid, the rest's included: exact distances and, for open meshes (whose solid
+  // also ends across the holes, where there are no triangles), the pose's own field at the
+  // spheres' voxel size. One rule then sets every radius. Needs the poses alone, not the tets.
+  void build_solids(Log& log);
+
+  // The joint selection runs (rather than the file's spheres mapped as given).
+  bool selects_jointly() const;
+
+  // One sphere set for the rest and every pose (posemap/joint_selection.hpp), recorded in the
+  // summary. Returns the chosen candidates (rest pose).
+  SphereSet select_jointly(const SphereSet& file_candidates, PoseMapSummary& summary);
+
+  // S_1..S_e: appends rest spheres to every pose, centers through f, and in every pose (the
+  // rest too) the radius by the one rule of PoseSolid.
+  void map_spheres(const SphereSet& rest_spheres);
+
+  // Skinned: the spheres just mapped (from `first`) keep their one radius over the whole clip,
+  // in every pose (as the selection held its candidates: the same radii, bit for bit).
+  void hold_over_clip(size_t first, size_t n, std::vector<std::vector<char>>& cause);
+
+  // The paper's future work: pack what each pose's mapped spheres leave uncovered, and map the
+  // new spheres back to the rest pose through the inverse map.
+  GapFilling fill_gaps();
+
+  // Blend sites: the nearest rest tet vertex of each sphere (the paper's local blend).
+  void assign_blend_sites();
+
+  // A rigged body's proxy carries each sphere's influence and its one radius.
+  void attach_skin();
+
+  // Skinned, radii not held over the clip: the spheres checked at its other times, which a host
+  // plays (the poses given say nothing of them).
+  void check_between_poses(PoseMapSummary& out) const;
+
+  // Warnings for every radius 0, and the summary's tets, map, per-pose errors and zero radii.
+  void summarize(PoseMapSummary& out) const;
+
+ private:
+  // The tolerance (as a length, 0: none) and budget asked here, or else what sphere-pack was
+  // asked, or else the default tolerance.
+  std::pair<double, size_t> selection_size() const;
+
+  // The map as the joint selection sees it.
+  class Frames;
+
+  std::string proxy_pose_name(size_t f) const { return f == 0 ? stem_of(rest_source_) : poses_[f - 1].name; }
+
+  // Not skinned: rest spheres carried into frame f (0: the rest) by in_pose.
+  SphereSet carry(const SphereSet& rest, size_t f) const;
+
+  static bool same_spheres(const SphereSet& a, const SphereSet& b);
+
+  // Not skinned: rest center c (at `at` in the tets) in pose i (0: the rest): its center through
+  // f, its radius by the pose's rule (then grown, under joint selection), and why it is 0 if it is.
+  std::pair<Sphere, PoseSolid::Zero> in_pose(const Eigen::Vector3d& c, const TetLocator::Location& at, size_t i,
+                                             bool cause) const;
+
+  // The spheres a rest center c becomes in every pose (0: the rest), each by in_pose; a skinned
+  // sphere keeps the least of its radii in every pose.
+  std::vector<std::pair<Sphere, PoseSolid::Zero>> in_poses(const Eigen::Vector3d& c, bool cause,
+                                                           SkinInfluence* followed) const;
+
+  // Packing in a pose's own field: the proxy's max radius, and the field bounding radii across
+  // an open mesh's holes.
+  PackOptions pose_pack_options() const;
+
+  // Pose i's own field (0: the rest) at the spheres' voxel size, built once when first asked.
+  // `inside_only`: for the inside's depths and medial voxels alone (released before other use).
+  const DenseField& pose_field(size_t i, bool inside_only = false);
+  // An open mesh's fields bound every radius to the end; otherwise each is asked once (a skinned
+  // body's floors are kept as its depths).
+  void release_field(size_t i);
+
+  SdfOptions field_options(bool inside_only = false) const;
+
+  std::vector<ErrorStats> pose_errors() const;
+
+  // Pose i's own inscribed candidates that come within `reach` of any of `points` (samples of
+  // that pose no mapped candidate reaches) and were not offered before, in pose coordinates.
+  SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach);
+
+  // Through the inverse map (barycentric in pose i's deformed tets); those that land outside
+  // the rest are counted in `lost`. Without `radii` (skinned candidates, whose carry finds each
+  // radius over the clip from the centre alone) every radius is 0.
+  SphereSet map_back_to_rest(size_t i, const SphereSet& in_pose, size_t* lost = nullptr, bool radii = true) const;
+
+  const TriMesh& rest_;
+  const std::string& rest_source_;
+  const std::vector<PoseInput>& poses_;
+  const SpheresFile& spheres_;
+  const PoseMapOptions& opt_;
+  const SkinFile* skin_;  // the poses' rig, or null
+  ProxyModel& proxy_;
+  Log& log_;
+  TetMesh tets_;
+  std::unique_ptr<HarmonicMap> f_;
+  std::unique_ptr<SkinnedMap> skinned_;  // f for a rigged body
+  std::vector<SkinInfluence> influences_;  // skinned: the influence each written sphere follows
+  std::unique_ptr<ClipRadius> clip_;     // its clip between the poses, where the skin has it
+  size_t clip_shrunk_ = 0;               // written spheres the clip shrank
+  std::vector<std::vector<Eigen::Vector3d>> deformed_;  // per pose: tet vertices
+  std::vector<const TriMesh*> meshes_;                  // rest, then the poses
+  std::vector<std::unique_ptr<MeshQuery>> queries_;
+  bool open_solid_ = false;
+  std::vector<std::unique_ptr<DenseField>> fields_;  // per pose, built when first asked
+  std::vector<DepthField> depths_;                   // skinned, per pose: its field's depths (floors)
+  std::vector<PoseSolid> solids_;
+  std::unique_ptr<DeformingQuery> deforming_;    // skinned, closed: one hierarchy refitted to each frame
+  std::vector<DeformingQuery::Shape> shapes_;
+  std::vector<std::unique_ptr<CandidatesOnDemand>> pose_inscribed_;  // per pose: its own candidates
+  std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
+  std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
+  bool grow_ = false;                                    // spheres grown in every pose (joint selection)
+  std::optional<SphereSet> rest_grown_;                  // the file's candidates carried into the rest (grown)
+};
+
+}  // namespace spx::detail

@@ -1,0 +1,169 @@
+// PoseMapper's spheres in the poses: carried and grown there, offered by a pose's own field and
+// mapped back to the rest; and the poses as the joint selection sees them.
+#include <algorithm>
+#include <tuple>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/tolerance.hpp"
+#include "posemap/joint_selection.hpp"
+#include "posemap/pose_mapper.hpp"
+#include "posemap/spheres_fit.hpp"
+
+namespace spx::detail {
+
+// The map as the joint selection sees it.
+class PoseMapper::Frames : public SelectionFrames {
+ public:
+  explicit Frames(PoseMapper& m) : m_(m) {}
+  size_t frame_count() const override { return m_.meshes_.size(); }
+  const TriMesh& frame_mesh(size_t f) const override { return *m_.meshes_[f]; }
+  const TriMesh& frame_surface(size_t f) const override { return m_.queries_[f]->surface(); }
+  SphereSet spheres_in(const SphereSet& rest, size_t f) const override {
+    // The file's candidates at rest were carried beside the tets (build_solids).
+    if (f == 0 && m_.rest_grown_ && same_spheres(rest, m_.spheres_.candidates)) return *m_.rest_grown_;
+    return m_.carry(rest, f);
+  }
+  bool one_radius() const override { return bool(m_.skinned_); }
+  std::vector<double> over_clip(const std::vector<SkinInfluence>& in, const std::vector<double>& r) const override {
+    return m_.clip_ ? m_.clip_->least(in, r, &m_.log_) : r;
+  }
+  SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override { return m_.skinned_->carry(rest, m_.solids_); }
+  double exact_radius(const Eigen::Vector3d& c, size_t f) const override { return m_.solids_[f].exact_radius(c, false).value; }
+  // The spheres map_spheres writes (skinned: one radius, exact in every frame); false where one is 0.
+  bool spheres_at(const Eigen::Vector3d& c, std::vector<Sphere>& in_frames) const override {
+    in_frames.clear();
+    for (const auto& [sphere, zero] : m_.in_poses(c, false, nullptr)) in_frames.push_back(sphere);
+    return std::all_of(in_frames.begin(), in_frames.end(), [](const Sphere& s) { return s.radius > 0; });
+  }
+  SphereSet frame_candidates(size_t f, const std::vector<Eigen::Vector3d>& points, double reach) override {
+    return m_.map_back_to_rest(f - 1, m_.pose_candidates_near(f - 1, points, reach), nullptr, !one_radius());
+  }
+  // Skinned, nested balls down to half of delta: a sphere with one radius over the clip keeps more of those;
+  // `around`, the balls around each sample instead.
+  SphereSet touching_candidates(size_t f, const SurfaceSamples& drawn, const std::vector<uint32_t>& which,
+                                double delta, bool around) override {
+    const MeshQuery& q = *m_.queries_[f];
+    const DenseField* field = m_.open_solid_ ? &m_.pose_field(f) : nullptr;
+    const double start = std::min(m_.proxy_.max_radius, 0.5 * q.surface().diagonal());
+    const CandidateOptions o = candidate_options(m_.pose_pack_options());
+    const SphereSet balls = around ? balls_around_samples(q, drawn, which, field, start, o, delta)
+                                   : balls_through(q, drawn, which, field, start, o, m_.skinned_ ? 0.5 * delta : 0);
+    return f == 0 ? balls : m_.map_back_to_rest(f - 1, balls, nullptr, !one_radius());
+  }
+ private:
+  PoseMapper& m_;
+};
+
+SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSummary& summary) {
+  JointSelectionOptions options;
+  std::tie(options.target, options.budget) = selection_size();
+  options.reach = options.target > 0 ? options.target : default_tolerance(rest_.diagonal());
+  // Not on open parts: half a voxel is much of a wall there (the robot's walk lost 50 samples).
+  options.spacing = open_solid_ ? 0.0 : kFrameCandidateSpacing * field_options().voxel_size;
+  options.field_bounds_radii = open_solid_;
+  options.area_samples = opt_.area_samples;
+  options.seed = opt_.seed;
+  options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
+  options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
+  Frames frames(*this);
+  const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
+  const std::string why = out_of_reach_wording(selection, options, bool(skinned_));
+  const bool missed = !(options.target > 0) || selection.vertices_out_of_reach > 0;
+  if (selection.out_of_reach() > 0) missed ? log_.warn(why) : log_.detail(why);
+  summary.selection = selection;
+  summary.selection_target = options.target;
+  return selection.chosen;
+}
+
+std::pair<double, size_t> PoseMapper::selection_size() const {
+  if (opt_.tolerance > 0) return {opt_.tolerance, opt_.max_spheres};
+  if (opt_.max_spheres > 0) return {0.0, opt_.max_spheres};
+  if (spheres_.tolerance > 0 || spheres_.max_spheres > 0) return {spheres_.tolerance, spheres_.max_spheres};
+  return {default_tolerance(rest_.diagonal()), 0};
+}
+
+SphereSet PoseMapper::carry(const SphereSet& rest, size_t f) const {
+  SphereSet out(rest.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t s = r.begin(); s != r.end(); ++s) {
+      const Eigen::Vector3d& c = rest[s].center;
+      out[s] = in_pose(c, f > 0 ? f_->locator().locate(c) : TetLocator::Location(), f, false).first;
+    }
+  });
+  return out;
+}
+
+bool PoseMapper::same_spheres(const SphereSet& a, const SphereSet& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const Sphere& x, const Sphere& y) {
+    return x.center == y.center && x.radius == y.radius;
+  });
+}
+
+std::pair<Sphere, PoseSolid::Zero> PoseMapper::in_pose(const Eigen::Vector3d& c, const TetLocator::Location& at,
+                                                       size_t i, bool cause) const {
+  const Eigen::Vector3d center = i == 0 ? c : f_->map(c, at, deformed_[i - 1]);
+  if (grow_) return solids_[i].grown(center, cause);
+  const PoseSolid::Radius radius = solids_[i].radius(center, cause);
+  return {{center, radius.value}, radius.zero};
+}
+
+std::vector<std::pair<Sphere, PoseSolid::Zero>> PoseMapper::in_poses(const Eigen::Vector3d& c, bool cause,
+                                                                     SkinInfluence* followed) const {
+  const TetLocator::Location at = f_->locator().locate(c);
+  if (skinned_) return skinned_->spheres(c, at, solids_, cause, followed);
+  std::vector<std::pair<Sphere, PoseSolid::Zero>> out;
+  for (size_t i = 0; i < solids_.size(); ++i) out.push_back(in_pose(c, at, i, cause));
+  return out;
+}
+
+PackOptions PoseMapper::pose_pack_options() const {
+  PackOptions pack;
+  pack.max_radius = proxy_.max_radius;
+  pack.field_bounds_radius = open_solid_;
+  return pack;
+}
+
+const DenseField& PoseMapper::pose_field(size_t i, bool inside_only) {
+  if (!fields_[i]) try {
+      fields_[i] = std::make_unique<DenseField>(
+          build_sdf(*meshes_[i], field_options(inside_only), Log::silent(), &queries_[i]->boundary()).field);
+    } catch (const GridTooLarge& e) {
+      fail_field_too_fine(e, spheres_, i == 0 ? rest_source_ : poses_[i - 1].source);
+    }
+  return *fields_[i];
+}
+
+void PoseMapper::release_field(size_t i) {
+  if (!open_solid_) fields_[i].reset();
+}
+
+SdfOptions PoseMapper::field_options(bool inside_only) const {
+  SdfOptions o;
+  o.inside_only = inside_only && !open_solid_;  // an open mesh's fields bound radii past the layer
+  o.voxel_size = spheres_.voxel_size > 0 ? spheres_.voxel_size : rest_.diagonal() / 128;
+  return o;
+}
+
+std::vector<ErrorStats> PoseMapper::pose_errors() const {
+  std::vector<ErrorStats> out;
+  for (size_t i = 0; i < proxy_.poses.size(); ++i) out.push_back(vertex_error(queries_[i]->surface(), proxy_.poses[i].spheres));
+  return out;
+}
+
+SphereSet PoseMapper::pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
+  if (pose_inscribed_.size() < poses_.size()) pose_inscribed_.resize(poses_.size());
+  if (!pose_inscribed_[i]) {
+    pose_inscribed_[i] = std::make_unique<CandidatesOnDemand>(pose_field(i + 1, true), candidate_options(pose_pack_options()));
+    release_field(i + 1);
+  }
+  return pose_inscribed_[i]->offer_near(points, reach, *queries_[i + 1]);
+}
+
+SphereSet PoseMapper::map_back_to_rest(size_t i, const SphereSet& in_pose, size_t* lost, bool radii) const {
+  SphereSet back = undeform_centres(tets_, deformed_[i], in_pose, *queries_[0], proxy_.max_radius, radii);
+  if (lost) *lost = in_pose.size() - back.size();
+  return back;
+}
+
+}  // namespace spx::detail
