@@ -25,10 +25,6 @@
 
 namespace spx::detail {
 
-// Skinned: a frame's own candidate within this many voxels (at rest) of one offered is not (at 48
-// frames of the elephant's walk, a quarter as many candidates and no more spheres).
-constexpr double kFrameCandidateSpacing = 0.5;
-
 // pose-map's steps, in the order pose_map() takes them, and the state they share: the tets and
 // the map f, each pose's tet vertices and solid, and the proxy as it grows.
 class PoseMapper {
@@ -95,6 +91,7 @@ class PoseMapper {
   // Not skinned: rest spheres carried into frame f (0: the rest) by in_pose.
   SphereSet carry(const SphereSet& rest, size_t f) const;
 
+  // The same spheres, bit for bit (the selection's set at rest against the file's candidates).
   static bool same_spheres(const SphereSet& a, const SphereSet& b);
 
   // Not skinned: rest center c (at `at` in the tets) in pose i (0: the rest): its center through

@@ -12,6 +12,10 @@
 
 namespace spx::detail {
 
+// Skinned: a frame's own candidate within this many voxels (at rest) of one offered is not (at 48
+// frames of the elephant's walk, a quarter as many candidates and no more spheres).
+constexpr double kFrameCandidateSpacing = 0.5;
+
 // The map as the joint selection sees it.
 class PoseMapper::Frames : public SelectionFrames {
  public:
