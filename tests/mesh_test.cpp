@@ -21,6 +21,7 @@
 #include "mesh/deforming_query.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/near_boundary.hpp"
 #include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
 #include "synthetic/synthetic.hpp"
@@ -800,6 +801,60 @@ TEST(Samples, AreClosedOutwardAndSized) {
       EXPECT_GT(d.signed_volume, 0) << a->name << " " << a->pose_names[i];
       EXPECT_EQ(d.degenerate_triangles, 0u);
     }
+}
+
+// NearBoundaryQuery decides the boundary only near its queries: its distance must be MeshQuery's
+// to the bit wherever that is below the reach asked, and nothing (infinity) where it is not. On
+// two boxes pressed into each other (a wall inside the solid, faces kept in pieces) and on the
+// robot sample's 13 open parts, at random points, near vertices and a hair off the triangles.
+TEST(NearBoundaryQuery, GivesMeshQuerysDistanceToTheBitBelowTheReach) {
+  TriMesh boxes = test::box_mesh({0, 0, 0}, {2, 2, 2});
+  const TriMesh b = test::box_mesh({1.5, 0.5, 0.5}, {3, 1.5, 1.5});
+  for (const auto& t : b.triangles) boxes.triangles.push_back(t + Eigen::Vector3i::Constant(int(boxes.vertices.size())));
+  boxes.vertices.insert(boxes.vertices.end(), b.vertices.begin(), b.vertices.end());
+  const std::string dir = test::temp_dir("near-boundary");
+  const TriMesh robot = test::rest_of(*test::robot_asset(dir));
+  size_t below = 0, walls = 0;
+  for (const TriMesh* mesh : std::vector<const TriMesh*>{&boxes, &robot}) {
+    const MeshQuery query(*mesh);
+    ASSERT_GT(query.internal_walls() + query.split_triangles(), 0u);
+    const DeformingQuery hierarchy(*mesh);
+    const NearBoundaryQuery near(hierarchy, *mesh);
+    const double diagonal = mesh->diagonal();
+    Eigen::AlignedBox3d box;
+    for (const auto& v : mesh->vertices) box.extend(v);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0, 1), step(-0.02, 0.02);
+    for (int i = 0; i < 4000; ++i) {
+      Eigen::Vector3d p;
+      const auto& f = mesh->triangles[size_t(i * 7919) % mesh->triangles.size()];
+      const Eigen::Vector3d &a = mesh->vertices[size_t(f[0])], &c1 = mesh->vertices[size_t(f[1])],
+                            &c2 = mesh->vertices[size_t(f[2])];
+      if (i % 3 == 0)
+        for (int k = 0; k < 3; ++k) p[k] = box.min()[k] + u(rng) * box.sizes()[k];
+      else if (i % 3 == 1)  // near a vertex
+        p = a + diagonal * Eigen::Vector3d(step(rng), step(rng), step(rng));
+      else  // a hair off a triangle, either side
+        p = (a + c1 + c2) / 3 + (u(rng) - 0.5) * 1e-4 * diagonal * (c1 - a).cross(c2 - a).normalized();
+      const double reach = diagonal * std::pow(10.0, -4 * u(rng));
+      const double expected = query.distance(p), got = near.distance_below(p, reach);
+      EXPECT_EQ(near.inside(p), query.inside(p)) << "point " << i;
+      if (expected < reach) {
+        ++below;
+        ASSERT_EQ(got, expected) << "point " << i << " reach " << reach;
+        // Where a wall (or a piece left out) is nearer than the boundary: brute force over every triangle.
+        double raw = std::numeric_limits<double>::infinity();
+        for (const auto& t : mesh->triangles)
+          raw = std::min(raw, (closest_point_on_triangle(p, mesh->vertices[size_t(t[0])], mesh->vertices[size_t(t[1])],
+                                                         mesh->vertices[size_t(t[2])]) - p).norm());
+        walls += raw < 0.5 * expected;
+      } else {
+        ASSERT_EQ(got, std::numeric_limits<double>::infinity()) << "point " << i << ": " << expected << " past " << reach;
+      }
+    }
+  }
+  EXPECT_GT(below, 2000u);
+  EXPECT_GT(walls, 0u);
 }
 
 }  // namespace

@@ -1417,6 +1417,16 @@ TEST(PoseMap, SpheresPokingOutBetweenThePosesAreCounted) {
 // Spheres at `count` random interior points of `rest` (seeded), each following its nearest
 // vertex's 4 heaviest joints; the point is its bind (the rest matrices of the shared rigs are the
 // identity where they are bound).
+SkinInfluence follower_at(const TriMesh& rest, const SkinFile& skin, const Eigen::Vector3d& p) {
+  size_t nearest = 0;
+  for (size_t v = 0; v < rest.vertices.size(); ++v)
+    if ((rest.vertices[v] - p).norm() < (rest.vertices[nearest] - p).norm()) nearest = v;
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
+  for (const auto& [j, x] : skin.vertex_weights[nearest]) w[j] += x;
+  SkinInfluence s = heaviest_four(w);
+  s.bind = p;
+  return s;
+}
 std::vector<SkinInfluence> random_followers(const TriMesh& rest, const SkinFile& skin, size_t count, unsigned seed) {
   std::mt19937 rng(seed);
   const WindingNumber wn(rest);
@@ -1425,15 +1435,7 @@ std::vector<SkinInfluence> random_followers(const TriMesh& rest, const SkinFile&
   while (out.size() < count) {
     std::uniform_real_distribution<double> u(0, 1);
     const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    if (!wn.inside(p)) continue;
-    size_t nearest = 0;
-    for (size_t v = 0; v < rest.vertices.size(); ++v)
-      if ((rest.vertices[v] - p).norm() < (rest.vertices[nearest] - p).norm()) nearest = v;
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
-    for (const auto& [j, x] : skin.vertex_weights[nearest]) w[j] += x;
-    SkinInfluence s = heaviest_four(w);
-    s.bind = p;
-    out.push_back(s);
+    if (wn.inside(p)) out.push_back(follower_at(rest, skin, p));
   }
   return out;
 }
@@ -1483,6 +1485,58 @@ TEST(ClipRadius, MatchesEveryClipMeshQueriedAfresh) {
     }
     EXPECT_GT(shrunk, 30u);  // the clip really bounds them
     EXPECT_GT(outside, 0u);  // and some centres leave the body between the poses
+  }
+}
+
+// A body of open parts (the robot's walk: walls inside the solid where its parts overlap): each
+// time's boundary is decided only near the spheres (NearBoundaryQuery), and the least radius over
+// the clip is still, to the bit, what a MeshQuery of every clip mesh finds.
+TEST(ClipRadius, OpenPartsMatchEveryClipMeshQueriedAfresh) {
+  const ExtractedClip clip = robot_clip(8);
+  const TriMesh& rest = clip.rest.mesh;
+  const SkinFile& skin = clip.skin;
+  const double diag = rest.diagonal();
+  std::vector<SkinInfluence> influences = random_followers(rest, skin, 60, 7);
+  // And on walls themselves: a wall's centroid, at the clip's middle time, has the solid on both
+  // sides (each part is rigid on one joint, so the point is bound through that joint's matrix).
+  const ClipRadius clip_meshes(skin, rest, 1e30);
+  const size_t middle = skin.clip.times.size() / 2;
+  const TriMesh at = clip_meshes.mesh_at(middle);
+  const SolidBoundary boundary = solid_boundary(at, WindingNumber(at));
+  std::vector<char> bounds(at.triangles.size(), 0);
+  for (int t : boundary.source) bounds[size_t(t)] = 1;
+  for (size_t t = 0; t < at.triangles.size() && influences.size() < 120; t += 2) {
+    const auto& f = at.triangles[t];
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
+    for (const auto& [j, x] : skin.vertex_weights[size_t(f[0])]) w[j] += x;
+    SkinInfluence s = heaviest_four(w);
+    if (bounds[t] || s.weight[0] != 1.0f) continue;
+    const Eigen::Vector3d centroid = (at.vertices[size_t(f[0])] + at.vertices[size_t(f[1])] + at.vertices[size_t(f[2])]) / 3;
+    s.bind = (skin.clip.matrices[middle][size_t(s.joint[0])].inverse() * centroid.homogeneous()).head<3>();
+    ASSERT_LT((skin_point(s, skin.clip.matrices[middle]) - centroid).norm(), 1e-9 * diag);
+    influences.push_back(s);
+  }
+  ASSERT_GT(influences.size(), 70u);
+  const std::vector<double> radius(influences.size(), 0.05 * diag);
+  const std::vector<double> overshoots{0.0, 0.005 * diag};
+  std::vector<std::vector<double>> brute(overshoots.size(), radius);
+  size_t walls = 0;
+  for (size_t k = 0; k < skin.clip.times.size(); ++k) {
+    const MeshQuery q(ClipRadius(skin, rest, 1e30).mesh_at(k));
+    walls += q.internal_walls() + q.split_triangles();
+    for (size_t i = 0; i < influences.size(); ++i) {
+      const Eigen::Vector3d c = skin_point(influences[i], skin.clip.matrices[k]);
+      for (size_t o = 0; o < overshoots.size(); ++o)
+        brute[o][i] = std::min(brute[o][i], q.inside(c) ? q.distance(c) + overshoots[o] : 0.0);
+    }
+  }
+  ASSERT_GT(walls, 0u);
+  for (size_t o = 0; o < overshoots.size(); ++o) {
+    const std::vector<double> least = ClipRadius(skin, rest, 1e30, overshoots[o]).least(influences, radius);
+    EXPECT_EQ(least, brute[o]) << "overshoot " << overshoots[o];
+    size_t shrunk = 0;
+    for (size_t i = 0; i < least.size(); ++i) shrunk += least[i] < radius[i];
+    EXPECT_GT(shrunk, 10u) << "overshoot " << overshoots[o];  // the clip really bounds them
   }
 }
 

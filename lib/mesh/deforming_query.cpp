@@ -291,6 +291,18 @@ bool DeformingQuery::Shape::add_inflated_near(int n, const Eigen::Vector3d& p, d
   return true;
 }
 
+void DeformingQuery::Shape::triangles_near(const Eigen::Vector3d& p, double bound, std::vector<int>& found) const {
+  const DeformingQuery& q = *q_;
+  found.clear();
+  double best = bound * bound;  // never lowered: every box within the bound is opened
+  search(p, best, [&](int t) {
+    Eigen::AlignedBox3d box;
+    for (int k = 0; k < 3; ++k) box.extend(v_[size_t(q.tri_[size_t(t)][k])]);
+    if (box.squaredExteriorDistance(p) < best) found.push_back(t);
+    return true;
+  });
+}
+
 void DeformingQuery::Shape::leaves_near(const Eigen::AlignedBox3d& region, std::vector<int>& leaves) const {
   const DeformingQuery& q = *q_;
   leaves.clear();

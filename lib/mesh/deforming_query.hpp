@@ -45,6 +45,9 @@ class DeformingQuery {
     // front face, -1 entering. Where parts pass through each other the count still says inside.
     // A ray that grazes an edge is cast again another way, and after a few, the exact sum decides.
     bool inside(const Eigen::Vector3d& p) const;
+    // Every triangle whose box comes nearer to p than `bound` (its index in the rest's list, in
+    // no set order): a superset of those nearer than it, for a caller that decides them itself.
+    void triangles_near(const Eigen::Vector3d& p, double bound, std::vector<int>& found) const;
     // With `inflation` (swept()), searches near one another entering the tree once: `leaves_near`
     // gives the leaves whose box, grown by their vertices' largest inflation, comes within reach
     // of `region`. Then for a ball p +- bound inside `region` (the point p where the bound is

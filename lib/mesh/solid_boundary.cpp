@@ -26,14 +26,8 @@ std::vector<Eigen::Vector3d> wall_probes(const Eigen::Vector3d& a, const Eigen::
 
 namespace {
 
-using Corners = std::array<Eigen::Vector3d, 3>;
+using Corners = BoundaryParts::Corners;
 constexpr int kProbes = 10, kPieceProbes = 4;
-
-// One input triangle's bounding part: itself (whole), none, or pieces.
-struct Part {
-  enum { whole, none, pieces } kind = whole;
-  std::vector<Corners> bounding;
-};
 
 // How many of triangle t's probes bound (either side outside): of kProbes for an input
 // triangle, of kPieceProbes (its centroid and near its corners) for a piece.
@@ -86,23 +80,32 @@ std::vector<uint8_t> near_another_piece(const TriMesh& mesh, double margin) {
 
 }  // namespace
 
+BoundaryParts::BoundaryParts(const TriMesh& mesh, const WindingNumber& wn)
+    : mesh_(mesh), wn_(wn), diagonal_(mesh.diagonal()), offset_(kWallProbe * diagonal_) {
+  const MeshDefects defects = find_defects(mesh);
+  if (!(defects.watertight() && defects.components == 1)) probed_ = near_another_piece(mesh, 2 * offset_);
+}
+
+BoundaryParts::Part BoundaryParts::part(size_t t) const {
+  Part out;
+  if (probed_.empty() || !probed_[t] || is_degenerate(mesh_, int(t), diagonal_)) return out;
+  const auto& f = mesh_.triangles[t];
+  const Corners c{mesh_.vertices[size_t(f[0])], mesh_.vertices[size_t(f[1])], mesh_.vertices[size_t(f[2])]};
+  const Eigen::Vector3d n = (c[1] - c[0]).cross(c[2] - c[0]).normalized();
+  const int probes = bounding_probes(c, n, offset_, wn_, false);
+  if (probes == kProbes) return out;
+  out.kind = probes == 0 ? Part::none : Part::pieces;
+  bounding_pieces(c, n, offset_, wn_, 0, probes, out.bounding);
+  return out;
+}
+
 SolidBoundary solid_boundary(const TriMesh& mesh, const WindingNumber& wn) {
   SolidBoundary out;
-  const MeshDefects defects = find_defects(mesh);
-  if (defects.watertight() && defects.components == 1) return out;
-  const double diagonal = mesh.diagonal(), offset = kWallProbe * diagonal;
-  const std::vector<uint8_t> probed = near_another_piece(mesh, 2 * offset);
-  std::vector<Part> parts(mesh.triangles.size());
-  tbb::parallel_for(size_t(0), mesh.triangles.size(), [&](size_t t) {
-    if (!probed[t] || is_degenerate(mesh, int(t), diagonal)) return;
-    const auto& f = mesh.triangles[t];
-    const Corners c{mesh.vertices[size_t(f[0])], mesh.vertices[size_t(f[1])], mesh.vertices[size_t(f[2])]};
-    const Eigen::Vector3d n = (c[1] - c[0]).cross(c[2] - c[0]).normalized();
-    const int probes = bounding_probes(c, n, offset, wn, false);
-    if (probes == kProbes) return;
-    parts[t].kind = probes == 0 ? Part::none : Part::pieces;
-    bounding_pieces(c, n, offset, wn, 0, probes, parts[t].bounding);
-  });
+  const BoundaryParts parts_of(mesh, wn);
+  if (parts_of.whole()) return out;
+  std::vector<BoundaryParts::Part> parts(mesh.triangles.size());
+  tbb::parallel_for(size_t(0), mesh.triangles.size(), [&](size_t t) { parts[t] = parts_of.part(t); });
+  using Part = BoundaryParts::Part;
   if (std::all_of(parts.begin(), parts.end(), [](const Part& p) { return p.kind == Part::whole; })) return out;
   out.mesh.vertices = mesh.vertices;
   for (size_t t = 0; t < parts.size(); ++t) {

@@ -4,6 +4,7 @@
 // on both sides bounds nothing, and a sphere may cross it; a triangle that passes out of another
 // part bounds only where it is out. Distances for radii are taken to the boundary alone
 // (MeshQuery, the field), and errors are measured and samples drawn on it.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -34,6 +35,28 @@ struct SolidBoundary {
   size_t internal = 0;      // input triangles left out whole
   size_t split = 0;         // input triangles kept in pieces
   bool whole() const { return internal == 0 && split == 0; }
+};
+
+// Each input triangle's bounding part, one at a time, as solid_boundary decides it: for a mesh
+// asked near a few points only (a clip's times, each skinned afresh), where deciding every
+// triangle costs more than the queries. Safe to ask from several threads.
+class BoundaryParts {
+ public:
+  using Corners = std::array<Eigen::Vector3d, 3>;
+  struct Part {
+    enum { whole, none, pieces } kind = whole;
+    std::vector<Corners> bounding;  // pieces only
+  };
+  BoundaryParts(const TriMesh& mesh, const WindingNumber& wn);
+  // A single closed surface: every triangle bounds whole, nothing is probed.
+  bool whole() const { return probed_.empty(); }
+  Part part(size_t t) const;
+
+ private:
+  const TriMesh& mesh_;
+  const WindingNumber& wn_;
+  double diagonal_, offset_;
+  std::vector<uint8_t> probed_;  // empty where whole()
 };
 
 // A single closed surface bounds everywhere: `mesh` itself, nothing probed. Only triangles

@@ -10,7 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/format.hpp"
-#include "mesh/mesh_query.hpp"
+#include "mesh/near_boundary.hpp"
 
 namespace spx {
 ClipRadius::ClipRadius(const SkinFile& skin, const TriMesh& rest, double max_radius, double overshoot, bool sweep)
@@ -33,11 +33,16 @@ constexpr size_t kTimesAtOnce = 4;
 
 struct ClipRadius::Time {
   std::optional<DeformingQuery::Shape> shape;  // a closed mesh
-  std::unique_ptr<MeshQuery> query;            // another
+  std::unique_ptr<NearBoundaryQuery> query;    // another
 };
 
 double ClipRadius::least_at(const Time& time, const Eigen::Vector3d& c, double r, double moved) const {
-  if (time.query) return time.query->inside(c) ? std::min(r, time.query->distance(c) + overshoot_) : 0.0;
+  if (time.query) {
+    if (!time.query->inside(c)) return 0.0;
+    // A surface r or farther leaves r as it is: only what is nearer is looked for.
+    const double d = time.query->distance_below(c, r);
+    return std::isfinite(d) ? std::min(r, d + overshoot_) : r;
+  }
   // Only a surface nearer than r less the overshoot lowers r: the search looks no farther.
   const double bound = r - overshoot_;
   const double d = bound > 0 ? time.shape->signed_distance_within(c, bound) : std::numeric_limits<double>::infinity();
@@ -64,7 +69,7 @@ void ClipRadius::walk(size_t first, const std::vector<Eigen::Vector3d>* before,
     if (deforming_.closed())
       block[t].shape.emplace(deforming_.shape(meshes[t]));
     else
-      block[t].query = std::make_unique<MeshQuery>(TriMesh{meshes[t], rest_.triangles});
+      block[t].query = std::make_unique<NearBoundaryQuery>(deforming_, TriMesh{meshes[t], rest_.triangles});
     const std::vector<Eigen::Vector3d>* last = t > 0 ? &meshes[t - 1] : before;
     if (!last || !deforming_.closed()) return;  // least_at asks it of a closed mesh alone
     double most = 0;

@@ -35,8 +35,9 @@ class ClipRadius {
   // influences[i] (its bind point in the asset's space). The times are walked in order, a few
   // skinned at once, so memory stays that of a few meshes; each sphere's search there is bounded
   // by its least radius so far, which for a sphere the time does not shrink visits a few boxes.
-  // A closed mesh's hierarchy is refitted to each time (DeformingQuery), another is queried
-  // afresh (MeshQuery, winding numbers: far slower). On a closed mesh a sphere is first asked
+  // A closed mesh's hierarchy is refitted to each time (DeformingQuery). Another builds its
+  // winding numbers afresh and decides which triangles bound the solid only near the spheres
+  // (NearBoundaryQuery: MeshQuery's answers; still several times slower). On a closed mesh a sphere is first asked
   // once per block of times, in the frame of its heaviest joint, where the parts that move
   // rigidly with it stay put: where every triangle stays farther than its radius needs through
   // the block (the sweep for most, then each of the few it finds near, step by step against the
