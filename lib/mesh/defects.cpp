@@ -9,8 +9,11 @@ namespace spx {
 bool is_degenerate(const TriMesh& mesh, int t, double diagonal) {
   const Eigen::Vector3i& f = mesh.triangles[t];
   if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) return true;
-  const Eigen::Vector3d& a = mesh.vertices[f[0]];
-  const double area2 = (mesh.vertices[f[1]] - a).cross(mesh.vertices[f[2]] - a).norm();
+  return is_degenerate(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]], diagonal);
+}
+
+bool is_degenerate(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double diagonal) {
+  const double area2 = (b - a).cross(c - a).norm();
   return area2 <= 1e-14 * diagonal * diagonal;
 }
 

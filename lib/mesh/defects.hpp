@@ -34,5 +34,7 @@ MeshDefects find_defects(const TriMesh& mesh);
 
 // Triangles with (near) zero area: repeated indices or collinear corners.
 bool is_degenerate(const TriMesh& mesh, int triangle, double diagonal);
+// The corners' part of that test, for a triangle that is not in a mesh (a piece of one).
+bool is_degenerate(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double diagonal);
 
 }  // namespace spx

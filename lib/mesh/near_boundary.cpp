@@ -12,11 +12,6 @@ namespace {
 using K = CGAL::Simple_cartesian<double>;
 K::Point_3 to_cgal(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
-// is_degenerate's area test on a piece's own corners (MeshQuery's tree leaves those out too).
-bool degenerate(const BoundaryParts::Corners& c, double diagonal) {
-  return (c[1] - c[0]).cross(c[2] - c[0]).norm() <= 1e-14 * diagonal * diagonal;
-}
-
 // The least squared distance MeshQuery's tree can return for triangle abc: CGAL's projection of
 // p, and the triangle's first corner, the tree's reference point (its search starts from the
 // nearest of those).
@@ -56,8 +51,9 @@ double NearBoundaryQuery::distance_below(const Eigen::Vector3d& p, double reach)
       best = std::min(best, tree_squared_distance(q, {mesh_.vertices[size_t(f[0])], mesh_.vertices[size_t(f[1])],
                                                       mesh_.vertices[size_t(f[2])]}));
     }
+    // MeshQuery's tree leaves degenerate pieces out too.
     for (const BoundaryParts::Corners& piece : bounding.bounding)
-      if (!degenerate(piece, diagonal_)) best = std::min(best, tree_squared_distance(q, piece));
+      if (!is_degenerate(piece[0], piece[1], piece[2], diagonal_)) best = std::min(best, tree_squared_distance(q, piece));
   }
   const double d = std::sqrt(best);
   return d < reach ? d : std::numeric_limits<double>::infinity();

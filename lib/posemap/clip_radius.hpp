@@ -37,7 +37,7 @@ class ClipRadius {
   // by its least radius so far, which for a sphere the time does not shrink visits a few boxes.
   // A closed mesh's hierarchy is refitted to each time (DeformingQuery). Another builds its
   // winding numbers afresh and decides which triangles bound the solid only near the spheres
-  // (NearBoundaryQuery: MeshQuery's answers; still several times slower). On a closed mesh a sphere is first asked
+  // (NearBoundaryQuery, MeshQuery's answers). On a closed mesh a sphere is first asked
   // once per block of times, in the frame of its heaviest joint, where the parts that move
   // rigidly with it stay put: where every triangle stays farther than its radius needs through
   // the block (the sweep for most, then each of the few it finds near, step by step against the
