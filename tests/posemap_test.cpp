@@ -1414,19 +1414,16 @@ TEST(PoseMap, SpheresPokingOutBetweenThePosesAreCounted) {
   EXPECT_NEAR(between.worst, worst, 1e-9 * rest.diagonal());
 }
 
+// Rest vertex v's 4 heaviest joints (no bind point yet).
+SkinInfluence vertex_influence(const SkinFile& skin, size_t v) {
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
+  for (const auto& [j, x] : skin.vertex_weights[v]) w[j] += x;
+  return heaviest_four(w);
+}
+
 // Spheres at `count` random interior points of `rest` (seeded), each following its nearest
 // vertex's 4 heaviest joints; the point is its bind (the rest matrices of the shared rigs are the
 // identity where they are bound).
-SkinInfluence follower_at(const TriMesh& rest, const SkinFile& skin, const Eigen::Vector3d& p) {
-  size_t nearest = 0;
-  for (size_t v = 0; v < rest.vertices.size(); ++v)
-    if ((rest.vertices[v] - p).norm() < (rest.vertices[nearest] - p).norm()) nearest = v;
-  Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
-  for (const auto& [j, x] : skin.vertex_weights[nearest]) w[j] += x;
-  SkinInfluence s = heaviest_four(w);
-  s.bind = p;
-  return s;
-}
 std::vector<SkinInfluence> random_followers(const TriMesh& rest, const SkinFile& skin, size_t count, unsigned seed) {
   std::mt19937 rng(seed);
   const WindingNumber wn(rest);
@@ -1435,7 +1432,12 @@ std::vector<SkinInfluence> random_followers(const TriMesh& rest, const SkinFile&
   while (out.size() < count) {
     std::uniform_real_distribution<double> u(0, 1);
     const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    if (wn.inside(p)) out.push_back(follower_at(rest, skin, p));
+    if (!wn.inside(p)) continue;
+    size_t nearest = 0;
+    for (size_t v = 0; v < rest.vertices.size(); ++v)
+      if ((rest.vertices[v] - p).norm() < (rest.vertices[nearest] - p).norm()) nearest = v;
+    out.push_back(vertex_influence(skin, nearest));
+    out.back().bind = p;
   }
   return out;
 }
@@ -1507,9 +1509,7 @@ TEST(ClipRadius, OpenPartsMatchEveryClipMeshQueriedAfresh) {
   for (int t : boundary.source) bounds[size_t(t)] = 1;
   for (size_t t = 0; t < at.triangles.size() && influences.size() < 120; t += 2) {
     const auto& f = at.triangles[t];
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));
-    for (const auto& [j, x] : skin.vertex_weights[size_t(f[0])]) w[j] += x;
-    SkinInfluence s = heaviest_four(w);
+    SkinInfluence s = vertex_influence(skin, size_t(f[0]));
     if (bounds[t] || s.weight[0] != 1.0f) continue;
     const Eigen::Vector3d centroid = (at.vertices[size_t(f[0])] + at.vertices[size_t(f[1])] + at.vertices[size_t(f[2])]) / 3;
     s.bind = (skin.clip.matrices[middle][size_t(s.joint[0])].inverse() * centroid.homogeneous()).head<3>();
@@ -1522,7 +1522,7 @@ TEST(ClipRadius, OpenPartsMatchEveryClipMeshQueriedAfresh) {
   std::vector<std::vector<double>> brute(overshoots.size(), radius);
   size_t walls = 0;
   for (size_t k = 0; k < skin.clip.times.size(); ++k) {
-    const MeshQuery q(ClipRadius(skin, rest, 1e30).mesh_at(k));
+    const MeshQuery q(clip_meshes.mesh_at(k));
     walls += q.internal_walls() + q.split_triangles();
     for (size_t i = 0; i < influences.size(); ++i) {
       const Eigen::Vector3d c = skin_point(influences[i], skin.clip.matrices[k]);
