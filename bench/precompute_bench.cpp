@@ -1,7 +1,8 @@
 // precompute-bench: every precompute stage timed on real meshes, side by side with its baseline
 // in one run (medians of repeats), as JSON.
 //   precompute-bench --data ../shared/data --json OUT.json [--repeats 3] [--max-resolution 512]
-//                    [--resolution N ...] [--no-chains] [--no-routes] [--frames N ...] [--work DIR]
+//                    [--resolution N ...] [--no-chains] [--no-routes] [--frames [N ...]] [--sweep-only]
+//                    [--work DIR]
 // The routes and the frame sweep run the tools beside it as whole processes (tool_runs.hpp).
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
@@ -14,6 +15,7 @@
 #include <functional>
 
 #include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "core/version.hpp"
 #include "tool/tool.hpp"
 #include "core/json_io.hpp"
@@ -216,7 +218,7 @@ struct Plan {
   int repeats = 3, max_res = 512;
   std::vector<int> resolutions = {64, 128, 256, 512};
   std::vector<size_t> frames = {4, 8, 16, 32, 48, 100};
-  bool chains = true, routes = true;
+  bool chains = true, routes = true, sweep_only = false;
 };
 
 void run(const Plan& plan);
@@ -235,9 +237,18 @@ int main(int argc, char** argv) {
   app.add_option("--resolution", plan.resolutions, "Armadillo resolutions (default 64 128 256 512)");
   app.add_flag("!--no-chains", plan.chains, "Only the SDF cases");
   app.add_flag("!--no-routes", plan.routes, "Without the tools' routes and the frame sweep");
-  app.add_option("--frames", plan.frames, "Frame counts of the sweep (default 4 8 16 32 48 100; none: skip it)");
+  CLI::Option* frames =
+      app.add_option("--frames", plan.frames, "Frame counts of the sweep (default 4 8 16 32 48 100; none: skip it)")
+          ->expected(0, CLI::detail::expected_max_vector_size);
+  app.add_flag("--sweep-only", plan.sweep_only, "Only the frame sweep (no routes, SDF cases or chains)");
   app.add_option("--work", plan.work, "Where the routes and the sweep write their files");
-  return tool.run(argc, argv, [&] { run(plan); });
+  return tool.run(argc, argv, [&] {
+    // `--frames` alone reaches CLI11 as one empty value, which it reads as 0.
+    if (frames->results() == std::vector<std::string>{""}) plan.frames.clear();
+    for (size_t n : plan.frames)
+      if (n == 0) fail_usage("--frames", "a frame count must be at least 1");
+    run(plan);
+  });
 }
 
 namespace {
@@ -292,10 +303,14 @@ void run(const Plan& plan) {
   json result = {{"generator", std::string("precompute-bench (spx) ") + spx::version_string()}, {"repeats", repeats}};
   // The tools first: a child's peak memory (ru_maxrss) starts from this process's own at the
   // spawn, which the in-process cases below raise.
-  if (plan.routes) {
+  if (plan.routes || plan.sweep_only) {
     const std::string tools = bench::tools_dir_beside_this_program();
-    result["routes"] = route_cases(plan, tools);
+    if (!plan.sweep_only) result["routes"] = route_cases(plan, tools);
     result["frame_sweeps"] = frame_sweeps(plan, tools);
+  }
+  if (plan.sweep_only) {
+    write_json_atomic(plan.out, result);
+    return;
   }
   const TriMesh armadillo = load_mesh(data + "/static/armadillo.obj").mesh;
   json sdf = json::array();

@@ -123,35 +123,47 @@ json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vec
                  const std::string& work, int repeats) {
   const std::string dir = work + "/" + clip.name;
   fs::create_directories(dir);
-  json rows = json::array();
-  std::string field, spheres;
+  auto poses_of = [&](size_t n) { return dir + "/frames-" + std::to_string(n); };
   for (size_t n : frames) {
-    const std::string poses = dir + "/frames-" + std::to_string(n);
-    std::vector<std::string> extract{"pose-extract", clip.asset, "-o", poses, "-q"};
+    std::vector<std::string> extract{"pose-extract", clip.asset, "-o", poses_of(n), "-q"};
     extract.insert(extract.end(), clip.extract.begin(), clip.extract.end());
     const std::vector<std::string> which = clip.frames_option(n);
     extract.insert(extract.end(), which.begin(), which.end());
     run_tool(tools, extract);
-    if (field.empty()) {  // every extraction has the same rest
-      field = dir + "/rest.vdb";
-      spheres = dir + "/rest.spheres.json";
-      run_tool(tools, {"sdf-build", poses + "/rest.obj", "-o", field, "-q"});
-      run_tool(tools, {"sphere-pack", field, "-o", spheres, "--mesh", poses + "/rest.obj", "-q"});
-    }
-    std::vector<double> seconds;
-    double peak = 0;
-    const std::string report = poses + "/report.json";
-    for (int r = 0; r < (n > 64 ? 1 : repeats); ++r) {
-      const ToolRun run = run_tool(tools, {"pose-map", "--manifest", poses + "/poses.json", "--spheres", spheres, "-o",
-                                           poses + "/proxy.json", "--report", report, "-q"});
-      seconds.push_back(run.seconds);
-      peak = std::max(peak, run.peak_gib);
-    }
-    rows.push_back({{"frames", n}, {"pose_map_s", median(seconds)}, {"runs", seconds.size()}, {"peak_gib", peak},
-                    {"spheres", spheres_in_report(report)}});
-    std::fprintf(stderr, "%s, %zu frames: pose-map %.2f s, %.2f GiB\n", clip.name.c_str(), n, median(seconds), peak);
   }
-  for (json& row : rows) row["over_first"] = row["pose_map_s"].get<double>() / rows[0]["pose_map_s"].get<double>();
+  // Every extraction has the same rest: its field and spheres built once.
+  const std::string rest = poses_of(frames[0]) + "/rest.obj";
+  const std::string field = dir + "/rest.vdb", spheres = dir + "/rest.spheres.json";
+  run_tool(tools, {"sdf-build", rest, "-o", field, "-q"});
+  run_tool(tools, {"sphere-pack", field, "-o", spheres, "--mesh", rest, "-q"});
+  // The counts take turns within each repeat (4, 8, ..., 48, then 4, 8, ... again), so that a
+  // ratio compares runs made side by side, not one count's runs before the next's.
+  std::vector<std::vector<double>> seconds(frames.size());
+  std::vector<double> peak(frames.size(), 0);
+  for (int r = 0; r < repeats; ++r)
+    for (size_t k = 0; k < frames.size(); ++k) {
+      if (r > 0 && frames[k] > 64) continue;  // one run past 64 frames
+      const std::string poses = poses_of(frames[k]);
+      const ToolRun run = run_tool(tools, {"pose-map", "--manifest", poses + "/poses.json", "--spheres", spheres, "-o",
+                                           poses + "/proxy.json", "--report", poses + "/report.json", "-q"});
+      seconds[k].push_back(run.seconds);
+      peak[k] = std::max(peak[k], run.peak_gib);
+    }
+  json rows = json::array();
+  for (size_t k = 0; k < frames.size(); ++k) {
+    // The median of the per-repeat ratios to the first count: each pair ran side by side.
+    std::vector<double> ratios;
+    for (size_t r = 0; r < seconds[k].size(); ++r) ratios.push_back(seconds[k][r] / seconds[0][r]);
+    rows.push_back({{"frames", frames[k]},
+                    {"pose_map_s", median(seconds[k])},
+                    {"runs", seconds[k].size()},
+                    {"pose_map_runs_s", seconds[k]},
+                    {"peak_gib", peak[k]},
+                    {"spheres", spheres_in_report(poses_of(frames[k]) + "/report.json")},
+                    {"over_first", median(ratios)}});
+    std::fprintf(stderr, "%s, %zu frames: pose-map %.2f s (%.2fx %zu frames), %.2f GiB\n", clip.name.c_str(),
+                 frames[k], median(seconds[k]), median(ratios), frames[0], peak[k]);
+  }
   return {{"clip", clip.name}, {"rows", rows}};
 }
 

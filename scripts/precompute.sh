@@ -21,9 +21,10 @@ rm -rf "$data" && mkdir -p "$data"
 import json, sys
 r = json.load(open(sys.argv[1]))
 d = sys.argv[2]
-print("| cells | voxels | ours | OpenVDB filled | speedup (medians) | least speedup of a pair | ours max / mean error (voxels) |")
-print("|---|---|---|---|---|---|---|")
-for c in r["sdf"]:
+if r.get("sdf"):
+    print("| cells | voxels | ours | OpenVDB filled | speedup (medians) | least speedup of a pair | ours max / mean error (voxels) |")
+    print("|---|---|---|---|---|---|---|")
+for c in r.get("sdf", []):
     print("| %d | %.2f M | %.2f s | %.2f s | %.2fx | %.2fx | %.2f / %.3f |" % (
         c["resolution"], c["voxels"] / 1e6, c["sdf_s"], c["openvdb_filled_s"], c["speedup_vs_openvdb"],
         c.get("least_pair_speedup", c["speedup_vs_openvdb"]), c["against_exact"]["ours_max_error_voxels"],
@@ -50,7 +51,8 @@ for s in r.get("frame_sweeps", []):
             f.write("%d %.4f %.4f\n" % (row["frames"], row["pose_map_s"], row["peak_gib"]))
 PY
 clips=$(/usr/bin/python3 -c "import json,sys; print(' '.join(s['clip'] for s in json.load(open(sys.argv[1])).get('frame_sweeps', [])))" "$json")
-[ -n "$clips" ] || { echo "data: $json"; exit 0; }
+# The chart needs both halves: the sweep and the routes (not with --sweep-only or --no-routes).
+[ -n "$clips" ] && [ -f "$data/routes.dat" ] || { echo "data: $json"; exit 0; }
 for term in svg png; do
   plot="" sep="" i=1
   for c in $clips; do
