@@ -64,7 +64,7 @@ openvdb::FloatGrid::Ptr openvdb_filled(const TriMesh& mesh, double h, int band) 
                                                           std::numeric_limits<float>::max());
 }
 
-json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int repeats) {
+json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int repeats, const Log& log) {
   SdfOptions opt;
   opt.resolution = resolution;
   SdfResult ours;
@@ -138,8 +138,8 @@ json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int 
     ++near_surface;
     near_sign_errors += (o < 0) != wn.inside(g.world(idx));
   }
-  std::fprintf(stderr, "%s @%d: %zu sign errors among the %zu voxels within a voxel of the surface\n", name.c_str(),
-               resolution, near_sign_errors, near_surface);
+  bench::say(log, "%s @%d: %zu sign errors among the %zu voxels within a voxel of the surface", name.c_str(),
+             resolution, near_sign_errors, near_surface);
   const json truth = {{"near_surface_voxels", near_surface},
                       {"near_surface_sign_errors", near_sign_errors},
                       {"sampled_voxels", sampled},
@@ -151,13 +151,13 @@ json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int 
                       {"openvdb_sign_errors", base_sign}};
   SphereSet spheres;
   const double t_pack = median_seconds(repeats, [&] { spheres = pack_spheres(ours.field, {}, &query).spheres; });
-  std::fprintf(stderr,
-               "%s @%d: ours %.3f s, OpenVDB filled %.3f s (%.2fx), pack %.3f s (%zu spheres); against the exact "
-               "distance (%zu voxels): ours max %.3f / mean %.4f voxels, %zu sign errors; OpenVDB max %.3f / mean %.4f, "
-               "%zu sign errors\n",
-               name.c_str(), resolution, t_ours, t_base, t_base / t_ours, t_pack, spheres.size(), sampled, ours_max,
-               ours_sum / double(std::max<size_t>(sampled, 1)), ours_sign, base_max,
-               base_sum / double(std::max<size_t>(sampled, 1)), base_sign);
+  bench::say(log,
+             "%s @%d: ours %.3f s, OpenVDB filled %.3f s (%.2fx), pack %.3f s (%zu spheres); against the exact "
+             "distance (%zu voxels): ours max %.3f / mean %.4f voxels, %zu sign errors; OpenVDB max %.3f / mean %.4f, "
+             "%zu sign errors",
+             name.c_str(), resolution, t_ours, t_base, t_base / t_ours, t_pack, spheres.size(), sampled, ours_max,
+             ours_sum / double(std::max<size_t>(sampled, 1)), ours_sign, base_max,
+             base_sum / double(std::max<size_t>(sampled, 1)), base_sign);
   return {{"mesh", name},
           {"triangles", mesh.triangles.size()},
           {"resolution", resolution},
@@ -178,7 +178,8 @@ json sdf_case(const std::string& name, const TriMesh& mesh, int resolution, int 
           {"peak_rss_gib", peak_rss_gib()}};
 }
 
-json chain_case(const std::string& name, const TriMesh& rest, const std::vector<TriMesh>& poses, int repeats) {
+json chain_case(const std::string& name, const TriMesh& rest, const std::vector<TriMesh>& poses, int repeats,
+                const Log& log) {
   json stages;
   SdfOptions opt;
   SdfResult sdf;
@@ -205,9 +206,9 @@ json chain_case(const std::string& name, const TriMesh& rest, const std::vector<
   double total = 0;
   for (const char* k : {"sdf_s", "pack_s", "pose_map_total_s", "export_spx_s"}) total += stages[k].get<double>();
   stages["chain_total_s"] = total;
-  std::fprintf(stderr, "%s chain: %.2f s (sdf %.2f, pack %.2f, pose-map %.2f of which tets %.2f)\n", name.c_str(), total,
-               stages["sdf_s"].get<double>(), stages["pack_s"].get<double>(), stages["pose_map_total_s"].get<double>(),
-               stages["tetrahedralize_s"].get<double>());
+  bench::say(log, "%s chain: %.2f s (sdf %.2f, pack %.2f, pose-map %.2f of which tets %.2f)", name.c_str(), total,
+             stages["sdf_s"].get<double>(), stages["pack_s"].get<double>(), stages["pose_map_total_s"].get<double>(),
+             stages["tetrahedralize_s"].get<double>());
   return {{"mesh", name},        {"triangles", rest.triangles.size()}, {"poses", poses.size()},
           {"spheres", spheres.spheres.size()}, {"tets", tets.tets.size()}, {"stages", stages},
           {"peak_rss_gib", peak_rss_gib()}};
@@ -221,7 +222,7 @@ struct Plan {
   bool chains = true, routes = true, sweep_only = false;
 };
 
-void run(const Plan& plan);
+void run(const Plan& plan, const Log& log);
 
 }  // namespace
 
@@ -247,7 +248,7 @@ int main(int argc, char** argv) {
     if (frames->results() == std::vector<std::string>{""}) plan.frames.clear();
     for (size_t n : plan.frames)
       if (n == 0) fail_usage("--frames", "a frame count must be at least 1");
-    run(plan);
+    run(plan, tool.log);
   });
 }
 
@@ -256,26 +257,26 @@ namespace {
 // The default route against the paper's on the chain meshes, then pose-map over more and more
 // frames of two clips: the elephant's walk (--select N) and RiggedSimple's 2 s clip sampled
 // evenly (--times).
-json route_cases(const Plan& plan, const std::string& tools) {
+json route_cases(const Plan& plan, const std::string& tools, const Log& log) {
   const std::string& data = plan.data;
   json routes = json::array();
   {
     std::vector<std::string> poses;
     for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"}) poses.push_back(data + "/elephant/" + p + ".obj");
-    routes.push_back(bench::route_case(tools, "elephant", data + "/elephant/rest.obj", poses, plan.work, plan.repeats));
+    routes.push_back(bench::route_case(tools, "elephant", data + "/elephant/rest.obj", poses, plan.work, plan.repeats, log));
     routes.back()["triangles"] = load_mesh(data + "/elephant/rest.obj").mesh.triangles.size();
   }
   {
     bench::run_tool(tools, {"sample-gen", "car", "-o", plan.work + "/car-in", "-q"});
     std::vector<std::string> poses;
     for (const std::string& name : make_car().pose_names) poses.push_back(plan.work + "/car-in/" + name + ".obj");
-    routes.push_back(bench::route_case(tools, "car", plan.work + "/car-in/rest.obj", poses, plan.work, plan.repeats));
+    routes.push_back(bench::route_case(tools, "car", plan.work + "/car-in/rest.obj", poses, plan.work, plan.repeats, log));
     routes.back()["triangles"] = load_mesh(plan.work + "/car-in/rest.obj").mesh.triangles.size();
   }
   return routes;
 }
 
-json frame_sweeps(const Plan& plan, const std::string& tools) {
+json frame_sweeps(const Plan& plan, const std::string& tools, const Log& log) {
   json sweeps = json::array();
   if (plan.frames.empty()) return sweeps;
   const bench::ClipSweep walk{"elephant-walk", plan.data + "/elephant/elephant-rigged.glb", {"--animation", "0"},
@@ -289,14 +290,14 @@ json frame_sweeps(const Plan& plan, const std::string& tools) {
                                 return std::vector<std::string>{"--times", times};
                               }};
   for (const bench::ClipSweep& clip : {walk, bend}) {
-    sweeps.push_back(bench::frame_sweep(tools, clip, plan.frames, plan.work, plan.repeats));
+    sweeps.push_back(bench::frame_sweep(tools, clip, plan.frames, plan.work, plan.repeats, log));
     const std::string rest = plan.work + "/" + clip.name + "/frames-" + std::to_string(plan.frames[0]) + "/rest.obj";
     sweeps.back()["triangles"] = load_mesh(rest).mesh.triangles.size();
   }
   return sweeps;
 }
 
-void run(const Plan& plan) {
+void run(const Plan& plan, const Log& log) {
   openvdb::initialize();
   const std::string& data = plan.data;
   const int repeats = plan.repeats;
@@ -305,8 +306,8 @@ void run(const Plan& plan) {
   // spawn, which the in-process cases below raise.
   if (plan.routes || plan.sweep_only) {
     const std::string tools = bench::tools_dir_beside_this_program();
-    if (!plan.sweep_only) result["routes"] = route_cases(plan, tools);
-    result["frame_sweeps"] = frame_sweeps(plan, tools);
+    if (!plan.sweep_only) result["routes"] = route_cases(plan, tools, log);
+    result["frame_sweeps"] = frame_sweeps(plan, tools, log);
   }
   if (plan.sweep_only) {
     write_json_atomic(plan.out, result);
@@ -315,7 +316,7 @@ void run(const Plan& plan) {
   const TriMesh armadillo = load_mesh(data + "/static/armadillo.obj").mesh;
   json sdf = json::array();
   for (int res : plan.resolutions)
-    if (res <= plan.max_res) sdf.push_back(sdf_case("armadillo", armadillo, res, res >= 512 ? 1 : repeats));
+    if (res <= plan.max_res) sdf.push_back(sdf_case("armadillo", armadillo, res, res >= 512 ? 1 : repeats, log));
   result["sdf"] = sdf;
   json chains = json::array();
   if (plan.chains) {
@@ -323,11 +324,11 @@ void run(const Plan& plan) {
     std::vector<TriMesh> poses;
     for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"})
       poses.push_back(load_pose(data + "/elephant/" + p + ".obj", rest));
-    chains.push_back(chain_case("elephant", rest.mesh, poses, repeats));
+    chains.push_back(chain_case("elephant", rest.mesh, poses, repeats, log));
     const SampleAsset car = make_car();
     std::vector<TriMesh> car_poses;
     for (size_t i = 0; i < car.pose_names.size(); ++i) car_poses.push_back(car.pose(i));
-    chains.push_back(chain_case("car", car.rest, car_poses, repeats));
+    chains.push_back(chain_case("car", car.rest, car_poses, repeats, log));
   }
   result["chains"] = chains;
   write_json_atomic(plan.out, result);

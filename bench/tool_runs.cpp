@@ -68,7 +68,7 @@ ToolRun run_tool(const std::string& tools_dir, const std::vector<std::string>& a
 }
 
 json route_case(const std::string& tools, const std::string& name, const std::string& rest,
-                const std::vector<std::string>& poses, const std::string& work, int repeats) {
+                const std::vector<std::string>& poses, const std::string& work, int repeats, const Log& log) {
   const std::string dir = work + "/" + name;
   fs::create_directories(dir);
   std::vector<std::string> pose_args;
@@ -114,13 +114,13 @@ json route_case(const std::string& tools, const std::string& name, const std::st
   std::vector<double> ratios;
   for (int r = 0; r < repeats; ++r) ratios.push_back(routes[1].total[size_t(r)] / routes[0].total[size_t(r)]);
   out["default_over_paper"] = median(ratios);
-  std::fprintf(stderr, "%s: paper route %.2f s, default route %.2f s (%.2fx)\n", name.c_str(),
+  say(log, "%s: paper route %.2f s, default route %.2f s (%.2fx)", name.c_str(),
                out["paper"]["total_s"].get<double>(), out["default"]["total_s"].get<double>(), median(ratios));
   return out;
 }
 
 json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vector<size_t>& frames,
-                 const std::string& work, int repeats) {
+                 const std::string& work, int repeats, const Log& log) {
   const std::string dir = work + "/" + clip.name;
   fs::create_directories(dir);
   auto poses_of = [&](size_t n) { return dir + "/frames-" + std::to_string(n); };
@@ -161,7 +161,7 @@ json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vec
                     {"peak_gib", peak[k]},
                     {"spheres", spheres_in_report(poses_of(frames[k]) + "/report.json")},
                     {"over_first", median(ratios)}});
-    std::fprintf(stderr, "%s, %zu frames: pose-map %.2f s (%.2fx %zu frames), %.2f GiB\n", clip.name.c_str(),
+    say(log, "%s, %zu frames: pose-map %.2f s (%.2fx %zu frames), %.2f GiB", clip.name.c_str(),
                  frames[k], median(seconds[k]), median(ratios), frames[0], peak[k]);
   }
   return {{"clip", clip.name}, {"rows", rows}};

@@ -2,12 +2,27 @@
 // The toolchain timed as a user runs it: each tool a whole process (posix_spawn), its wall time
 // and its own peak memory (wait4's rusage, which starts from the spawning process's own: spawn
 // before growing), side by side in one run.
+#include <cstdarg>
+#include <cstdio>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "core/log.hpp"
+
 namespace spx::bench {
+
+// A result line, printf-formatted, shown unless -q (the log's info).
+inline void say(const Log& log, const char* format, ...) __attribute__((format(printf, 2, 3)));
+inline void say(const Log& log, const char* format, ...) {
+  char line[1024];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(line, sizeof line, format, args);
+  va_end(args);
+  log.info(line);
+}
 
 // The middle value (the upper of the two middle ones for an even count; 0 for none).
 double median(std::vector<double> values);
@@ -29,7 +44,7 @@ std::string tools_dir_beside_this_program();
 // (coverage selection, joint selection), each stage a process. Medians per stage and of the
 // totals, the ratio, each route's peak memory and sphere count.
 nlohmann::json route_case(const std::string& tools, const std::string& name, const std::string& rest,
-                          const std::vector<std::string>& poses, const std::string& work, int repeats);
+                          const std::vector<std::string>& poses, const std::string& work, int repeats, const Log& log);
 
 // pose-map at the defaults on `frames` frames of one clip (pose-extract with `extract` plus
 // --select N or the times it gives), for each count: median time and peak memory of `repeats`
@@ -41,6 +56,6 @@ struct ClipSweep {
   std::function<std::vector<std::string>(size_t n)> frames_option;  // the options that take n frames
 };
 nlohmann::json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vector<size_t>& frames,
-                           const std::string& work, int repeats);
+                           const std::string& work, int repeats, const Log& log);
 
 }  // namespace spx::bench

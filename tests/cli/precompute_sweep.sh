@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # precompute-bench's frame sweep end to end, small (2 and 4 frames of both clips, 3 repeats):
 # every run is in the JSON, each count's median and its ratio to the first count follow from
-# them (the median of the per-repeat ratios: the counts take turns within a repeat), and
-# `--sweep-only` runs nothing else. `--frames` with no counts skips the sweep; a count of 0 is a
-# usage error.
+# them (the median of the per-repeat ratios: the counts take turns within a repeat),
+# `--sweep-only` runs nothing else and -q prints nothing. `--frames` with no counts skips the
+# sweep; a count of 0 is a usage error.
 # usage: precompute_sweep.sh BUILD_DIR DATA_DIR OUT_DIR
 set -euo pipefail
 build=$1 data=$2 out=$3
 rm -rf "$out" && mkdir -p "$out"
 "$build/bench/precompute-bench" --data "$data" --json "$out/bench.json" --repeats 3 --frames 2 4 --sweep-only \
-  --work "$out/work" -q
+  --work "$out/work" -q 2> "$out/quiet.err"
+[ ! -s "$out/quiet.err" ] || { echo "-q printed:"; cat "$out/quiet.err"; exit 1; }
 /usr/bin/python3 - "$out/bench.json" <<'PY'
 import json, statistics, sys
 d = json.load(open(sys.argv[1]))
