@@ -114,8 +114,8 @@ json route_case(const std::string& tools, const std::string& name, const std::st
   std::vector<double> ratios;
   for (int r = 0; r < repeats; ++r) ratios.push_back(routes[1].total[size_t(r)] / routes[0].total[size_t(r)]);
   out["default_over_paper"] = median(ratios);
-  say(log, "%s: paper route %.2f s, default route %.2f s (%.2fx)", name.c_str(),
-               out["paper"]["total_s"].get<double>(), out["default"]["total_s"].get<double>(), median(ratios));
+  say(log, "%s: paper route %.2f s, default route %.2f s (%.2fx)", name.c_str(), out["paper"]["total_s"].get<double>(),
+      out["default"]["total_s"].get<double>(), median(ratios));
   return out;
 }
 
@@ -161,8 +161,8 @@ json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vec
                     {"peak_gib", peak[k]},
                     {"spheres", spheres_in_report(poses_of(frames[k]) + "/report.json")},
                     {"over_first", median(ratios)}});
-    say(log, "%s, %zu frames: pose-map %.2f s (%.2fx %zu frames), %.2f GiB", clip.name.c_str(),
-                 frames[k], median(seconds[k]), median(ratios), frames[0], peak[k]);
+    say(log, "%s, %zu frames: pose-map %.2f s (%.2fx %zu frames), %.2f GiB", clip.name.c_str(), frames[k],
+        median(seconds[k]), median(ratios), frames[0], peak[k]);
   }
   return {{"clip", clip.name}, {"rows", rows}};
 }
