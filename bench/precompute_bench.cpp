@@ -291,11 +291,8 @@ json frame_sweeps(const Plan& plan, const std::string& tools, const Log& log) {
                                   times += (k ? "," : "") + std::to_string(n > 1 ? 0.999 * end * double(k) / double(n - 1) : 0.0);
                                 return std::vector<std::string>{"--times", times};
                               }};
-  for (const bench::ClipSweep& clip : {walk, bend}) {
+  for (const bench::ClipSweep& clip : {walk, bend})
     sweeps.push_back(bench::frame_sweep(tools, clip, plan.frames, plan.work, plan.repeats, log));
-    const std::string rest = plan.work + "/" + clip.name + "/frames-" + std::to_string(plan.frames[0]) + "/rest.obj";
-    sweeps.back()["triangles"] = load_mesh(rest).mesh.triangles.size();
-  }
   return sweeps;
 }
 

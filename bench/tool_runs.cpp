@@ -13,6 +13,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "mesh/mesh.hpp"
+
 extern char** environ;
 
 namespace spx::bench {
@@ -164,7 +166,7 @@ json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vec
     say(log, "%s, %zu frames: pose-map %.2f s (%.2fx %zu frames), %.2f GiB", clip.name.c_str(), frames[k],
         median(seconds[k]), median(ratios), frames[0], peak[k]);
   }
-  return {{"clip", clip.name}, {"rows", rows}};
+  return {{"clip", clip.name}, {"rows", rows}, {"triangles", load_mesh(rest).mesh.triangles.size()}};
 }
 
 }  // namespace spx::bench

@@ -49,7 +49,8 @@ nlohmann::json route_case(const std::string& tools, const std::string& name, con
 // pose-map at the defaults on `frames` frames of one clip (pose-extract with `extract` plus
 // --select N or the times it gives), for each count: median time and peak memory of `repeats`
 // runs (1 past 64 frames), spheres, and the median of its per-repeat ratios to the first count
-// (the counts take turns within each repeat). The rest's field and spheres are built once.
+// (the counts take turns within each repeat), and the rest's triangles. The rest's field and
+// spheres are built once.
 struct ClipSweep {
   std::string name, asset;
   std::vector<std::string> extract;                                   // pose-extract options besides -o
