@@ -5,12 +5,15 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <set>
 
 #include "core/error.hpp"
+#include "io/gltf_file.hpp"
 
 namespace spx {
 
@@ -134,13 +137,25 @@ std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, co
   return w;
 }
 
+// Where assimp gives up on a glTF, its answer misleads: "no suitable reader" for a document whose
+// JSON does not parse, no mesh at all in a GLB of garbage. The project's glTF reader says what is
+// wrong with the file (and returns where it finds nothing wrong).
+void explain_gltf(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".gltf" || ext == ".glb") read_gltf_file(path);
+}
+
 }  // namespace
 
 Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), importer_(new Assimp::Importer) {
   check_importable(path, "an asset", "glTF/GLB, FBX or COLLADA");
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
   scene_ = importer_->ReadFile(path, aiProcess_Triangulate);
-  if (!scene_ || !scene_->mRootNode) fail_input(path, std::string("cannot read asset: ") + importer_->GetErrorString());
+  if (!scene_ || !scene_->mRootNode) {
+    explain_gltf(path);
+    fail_input(path, std::string("cannot read asset: ") + importer_->GetErrorString());
+  }
 
   std::vector<std::pair<const aiNode*, unsigned>> placed;
   collect_instances(scene_->mRootNode, placed);
@@ -165,7 +180,10 @@ void Asset::list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& p
     meshes_.push_back(info);
     if (info.triangles) names.push_back(info.name);
   }
-  if (names.empty()) fail_input(path_, "contains no triangle mesh");
+  if (names.empty()) {
+    explain_gltf(path_);
+    fail_input(path_, "contains no triangle mesh");
+  }
   if (std::none_of(meshes_.begin(), meshes_.end(), [](const AssetMesh& m) { return m.used; }))
     fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path_ + " (its meshes: " + list_names(names) + ")");
 

@@ -149,6 +149,22 @@ expect 2 "rest.obj: has no morph targets" "$px/poses.json" -- "$bin/pose-extract
 expect 2 "rest.obj: has no animation clips" "$px/poses.json" -- "$bin/pose-extract" "$out/in/rest.obj" -o "$px" --animation 0
 printf '{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"empty"}]}' >"$out/empty.gltf"
 expect 2 "empty.gltf: contains no triangle mesh" "$px/poses.json" -- "$bin/pose-extract" "$out/empty.gltf" -o "$px" --morph-targets
+# A glTF whose JSON does not parse, or a GLB of garbage: what is wrong with the file, not assimp's
+# "no suitable reader" or "no triangle mesh".
+head -c 60 "$out/empty.gltf" >"$out/cut.gltf"
+expect 2 "cut.gltf: not a glTF: its JSON does not parse (.*column 61" "$px/poses.json" -- \
+  "$bin/pose-extract" "$out/cut.gltf" -o "$px" --morph-targets
+python3 -c "
+import struct, sys
+b = bytearray(open(sys.argv[1], 'rb').read())
+b[b.index(b':', 20)] = ord(';')  # the JSON chunk's first colon
+open(sys.argv[2], 'wb').write(b)
+" "$glb" "$out/bad-json.glb"
+expect 2 "bad-json.glb: not a glTF: its JSON does not parse" "$px/poses.json" -- \
+  "$bin/pose-extract" "$out/bad-json.glb" -o "$px" --morph-targets
+{ printf 'glTF\002\000\000\000\377\377\377\000'; head -c 4000 "$glb" | tail -c 3000; } >"$out/garbage.glb"
+expect 2 "garbage.glb: truncated: its header says 16777215 bytes" "$px/poses.json" -- \
+  "$bin/pose-extract" "$out/garbage.glb" -o "$px" --morph-targets
 expect 1 "\-\-animation: no clip named 'Walk'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation Walk
 expect 1 "\-\-animation: no clip 4 " "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 4
 expect 1 "\-\-mesh: no mesh or node named 'lid'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --mesh lid --morph-targets
