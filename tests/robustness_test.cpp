@@ -286,6 +286,17 @@ TEST(FilesBetweenTools, JsonThatViolatesItsSchemaIsRejected) {
   EXPECT_EQ(code_of([&] { proxy_from_json(weighted, "f.json"); }), ExitCode::ok);
   weighted["skin"]["spheres"][0]["weights"] = {0, 0, 0, 0};
   EXPECT_EQ(code_of([&] { proxy_from_json(weighted, "f.json"); }), ExitCode::bad_input);
+  // Nor parents that never reach a root (a joint its own parent, or a cycle): proxy-export wrote
+  // the one into a .spx the runtime refused and the other into one a host's walk to the root
+  // never leaves. A chain to the root is read.
+  skinned.skin.joints = {"hips", "knee", "foot"};
+  for (const auto& [parents, valid] : std::vector<std::pair<std::vector<int>, bool>>{
+           {{-1, 0, 1}, true}, {{2, -1, 1}, true}, {{-1, 1, 1}, false}, {{2, 0, 1}, false}, {{-1, 2, 1}, false}}) {
+    skinned.skin.parents = parents;
+    EXPECT_EQ(code_of([&] { proxy_from_json(proxy_to_json(skinned), "f.json"); }),
+              valid ? ExitCode::ok : ExitCode::bad_input)
+        << parents[0] << " " << parents[1] << " " << parents[2];
+  }
   // Fields of the wrong type end in our own error naming the file, never in the JSON library's
   // unnamed type error (fuzz.short found {"format": 625}).
   for (const std::string& text : std::vector<std::string>{R"({"format": 625})", R"({"format": ["spx-spheres"]})",

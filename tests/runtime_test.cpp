@@ -154,7 +154,8 @@ TEST(Runtime, SkinChecksItsArguments) {
 
 // The skin section's own damage, each with a valid checksum: a joint index past the joints,
 // a weight or center that is not finite, weights with no positive entry, a parent out of
-// range, a joint count or section size that reaches past the file.
+// range or parents in a cycle (a host walking them to the root would never stop), a joint
+// count or section size that reaches past the file.
 TEST(Runtime, DamagedSkinSectionsHaveTheirOwnStatus) {
   const std::string bytes = encode_spx(skinned_proxy());
   const uint32_t at = detail::rd32(reinterpret_cast<const unsigned char*>(bytes.data()) + 60);
@@ -176,6 +177,8 @@ TEST(Runtime, DamagedSkinSectionsHaveTheirOwnStatus) {
       {"center infinite", [&](std::string& b) { putf(b, record + 4, std::numeric_limits<float>::infinity()); }},
       {"radius negative", [&](std::string& b) { putf(b, record + 12, -1.0f); }},
       {"parent out of range", [&](std::string& b) { put32(b, at + 8 + 7 * 48 + 4, 9); }},
+      {"parent its own joint", [&](std::string& b) { put32(b, at + 8 + 7 * 48 + 8, 2); }},
+      {"parents in a cycle", [&](std::string& b) { put32(b, at + 8 + 7 * 48, 4); }},  // 0 -> 4 -> 3 -> 2 -> 1 -> 0
       {"joint count past the file", [&](std::string& b) { put32(b, at, 0x10000000u); }},
       {"no joints", [&](std::string& b) { put32(b, at, 0); }},
       {"section size past the file", [&](std::string& b) { put32(b, at + 4, 0x7FFFFFF0u); }},
@@ -318,6 +321,11 @@ void expect_safe_if_loaded(const std::string& bytes, const std::string& what) {
   }
   ASSERT_EQ(blend_local(proxy, sw.data(), uint32_t(sw.size()), c.data(), r.data()), SPX_OK) << what;
   if (!proxy.has_skin()) return;
+  for (uint32_t j = 0; j < proxy.joint_count(); ++j) {  // a host's walk to the root ends
+    int32_t up = int32_t(j);
+    for (uint32_t steps = 0; up != -1 && steps <= proxy.joint_count(); ++steps) up = proxy.joint_parent(uint32_t(up));
+    EXPECT_EQ(up, -1) << what << ": joint " << j;
+  }
   std::mt19937 rng(1);
   const std::vector<float> m = random_joint_matrices(int(proxy.joint_count()), rng);
   std::vector<float> xyzr(size_t(n) * 4);
@@ -443,6 +451,33 @@ TEST(Runtime, XyzrBlendsEqualTheSplitLayout) {
     EXPECT_EQ(blend_local_normalized(proxy, normalized.data(), sw.size() + 1, xyzr.data()), SPX_ERR_WEIGHT_COUNT);
     EXPECT_EQ(blend_global_xyzr(Proxy(), w.data(), p, xyzr.data()), SPX_ERR_EMPTY);
   }
+}
+
+// The skeleton's rule in linear time against walking every joint's parents (at most as many
+// steps as joints): the first joint whose walk meets a parent out of range or does not reach a
+// root. Random forests with a few parents re-pointed (cycles, self-parents, out of range).
+TEST(Runtime, JointTreeAgreesWithWalkingEveryJoint) {
+  std::mt19937 rng(5);
+  size_t failing = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const uint32_t n = 1 + rng() % 9;
+    std::vector<int32_t> parents(n);
+    for (uint32_t j = 0; j < n; ++j) parents[j] = j == 0 || rng() % 4 == 0 ? -1 : int32_t(rng() % j);
+    for (int k = int(rng() % 3); k > 0; --k) parents[rng() % n] = int32_t(rng() % (n + 2)) - 1;
+    int64_t brute = -1;
+    for (uint32_t j = 0; j < n && brute < 0; ++j) {
+      int64_t up = j;
+      uint32_t steps = 0;
+      while (up >= 0 && up < int64_t(n) && steps++ <= n) up = parents[size_t(up)];
+      if (up != -1) brute = j;
+    }
+    std::vector<uint32_t> marks(n);
+    const int64_t fast = detail::joint_off_the_tree(n, [&](uint32_t j) { return int64_t(parents[j]); }, marks.data());
+    EXPECT_EQ(fast, brute) << "trial " << trial;
+    failing += brute >= 0;
+  }
+  EXPECT_GT(failing, 500u);  // both outcomes well exercised
+  EXPECT_LT(failing, 3500u);
 }
 
 TEST(Runtime, FiniteIsDecidedByTheBits) {

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/version.hpp"
+#include "io/skin_file.hpp"
 #include "io/spheres_file.hpp"
 
 namespace spx {
@@ -30,6 +31,7 @@ ProxySkin skin_from_json(const json& j, size_t sphere_count, const std::string& 
       fail_input(path, "skin.joints: a parent is not -1 or a joint");
     skin.parents.push_back(parent.get<int>());
   }
+  require_joint_tree(skin.parents, "skin.joints", path);
   const json& spheres = require(j, "spheres", path);
   if (!spheres.is_array() || spheres.size() != sphere_count)
     fail_input(path, "skin.spheres must have one entry per sphere (" + std::to_string(sphere_count) + ")");

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/version.hpp"
+#include "runtime/spx_runtime.h"
 
 namespace spx {
 namespace {
@@ -100,6 +101,15 @@ json skin_to_json(const SkinFile& skin) {
   return out;
 }
 
+void require_joint_tree(const std::vector<int>& parents, const std::string& field, const std::string& path) {
+  std::vector<uint32_t> marks(parents.size());
+  const int64_t off = detail::joint_off_the_tree(
+      uint32_t(parents.size()), [&](uint32_t j) { return int64_t(parents[j]); }, marks.data());
+  if (off >= 0)
+    fail_input(path, field + ": following joint " + std::to_string(off) +
+                         "'s parents never reaches a root (-1): they form a cycle");
+}
+
 SkinFile read_skin_file(const std::string& path) {
   return read_json_document(path, "skin", [&](const json& j) {
     require_header(j, kFormat, "skin", kVersion, path);
@@ -118,6 +128,9 @@ SkinFile read_skin_file(const std::string& path) {
       joint.inverse_bind = matrix_from_json(require(joints[i], "inverse_bind", path), what + " inverse_bind", path);
       skin.joints.push_back(joint);
     }
+    std::vector<int> parents;
+    for (const SkinJoint& joint : skin.joints) parents.push_back(joint.parent);
+    require_joint_tree(parents, "joints", path);
     const json& weights = require(j, "vertex_weights", path);
     if (!weights.is_array()) fail_input(path, "field 'vertex_weights' is not an array");
     for (size_t v = 0; v < weights.size(); ++v)

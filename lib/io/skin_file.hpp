@@ -51,9 +51,15 @@ struct SkinFile {
   SkinClip clip;                // optional ("clip")
 };
 
+// Exit 2 naming `path` and `field` unless following `parents` (one per joint: -1 for a root, else
+// another joint, as the readers check each) from every joint reaches a root, as the runtime's
+// loader asks of a .spx: a host walks a joint's parents to the root, which a cycle never reaches.
+void require_joint_tree(const std::vector<int>& parents, const std::string& field, const std::string& path);
+
 json skin_to_json(const SkinFile& skin);
 // Exit 2 naming `path` and the field when the document is not a valid skin: joint indices out
-// of range, weights or matrices not finite, a matrix count other than the joint count.
+// of range, parents in a cycle, weights or matrices not finite, a matrix count other than the
+// joint count.
 SkinFile read_skin_file(const std::string& path);
 
 // The skin's weights for each of `vertices` (a rest mesh as a tool loaded it, in its own order):

@@ -52,7 +52,7 @@
 //             u32 joint count J, u32 section size in bytes (all of it, these 8 included);
 //             n records of x y z r, w0..w3 (f32) and j0..j3 (u32): the sphere's center in the
 //             asset's space, its radius, its joints' weights (0 past the last) and indices;
-//             J i32 parents (-1: none); J names (u32 length + bytes, padded to 4)
+//             J i32 parents (-1: none; no cycle); J names (u32 length + bytes, padded to 4)
 //   ...       sections, each 4-byte aligned
 //   end-4 u32 CRC-32 (IEEE 802.3) of every byte before it
 #ifndef SPX_RUNTIME_H
@@ -156,7 +156,8 @@ class Proxy {
   const char* pose_name(uint32_t pose) const { return pose < poses_n_ ? names_[pose] : nullptr; }
   bool empty() const { return block_ == nullptr; }
   // The skin: 0 joints without one. Per sphere x y z r w0 w1 w2 w3 (skin_spheres) and j0..j3
-  // (skin_joints); per joint its parent (-1: none) and name.
+  // (skin_joints); per joint its parent (-1: none; parents lead every joint to a root, the
+  // loader checks it) and name.
   bool has_skin() const { return joints_n_ > 0; }
   uint32_t joint_count() const { return joints_n_; }
   const float* skin_spheres() const { return skin_; }
@@ -245,6 +246,27 @@ inline bool normalize(const float* w, uint32_t n, float* out) {
   if (!(sum > 0) || !finite(sum)) return false;
   for (uint32_t i = 0; i < n; ++i) out[i] /= sum;
   return true;
+}
+
+// The skeleton's one rule, for this loader and the tools' readers alike: following parents
+// (parent_of(j): -1 for a root, else another joint) from every joint reaches a root. Returns the
+// first joint from which it does not (a parent out of range, or a cycle, a joint its own parent
+// included), or -1. A host walks parents to the root, which a cycle never reaches. O(count):
+// `marks` (count entries, scratch) holds which walk passed a joint first.
+template <class ParentOf>
+inline int64_t joint_off_the_tree(uint32_t count, const ParentOf& parent_of, uint32_t* marks) {
+  const uint32_t unseen = 0xFFFFFFFFu;
+  for (uint32_t j = 0; j < count; ++j) marks[j] = unseen;
+  for (uint32_t j = 0; j < count; ++j)
+    // Up from j to a root, or to a joint an earlier walk passed (which reaches one).
+    for (int64_t u = j; marks[u] == unseen;) {
+      marks[u] = j;
+      const int64_t parent = parent_of(uint32_t(u));
+      if (parent < -1 || parent >= int64_t(count) || (parent >= 0 && marks[parent] == j)) return j;
+      if (parent == -1) break;
+      u = parent;
+    }
+  return -1;
 }
 
 }  // namespace detail
@@ -374,8 +396,8 @@ inline Status check_skin_names(const unsigned char* b, Layout* l) {
 }
 
 // The skin's records, parents and names into `skin` (x y z r w0..w3 per sphere), `joints`,
-// `parents`, `names` and `chars`; SPX_ERR_BAD_SKIN for a value out of range or not finite, or
-// weights with no positive entry.
+// `parents`, `names` and `chars`; SPX_ERR_BAD_SKIN for a value out of range or not finite,
+// weights with no positive entry, or parents that do not lead every joint to a root.
 inline Status copy_skin(const unsigned char* b, const Layout& l, float* skin, uint32_t* joints, int32_t* parents,
                         char** names, char* chars) {
   Status status = SPX_OK;
@@ -394,10 +416,11 @@ inline Status copy_skin(const unsigned char* b, const Layout& l, float* skin, ui
       if (joints[i * 4 + k] >= l.joints) status = SPX_ERR_BAD_SKIN;
     }
   }
-  for (uint32_t j = 0; j < l.joints; ++j, r += 4) {
-    parents[j] = int32_t(rd32(r));
-    if (parents[j] < -1 || parents[j] >= int64_t(l.joints) || parents[j] == int32_t(j)) status = SPX_ERR_BAD_SKIN;
-  }
+  // Checked with the parents' own slots as the walks' marks, then filled.
+  const unsigned char* at = r;
+  const auto parent_of = [at](uint32_t j) { return int64_t(int32_t(rd32(at + 4 * uint64_t(j)))); };
+  if (joint_off_the_tree(l.joints, parent_of, reinterpret_cast<uint32_t*>(parents)) >= 0) status = SPX_ERR_BAD_SKIN;
+  for (uint32_t j = 0; j < l.joints; ++j, r += 4) parents[j] = int32_t(rd32(r));
   copy_name_list(b, uint64_t(r - b), l.joints, names, chars);
   return status;
 }

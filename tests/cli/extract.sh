@@ -137,9 +137,13 @@ more = json.loads(json.dumps(skin)); more["poses"][1]["joint_matrices"].append(m
 json.dump(more, open(sys.argv[2] + "/skin-more-joints.json", "w"))
 skin["poses"][0]["joint_matrices"][0][0] = 123456789.25  # a unique token, then out of range
 open(sys.argv[2] + "/skin-infinite.json", "w").write(json.dumps(skin).replace("123456789.25", "1e999"))
+cycle = json.load(open(sys.argv[1])); cycle["joints"][0]["parent"] = len(cycle["joints"]) - 1
+json.dump(cycle, open(sys.argv[2] + "/skin-cycle.json", "w"))
 PY
   expect 2 "skin-more-joints.json: pose '.*' joint_matrices does not hold one matrix per joint" "$out/bad.proxy.json" -- pm "${poses[@]}" --skin "$out/skin-more-joints.json"
   expect 2 "skin-infinite.json: .*1e999" "$out/bad.proxy.json" -- pm "${poses[@]}" --skin "$out/skin-infinite.json"
+  expect 2 "skin-cycle.json: joints: following joint 0's parents never reaches a root (-1): they form a cycle" \
+    "$out/bad.proxy.json" -- pm "${poses[@]}" --skin "$out/skin-cycle.json"
   expect 2 "rest.obj: is not the skin of its joint matrices" "$out/bad.proxy.json" -- pm --pose "$r/poses/pose-00.obj" --pose "$r/poses/rest.obj" --skin "$r/poses/skin.json"
   # Another mesh's spheres (the car at a thousandth of its size, inside the cylinder): a skinned
   # body's fields are built at the spheres' voxel; the failure says whose voxel, not a resolution.
