@@ -57,7 +57,10 @@ void append_skin(std::string& b, const ProxySkin& skin) {
 std::string encode_spx(const ProxyModel& proxy) {
   const size_t n = proxy.sphere_count(), p = proxy.poses.size(), s = proxy.sites.size();
   if (n == 0 || p == 0 || s == 0) fail_input("", "proxy has no spheres, poses or sites");
-  if (p > SPX_MAX_POSES) fail_unsupported("", "more than " + std::to_string(SPX_MAX_POSES) + " poses");
+  if (p > SPX_MAX_POSES)
+    fail_unsupported("", "has " + std::to_string(p) + " poses (the rest and " + std::to_string(p - 1) +
+                             " examples); a .spx holds at most " + std::to_string(SPX_MAX_POSES) +
+                             ", the runtime's SPX_MAX_POSES: map fewer poses (pose-extract --select N or --every K)");
   std::string b(SPX_HEADER_SIZE, '\0');
   std::memcpy(&b[0], SPX_MAGIC, 8);
   put16(b, 8, SPX_FORMAT_VERSION_MAJOR);

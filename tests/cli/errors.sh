@@ -118,6 +118,15 @@ print(sum((max(c)-min(c))**2 for c in zip(*v))**0.5)" "$out/in/rest.obj")"; then
 "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/ok.proxy.json" -q
 "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/ok.spx" -q
 expect 1 "Error: --ply-pose: no pose 12" "$out/o.ply" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/o.ply" --ply-pose 12
+# More poses than the runtime reads: the count, the limit and what to do about it.
+python3 -c "
+import json, sys
+p = json.load(open(sys.argv[1]))
+p['poses'] += [dict(p['poses'][1], name='more-%d' % k) for k in range(298)]
+json.dump(p, open(sys.argv[2], 'w'))
+" "$out/ok.proxy.json" "$out/many.proxy.json"
+expect 3 "many.proxy.json: has 300 poses (the rest and 299 examples); a .spx holds at most 256.*pose-extract --select" \
+  "$out/many.spx" -- "$bin/proxy-export" "$out/many.proxy.json" -o "$out/many.spx"
 expect 2 "ok.spx: is a runtime .spx file" "$out/o.json" -- "$bin/proxy-export" "$out/ok.spx" -o "$out/o.json"
 expect 2 "rest.vdb: is an OpenVDB file" "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
   --spheres "$out/rest.vdb" -o "$out/o.json"
