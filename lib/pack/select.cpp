@@ -52,6 +52,17 @@ UnionGaps union_gaps(const std::vector<Eigen::Vector3d>& samples, size_t weighte
 
 bool kept_over(const UnionGaps& a, const UnionGaps& b) { return a.max <= b.max && a.max * a.median < b.max * b.median; }
 
+namespace {
+// No candidate at all, said as greedy packing says it: the deepest voxel against the least radius.
+[[noreturn]] void fail_no_candidates(const DenseField& field, double min_radius) {
+  double deepest = 0;
+  for (float v : field.values) deepest = std::max(deepest, -double(v));
+  if (!(deepest > 0)) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
+  fail_input("", "no inscribed sphere fits: the largest interior distance, " + num(deepest) + ", is " +
+                     (deepest < min_radius ? "below" : "near") + " the min radius " + num(min_radius));
+}
+}  // namespace
+
 // Selection by coverage: inscribed candidates, samples on the surface, a set cover for the
 // tolerance or the budget, then the centers refined off the grid.
 CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt, Log& log) {
@@ -76,7 +87,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     problem.weighted.push_back(mesh.surface().vertices.size());
   }
   const SphereSet& candidates = problem.spheres[0];
-  if (candidates.empty()) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
+  if (candidates.empty()) fail_no_candidates(field, opt.pack.min_radius);
   out.candidates = candidates.size();
   out.samples = problem.sample_count();
   // The centres are refined off the grid after the cover (below), unless the field bounds the radii.

@@ -35,6 +35,11 @@ cp "$out/in/rest.obj" "$out/fake.vdb"
 expect 2 "fake.vdb" "$out/y.json" -- "$bin/sphere-pack" "$out/fake.vdb" -o "$out/y.json"
 expect 1 "min radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius 0.1 --max-radius 0.01
 expect 1 "min-radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius -2
+# A least radius past the body's depth: both methods say so (the cover said the field held no interior).
+for method in cover greedy; do
+  expect 2 "rest.vdb: no .*sphere fits: the largest interior distance.* is below the min radius 1e+06" "$out/y.json" -- \
+    "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius 1e6 --method $method
+done
 
 # --tolerance and --max-spheres combine: the tighter wins, and the report says which.
 "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 0.5% --max-spheres 5 -o "$out/t.json" -q \
