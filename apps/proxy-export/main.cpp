@@ -9,12 +9,11 @@ int main(int argc, char** argv) {
                                  "--physics), or as a page that plays it in a browser (.html).");
   std::string input, output;
   spx::ExportOptions opt;
-  bool stacked = false;
   tool.app.add_option("input", input, "Proxy from pose-map (.proxy.json)")->required();
   tool.app.add_option("-o,--output", output, "Output: .spx, .json, .glb, .ply or .html")->required();
   tool.writes_file("--output");
-  tool.app.add_option("--ply-pose", opt.pose, "Pose to write to .ply (0 = rest)")->capture_default_str();
-  tool.app.add_flag("--stacked", stacked, "In .glb, keep poses in place instead of side by side");
+  tool.app.add_option("--ply-pose", opt.pose, "Pose to write to .ply (default 0, the rest)")->check(spx::kNonNegative);
+  tool.app.add_flag("--stacked", opt.stacked, "In .glb, keep poses in place instead of side by side");
   auto* rest_opt = tool.app.add_option("--rest", opt.rest, "Rest mesh M_0: previews colour each pose's mesh by its "
                                        "error, the page shows the body");
   auto* pose_opt = tool.app.add_option("--pose", opt.poses, "Example poses M_1..M_e in the proxy's order (with --rest)");
@@ -34,7 +33,6 @@ int main(int argc, char** argv) {
     if (!opt.poses.empty() && opt.rest.empty()) spx::fail_usage("--pose", "needs --rest");
     if (!manifest.empty()) spx::rest_and_poses(manifest, opt.rest, opt.poses);
     opt.manifest = manifest;
-    opt.spread = !stacked;
     spx::proxy_export_files(input, output, opt, tool.log, tool.report);
   });
 }

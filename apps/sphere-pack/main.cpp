@@ -1,3 +1,4 @@
+#include "core/error.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "tool/tool.hpp"
 
@@ -19,22 +20,29 @@ int main(int argc, char** argv) {
   tool.app.add_option("--tolerance", tolerance,
                       "Fewest spheres whose max vertex error is at most T (length, or T% of the diagonal). Default "
                       "with the cover method and no --max-spheres: 2%");
-  tool.app.add_option("--max-spheres", opt.pack.max_spheres,
+  auto* budget = tool.app.add_option("--max-spheres", opt.pack.max_spheres,
                       "At most N spheres; the cover method picks the N with the least max error")
-      ->check(CLI::PositiveNumber);
+      ->check(spx::kPositive);
   tool.app.add_option("--min-radius", opt.pack.min_radius, "No sphere smaller (greedy default: 1.5 voxels)");
   tool.app.add_option("--max-radius", opt.pack.max_radius, "No sphere larger (default unlimited)");
-  tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")->capture_default_str();
-  tool.app.add_option("--seed", opt.seed, "Cover: seed of the surface samples")->capture_default_str();
-  tool.app.add_option("--polish", opt.polish_rounds,
+  auto* samples = tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")
+                      ->capture_default_str();
+  auto* seed = tool.app.add_option("--seed", opt.seed, "Cover: seed of the surface samples")->capture_default_str();
+  auto* polish = tool.app.add_option("--polish", opt.polish_rounds,
                       "Cover with --max-spheres: cover again this many times from the refined spheres, keeping a "
                       "set with no higher max error and a lower max times median (0: faster, the first "
                       "refinement's)")
       ->check(CLI::Range(0, 16))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(budget);
   bool grid_centers = false;
   tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {
+    // An option of the other method would be ignored: said, not dropped.
+    for (const CLI::Option* cover_only : {samples, seed, polish})
+      if (method == "greedy" && cover_only->count() > 0)
+        spx::fail_usage(cover_only->get_name(), "is for the cover method (greedy packing takes no surface samples)");
+    if (method != "greedy" && grid_centers) spx::fail_usage("--grid-centers", "is for --method greedy");
     opt.method = method == "greedy" ? spx::PackMethod::greedy : spx::PackMethod::cover;
     opt.pack.refine_centers = !grid_centers;
     spx::sphere_pack_files(input, mesh, output, opt, spx::parse_tolerance(tolerance, "--tolerance"), tool.log,

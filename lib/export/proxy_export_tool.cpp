@@ -1,5 +1,6 @@
 #include "export/proxy_export_tool.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/atomic_file.hpp"
@@ -30,8 +31,8 @@ std::string colored_preview(const ProxyModel& proxy, const std::string& input, c
     for (double d : e.vertex_error) scale = std::max(scale, std::abs(d));
     evals.push_back(std::move(e));
   }
-  const double step = options.spread ? 1.25 * meshes[0].bounds().sizes().x() : 0.0;
-  return encode_error_scene(evals, ext, options.pose, scale, step);
+  const double step = options.stacked ? 0.0 : 1.25 * meshes[0].bounds().sizes().x();
+  return encode_error_scene(evals, ext, std::max(options.pose, 0), scale, step);
 }
 
 // The colliders as glTF physics shapes, alone or in the asset; what was left out in the report.
@@ -106,6 +107,8 @@ void proxy_export_files(const std::string& input, const std::string& output, con
   if (!options.asset.empty() && !options.rest.empty())
     fail_usage("--asset", "gives the body: leave out --rest/--pose/--manifest");
   if (!options.up.empty() && ext != ".html") fail_usage("--up", "is for a .html page");
+  if (options.pose >= 0 && ext != ".ply") fail_usage("--ply-pose", "is for a .ply output (one pose)");
+  if (options.stacked && (ext != ".glb" || options.physics)) fail_usage("--stacked", "is for a .glb of sphere meshes");
   if (!options.up.empty() && options.up != "y" && options.up != "z") fail_usage("--up", "must be y or z");
   if (ext != ".spx" && ext != ".json" && ext != ".glb" && ext != ".ply" && ext != ".html")
     fail_usage(output, "unknown output format '" + ext + "' (use .spx, .json, .glb, .ply or .html)");
@@ -116,7 +119,7 @@ void proxy_export_files(const std::string& input, const std::string& output, con
   else about_file(input, [&] {
     if (ext == ".spx") bytes = encode_spx(proxy);
     else if (ext == ".json") bytes = dump_json(proxy_to_plain_json(proxy));
-    else if (options.rest.empty()) bytes = encode_preview(proxy, ext, options.pose, options.spread);
+    else if (options.rest.empty()) bytes = encode_preview(proxy, ext, std::max(options.pose, 0), !options.stacked);
     else bytes = colored_preview(proxy, input, ext, options, log);
   });
   write_file_atomic(output, bytes);

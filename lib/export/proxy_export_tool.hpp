@@ -10,8 +10,8 @@
 namespace spx {
 
 struct ExportOptions {
-  int pose = 0;        // for .ply
-  bool spread = true;  // .glb: lay poses side by side
+  int pose = -1;         // .ply: the pose written (-1: not given, the rest)
+  bool stacked = false;  // .glb: poses in place (by default side by side)
   // With the meshes, .glb/.ply previews also show each pose's mesh coloured by its error.
   std::string rest;
   std::vector<std::string> poses;

@@ -26,6 +26,22 @@ void keep_large_blocks_on_the_heap() {
 
 }  // namespace
 
+namespace {
+CLI::Validator bounded_below(bool zero_allowed) {
+  return CLI::Validator(
+      [zero_allowed](std::string& text) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || std::isnan(value)) return "'" + text + "' is not a number";
+        if (zero_allowed ? value < 0 : !(value > 0))
+          return std::string("must be ") + (zero_allowed ? "0 or more" : "above 0") + ", not " + text;
+        return std::string();
+      },
+      zero_allowed ? "NONNEGATIVE" : "POSITIVE");
+}
+}  // namespace
+
+const CLI::Validator kPositive = bounded_below(false), kNonNegative = bounded_below(true);
+
 Tool::Tool(std::string name, const std::string& description)
     : app(description, name), log(name, 0), name_(std::move(name)) {
   app.set_version_flag("--version", std::string(name_) + " (spx) " + version_string());

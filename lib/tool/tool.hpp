@@ -51,6 +51,10 @@ class Tool {
   int verbose_ = 0;
 };
 
+// CLI11's PositiveNumber and NonNegativeNumber with messages a person reads ("must be above 0,
+// not -3"; CLI11's spelled out the range up to the largest double).
+extern const CLI::Validator kPositive, kNonNegative;
+
 // "0.05" (mesh units) or "1%" (of the diagonal); empty: not set. A usage error naming `flag`.
 Tolerance parse_tolerance(const std::string& text, const std::string& flag);
 

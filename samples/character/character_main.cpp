@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
   tool.app.add_option("--objects", opt.objects, "Boxes and balls dropped on the body")->check(CLI::Range(0, 10000))
       ->capture_default_str();
   tool.app.add_option("--height", opt.body_height, "The body's height in metres (the asset is scaled to it)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(spx::kPositive)->capture_default_str();
   tool.app.add_option("--seed", opt.seed, "Where the objects are dropped")->capture_default_str();
   tool.app.add_option("--json", out_path, "Write the results here");
   return tool.run(argc, argv, [&] {

@@ -99,10 +99,30 @@ expect 2 "swapped" "$out/sw.json" -- "$bin/pose-map" --rest "$out/in/squash.obj"
   --spheres "$out/s.json" -o "$out/sw.json"
 
 # Counts and tolerances users mistype.
-expect 1 "max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres 0
-expect 1 "max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres -5
-expect 1 "fill-max" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
+expect 1 "max-spheres: must be above 0, not 0" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres 0
+expect 1 "max-spheres: must be above 0, not -5" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres -5
+expect 1 "fill-max: must be above 0, not 0" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
   --spheres "$out/s.json" -o "$out/n.json" --fill-gaps --fill-max 0
+expect 1 "tet-size: must be above 0, not -1" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
+  --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/n.json" --tet-size -1
+
+# An option the run would ignore (another method's, or one that needs a flag not given) is an
+# error naming it, not dropped.
+pm() { "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/n.json" "$@"; }
+expect 1 "fill-max requires --fill-gaps" "$out/n.json" -- pm --fill-max 3
+expect 1 "fill-tolerance requires --fill-gaps" "$out/n.json" -- pm --fill-tolerance 1%
+expect 1 "fill-min-radius requires --fill-gaps" "$out/n.json" -- pm --fill-min-radius 0.01
+expect 1 "clip-overshoot requires --hold-over-clip" "$out/n.json" -- pm --clip-overshoot 1%
+for selection in "--tolerance 1%" "--max-spheres 5" "--samples 100" "--seed 2" "--polish 2"; do
+  expect 1 "excludes" "$out/n.json" -- pm --map-given $selection
+done
+expect 1 "samples: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
+  --method greedy --samples 100
+expect 1 "seed: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
+  --method greedy --seed 3
+expect 1 "polish requires --max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --polish 2
+expect 1 "grid-centers: is for --method greedy" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
+  --grid-centers
 expect 1 "fill-tolerance: 'abc'" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
   --spheres "$out/s.json" -o "$out/n.json" --fill-gaps --fill-tolerance abc
 "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 2 -o "$out/big.json" --report "$out/big.report.json" \
@@ -123,6 +143,9 @@ print(sum((max(c)-min(c))**2 for c in zip(*v))**0.5)" "$out/in/rest.obj")"; then
 "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/ok.proxy.json" -q
 "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/ok.spx" -q
 expect 1 "Error: --ply-pose: no pose 12" "$out/o.ply" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/o.ply" --ply-pose 12
+expect 1 "ply-pose: is for a .ply output" "$out/n.spx" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.spx" --ply-pose 1
+expect 1 "stacked: is for a .glb of sphere meshes" "$out/n.spx" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.spx" --stacked
+expect 1 "ply-pose: must be 0 or more, not -1" "$out/n.ply" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.ply" --ply-pose -1
 # More poses than the runtime reads: the count, the limit and what to do about it.
 python3 -c "
 import json, sys
