@@ -17,11 +17,16 @@ int main(int argc, char** argv) {
   tool.app.add_option("--blends", opt.eval.blends, "Weight vectors to evaluate between examples")->capture_default_str();
   tool.app.add_option("--seed", opt.eval.seed, "Seed of the random blends")->capture_default_str();
   tool.app.add_option("--coverage-samples", opt.eval.coverage_samples, "Grid cells along the longest side for coverage")
-      ->capture_default_str();
-  tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
+      ->capture_default_str()
+      ->check(spx::kPositive);
+  auto* colors = tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
   tool.writes_file("--colors");
-  tool.app.add_option("--color-pose", opt.color_pose, "Pose written to a .ply (0 = rest)")->capture_default_str();
-  tool.app.add_option("--color-scale", opt.color_scale, "Error shown as full red (default: the largest max error)");
+  tool.app.add_option("--color-pose", opt.color_pose, "Pose written to a .ply (default 0, the rest)")
+      ->check(spx::kNonNegative)
+      ->needs(colors);
+  tool.app.add_option("--color-scale", opt.color_scale, "Error shown as full red (default: the largest max error)")
+      ->check(spx::kPositive)
+      ->needs(colors);
   auto& m = opt.motion;
   auto* asset_opt = tool.app.add_option("--asset", m.asset, "Rigged asset the proxy was made from: measure the runtime's "
                                         "skin over a clip of it (every frame asked for and half-way between)");

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   res->excludes(vs);
   tool.app.add_option("--band", opt.band, "Exterior narrow band in voxels")->capture_default_str();
   tool.app.add_option("--memory-limit", opt.memory_limit_gib, "Refuse grids needing more memory than this (GiB)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(spx::kPositive);
   return tool.run(argc, argv, [&] { spx::sdf_build_files(input, output, opt, tool.log, tool.report); });
 }

@@ -117,6 +117,7 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
     fail_option("poses", "the proxy has " + std::to_string(proxy.poses.size() - 1) + " example poses, " +
                              std::to_string(meshes.size() - 1) + " were given");
   if (opt.blends < 0) fail_option("blends", "must not be negative");
+  if (opt.coverage_samples < 1) fail_option("coverage_samples", "must be above 0");
   EvalResult result;
   for (size_t i = 0; i < meshes.size(); ++i) {
     PoseError p{proxy.poses[i].name, {}, proxy.poses[i].spheres, {}};

@@ -1,5 +1,6 @@
 #include "metrics/proxy_eval_tool.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -103,7 +104,7 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
     if (!(scale > 0))
       for (const Measurement& m : r.pose_measurements) scale = std::max(scale, m.error.abs.max);
     std::vector<PoseError> shown = r.poses;
-    write_file_atomic(opt.colors, encode_error_scene(shown, ext, opt.color_pose, scale, 1.25 * meshes[0].bounds().sizes().x()));
+    write_file_atomic(opt.colors, encode_error_scene(shown, ext, std::max(opt.color_pose, 0), scale, 1.25 * meshes[0].bounds().sizes().x()));
     report["colors"] = {{"file", opt.colors}, {"scale", scale}};
   }
   report.update(measured);
@@ -116,6 +117,7 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
   if (!opt.colors.empty()) {
     const std::string ext = std::filesystem::path(opt.colors).extension().string();
     if (ext != ".glb" && ext != ".ply") fail_usage(opt.colors, "colours go to .glb or .ply");
+    if (opt.color_pose >= 0 && ext != ".ply") fail_usage("--color-pose", "is for a .ply (a .glb holds every pose)");
     if (rest_path.empty()) fail_option("colors", "colours are drawn on the examples: give --rest/--pose or --manifest");
   }
   if (rest_path.empty() && opt.motion.asset.empty())

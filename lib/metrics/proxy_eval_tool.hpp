@@ -14,7 +14,7 @@ namespace spx {
 struct EvalToolOptions {
   EvalOptions eval;
   std::string colors;      // OUT.ply | OUT.glb: per-vertex error colours
-  int color_pose = 0;      // for .ply
+  int color_pose = -1;     // .ply: the pose drawn (-1: not given, the rest)
   double color_scale = 0;  // error shown as full red; 0: the largest max error over the poses
   MotionToolOptions motion;  // --asset: over a clip (a rigged body's proxy)
 };

@@ -146,6 +146,13 @@ expect 1 "Error: --ply-pose: no pose 12" "$out/o.ply" -- "$bin/proxy-export" "$o
 expect 1 "ply-pose: is for a .ply output" "$out/n.spx" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.spx" --ply-pose 1
 expect 1 "stacked: is for a .glb of sphere meshes" "$out/n.spx" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.spx" --stacked
 expect 1 "ply-pose: must be 0 or more, not -1" "$out/n.ply" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.ply" --ply-pose -1
+ev() { "$bin/proxy-eval" "$out/ok.proxy.json" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" "$@"; }
+expect 1 "coverage-samples: must be above 0, not 0" "" -- ev --coverage-samples 0
+expect 1 "color-pose requires --colors" "" -- ev --color-pose 1
+expect 1 "color-scale requires --colors" "" -- ev --color-scale 0.1
+expect 1 "color-scale: must be above 0, not -1" "$out/n.ply" -- ev --colors "$out/n.ply" --color-scale -1
+expect 1 "color-pose: is for a .ply" "$out/n.glb" -- ev --colors "$out/n.glb" --color-pose 1
+expect 1 "memory-limit: must be above 0, not 0" "$out/n.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/n.vdb" --memory-limit 0
 # More poses than the runtime reads: the count, the limit and what to do about it.
 python3 -c "
 import json, sys
