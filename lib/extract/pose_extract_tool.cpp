@@ -85,6 +85,15 @@ std::vector<PoseRequest> clip_requests(const Asset& asset, const PoseExtractOpti
     const size_t step = size_t(std::max(opt.every, 1));
     for (size_t f = 0; f < c.frames.size(); f += step) at.emplace_back(c.frames[f], int(f));
   }
+  // A pose asked twice would be mapped twice and blended as two examples.
+  std::vector<std::pair<double, int>> sorted = at;
+  std::sort(sorted.begin(), sorted.end());
+  const auto twice = std::adjacent_find(sorted.begin(), sorted.end(),
+                                        [](const auto& a, const auto& b) { return a.first == b.first; });
+  if (twice != sorted.end())
+    fail_option(opt.times.empty() ? "frames" : "times",
+                (opt.times.empty() ? "frame " + std::to_string(twice->second) : format_seconds(twice->first) + " s") +
+                    " is asked twice (each pose once)");
   std::vector<PoseRequest> out;
   const int width = at.size() > 100 ? int(std::to_string(at.size() - 1).size()) : 2;
   for (size_t i = 0; i < at.size(); ++i) {

@@ -215,6 +215,8 @@ expect 1 "\-\-mesh: no mesh or node named 'lid'" "$px/poses.json" -- "$bin/pose-
 expect 1 "\-\-frames: frame 9 is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1,9
 expect 1 "\-\-times: 3.5 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation barrel --times 3.5
 expect 1 "\-\-times: -1 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times=-1
+expect 1 "\-\-times: 0.5 s is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times 0.5,1,0.5
+expect 1 "\-\-frames: frame 1 is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1,0,1
 expect 1 "give \-\-morph-targets or \-\-animation" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px"
 expect 1 "\-\-select" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --select 0
 expect 1 "\-\-manifest" "$out/o.json" -- "$bin/pose-map" --manifest "$out/in/rest.obj" --rest "$out/in/rest.obj" \
