@@ -75,6 +75,35 @@ void Tool::check_output_folders() const {
   }
 }
 
+void Tool::check_outputs_apart() const {
+  namespace fs = std::filesystem;
+  std::vector<std::string> flags = file_outputs_;
+  flags.push_back("--report");
+  std::vector<std::pair<const CLI::Option*, fs::path>> outputs;
+  for (const std::string& flag : flags) {
+    const CLI::Option* option = app.get_option_no_throw(flag);
+    if (option && option->count() > 0)
+      outputs.emplace_back(option, fs::absolute(option->as<std::string>()).lexically_normal());
+  }
+  for (size_t a = 0; a < outputs.size(); ++a)
+    for (size_t b = 0; b < a; ++b)
+      if (outputs[a].second == outputs[b].second)
+        fail_usage(outputs[a].first->get_name(), "writes the file " + outputs[b].first->get_name() + " writes");
+  for (const CLI::Option* option : app.get_options()) {
+    const bool is_output = std::any_of(outputs.begin(), outputs.end(), [&](const auto& o) { return o.first == option; });
+    if (is_output || option->get_type_size() == 0) continue;  // flags name no file
+    for (const std::string& value : option->results())
+      for (const auto& [output, path] : outputs) {
+        std::error_code ec;
+        if (fs::equivalent(value, path, ec))
+          fail_usage(output->get_name(), value + " is also " +
+                                             (option->get_name().rfind("--", 0) == 0 ? option->get_name() + "'s file"
+                                                                                       : "the " + option->get_name()) +
+                                             ": writing it would overwrite an input");
+      }
+  }
+}
+
 std::string Tool::flag_for(const std::string& option) const {
   const auto named = flags_.find(option);
   if (named != flags_.end()) return named->second;
@@ -102,6 +131,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
 
   ExitCode code = ExitCode::ok;
   try {
+    check_outputs_apart();
     check_output_folders();
     StageTimer total(log, "total");
     body();

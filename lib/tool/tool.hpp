@@ -43,6 +43,9 @@ class Tool {
  private:
   // Fails (exit 4, naming the file) where an output's folder is not there.
   void check_output_folders() const;
+  // Fails (exit 1, naming the flag) where an output is an input's file or another output's: the
+  // run would lose what it was given, or write one file twice.
+  void check_outputs_apart() const;
   std::map<std::string, std::string> flags_;
   std::vector<std::string> file_outputs_, folder_outputs_;
   std::string name_;

@@ -223,6 +223,18 @@ expect 1 "\-\-manifest" "$out/o.json" -- "$bin/pose-map" --manifest "$out/in/res
   --spheres "$out/s.json" -o "$out/o.json"
 expect 2 "rest.obj" "$out/o.json" -- "$bin/pose-map" --manifest "$out/in/rest.obj" --spheres "$out/s.json" -o "$out/o.json"
 
+# An output over an input, or two outputs on one file: refused before any work, the input intact.
+cp "$out/in/rest.obj" "$out/mine.obj"
+before=$(md5sum <"$out/mine.obj")
+expect 1 "output: .*mine.obj is also the input: writing it would overwrite an input" "" -- \
+  "$bin/sdf-build" "$out/mine.obj" -o "$out/mine.obj"
+check "the input refused as an output is intact" [ "$before" = "$(md5sum <"$out/mine.obj")" ]
+cp "$out/s.json" "$out/s-keep.json"
+expect 1 "output: .*s-keep.json is also --spheres's file" "" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
+  --pose "$out/in/dent.obj" --spheres "$out/s-keep.json" -o "$out/s-keep.json"
+expect 1 "report: writes the file --output writes" "$out/same.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" \
+  -o "$out/same.vdb" --report "$out/same.vdb"
+
 # A failed run keeps the previous output intact.
 "$bin/sdf-build" "$out/in/rest.obj" -o "$out/keep.vdb" --resolution 16 -q
 before=$(md5sum <"$out/keep.vdb")
