@@ -17,12 +17,23 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
   -I"$root/lib" -I"$root/lib/runtime" -I/usr/include/eigen3 -DSPX_VERSION='"fuzz"')
 "$cxx" "${flags[@]}" "$root/tests/fuzz/spx_reader.cpp" -o "$out/spx_reader"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/atomic_file.cpp" \
-  "$root/lib/io/spheres_file.cpp" "$root/lib/io/proxy_file.cpp" "$root/lib/core/version.cpp" -o "$out/json_readers"
+  "$root/lib/io/spheres_file.cpp" "$root/lib/io/proxy_file.cpp" "$root/lib/io/skin_file.cpp" "$root/lib/core/version.cpp" \
+  -o "$out/json_readers"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
 seeds=$out/seeds/car
 cp "$seeds/car.spx" "$out/corpus-spx/"
 cp "$seeds/rest.spheres.json" "$seeds/car.proxy.json" "$seeds/car.json" "$out/corpus-json/"
+# A skin: the robot sample's rig at two frames, its clip left out (its 60 Hz matrices run past
+# -max_len).
+"$build/apps/sample-gen" robot -o "$out/seeds/robot" -q
+"$build/apps/pose-extract" "$out/seeds/robot/robot.glb" -o "$out/seeds/robot/poses" --animation 0 --select 2 -q
+python3 -c "
+import json, sys
+skin = json.load(open(sys.argv[1]))
+skin.pop('clip', None)
+json.dump(skin, open(sys.argv[2], 'w'))
+" "$out/seeds/robot/poses/skin.json" "$out/corpus-json/skin.json"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"
 cd "$out"

@@ -111,55 +111,57 @@ void require_joint_tree(const std::vector<int>& parents, const std::string& fiel
 }
 
 SkinFile read_skin_file(const std::string& path) {
-  return read_json_document(path, "skin", [&](const json& j) {
-    require_header(j, kFormat, "skin", kVersion, path);
-    SkinFile skin;
-    const json& joints = require(j, "joints", path);
-    if (!joints.is_array() || joints.empty()) fail_input(path, "field 'joints' is not a list of joints");
-    for (size_t i = 0; i < joints.size(); ++i) {
-      const std::string what = "joint " + std::to_string(i);
-      SkinJoint joint;
-      joint.name = require_string(joints[i], "name", path);
-      const json& parent = require(joints[i], "parent", path);
-      if (!parent.is_number_integer() || parent.get<long long>() < -1 || parent.get<long long>() >= (long long)joints.size() ||
-          parent.get<long long>() == (long long)i)
-        fail_input(path, what + ": parent is not -1 or another joint");
-      joint.parent = parent.get<int>();
-      joint.inverse_bind = matrix_from_json(require(joints[i], "inverse_bind", path), what + " inverse_bind", path);
-      skin.joints.push_back(joint);
-    }
-    std::vector<int> parents;
-    for (const SkinJoint& joint : skin.joints) parents.push_back(joint.parent);
-    require_joint_tree(parents, "joints", path);
-    const json& weights = require(j, "vertex_weights", path);
-    if (!weights.is_array()) fail_input(path, "field 'vertex_weights' is not an array");
-    for (size_t v = 0; v < weights.size(); ++v)
-      skin.vertex_weights.push_back(weights_from_json(weights[v], joints.size(), "vertex " + std::to_string(v), path));
-    const json& positions = require(j, "vertex_positions", path);
-    if (!positions.is_array() || positions.size() != weights.size())
-      fail_input(path, "field 'vertex_positions' does not hold one position per weighted vertex");
-    for (size_t v = 0; v < positions.size(); ++v) {
-      const std::string what = "vertex_positions[" + std::to_string(v) + "]";
-      if (!positions[v].is_array() || positions[v].size() != 3) fail_input(path, what + " is not [x, y, z]");
-      Eigen::Vector3d p;
-      for (int k = 0; k < 3; ++k) p[k] = as_finite_number(positions[v][size_t(k)], what, path);
-      skin.vertex_positions.push_back(p);
-    }
-    skin.rest = matrices_from_json(require(require(j, "rest", path), "joint_matrices", path), joints.size(),
-                                   "rest joint_matrices", path);
-    const json& poses = require(j, "poses", path);
-    if (!poses.is_array()) fail_input(path, "field 'poses' is not an array");
-    for (const json& p : poses) {
-      SkinPose pose;
-      pose.name = require_string(p, "name", path);
-      pose.matrices = matrices_from_json(require(p, "joint_matrices", path), joints.size(),
-                                         "pose '" + pose.name + "' joint_matrices", path);
-      skin.poses.push_back(std::move(pose));
-    }
-    skin.morph_channels = j.value("morph_channels", size_t(0));
-    if (j.contains("clip")) skin.clip = clip_from_json(j["clip"], joints.size(), path);
-    return skin;
-  });
+  return read_json_document(path, "skin", [&](const json& j) { return skin_from_json(j, path); });
+}
+
+SkinFile skin_from_json(const json& j, const std::string& path) {
+  require_header(j, kFormat, "skin", kVersion, path);
+  SkinFile skin;
+  const json& joints = require(j, "joints", path);
+  if (!joints.is_array() || joints.empty()) fail_input(path, "field 'joints' is not a list of joints");
+  for (size_t i = 0; i < joints.size(); ++i) {
+    const std::string what = "joint " + std::to_string(i);
+    SkinJoint joint;
+    joint.name = require_string(joints[i], "name", path);
+    const json& parent = require(joints[i], "parent", path);
+    if (!parent.is_number_integer() || parent.get<long long>() < -1 || parent.get<long long>() >= (long long)joints.size() ||
+        parent.get<long long>() == (long long)i)
+      fail_input(path, what + ": parent is not -1 or another joint");
+    joint.parent = parent.get<int>();
+    joint.inverse_bind = matrix_from_json(require(joints[i], "inverse_bind", path), what + " inverse_bind", path);
+    skin.joints.push_back(joint);
+  }
+  std::vector<int> parents;
+  for (const SkinJoint& joint : skin.joints) parents.push_back(joint.parent);
+  require_joint_tree(parents, "joints", path);
+  const json& weights = require(j, "vertex_weights", path);
+  if (!weights.is_array()) fail_input(path, "field 'vertex_weights' is not an array");
+  for (size_t v = 0; v < weights.size(); ++v)
+    skin.vertex_weights.push_back(weights_from_json(weights[v], joints.size(), "vertex " + std::to_string(v), path));
+  const json& positions = require(j, "vertex_positions", path);
+  if (!positions.is_array() || positions.size() != weights.size())
+    fail_input(path, "field 'vertex_positions' does not hold one position per weighted vertex");
+  for (size_t v = 0; v < positions.size(); ++v) {
+    const std::string what = "vertex_positions[" + std::to_string(v) + "]";
+    if (!positions[v].is_array() || positions[v].size() != 3) fail_input(path, what + " is not [x, y, z]");
+    Eigen::Vector3d p;
+    for (int k = 0; k < 3; ++k) p[k] = as_finite_number(positions[v][size_t(k)], what, path);
+    skin.vertex_positions.push_back(p);
+  }
+  skin.rest = matrices_from_json(require(require(j, "rest", path), "joint_matrices", path), joints.size(),
+                                 "rest joint_matrices", path);
+  const json& poses = require(j, "poses", path);
+  if (!poses.is_array()) fail_input(path, "field 'poses' is not an array");
+  for (const json& p : poses) {
+    SkinPose pose;
+    pose.name = require_string(p, "name", path);
+    pose.matrices = matrices_from_json(require(p, "joint_matrices", path), joints.size(),
+                                       "pose '" + pose.name + "' joint_matrices", path);
+    skin.poses.push_back(std::move(pose));
+  }
+  skin.morph_channels = j.value("morph_channels", size_t(0));
+  if (j.contains("clip")) skin.clip = clip_from_json(j["clip"], joints.size(), path);
+  return skin;
 }
 
 std::vector<JointWeights> weights_for_vertices(const SkinFile& skin, const std::vector<Eigen::Vector3d>& vertices,

@@ -61,6 +61,8 @@ json skin_to_json(const SkinFile& skin);
 // of range, parents in a cycle, weights or matrices not finite, a matrix count other than the
 // joint count.
 SkinFile read_skin_file(const std::string& path);
+// The same from a parsed document (`path` names it in errors).
+SkinFile skin_from_json(const json& j, const std::string& path);
 
 // The skin's weights for each of `vertices` (a rest mesh as a tool loaded it, in its own order):
 // the weights of the skin's vertex within `tolerance` of it. Exit 2 naming `path` when a vertex
