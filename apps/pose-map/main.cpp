@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--tets", opt.tet_file, "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
   auto* fill = tool.app.add_flag("--fill-gaps", opt.fill_gaps,
-                    "Pack what each pose's mapped spheres leave uncovered and map the new spheres back to rest");
+                                 "Pack what each pose's mapped spheres leave uncovered and map the new spheres back "
+                                 "to rest");
   std::string fill_tolerance;
   tool.app.add_option("--fill-tolerance", fill_tolerance,
                       "Fill each pose until its max vertex error is at most this (default: the spheres file's "
@@ -34,31 +35,34 @@ int main(int argc, char** argv) {
   tool.app.add_option("--fill-min-radius", opt.fill_min_radius, "Smallest gap-filling sphere (default: 3/4 voxel)")
       ->needs(fill);
   std::string tolerance;
-  auto* tolerance_opt = tool.app.add_option("--tolerance", tolerance,
-                      "Select one sphere set from the spheres file's candidates so that the rest and every pose "
-                      "are within T (length, or T% of the rest diagonal). Default: the spheres file's tolerance");
+  auto* tolerance_opt =
+      tool.app.add_option("--tolerance", tolerance,
+                          "Select one sphere set from the spheres file's candidates so that the rest and every pose "
+                          "are within T (length, or T% of the rest diagonal). Default: the spheres file's tolerance");
   auto* budget = tool.app.add_option("--max-spheres", opt.max_spheres,
-                      "Select at most N spheres with the least max error over the rest and every pose")
-      ->check(spx::kPositive);
+                                     "Select at most N spheres with the least max error over the rest and every pose")
+                     ->check(spx::kPositive);
   auto* hold = tool.app.add_flag("--hold-over-clip", opt.hold_over_clip,
-                    "Rigged: each sphere's one radius also holds at every frame of the clip and half-way between "
-                    "(the skin's clip), not only at the poses");
+                                 "Rigged: each sphere's one radius also holds at every frame of the clip and half-way "
+                                 "between (the skin's clip), not only at the poses");
   std::string clip_overshoot;
   tool.app.add_option("--clip-overshoot", clip_overshoot,
                       "With --hold-over-clip: how far a sphere may poke out at the clip's times between the poses "
                       "(length, or T% of the rest diagonal; default 0.25%)")
       ->needs(hold);
   auto* given = tool.app.add_flag("--map-given", opt.map_given,
-                    "Map the spheres file's spheres as they are (the paper's S_1..S_e) instead of selecting");
+                                  "Map the spheres file's spheres as they are (the paper's S_1..S_e) instead of "
+                                  "selecting");
   auto* samples = tool.app.add_option("--samples", opt.area_samples,
                                       "Selection: surface samples per pose besides every vertex")
                       ->capture_default_str();
   auto* seed = tool.app.add_option("--seed", opt.seed, "Selection: seed of the surface samples")->capture_default_str();
   auto* polish = tool.app.add_option("--polish", opt.polish_rounds,
-                      "Selection with --max-spheres: cover again this many times from the refined spheres, keeping a "
-                      "set with no higher max error over the poses and a lower max times median (default 1, and 0 "
-                      "for a rigged body; 0: faster, the first refinement's)")
-      ->check(CLI::Range(0, 16));
+                                     "Selection with --max-spheres: cover again this many times from the refined "
+                                     "spheres, keeping a set with no higher max error over the poses and a lower max "
+                                     "times median (default 1, and 0 for a rigged body; 0: faster, the first "
+                                     "refinement's)")
+                     ->check(CLI::Range(0, 16));
   tool.app.add_option("--fill-max", opt.fill_max_per_pose, "At most this many gap-filling spheres per pose")
       ->check(spx::kPositive)
       ->needs(fill);

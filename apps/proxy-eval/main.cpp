@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--coverage-samples", opt.eval.coverage_samples, "Grid cells along the longest side for coverage")
       ->capture_default_str()
       ->check(spx::kPositive);
-  auto* colors = tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
+  auto* colors =
+      tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
   tool.writes_file("--colors");
   tool.app.add_option("--color-pose", opt.color_pose, "Pose written to a .ply (default 0, the rest)")
       ->check(spx::kNonNegative)

@@ -21,20 +21,20 @@ int main(int argc, char** argv) {
                       "Fewest spheres whose max vertex error is at most T (length, or T% of the diagonal). Default "
                       "with the cover method and no --max-spheres: 2%");
   auto* budget = tool.app.add_option("--max-spheres", opt.pack.max_spheres,
-                      "At most N spheres; the cover method picks the N with the least max error")
-      ->check(spx::kPositive);
+                                     "At most N spheres; the cover method picks the N with the least max error")
+                     ->check(spx::kPositive);
   tool.app.add_option("--min-radius", opt.pack.min_radius, "No sphere smaller (greedy default: 1.5 voxels)");
   tool.app.add_option("--max-radius", opt.pack.max_radius, "No sphere larger (default unlimited)");
   auto* samples = tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")
                       ->capture_default_str();
   auto* seed = tool.app.add_option("--seed", opt.seed, "Cover: seed of the surface samples")->capture_default_str();
   auto* polish = tool.app.add_option("--polish", opt.polish_rounds,
-                      "Cover with --max-spheres: cover again this many times from the refined spheres, keeping a "
-                      "set with no higher max error and a lower max times median (0: faster, the first "
-                      "refinement's)")
-      ->check(CLI::Range(0, 16))
-      ->capture_default_str()
-      ->needs(budget);
+                                     "Cover with --max-spheres: cover again this many times from the refined spheres, "
+                                     "keeping a set with no higher max error and a lower max times median (0: faster, "
+                                     "the first refinement's)")
+                     ->check(CLI::Range(0, 16))
+                     ->capture_default_str()
+                     ->needs(budget);
   bool grid_centers = false;
   tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {

@@ -24,9 +24,7 @@ void keep_large_blocks_on_the_heap() {
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
 }
 
-}  // namespace
-
-namespace {
+// A number above 0 (or, zero_allowed, at least 0), said as a person reads it.
 CLI::Validator bounded_below(bool zero_allowed) {
   return CLI::Validator(
       [zero_allowed](std::string& text) -> std::string {
@@ -50,24 +48,31 @@ Tool::Tool(std::string name, const std::string& description)
   app.add_flag("-v,--verbose", verbose_, "Print stage timings and details");
 }
 
+std::vector<const CLI::Option*> Tool::given(const std::vector<std::string>& flags) const {
+  std::vector<const CLI::Option*> out;
+  for (const std::string& flag : flags) {
+    const CLI::Option* option = app.get_option_no_throw(flag);
+    if (option && option->count() > 0) out.push_back(option);
+  }
+  return out;
+}
+
+std::vector<const CLI::Option*> Tool::given_files() const {
+  std::vector<std::string> flags = file_outputs_;
+  flags.push_back("--report");
+  return given(flags);
+}
+
 void Tool::check_output_folders() const {
   namespace fs = std::filesystem;
-  auto given = [&](const std::vector<std::string>& flags) {
-    std::vector<std::string> out;
-    for (const std::string& flag : flags) {
-      const CLI::Option* option = app.get_option_no_throw(flag);
-      if (option && option->count() > 0) out.push_back(option->as<std::string>());
-    }
-    return out;
-  };
-  std::vector<std::string> files = given(file_outputs_);
-  if (!report_path_.empty()) files.push_back(report_path_);
   // The folders the tool creates, and their parents.
   std::vector<fs::path> created;
-  for (const std::string& folder : given(folder_outputs_))
-    for (fs::path p = fs::absolute(folder).lexically_normal(); !p.empty() && p != p.parent_path(); p = p.parent_path())
+  for (const CLI::Option* folder : given(folder_outputs_))
+    for (fs::path p = fs::absolute(folder->as<std::string>()).lexically_normal(); !p.empty() && p != p.parent_path();
+         p = p.parent_path())
       created.push_back(p);
-  for (const std::string& path : files) {
+  for (const CLI::Option* file : given_files()) {
+    const std::string path = file->as<std::string>();
     const fs::path folder = fs::absolute(path).lexically_normal().parent_path();
     std::error_code ec;
     if (fs::is_directory(folder, ec) || std::find(created.begin(), created.end(), folder) != created.end()) continue;
@@ -77,29 +82,22 @@ void Tool::check_output_folders() const {
 
 void Tool::check_outputs_apart() const {
   namespace fs = std::filesystem;
-  std::vector<std::string> flags = file_outputs_;
-  flags.push_back("--report");
-  std::vector<std::pair<const CLI::Option*, fs::path>> outputs;
-  for (const std::string& flag : flags) {
-    const CLI::Option* option = app.get_option_no_throw(flag);
-    if (option && option->count() > 0)
-      outputs.emplace_back(option, fs::absolute(option->as<std::string>()).lexically_normal());
-  }
+  const std::vector<const CLI::Option*> outputs = given_files();
+  auto path_of = [](const CLI::Option* o) { return fs::absolute(o->as<std::string>()).lexically_normal(); };
   for (size_t a = 0; a < outputs.size(); ++a)
     for (size_t b = 0; b < a; ++b)
-      if (outputs[a].second == outputs[b].second)
-        fail_usage(outputs[a].first->get_name(), "writes the file " + outputs[b].first->get_name() + " writes");
+      if (path_of(outputs[a]) == path_of(outputs[b]))
+        fail_usage(outputs[a]->get_name(), "writes the file " + outputs[b]->get_name() + " writes");
   for (const CLI::Option* option : app.get_options()) {
-    const bool is_output = std::any_of(outputs.begin(), outputs.end(), [&](const auto& o) { return o.first == option; });
+    const bool is_output = std::find(outputs.begin(), outputs.end(), option) != outputs.end();
     if (is_output || option->get_type_size() == 0) continue;  // flags name no file
+    const std::string name = option->get_name();
+    const std::string what = name.rfind("--", 0) == 0 ? name + "'s file" : "the " + name;  // an option, or a positional
     for (const std::string& value : option->results())
-      for (const auto& [output, path] : outputs) {
+      for (const CLI::Option* output : outputs) {
         std::error_code ec;
-        if (fs::equivalent(value, path, ec))
-          fail_usage(output->get_name(), value + " is also " +
-                                             (option->get_name().rfind("--", 0) == 0 ? option->get_name() + "'s file"
-                                                                                       : "the " + option->get_name()) +
-                                             ": writing it would overwrite an input");
+        if (fs::equivalent(value, path_of(output), ec))
+          fail_usage(output->get_name(), value + " is also " + what + ": writing it would overwrite an input");
       }
   }
 }

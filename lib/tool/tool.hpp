@@ -41,6 +41,9 @@ class Tool {
   std::string flag_for(const std::string& option) const;
 
  private:
+  // The options of `flags` given on the command line; those naming files the tool writes.
+  std::vector<const CLI::Option*> given(const std::vector<std::string>& flags) const;
+  std::vector<const CLI::Option*> given_files() const;
   // Fails (exit 4, naming the file) where an output's folder is not there.
   void check_output_folders() const;
   // Fails (exit 1, naming the flag) where an output is an input's file or another output's: the
