@@ -98,8 +98,7 @@ std::string page(const ProxyModel& proxy, const std::string& input, const std::s
 
 void proxy_export_files(const std::string& input, const std::string& output, const ExportOptions& options, Log& log,
                   json& report) {
-  std::string ext = std::filesystem::path(output).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(output);
   if (options.physics && ext != ".glb")
     fail_usage("--physics", "writes glTF physics shapes: the output must be .glb, not '" + ext + "'");
   if (!options.asset.empty() && !options.physics && ext != ".html")

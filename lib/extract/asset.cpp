@@ -5,10 +5,8 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
 #include <map>
 #include <set>
 
@@ -141,8 +139,7 @@ std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, co
 // JSON does not parse, no mesh at all in a GLB of garbage. The project's glTF reader says what is
 // wrong with the file (and returns where it finds nothing wrong).
 void explain_gltf(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lower_extension(path);
   if (ext == ".gltf" || ext == ".glb") read_gltf_file(path);
 }
 

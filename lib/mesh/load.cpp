@@ -24,13 +24,13 @@ struct RawMesh {
   std::vector<Eigen::Vector3i> triangles;
 };
 
+}  // namespace
+
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
-
-}  // namespace
 
 void check_importable(const std::string& path, const std::string& kind, const std::string& formats) {
   std::error_code ec;

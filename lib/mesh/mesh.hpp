@@ -33,6 +33,10 @@ struct LoadedMesh {
 // welded (seams in glTF, corners unrolled by the OBJ reader). Throws spx::Error naming `path`.
 LoadedMesh load_mesh(const std::string& path);
 
+// The file's extension with its dot, in lower case (".glb" for "Car.GLB"): what tools decide a
+// format by.
+std::string lower_extension(const std::string& path);
+
 // A file assimp can try: it exists, is not a folder, is not empty, and has an extension assimp
 // reads. `kind` names it in messages ("a mesh": "is a directory, not a mesh file", "unknown mesh
 // format"); `formats` lists what to use instead. Throws spx::Error naming `path` (exit 2 or 3).

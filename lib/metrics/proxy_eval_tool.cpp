@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -79,7 +78,7 @@ namespace {
 // The proxy at its examples and blends between them, with error colours on request.
 void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, const std::vector<TriMesh>& meshes,
                        const EvalToolOptions& opt, Log& log, json& report) {
-  const std::string ext = std::filesystem::path(opt.colors).extension().string();
+  const std::string ext = lower_extension(opt.colors);
   EvalResult r;
   {
     StageTimer t(log, "evaluate");
@@ -115,7 +114,7 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
 void proxy_eval_files(const std::string& proxy_path, const std::string& rest_path, const std::vector<std::string>& pose_paths,
                       const EvalToolOptions& opt, Log& log, json& report) {
   if (!opt.colors.empty()) {
-    const std::string ext = std::filesystem::path(opt.colors).extension().string();
+    const std::string ext = lower_extension(opt.colors);
     if (ext != ".glb" && ext != ".ply") fail_usage(opt.colors, "colours go to .glb or .ply");
     if (opt.color_pose >= 0 && ext != ".ply") fail_usage("--color-pose", "is for a .ply (a .glb holds every pose)");
     if (rest_path.empty()) fail_option("colors", "colours are drawn on the examples: give --rest/--pose or --manifest");
