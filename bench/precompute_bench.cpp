@@ -265,7 +265,6 @@ json route_cases(const Plan& plan, const std::string& tools, const Log& log) {
     for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"}) poses.push_back(data + "/elephant/" + p + ".obj");
     routes.push_back(
         bench::route_case(tools, "elephant", data + "/elephant/rest.obj", poses, plan.work, plan.repeats, log));
-    routes.back()["triangles"] = load_mesh(data + "/elephant/rest.obj").mesh.triangles.size();
   }
   {
     bench::run_tool(tools, {"sample-gen", "car", "-o", plan.work + "/car-in", "-q"});
@@ -273,7 +272,6 @@ json route_cases(const Plan& plan, const std::string& tools, const Log& log) {
     for (const std::string& name : make_car().pose_names) poses.push_back(plan.work + "/car-in/" + name + ".obj");
     routes.push_back(
         bench::route_case(tools, "car", plan.work + "/car-in/rest.obj", poses, plan.work, plan.repeats, log));
-    routes.back()["triangles"] = load_mesh(plan.work + "/car-in/rest.obj").mesh.triangles.size();
   }
   return routes;
 }

@@ -118,6 +118,7 @@ json route_case(const std::string& tools, const std::string& name, const std::st
   out["default_over_paper"] = median(ratios);
   say(log, "%s: paper route %.2f s, default route %.2f s (%.2fx)", name.c_str(), out["paper"]["total_s"].get<double>(),
       out["default"]["total_s"].get<double>(), median(ratios));
+  out["triangles"] = load_mesh(rest).mesh.triangles.size();
   return out;
 }
 

@@ -42,7 +42,7 @@ std::string tools_dir_beside_this_program();
 // The chain on a rest mesh and its poses (files), twice per repeat alternating: the paper's
 // route (greedy packing, pose-map mapping those spheres as given) and the default route
 // (coverage selection, joint selection), each stage a process. Medians per stage and of the
-// totals, the ratio, each route's peak memory and sphere count.
+// totals, the ratio, each route's peak memory and sphere count, and the rest's triangles.
 nlohmann::json route_case(const std::string& tools, const std::string& name, const std::string& rest,
                           const std::vector<std::string>& poses, const std::string& work, int repeats, const Log& log);
 
