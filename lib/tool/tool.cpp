@@ -83,21 +83,21 @@ void Tool::check_output_folders() const {
 void Tool::check_outputs_apart() const {
   namespace fs = std::filesystem;
   const std::vector<const CLI::Option*> outputs = given_files();
-  auto path_of = [](const CLI::Option* o) { return fs::absolute(o->as<std::string>()).lexically_normal(); };
+  std::vector<fs::path> paths;
+  for (const CLI::Option* o : outputs) paths.push_back(fs::absolute(o->as<std::string>()).lexically_normal());
   for (size_t a = 0; a < outputs.size(); ++a)
     for (size_t b = 0; b < a; ++b)
-      if (path_of(outputs[a]) == path_of(outputs[b]))
-        fail_usage(outputs[a]->get_name(), "writes the file " + outputs[b]->get_name() + " writes");
+      if (paths[a] == paths[b]) fail_usage(outputs[a]->get_name(), "writes the file " + outputs[b]->get_name() + " writes");
   for (const CLI::Option* option : app.get_options()) {
     const bool is_output = std::find(outputs.begin(), outputs.end(), option) != outputs.end();
     if (is_output || option->get_type_size() == 0) continue;  // flags name no file
     const std::string name = option->get_name();
     const std::string what = name.rfind("--", 0) == 0 ? name + "'s file" : "the " + name;  // an option, or a positional
     for (const std::string& value : option->results())
-      for (const CLI::Option* output : outputs) {
+      for (size_t k = 0; k < outputs.size(); ++k) {
         std::error_code ec;
-        if (fs::equivalent(value, path_of(output), ec))
-          fail_usage(output->get_name(), value + " is also " + what + ": writing it would overwrite an input");
+        if (fs::equivalent(value, paths[k], ec))
+          fail_usage(outputs[k]->get_name(), value + " is also " + what + ": writing it would overwrite an input");
       }
   }
 }
