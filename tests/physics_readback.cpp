@@ -13,7 +13,7 @@
 #include <string>
 
 #include "extract/asset.hpp"
-#include "io/gltf_file.hpp"
+#include "core/gltf_file.hpp"
 #include "spx_runtime.h"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/json_io.hpp"
-#include "io/gltf_file.hpp"
+#include "core/gltf_file.hpp"
 #include "io/proxy_file.hpp"
 
 namespace spx {

@@ -11,7 +11,6 @@
 #include <set>
 
 #include "core/error.hpp"
-#include "io/gltf_file.hpp"
 
 namespace spx {
 
@@ -135,14 +134,6 @@ std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, co
   return w;
 }
 
-// Where assimp gives up on a glTF, its answer misleads: "no suitable reader" for a document whose
-// JSON does not parse, no mesh at all in a GLB of garbage. The project's glTF reader says what is
-// wrong with the file (and returns where it finds nothing wrong).
-void explain_gltf(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  if (ext == ".gltf" || ext == ".glb") read_gltf_file(path);
-}
-
 }  // namespace
 
 Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), importer_(new Assimp::Importer) {
@@ -150,7 +141,7 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
   scene_ = importer_->ReadFile(path, aiProcess_Triangulate);
   if (!scene_ || !scene_->mRootNode) {
-    explain_gltf(path);
+    explain_unreadable_gltf(path);
     fail_input(path, std::string("cannot read asset: ") + importer_->GetErrorString());
   }
 
@@ -178,7 +169,7 @@ void Asset::list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& p
     if (info.triangles) names.push_back(info.name);
   }
   if (names.empty()) {
-    explain_gltf(path_);
+    explain_unreadable_gltf(path_);
     fail_input(path_, "contains no triangle mesh");
   }
   if (std::none_of(meshes_.begin(), meshes_.end(), [](const AssetMesh& m) { return m.used; }))

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "io/gltf_file.hpp"
+#include "core/gltf_file.hpp"
 
 namespace spx::detail {
 

@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/gltf_file.hpp"
 #include "core/hash.hpp"
 #include "core/side_by_side.hpp"
 #include "mesh/mesh.hpp"
@@ -42,6 +43,13 @@ void check_importable(const std::string& path, const std::string& kind, const st
     fail_unsupported(path, "unknown " + kind.substr(kind.find(' ') + 1) + " format '" + ext + "' (use " + formats + ")");
 }
 
+void explain_unreadable_gltf(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".gltf" && ext != ".glb") return;
+  const GltfFile file = read_gltf_file(path);
+  if (file.doc.value("meshes", json::array()).empty()) fail_input(path, "contains no mesh");
+}
+
 namespace {
 
 RawMesh read_raw(const std::string& path) {
@@ -51,7 +59,10 @@ RawMesh read_raw(const std::string& path) {
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
-  if (!scene) fail_input(path, std::string("cannot read mesh: ") + importer.GetErrorString());
+  if (!scene) {
+    explain_unreadable_gltf(path);
+    fail_input(path, std::string("cannot read mesh: ") + importer.GetErrorString());
+  }
 
   RawMesh raw;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {

@@ -42,6 +42,12 @@ std::string lower_extension(const std::string& path);
 // format"); `formats` lists what to use instead. Throws spx::Error naming `path` (exit 2 or 3).
 void check_importable(const std::string& path, const std::string& kind, const std::string& formats);
 
+// Where assimp cannot read a .gltf or .glb, its answer misleads ("no suitable reader found" for
+// a document whose JSON does not parse, a GLB cut short, a document with no mesh). Reads the
+// container itself and throws spx::Error saying what is wrong with it (exit 2); returns when it
+// finds nothing wrong, or for any other format.
+void explain_unreadable_gltf(const std::string& path);
+
 // A pose of `rest`: same file layout, positions from `path`. Throws spx::Error (exit 2) when
 // the triangle list or vertex count differs from the rest mesh.
 TriMesh load_pose(const std::string& path, const LoadedMesh& rest);

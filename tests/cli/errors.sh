@@ -192,7 +192,7 @@ glb=$out/in/barrel-morph.glb px=$out/px
 expect 2 "rest.obj: has no morph targets" "$px/poses.json" -- "$bin/pose-extract" "$out/in/rest.obj" -o "$px" --morph-targets
 expect 2 "rest.obj: has no animation clips" "$px/poses.json" -- "$bin/pose-extract" "$out/in/rest.obj" -o "$px" --animation 0
 printf '{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"empty"}]}' >"$out/empty.gltf"
-expect 2 "empty.gltf: contains no triangle mesh" "$px/poses.json" -- "$bin/pose-extract" "$out/empty.gltf" -o "$px" --morph-targets
+expect 2 "empty.gltf: contains no mesh" "$px/poses.json" -- "$bin/pose-extract" "$out/empty.gltf" -o "$px" --morph-targets
 # A glTF whose JSON does not parse, or a GLB of garbage: what is wrong with the file, not assimp's
 # "no suitable reader" or "no triangle mesh".
 head -c 60 "$out/empty.gltf" >"$out/cut.gltf"
@@ -209,6 +209,17 @@ expect 2 "bad-json.glb: not a glTF: its JSON does not parse" "$px/poses.json" --
 { printf 'glTF\002\000\000\000\377\377\377\000'; head -c 4000 "$glb" | tail -c 3000; } >"$out/garbage.glb"
 expect 2 "garbage.glb: truncated: its header says 16777215 bytes" "$px/poses.json" -- \
   "$bin/pose-extract" "$out/garbage.glb" -o "$px" --morph-targets
+# The same files given where a mesh is read (a rest, a pose): the same answers.
+expect 2 "cut.gltf: not a glTF: its JSON does not parse (.*column 61" "$out/x.vdb" -- \
+  "$bin/sdf-build" "$out/cut.gltf" -o "$out/x.vdb"
+expect 2 "garbage.glb: truncated: its header says 16777215 bytes" "$out/x.vdb" -- \
+  "$bin/sdf-build" "$out/garbage.glb" -o "$out/x.vdb"
+head -c 100 "$out/in/rest.obj" | tr 'v' '\001' >"$out/junk.glb"
+expect 2 "junk.glb: not a glTF (neither GLB nor JSON)" "$out/x.vdb" -- "$bin/sdf-build" "$out/junk.glb" -o "$out/x.vdb"
+printf '{"asset":{"version":"2.0"}}' >"$out/bare.gltf"
+expect 2 "bare.gltf: contains no mesh" "$out/x.vdb" -- "$bin/sdf-build" "$out/bare.gltf" -o "$out/x.vdb"
+expect 2 "bad-json.glb: not a glTF: its JSON does not parse" "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
+  --pose "$out/bad-json.glb" --spheres "$out/s.json" -o "$out/o.json"
 expect 1 "\-\-animation: no clip named 'Walk'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation Walk
 expect 1 "\-\-animation: no clip 4 " "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 4
 expect 1 "\-\-mesh: no mesh or node named 'lid'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --mesh lid --morph-targets

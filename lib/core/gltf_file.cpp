@@ -1,4 +1,4 @@
-#include "io/gltf_file.hpp"
+#include "core/gltf_file.hpp"
 
 #include <cstring>
 #include <filesystem>
@@ -77,7 +77,10 @@ json parse_document(const std::string& text, const std::string& path) {
 GltfFile read_gltf_file(const std::string& path) {
   const std::string bytes = read_file(path);
   if (bytes.size() < 4 || bytes.compare(0, 4, "glTF") != 0) {
-    if (bytes.find('{') == std::string::npos) fail_input(path, "not a glTF (neither GLB nor JSON)");
+    // A glTF document is a JSON object (after a byte order mark, which readers may meet):
+    // anything else is not one, and its bytes are not quoted back.
+    const size_t first = bytes.find_first_not_of(" \t\r\n", bytes.compare(0, 3, "\xef\xbb\xbf") == 0 ? 3 : 0);
+    if (first == std::string::npos || bytes[first] != '{') fail_input(path, "not a glTF (neither GLB nor JSON)");
     return merge_buffers(parse_document(bytes, path), path);
   }
   if (bytes.size() < 20 || get32(bytes, 4) != 2) fail_input(path, "not a GLB of glTF 2.0");
