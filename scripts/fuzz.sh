@@ -11,14 +11,16 @@ build=$(cd "${2:-$root/build/release}" && pwd)
 cxx=$(command -v clang++-14 || command -v clang++ || true)
 [ -n "$cxx" ] || { echo "fuzz: clang++ not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 1; }
 out=$build/fuzz
-rm -rf "$out/corpus-spx" "$out/corpus-json" "$out/seeds"
-mkdir -p "$out/corpus-spx" "$out/corpus-json"
+rm -rf "$out/corpus-spx" "$out/corpus-json" "$out/corpus-gltf" "$out/seeds"
+mkdir -p "$out/corpus-spx" "$out/corpus-json" "$out/corpus-gltf"
 flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
   -I"$root/lib" -I"$root/lib/runtime" -I/usr/include/eigen3 -DSPX_VERSION='"fuzz"')
 "$cxx" "${flags[@]}" "$root/tests/fuzz/spx_reader.cpp" -o "$out/spx_reader"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/atomic_file.cpp" \
   "$root/lib/io/spheres_file.cpp" "$root/lib/io/proxy_file.cpp" "$root/lib/io/skin_file.cpp" "$root/lib/core/version.cpp" \
   -o "$out/json_readers"
+"$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/json_io.cpp" \
+  "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -o "$out/gltf_container"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
 seeds=$out/seeds/car
@@ -34,13 +36,26 @@ skin = json.load(open(sys.argv[1]))
 skin.pop('clip', None)
 json.dump(skin, open(sys.argv[2], 'w'))
 " "$out/seeds/robot/poses/skin.json" "$out/corpus-json/skin.json"
+# Assets: the car's spheres as a GLB, the robot's skinned GLB, the barrel's morph-target GLB, and
+# that GLB's JSON as a .gltf with its buffer as a data: URI.
+"$build/apps/sample-gen" barrel -o "$out/seeds/barrel" -q
+cp "$seeds/car.glb" "$out/seeds/robot/robot.glb" "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/"
+python3 -c "
+import base64, json, struct, sys
+b = open(sys.argv[1], 'rb').read()
+n = struct.unpack('<I', b[12:16])[0]
+doc = json.loads(b[20:20 + n])
+doc['buffers'][0]['uri'] = 'data:application/octet-stream;base64,' + base64.b64encode(b[20 + n + 8:]).decode()
+json.dump(doc, open(sys.argv[2], 'w'))
+" "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/barrel.gltf"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"
 cd "$out"
 status=0
-for target in spx_reader json_readers; do
+for target in spx_reader json_readers gltf_container; do
   corpus=corpus-spx
   [ $target = json_readers ] && corpus=corpus-json
+  [ $target = gltf_container ] && corpus=corpus-gltf
   echo "fuzz: $target for ${seconds}s" >&2
   if ! "./$target" "$corpus" -max_total_time="$seconds" -max_len=200000 -print_final_stats=1 >"$target.log" 2>&1; then
     status=1
@@ -48,5 +63,5 @@ for target in spx_reader json_readers; do
   fi
   grep -E "stat::number_of_executed_units|stat::new_units_added" "$target.log" | sed "s/^/$target: /"
 done
-if [ $status = 0 ]; then echo "2 passed, 0 failed"; else echo "0 passed, 1 failed"; fi
+if [ $status = 0 ]; then echo "3 passed, 0 failed"; else echo "0 passed, 1 failed"; fi
 exit $status

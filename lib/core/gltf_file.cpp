@@ -1,5 +1,6 @@
 #include "core/gltf_file.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 
@@ -20,8 +21,26 @@ void put32(std::string& s, uint32_t v) {
   for (int i = 0; i < 4; ++i) s += char((v >> (8 * i)) & 0xff);
 }
 
+// The members this reader follows, checked for their types first: a glTF that names a buffer by
+// a string or lists its views in an object is not one, and says so (never a JSON type error).
+void require_objects(const json& doc, const char* list, const std::string& path) {
+  if (!doc.contains(list)) return;
+  const json& items = doc[list];
+  if (!items.is_array() || !std::all_of(items.begin(), items.end(), [](const json& e) { return e.is_object(); }))
+    fail_input(path, std::string("not a glTF 2.0 asset: its '") + list + "' is not a list of objects");
+}
+
+size_t count_member(const json& object, const char* key, const char* of, const std::string& path) {
+  if (!object.contains(key)) return 0;
+  if (!object[key].is_number_unsigned())
+    fail_input(path, std::string("not a glTF 2.0 asset: a ") + of + "'s '" + key + "' is not a whole number 0 or above (" +
+                         object[key].dump() + ")");
+  return object[key].get<size_t>();
+}
+
 // A .gltf buffer's bytes: a data: URI, or a file beside the document.
 std::string buffer_bytes(const json& buffer, const std::string& path) {
+  if (buffer.contains("uri") && !buffer["uri"].is_string()) fail_input(path, "not a glTF 2.0 asset: a buffer's 'uri' is not a string");
   const std::string uri = buffer.value("uri", "");
   if (uri.empty()) fail_input(path, "a buffer has no uri (only a GLB's first buffer may)");
   if (uri.rfind("data:", 0) == 0) {
@@ -45,18 +64,25 @@ GltfFile merge_buffers(json doc, const std::string& path) {
     while (out.bin.size() % 8) out.bin += '\0';
     base.push_back(out.bin.size());
     std::string bytes = buffer_bytes(buffer, path);
-    if (bytes.size() < buffer.value("byteLength", size_t(0))) fail_input(path, "a buffer is shorter than its byteLength");
+    if (bytes.size() < count_member(buffer, "byteLength", "buffer", path)) fail_input(path, "a buffer is shorter than its byteLength");
     out.bin += bytes;
   }
   for (json& view : doc["bufferViews"]) {
-    const size_t b = view.value("buffer", size_t(0));
+    const size_t b = count_member(view, "buffer", "bufferView", path);
     if (b >= base.size()) fail_input(path, "a bufferView names a buffer that does not exist");
     view["buffer"] = 0;
-    view["byteOffset"] = view.value("byteOffset", size_t(0)) + base[b];
+    view["byteOffset"] = count_member(view, "byteOffset", "bufferView", path) + base[b];
   }
   if (!base.empty()) doc["buffers"] = json::array({{{"byteLength", out.bin.size()}}});
   out.doc = std::move(doc);
   return out;
+}
+
+// asset.version ("2.0" in a glTF 2.0 asset); empty where it is missing or not a string.
+std::string asset_version(const json& doc) {
+  const json* asset = doc.is_object() && doc.contains("asset") ? &doc["asset"] : nullptr;
+  if (!asset || !asset->is_object() || !asset->contains("version") || !(*asset)["version"].is_string()) return "";
+  return (*asset)["version"].get<std::string>();
 }
 
 json parse_document(const std::string& text, const std::string& path) {
@@ -66,16 +92,17 @@ json parse_document(const std::string& text, const std::string& path) {
   } catch (const json::exception& e) {
     fail_input(path, std::string("not a glTF: its JSON does not parse (") + e.what() + ")");
   }
-  if (!doc.is_object() || !doc.contains("asset") || doc["asset"].value("version", "").rfind("2.", 0) != 0)
-    fail_input(path, "not a glTF 2.0 asset (no asset.version 2.x)");
+  if (asset_version(doc).rfind("2.", 0) != 0) fail_input(path, "not a glTF 2.0 asset (no asset.version 2.x)");
+  for (const char* list : {"buffers", "bufferViews", "meshes", "nodes", "scenes"}) require_objects(doc, list, path);
   if (!doc.contains("bufferViews")) doc["bufferViews"] = json::array();
   return doc;
 }
 
 }  // namespace
 
-GltfFile read_gltf_file(const std::string& path) {
-  const std::string bytes = read_file(path);
+GltfFile read_gltf_file(const std::string& path) { return gltf_from_bytes(read_file(path), path); }
+
+GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path) {
   if (bytes.size() < 4 || bytes.compare(0, 4, "glTF") != 0) {
     // A glTF document is a JSON object (after a byte order mark, which readers may meet):
     // anything else is not one, and its bytes are not quoted back.

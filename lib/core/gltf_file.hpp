@@ -17,6 +17,9 @@ struct GltfFile {
 // what it holds that this cannot carry (a buffer that cannot be read).
 GltfFile read_gltf_file(const std::string& path);
 
+// The same, from the file's bytes (a .gltf's buffer files are still looked for beside `path`).
+GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path);
+
 // The GLB container: the JSON chunk, then the BIN chunk when `bin` is not empty.
 std::string encode_glb(const GltfFile& file);
 

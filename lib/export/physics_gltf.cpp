@@ -130,6 +130,23 @@ void attach_to_joints(PhysicsGltf& out, const ProxyModel& proxy, const Asset& ri
   out.attachment = {{"spheres_per_joint", joints}, {"bodies", bodies}};
 }
 
+// An asset the colliders can go into: not one this tool already put a proxy's colliders in (a
+// host would collide with both sets), and with a list to append each extension's shapes to.
+void check_asset_takes_colliders(const json& doc, const std::string& path) {
+  for (const json& node : doc.value("nodes", json::array())) {
+    const json name = node.value("name", json());
+    if (name.is_string() && (name == "spx-proxy" || name.get<std::string>().rfind("spx-sphere-", 0) == 0))
+      fail_input(path, "already holds a proxy's colliders (node '" + name.get<std::string>() +
+                           "'): give the asset without them");
+  }
+  if (!doc.contains("extensions")) return;
+  for (const char* ext : {"KHR_implicit_shapes", "OMI_physics_shape"}) {
+    const json list = doc["extensions"].value(ext, json::object());
+    if (!list.is_object() || (list.contains("shapes") && !list["shapes"].is_array()))
+      fail_input(path, std::string("its extension ") + ext + " has no list of shapes to add the spheres to");
+  }
+}
+
 }  // namespace
 
 PhysicsGltf physics_gltf(const ProxyModel& proxy) {
@@ -145,6 +162,7 @@ PhysicsGltf physics_gltf(const ProxyModel& proxy) {
 PhysicsGltf physics_gltf(const ProxyModel& proxy, GltfFile asset, const Asset& rig) {
   PhysicsGltf out;
   out.diagonal = check_rest_holds(proxy, weld_body(rig).rest, rig.path());
+  check_asset_takes_colliders(asset.doc, rig.path());
   out.file = std::move(asset);
   json& doc = out.file.doc;
   if (!doc.contains("nodes")) doc["nodes"] = json::array();

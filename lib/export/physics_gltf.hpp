@@ -29,8 +29,8 @@ PhysicsGltf physics_gltf(const ProxyModel& proxy);
 // Into `asset` (read from the file `rig` was read from), which keeps its meshes, skins and clips:
 // a proxy with a skin has each sphere parented to its heaviest joint's node (its centre in that
 // joint's frame, so a clip moves it); one without a skin gets a body node at the scene's root.
-// Exit 2 naming the asset when its rest does not hold the proxy's rest spheres or it lacks a
-// joint the skin names.
+// Exit 2 naming the asset when its rest does not hold the proxy's rest spheres, it lacks a joint
+// the skin names, or it already holds a proxy's colliders (this function's own nodes).
 PhysicsGltf physics_gltf(const ProxyModel& proxy, GltfFile asset, const Asset& rig);
 
 // A skinned proxy's spheres rigid on their heaviest joints against the skinned runtime, over

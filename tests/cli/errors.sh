@@ -218,6 +218,16 @@ head -c 100 "$out/in/rest.obj" | tr 'v' '\001' >"$out/junk.glb"
 expect 2 "junk.glb: not a glTF (neither GLB nor JSON)" "$out/x.vdb" -- "$bin/sdf-build" "$out/junk.glb" -o "$out/x.vdb"
 printf '{"asset":{"version":"2.0"}}' >"$out/bare.gltf"
 expect 2 "bare.gltf: contains no mesh" "$out/x.vdb" -- "$bin/sdf-build" "$out/bare.gltf" -o "$out/x.vdb"
+# JSON of the wrong types where the reader follows buffers: the member named, not a JSON error.
+printf '{"asset":{"version":"2.0"},"buffers":[{"uri":5}],"meshes":[{}]}' >"$out/odd-uri.gltf"
+expect 2 "odd-uri.gltf: not a glTF 2.0 asset: a buffer's 'uri' is not a string" "$out/x.vdb" -- \
+  "$bin/sdf-build" "$out/odd-uri.gltf" -o "$out/x.vdb"
+printf '{"asset":{"version":2},"meshes":[{}]}' >"$out/odd-version.gltf"
+expect 2 "odd-version.gltf: not a glTF 2.0 asset .no asset.version 2.x" "$px/poses.json" -- \
+  "$bin/pose-extract" "$out/odd-version.gltf" -o "$px" --morph-targets
+printf '{"asset":{"version":"2.0"},"buffers":[],"bufferViews":[{"buffer":-1}],"meshes":[{}]}' >"$out/odd-view.gltf"
+expect 2 "odd-view.gltf: not a glTF 2.0 asset: a bufferView's 'buffer' is not a whole number 0 or above .-1." \
+  "$out/x.vdb" -- "$bin/sdf-build" "$out/odd-view.gltf" -o "$out/x.vdb"
 expect 2 "bad-json.glb: not a glTF: its JSON does not parse" "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
   --pose "$out/bad-json.glb" --spheres "$out/s.json" -o "$out/o.json"
 expect 1 "\-\-animation: no clip named 'Walk'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation Walk

@@ -53,6 +53,22 @@ expect 2 "RiggedSimple.glb.*not the asset the proxy was made from" "$out/x.glb" 
   -o "$out/x.glb" --physics --asset "$data/rigged-simple/RiggedSimple.glb"
 head -c 100 "$data/rigged-simple/RiggedSimple.glb" >"$out/cut.glb"
 expect 2 "cut.glb.*truncated" "$out/x.glb" -- "$bin/proxy-export" "$car" -o "$out/x.glb" --physics --asset "$out/cut.glb"
+# An asset that already holds a proxy's colliders (this tool's own output): a host would collide
+# with both sets, so it is refused, skinned or not.
+expect 2 "car-morph.glb: already holds a proxy's colliders (node 'spx-proxy')" "$out/x.glb" -- "$bin/proxy-export" \
+  "$ex/car-morph/car-morph.proxy.json" -o "$out/x.glb" --physics --asset "$out/car-morph.glb"
+expect 2 "rigged.glb: already holds a proxy's colliders (node 'spx-sphere-" "$out/x.glb" -- "$bin/proxy-export" \
+  "$ex/rigged/rigged.proxy.json" -o "$out/x.glb" --physics --asset "$out/rigged.glb"
+# An asset whose shape extension has no list to add to (assimp reads it): one line, not a JSON error.
+/usr/bin/python3 -c "
+import json, struct, sys
+b = open(sys.argv[1], 'rb').read(); n = struct.unpack_from('<I', b, 12)[0]; d = json.loads(b[20:20 + n])
+d['extensions'] = {'KHR_implicit_shapes': 5}
+t = json.dumps(d).encode(); t += b' ' * (-len(t) % 4); tail = b[20 + n:]
+open(sys.argv[2], 'wb').write(b'glTF' + struct.pack('<III', 2, 20 + len(t) + len(tail), len(t)) + b'JSON' + t + tail)
+" "$ex/in/car-morph.glb" "$out/odd-shapes.glb"
+expect 2 "odd-shapes.glb: its extension KHR_implicit_shapes has no list of shapes" "$out/x.glb" -- "$bin/proxy-export" \
+  "$ex/car-morph/car-morph.proxy.json" -o "$out/x.glb" --physics --asset "$out/odd-shapes.glb"
 expect 1 "--asset.*needs --physics" "$out/x.glb" -- "$bin/proxy-export" "$car" -o "$out/x.glb" --asset "$ex/in/car-morph.glb"
 
 echo "physics: $passed passed, $fail failed"
