@@ -16,10 +16,10 @@ mkdir -p "$out/corpus-spx" "$out/corpus-json" "$out/corpus-gltf"
 flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
   -I"$root/lib" -I"$root/lib/runtime" -I/usr/include/eigen3 -DSPX_VERSION='"fuzz"')
 "$cxx" "${flags[@]}" "$root/tests/fuzz/spx_reader.cpp" -o "$out/spx_reader"
-"$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/atomic_file.cpp" \
+"$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" "$root/lib/core/atomic_file.cpp" \
   "$root/lib/io/spheres_file.cpp" "$root/lib/io/proxy_file.cpp" "$root/lib/io/skin_file.cpp" "$root/lib/core/version.cpp" \
   -o "$out/json_readers"
-"$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/json_io.cpp" \
+"$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
   "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -o "$out/gltf_container"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
@@ -50,6 +50,7 @@ json.dump(doc, open(sys.argv[2], 'w'))
 " "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/barrel.gltf"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"
+cp "$root"/tests/fuzz/regressions/gltf/* "$out/corpus-gltf/"
 cd "$out"
 status=0
 for target in spx_reader json_readers gltf_container; do

@@ -15,6 +15,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/gltf_file.hpp"
 #include "core/side_by_side.hpp"
 #include "mesh/components.hpp"
 #include "mesh/defects.hpp"
@@ -216,6 +217,30 @@ TEST(MeshLoad, GlbRestWithObjPoses) {
   for (const char* name : {"pose-00.obj", "pose-01.obj", "pose-02.obj", "pose-03.obj"}) {
     const TriMesh a = load_pose(d + name, glb), b = load_pose(d + name, obj);
     for (size_t v = 0; v < same.size(); ++v) EXPECT_EQ(a.vertices[v], b.vertices[same[v]]) << name << " vertex " << v;
+  }
+}
+
+// A .gltf beside its buffer "My Body.bin", the URI percent-encoded as Blender writes it
+// ("My%20Body.bin"): assimp opens the URI as written and fails; the file reads as the GLB does.
+TEST(MeshLoad, GltfWithAPercentEncodedBufferReadsAsItsGlb) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string glb_path = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
+  const std::string dir = test::temp_dir("percent-uri");
+  GltfFile file = read_gltf_file(glb_path);
+  write_file_atomic(dir + "/My Body.bin", file.bin);
+  file.doc["buffers"] = json::array({{{"uri", "My%20Body.bin"}, {"byteLength", file.bin.size()}}});
+  write_file_atomic(dir + "/body.gltf", file.doc.dump());
+  const LoadedMesh glb = load_mesh(glb_path), gltf = load_mesh(dir + "/body.gltf");
+  EXPECT_EQ(gltf.mesh.vertices, glb.mesh.vertices);
+  EXPECT_EQ(gltf.mesh.triangles, glb.mesh.triangles);
+  // A buffer that is not there is named as the file gives it, not assimp's "could not open".
+  file.doc["buffers"][0]["uri"] = "Other%20Body.bin";
+  write_file_atomic(dir + "/other.gltf", file.doc.dump());
+  try {
+    load_mesh(dir + "/other.gltf");
+    ADD_FAILURE() << "read a .gltf whose buffer is not there";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("its buffer 'Other%20Body.bin' is not beside it"), std::string::npos) << e.what();
   }
 }
 

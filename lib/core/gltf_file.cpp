@@ -1,6 +1,7 @@
 #include "core/gltf_file.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 
@@ -38,6 +39,25 @@ size_t count_member(const json& object, const char* key, const char* of, const s
   return object[key].get<size_t>();
 }
 
+// A relative URI's path: "%20" is a space (a Blender export of "My Body.gltf" writes its buffer as
+// "My%20Body.bin"). A '%' not followed by two hex digits stays as it is.
+std::string percent_decoded(const std::string& uri) {
+  const auto hex = [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; };
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) && hex(uri[i + 2])) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// A URI as a message quotes it: its first 60 characters.
+std::string shortened(const std::string& uri) { return uri.size() <= 60 ? uri : uri.substr(0, 60) + "..."; }
+
 // A .gltf buffer's bytes: a data: URI, or a file beside the document.
 std::string buffer_bytes(const json& buffer, const std::string& path) {
   if (buffer.contains("uri") && !buffer["uri"].is_string()) fail_input(path, "not a glTF 2.0 asset: a buffer's 'uri' is not a string");
@@ -51,8 +71,9 @@ std::string buffer_bytes(const json& buffer, const std::string& path) {
     if (!bytes) fail_input(path, "a buffer's data: URI is not base64");
     return *bytes;
   }
-  const std::string file = (std::filesystem::path(path).parent_path() / uri).string();
-  if (!std::filesystem::exists(file)) fail_input(path, "its buffer '" + uri + "' is not beside it");
+  const std::string file = (std::filesystem::path(path).parent_path() / percent_decoded(uri)).string();
+  std::error_code ec;  // a name too long for the file system is not there either
+  if (!std::filesystem::exists(file, ec)) fail_input(path, "its buffer '" + shortened(uri) + "' is not beside it");
   return read_file(file);
 }
 

@@ -4,16 +4,15 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 
 namespace spx {
 
 json read_json_file(const std::string& path) {
   const std::string text = read_file(path);
-  if (text.compare(0, 4, "\x89SPX") == 0)
-    fail_input(path, "is a runtime .spx file (from proxy-export), not JSON; give the .proxy.json pose-map wrote");
-  if (text.compare(0, 4, " BDV") == 0) fail_input(path, "is an OpenVDB file (from sdf-build), not JSON");
-  if (text.compare(0, 4, "glTF") == 0) fail_input(path, "is a binary glTF file, not JSON");
-  if (text.find('\0') != std::string::npos) fail_input(path, "is a binary file, not JSON");
+  const FileKind kind = file_kind(path, text);
+  if (kind == FileKind::spx) fail_input(path, "is " + describe(kind) + ", not JSON; give the .proxy.json pose-map wrote");
+  if (kind != FileKind::unknown && kind != FileKind::json) fail_input(path, "is " + describe(kind) + ", not JSON");
   try {
     return json::parse(text);
   } catch (const json::exception& e) {

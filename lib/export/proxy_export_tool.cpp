@@ -5,6 +5,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 #include "core/subject.hpp"
 #include "io/spx_writer.hpp"
 #include "metrics/rest_match.hpp"

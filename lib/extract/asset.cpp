@@ -11,6 +11,8 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
+#include "mesh/assimp_scene.hpp"
 
 namespace spx {
 
@@ -139,11 +141,7 @@ std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, co
 Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), importer_(new Assimp::Importer) {
   check_importable(path, "an asset", "glTF/GLB, FBX or COLLADA");
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
-  scene_ = importer_->ReadFile(path, aiProcess_Triangulate);
-  if (!scene_ || !scene_->mRootNode) {
-    explain_unreadable_gltf(path);
-    fail_input(path, std::string("cannot read asset: ") + importer_->GetErrorString());
-  }
+  scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset");
 
   std::vector<std::pair<const aiNode*, unsigned>> placed;
   collect_instances(scene_->mRootNode, placed);
@@ -168,10 +166,7 @@ void Asset::list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& p
     meshes_.push_back(info);
     if (info.triangles) names.push_back(info.name);
   }
-  if (names.empty()) {
-    explain_unreadable_gltf(path_);
-    fail_input(path_, "contains no triangle mesh");
-  }
+  if (names.empty()) fail_input(path_, "contains no triangle mesh");
   if (std::none_of(meshes_.begin(), meshes_.end(), [](const AssetMesh& m) { return m.used; }))
     fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path_ + " (its meshes: " + list_names(names) + ")");
 

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 #include "core/hash.hpp"
 
 namespace spx {
@@ -82,6 +83,10 @@ LoadedSdf read_sdf_vdb(const std::string& path) {
     grids = file.getGrids();
     file.close();
   } catch (const openvdb::Exception& e) {
+    const FileKind kind = file_kind(path, read_file(path));
+    if (kind == FileKind::mesh) fail_input(path, "is a mesh, not a field: sdf-build makes the field from it");
+    if (kind != FileKind::unknown && kind != FileKind::vdb && kind != FileKind::binary)
+      fail_input(path, "is " + describe(kind) + ", not a field (.vdb from sdf-build)");
     fail_input(path, std::string("not a readable OpenVDB file: ") + e.what());
   }
   if (!grids || grids->empty()) fail_input(path, "holds no grid");

@@ -11,9 +11,10 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
-#include "core/gltf_file.hpp"
+#include "core/file_kind.hpp"
 #include "core/hash.hpp"
 #include "core/side_by_side.hpp"
+#include "mesh/assimp_scene.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pose_match.hpp"
 
@@ -27,12 +28,6 @@ struct RawMesh {
 
 }  // namespace
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 void check_importable(const std::string& path, const std::string& kind, const std::string& formats) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail_input(path, "cannot open: no such file");
@@ -43,13 +38,6 @@ void check_importable(const std::string& path, const std::string& kind, const st
     fail_unsupported(path, "unknown " + kind.substr(kind.find(' ') + 1) + " format '" + ext + "' (use " + formats + ")");
 }
 
-void explain_unreadable_gltf(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  if (ext != ".gltf" && ext != ".glb") return;
-  const GltfFile file = read_gltf_file(path);
-  if (file.doc.value("meshes", json::array()).empty()) fail_input(path, "contains no mesh");
-}
-
 namespace {
 
 RawMesh read_raw(const std::string& path) {
@@ -57,12 +45,8 @@ RawMesh read_raw(const std::string& path) {
   Assimp::Importer importer;
   // Keep only triangles; never drop degenerate ones silently (the report lists them).
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
-  if (!scene) {
-    explain_unreadable_gltf(path);
-    fail_input(path, std::string("cannot read mesh: ") + importer.GetErrorString());
-  }
+  const aiScene* scene =
+      read_scene(importer, path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType, "mesh");
 
   RawMesh raw;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {

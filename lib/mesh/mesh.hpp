@@ -33,20 +33,10 @@ struct LoadedMesh {
 // welded (seams in glTF, corners unrolled by the OBJ reader). Throws spx::Error naming `path`.
 LoadedMesh load_mesh(const std::string& path);
 
-// The file's extension with its dot, in lower case (".glb" for "Car.GLB"): what tools decide a
-// format by.
-std::string lower_extension(const std::string& path);
-
 // A file assimp can try: it exists, is not a folder, is not empty, and has an extension assimp
 // reads. `kind` names it in messages ("a mesh": "is a directory, not a mesh file", "unknown mesh
 // format"); `formats` lists what to use instead. Throws spx::Error naming `path` (exit 2 or 3).
 void check_importable(const std::string& path, const std::string& kind, const std::string& formats);
-
-// Where assimp cannot read a .gltf or .glb, its answer misleads ("no suitable reader found" for
-// a document whose JSON does not parse, a GLB cut short, a document with no mesh). Reads the
-// container itself and throws spx::Error saying what is wrong with it (exit 2); returns when it
-// finds nothing wrong, or for any other format.
-void explain_unreadable_gltf(const std::string& path);
 
 // A pose of `rest`: same file layout, positions from `path`. Throws spx::Error (exit 2) when
 // the triangle list or vertex count differs from the rest mesh.

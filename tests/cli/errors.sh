@@ -30,7 +30,13 @@ expect 4 "c.glb: cannot create output: its folder" "" -- "$bin/proxy-eval" "$out
 # ... but a tool that creates its output folder takes a --report there.
 "$bin/sample-gen" barrel -o "$out/made/here" --report "$out/made/here/r.json" -q
 check "sample-gen writes its --report into the folder it creates" test -s "$out/made/here/r.json"
-expect 2 "rest.obj: not a readable OpenVDB" "$out/y.json" -- "$bin/sphere-pack" "$out/in/rest.obj" -o "$out/y.json"
+expect 2 "rest.obj: is a mesh, not a field: sdf-build makes the field from it" "$out/y.json" -- \
+  "$bin/sphere-pack" "$out/in/rest.obj" -o "$out/y.json"
+expect 2 "s.json: is a JSON file, not a field (.vdb from sdf-build)" "$out/y.json" -- "$bin/sphere-pack" "$out/s.json" -o "$out/y.json"
+printf 'not a field\n' >"$out/field.txt"
+expect 2 "field.txt: not a readable OpenVDB file" "$out/y.json" -- "$bin/sphere-pack" "$out/field.txt" -o "$out/y.json"
+expect 2 "rest.obj: is a mesh, not JSON" "$out/y.json" -- "$bin/pose-map" --manifest "$out/in/rest.obj" --spheres "$out/s.json" \
+  -o "$out/y.json"
 cp "$out/in/rest.obj" "$out/fake.vdb"
 expect 2 "fake.vdb" "$out/y.json" -- "$bin/sphere-pack" "$out/fake.vdb" -o "$out/y.json"
 expect 1 "min radius" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" --min-radius 0.1 --max-radius 0.01
@@ -192,7 +198,7 @@ glb=$out/in/barrel-morph.glb px=$out/px
 expect 2 "rest.obj: has no morph targets" "$px/poses.json" -- "$bin/pose-extract" "$out/in/rest.obj" -o "$px" --morph-targets
 expect 2 "rest.obj: has no animation clips" "$px/poses.json" -- "$bin/pose-extract" "$out/in/rest.obj" -o "$px" --animation 0
 printf '{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"empty"}]}' >"$out/empty.gltf"
-expect 2 "empty.gltf: contains no mesh" "$px/poses.json" -- "$bin/pose-extract" "$out/empty.gltf" -o "$px" --morph-targets
+expect 2 "empty.gltf: contains no triangle mesh" "$px/poses.json" -- "$bin/pose-extract" "$out/empty.gltf" -o "$px" --morph-targets
 # A glTF whose JSON does not parse, or a GLB of garbage: what is wrong with the file, not assimp's
 # "no suitable reader" or "no triangle mesh".
 head -c 60 "$out/empty.gltf" >"$out/cut.gltf"

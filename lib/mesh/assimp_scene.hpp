@@ -1,0 +1,19 @@
+#pragma once
+// A file read by assimp, or one error line that says why not (assimp's own words mislead for
+// glTF: "no suitable reader found" for a document whose JSON does not parse).
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+
+#include <string>
+
+namespace spx {
+
+// importer.ReadFile(path, flags). Where assimp cannot read a .gltf or .glb, the project's glTF
+// reader says what is wrong with the file ("not a glTF: its JSON does not parse (...)",
+// "truncated", "contains no mesh"); a .gltf it finds nothing wrong with (a buffer whose URI is
+// percent-encoded, "My%20Body.bin", which assimp opens as written) is read again from memory as
+// the GLB that reader makes of it. Otherwise throws spx::Error naming `path` (exit 2): "cannot read
+// <what>: <assimp's error>". The scene is the importer's.
+const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what);
+
+}  // namespace spx
