@@ -1,11 +1,14 @@
 #include "core/atomic_file.hpp"
 
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <unistd.h>
 
@@ -13,6 +16,60 @@
 
 namespace spx {
 namespace {
+
+// The temporary files being written, so that Ctrl-C, make's or a farm's SIGTERM, or a closed
+// terminal does not leave one behind (kill -9 still can: under a hidden name, never the target's).
+// The handler only reads these slots and unlinks, which is safe in a signal handler.
+constexpr size_t kTempSlots = 64;
+std::atomic<const char*> g_temps[kTempSlots];
+
+extern "C" void remove_temps_and_end(int sig) {
+  for (auto& slot : g_temps)
+    if (const char* path = slot.load()) ::unlink(path);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+// Installed on the first write, for the signals whose action is still the default (a host that
+// set its own keeps it).
+void install_temp_cleanup() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction now {};
+      if (::sigaction(sig, nullptr, &now) != 0 || now.sa_handler != SIG_DFL) continue;
+      struct sigaction act {};
+      act.sa_handler = remove_temps_and_end;
+      sigemptyset(&act.sa_mask);
+      ::sigaction(sig, &act, nullptr);
+    }
+  });
+}
+
+// A temporary file listed for the handler while it lives (no slot free: it is simply not listed).
+class ListedTemp {
+ public:
+  explicit ListedTemp(std::string path) : path_(std::move(path)) {
+    install_temp_cleanup();
+    for (auto& s : g_temps) {
+      const char* empty = nullptr;
+      if (s.compare_exchange_strong(empty, path_.c_str())) {
+        slot_ = &s;
+        break;
+      }
+    }
+  }
+  ~ListedTemp() {
+    if (slot_) slot_->store(nullptr);
+  }
+  ListedTemp(const ListedTemp&) = delete;
+  ListedTemp& operator=(const ListedTemp&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::atomic<const char*>* slot_ = nullptr;
+};
 
 std::string temp_path_for(const std::string& path) {
   namespace fs = std::filesystem;
@@ -35,7 +92,8 @@ void rename_into_place(const std::string& tmp, const std::string& path) {
 }  // namespace
 
 void write_file_atomic(const std::string& path, std::string_view bytes) {
-  const std::string tmp = temp_path_for(path);
+  const ListedTemp listed(temp_path_for(path));
+  const std::string& tmp = listed.path();
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail_write(path, "cannot create output: " + errno_text());
   const char* p = bytes.data();
@@ -67,7 +125,8 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
 }
 
 void write_via_temp(const std::string& path, const std::function<void(const std::string&)>& write) {
-  const std::string tmp = temp_path_for(path);
+  const ListedTemp listed(temp_path_for(path));
+  const std::string& tmp = listed.path();
   try {
     write(tmp);
   } catch (const Error&) {

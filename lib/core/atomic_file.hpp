@@ -1,6 +1,7 @@
 #pragma once
 // Atomic output: write a temp file beside the target, flush and close it, then rename.
-// A failed or interrupted run leaves the previous file (or none), never a half file.
+// A failed or interrupted run leaves the previous file (or none), never a half file; one ended
+// by SIGINT, SIGTERM or SIGHUP removes the temp file it was writing, too.
 #include <functional>
 #include <string>
 #include <string_view>
