@@ -6,6 +6,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
+#include "core/format.hpp"
 #include "core/subject.hpp"
 #include "io/spx_writer.hpp"
 #include "metrics/rest_match.hpp"
@@ -123,8 +124,8 @@ void proxy_export_files(const std::string& input, const std::string& output, con
     else bytes = colored_preview(proxy, input, ext, options, log);
   });
   write_file_atomic(output, bytes);
-  log.info(output + ": " + std::to_string(bytes.size()) + " bytes, " + std::to_string(proxy.sphere_count()) +
-           " spheres x " + std::to_string(proxy.poses.size()) + " poses");
+  log.info(output + ": " + std::to_string(bytes.size()) + " bytes, " + counted(proxy.sphere_count(), "sphere") + " x " +
+           counted(proxy.poses.size(), "pose"));
   report["input"] = input;
   report["output"] = output;
   report["format"] = ext.substr(1);

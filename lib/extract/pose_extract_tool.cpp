@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "extract/asset.hpp"
 #include "io/pose_manifest.hpp"
 #include "io/skin_file.hpp"
@@ -317,7 +318,7 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
   std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt);
   if (opt.select > 0) requests = select_frames(asset, body, requests, size_t(opt.select), input, log, report);
   write_poses(asset, body, requests, opt, input, dir, log, report);
-  log.info(dir + ": rest + " + std::to_string(requests.size()) + " poses");
+  log.info(dir + ": rest + " + counted(requests.size(), "pose"));
 }
 
 }  // namespace spx
