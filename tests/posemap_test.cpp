@@ -461,6 +461,31 @@ TEST(PoseMap, OpenMeshesPoseEqualToRestKeepsRestRadii) {
   expect_rest_copy_keeps_radii(d + "/broken/hemisphere.obj", 64, {});
 }
 
+// A pose that is inside out is refused naming the pose, not the rest: a closed body's (its signed
+// volume, before the tets are made) and an open body's (its field encloses nothing).
+TEST(PoseMap, InsideOutPoseIsNamed) {
+  SPX_REQUIRE_SHARED_DATA();
+  const auto refused_as = [](const TriMesh& rest, const TriMesh& pose, const SpheresFile& spheres) {
+    try {
+      pose_map(rest, "rest.obj", {{"mirror", "mirror.obj", pose}}, spheres, {});
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+      return e.subject();
+    }
+    return std::string("(not refused)");
+  };
+  const auto mirrored = [](TriMesh m) {
+    for (auto& v : m.vertices) v.x() = -v.x();
+    return m;
+  };
+  const SampleAsset barrel = make_barrel();
+  EXPECT_EQ(refused_as(barrel.rest, mirrored(barrel.rest), test::pack_file(barrel.rest, 32, {})), "mirror.obj");
+  const TriMesh open = load_mesh(test::shared_data() + "/broken/hemisphere.obj").mesh;
+  PackOptions pack;
+  pack.field_bounds_radius = true;
+  EXPECT_EQ(refused_as(open, mirrored(open), test::pack_file(open, 48, pack)), "mirror.obj");
+}
+
 // Radii packed from the field alone (sphere-pack without --mesh) become exact distances in the
 // rest pose too, as in every other pose: one source, named in the report.
 TEST(PoseMap, RestRadiiComeFromTheSameSourceAsPoseRadii) {

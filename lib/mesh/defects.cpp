@@ -66,18 +66,21 @@ std::vector<std::string> far_parts(const std::vector<PieceShape>& parts, size_t 
 
 }  // namespace
 
+double signed_volume(const TriMesh& mesh) {
+  double v = 0;
+  for (const auto& f : mesh.triangles) v += mesh.vertices[f[0]].dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6.0;
+  return v;
+}
+
 MeshDefects find_defects(const TriMesh& mesh) {
   MeshDefects d;
   d.vertices = mesh.vertices.size();
   d.triangles = mesh.triangles.size();
   const double diag = mesh.diagonal();
 
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& f = mesh.triangles[t];
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
     if (is_degenerate(mesh, static_cast<int>(t), diag)) ++d.degenerate_triangles;
-    const Eigen::Vector3d& p0 = mesh.vertices[f[0]];
-    d.signed_volume += p0.dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6.0;
-  }
+  d.signed_volume = signed_volume(mesh);
   // An edge's uses: counts and orientation per edge, and (one sort for both) the pieces, each
   // closed where none of its edges is a defect.
   const std::vector<EdgeUse> half = sorted_edge_uses(mesh);

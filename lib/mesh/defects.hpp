@@ -32,6 +32,9 @@ struct MeshDefects {
 
 MeshDefects find_defects(const TriMesh& mesh);
 
+// The volume enclosed, by the divergence theorem: negative when the mesh is inside out.
+double signed_volume(const TriMesh& mesh);
+
 // Triangles with (near) zero area: repeated indices or collinear corners.
 bool is_degenerate(const TriMesh& mesh, int triangle, double diagonal);
 // The corners' part of that test, for a triangle that is not in a mesh (a piece of one).

@@ -221,6 +221,12 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   log.info(line);
   for (size_t i = 0; i < result.proxy.poses.size(); ++i) {
     const ProxyPose& pose = result.proxy.poses[i];
+    if (std::none_of(pose.spheres.begin(), pose.spheres.end(), [](const Sphere& s) { return s.radius > 0; })) {
+      // No union to measure against (the warning above says why): not an error of nan.
+      log.info("  " + pose.name + ": no sphere of radius above 0 in this pose, " + std::to_string(pose.outside.size()) +
+               " centers outside");
+      continue;
+    }
     std::snprintf(line, sizeof line, "  %-12s error median %.4g max %.4g, %zu centers outside", pose.name.c_str(),
                   result.summary.errors[i].median, result.summary.errors[i].max, pose.outside.size());
     log.info(line);

@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/subject.hpp"
 #include "core/tolerance.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/pose_mapper.hpp"
@@ -129,12 +130,17 @@ PackOptions PoseMapper::pose_pack_options() const {
 }
 
 const DenseField& PoseMapper::pose_field(size_t i, bool inside_only) {
-  if (!fields_[i]) try {
-      fields_[i] = std::make_unique<DenseField>(
+  if (fields_[i]) return *fields_[i];
+  const std::string& source = i == 0 ? rest_source_ : poses_[i - 1].source;
+  // A pose that encloses no volume (flattened, or mirrored so that it faces inward) is named.
+  fields_[i] = about_file(source, [&] {
+    try {
+      return std::make_unique<DenseField>(
           build_sdf(*meshes_[i], field_options(inside_only), Log::silent(), &queries_[i]->boundary()).field);
     } catch (const GridTooLarge& e) {
-      fail_field_too_fine(e, spheres_, i == 0 ? rest_source_ : poses_[i - 1].source);
+      fail_field_too_fine(e, spheres_, source);
     }
+  });
   return *fields_[i];
 }
 

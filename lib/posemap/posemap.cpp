@@ -219,6 +219,9 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   if (!(opt.fill_tolerance >= 0)) fail_option("fill_tolerance", "must be a positive length");
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
+  // Before the tets: a closed body's pose that is inside out fails now, not after Mesh_3.
+  if (find_defects(rest).watertight())
+    for (const PoseInput& input : poses) check_pose_faces_outward(input.mesh, input.source);
   detail::PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
   // Mesh_3 keeps one core: the poses' solids (their queries and, skinned or open, fields) are
   // built on the other meanwhile.

@@ -1,6 +1,7 @@
 #include "posemap/spheres_fit.hpp"
 
 #include "core/format.hpp"
+#include "mesh/defects.hpp"
 
 namespace spx {
 
@@ -14,6 +15,14 @@ void check_spheres_fit(const MeshQuery& rest, const SpheresFile& spheres, const 
                                 " spheres do not fit inside this rest mesh (packed from another mesh, or are the rest "
                                 "mesh and a pose swapped?)" +
                                 (spheres.mesh.empty() ? "" : "; the spheres file was packed from " + spheres.mesh));
+}
+
+void check_pose_faces_outward(const TriMesh& pose, const std::string& pose_source) {
+  const double volume = signed_volume(pose);
+  if (volume < 0)
+    fail_input(pose_source, "is inside out (signed volume " + num(volume) +
+                                "): its triangles face inward, as in a mirrored pose, so no sphere would be inside "
+                                "it; flip its faces");
 }
 
 void fail_field_too_fine(const GridTooLarge& e, const SpheresFile& spheres, const std::string& mesh_source) {

@@ -1,6 +1,7 @@
 #pragma once
-// Whether a spheres file belongs with the rest mesh pose-map is given: the checks that name the
-// file and the likely mix-up (another mesh's spheres, another unit, a pose given as the rest).
+// Whether a spheres file belongs with the rest mesh pose-map is given, and the poses with it: the
+// checks that name the file and the likely mix-up (another mesh's spheres, another unit, a pose
+// given as the rest, a mirrored pose).
 #include <string>
 
 #include "core/error.hpp"
@@ -12,6 +13,10 @@ namespace spx {
 
 // Every rest sphere must lie inside the rest mesh (within a ten-thousandth of its diagonal).
 void check_spheres_fit(const MeshQuery& rest, const SpheresFile& spheres, const std::string& rest_source);
+
+// A closed body's pose encloses a volume as its rest does: one that is inside out (mirrored, or
+// its faces flipped) would leave every sphere outside it. Exit 2 naming `pose_source`.
+void check_pose_faces_outward(const TriMesh& pose, const std::string& pose_source);
 
 // A field at the spheres file's voxel over `mesh_source` was refused as too large for memory
 // (`e`): the same failure, saying whose voxel it was and what to do.
