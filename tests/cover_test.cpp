@@ -346,7 +346,8 @@ TEST(Cover, ReductionAndSearchAgainstBruteForce) {
 }
 
 // A ball query visits every sample within reach, each once, with cells fixed or by density: on
-// dense and sparse point sets, flat ones (a box of no volume) and a single point, against a scan.
+// dense and sparse point sets, flat ones (a box of no volume) and a single point, and for reaches
+// up to 1e209, against a scan.
 TEST(Cover, SampleGridVisitsEverySampleWithinReach) {
   std::mt19937 rng(23);
   std::uniform_real_distribution<double> u(0, 1);
@@ -358,7 +359,8 @@ TEST(Cover, SampleGridVisitsEverySampleWithinReach) {
       const detail::SampleGrid grid(points, by_density);
       for (int q = 0; q < 50; ++q) {
         const Eigen::Vector3d c(12 * u(rng) - 1, 6 * u(rng) - 1, 4 * u(rng) - 1);
-        const double reach = 3 * u(rng) * u(rng);
+        // Now and then a reach past any int of cells (a tolerance of 1e9): every sample.
+        const double reach = q % 10 == 9 ? std::pow(10.0, 9 + q % 7 * 40) : 3 * u(rng) * u(rng);
         std::vector<int> seen(n, 0);
         grid.near(c, reach, [&](uint32_t i) { ++seen[i]; });
         for (size_t i = 0; i < n; ++i) {

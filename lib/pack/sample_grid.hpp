@@ -75,8 +75,10 @@ class SampleGrid {
 
  private:
   size_t cells() const { return size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z()); }
+  // Clamped before the cast: a ball whose reach dwarfs the box (a tolerance of 1e9) has corners
+  // past any int, where the cast would wrap to the box's first cell and miss the others.
   Eigen::Vector3i index(const Eigen::Vector3d& p) const {
-    return ((p - box_.min()) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1);
+    return ((p - box_.min()) / cell_).array().floor().max(0.0).min((dims_.array() - 1).cast<double>()).cast<int>();
   }
   size_t cell_of(const Eigen::Vector3d& p) const {
     const Eigen::Vector3i c = index(p);
