@@ -214,6 +214,9 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
   const double size = opt.size > 0 ? opt.size : diag / 30.0;
   if (!(size > 0) || !std::isfinite(size)) fail_option("tet_size", "must be a positive number");
   if (diag / size > 400) fail_option("tet_size", "is too small for this mesh (over 400 tets across)");
+  if (size > diag)
+    fail_option("tet_size", num(size) + " is larger than the body (its bounding box's diagonal is " + num(diag) +
+                                "; the default is a 30th of it)");
 
   // Mesh_3 asks only the sign (inside: below 0), thousands of times per tet along segments it
   // bisects. On a closed mesh the winding number is the signed count of a ray's crossings, which
