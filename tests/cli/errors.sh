@@ -118,7 +118,7 @@ expect 1 "fill-max: must be above 0, not 0" "$out/n.json" -- "$bin/pose-map" --r
   --spheres "$out/s.json" -o "$out/n.json" --fill-gaps --fill-max 0
 expect 1 "tet-size: must be above 0, not -1" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
   --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/n.json" --tet-size -1
-expect 1 "tet-size: 1e\+09 is larger than the body" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
+expect 1 "tet-size: 1e+09 is larger than the body" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
   --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/n.json" --tet-size 1e9
 
 # An option the run would ignore (another method's, or one that needs a flag not given) is an
