@@ -117,6 +117,9 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
     fail_option("poses", "the proxy has " + std::to_string(proxy.poses.size() - 1) + " example poses, " +
                              std::to_string(meshes.size() - 1) + " were given");
   if (opt.blends < 0) fail_option("blends", "must not be negative");
+  if (opt.blends > kMaxBlends)
+    fail_option("blends", "at most " + std::to_string(kMaxBlends) + ", not " + std::to_string(opt.blends) +
+                              " (each blend is a whole measurement of the body)");
   if (opt.coverage_samples < 1) fail_option("coverage_samples", "must be above 0");
   EvalResult result;
   for (size_t i = 0; i < meshes.size(); ++i) {
@@ -144,10 +147,8 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
     PoseError p;
     for (uint32_t s = 0; s < n; ++s)
       p.spheres.push_back({Eigen::Vector3d(centers[3 * s], centers[3 * s + 1], centers[3 * s + 2]), double(radii[s])});
-    p.name = "blend-" + std::to_string(result.blends.size());
     result.blend_measurements.push_back(measure(blended, p, opt.coverage_samples));
     result.blend_weights.push_back(w);
-    result.blends.push_back(std::move(p));
   }
 
   // Runtime cost per frame: median time of a global blend, measured here.

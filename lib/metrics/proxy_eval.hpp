@@ -26,7 +26,7 @@ struct SurfaceError {
 SurfaceError surface_error(const std::vector<double>& signed_distance);
 
 struct EvalOptions {
-  int blends = 8;            // weight vectors to try between examples
+  int blends = 8;            // weight vectors to try between examples (at most kMaxBlends)
   unsigned seed = 1;         // for the random convex combinations
   int coverage_samples = 48;
 };
@@ -42,7 +42,8 @@ struct Measurement {
 struct EvalResult {
   std::vector<PoseError> poses;   // rest first, then the examples
   std::vector<Measurement> pose_measurements;
-  std::vector<PoseError> blends;  // the blended meshes and spheres
+  // Blend b ("blend-b"): its measurement and weights. Its mesh and spheres are not kept: a run of
+  // many blends would hold a mesh for each.
   std::vector<Measurement> blend_measurements;
   std::vector<std::vector<float>> blend_weights;
   double blend_global_us = 0;     // the median time of one global blend through the runtime
@@ -56,6 +57,9 @@ EvalResult evaluate_proxy(const ProxyModel& proxy, const std::vector<TriMesh>& m
 // The median over 31 runs of one call's time in microseconds (each run the mean of 20 calls): how
 // the runtime's per-frame costs are reported.
 double median_call_us(const std::function<void()>& call);
+
+// More blends than this are refused: each is a whole measurement, and their weights are listed.
+constexpr int kMaxBlends = 100000;
 
 // Weight vectors over `poses` examples: midpoints of pairs first, then seeded random convex
 // combinations; `count` in all.

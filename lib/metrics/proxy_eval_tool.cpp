@@ -55,8 +55,8 @@ json proxy_eval_report(const ProxyModel& proxy, const EvalResult& r) {
   }
   json samples = json::array();
   std::vector<double> medians, maxima;
-  for (size_t b = 0; b < r.blends.size(); ++b) {
-    json j = measurement_json(r.blends[b].name, r.blend_measurements[b]);
+  for (size_t b = 0; b < r.blend_measurements.size(); ++b) {
+    json j = measurement_json("blend-" + std::to_string(b), r.blend_measurements[b]);
     j["weights"] = r.blend_weights[b];
     medians.push_back(r.blend_measurements[b].error.abs.median);
     maxima.push_back(r.blend_measurements[b].error.abs.max);

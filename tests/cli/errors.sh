@@ -164,6 +164,8 @@ expect 1 "ply-pose: must be 0 or more, not -1" "$out/n.ply" -- "$bin/proxy-expor
 ev() { "$bin/proxy-eval" "$out/ok.proxy.json" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" "$@"; }
 expect 1 "coverage-samples: must be above 0, not 0" "" -- ev --coverage-samples 0
 expect 1 "color-pose requires --colors" "" -- ev --color-pose 1
+# A mistyped count of blends is refused before any work (it grew past 6 GB in 16 s).
+expect 1 "blends: at most 100000, not 1000000000" "" -- ev --blends 1000000000
 expect 1 "color-scale requires --colors" "" -- ev --color-scale 0.1
 expect 1 "color-scale: must be above 0, not -1" "$out/n.ply" -- ev --colors "$out/n.ply" --color-scale -1
 expect 1 "color-pose: is for a .ply" "$out/n.glb" -- ev --colors "$out/n.glb" --color-pose 1
