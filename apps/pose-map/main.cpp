@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
                                   "selecting");
   auto* samples = tool.app.add_option("--samples", opt.area_samples,
                                       "Selection: surface samples per pose besides every vertex")
-                      ->capture_default_str();
+                      ->capture_default_str()
+                      ->check(CLI::Range(size_t(0), size_t(1000000)));
   auto* seed = tool.app.add_option("--seed", opt.seed, "Selection: seed of the surface samples")->capture_default_str();
   auto* polish = tool.app.add_option("--polish", opt.polish_rounds,
                                      "Selection with --max-spheres: cover again this many times from the refined "

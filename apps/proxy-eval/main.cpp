@@ -16,9 +16,10 @@ int main(int argc, char** argv) {
       ->excludes(rest_opt)->excludes(pose_opt);
   tool.app.add_option("--blends", opt.eval.blends, "Weight vectors to evaluate between examples")->capture_default_str();
   tool.app.add_option("--seed", opt.eval.seed, "Seed of the random blends")->capture_default_str();
+  // Bounds that catch a mistyped count before it runs for days or fills memory.
   tool.app.add_option("--coverage-samples", opt.eval.coverage_samples, "Grid cells along the longest side for coverage")
       ->capture_default_str()
-      ->check(spx::kPositive);
+      ->check(CLI::Range(1, 1024));
   auto* colors =
       tool.app.add_option("--colors", opt.colors, "Per-vertex error colours: .glb (every pose) or .ply (one pose)");
   tool.writes_file("--colors");
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
   tool.app.add_option("--every", m.every, "With --asset: every Nth frame of the clip")->capture_default_str()->needs(asset_opt);
   tool.app.add_option("--times", m.times, "With --asset: these times in seconds instead")->needs(asset_opt);
   tool.app.add_option("--between", m.between, "With --asset: also this many times evenly between consecutive ones "
-                      "(0: none)")->capture_default_str()->needs(asset_opt);
+                      "(0: none)")->capture_default_str()->check(CLI::Range(0, 1000))->needs(asset_opt);
   tool.app.add_option("--chart", m.chart, "With --asset: error over the clip as an SVG chart")->needs(asset_opt);
   tool.writes_file("--chart");
   std::string tolerance;

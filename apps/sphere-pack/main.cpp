@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--min-radius", opt.pack.min_radius, "No sphere smaller (greedy default: 1.5 voxels)");
   tool.app.add_option("--max-radius", opt.pack.max_radius, "No sphere larger (default unlimited)");
   auto* samples = tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")
-                      ->capture_default_str();
+                      ->capture_default_str()
+                      ->check(CLI::Range(size_t(0), size_t(1000000)));
   auto* seed = tool.app.add_option("--seed", opt.seed, "Cover: seed of the surface samples")->capture_default_str();
   auto* polish = tool.app.add_option("--polish", opt.polish_rounds,
                                      "Cover with --max-spheres: cover again this many times from the refined spheres, "

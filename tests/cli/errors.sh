@@ -162,7 +162,14 @@ expect 1 "ply-pose: is for a .ply output" "$out/n.spx" -- "$bin/proxy-export" "$
 expect 1 "stacked: is for a .glb of sphere meshes" "$out/n.spx" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.spx" --stacked
 expect 1 "ply-pose: must be 0 or more, not -1" "$out/n.ply" -- "$bin/proxy-export" "$out/ok.proxy.json" -o "$out/n.ply" --ply-pose -1
 ev() { "$bin/proxy-eval" "$out/ok.proxy.json" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" "$@"; }
-expect 1 "coverage-samples: must be above 0, not 0" "" -- ev --coverage-samples 0
+expect 1 "coverage-samples: Value 0 not in range 1 to 1024" "" -- ev --coverage-samples 0
+# Counts past what any run needs, mistyped: refused before the work (each ran for days or filled
+# memory: --samples 2e9 passed 3.8 GB in 9 s, --between 1e9 5.8 GB).
+expect 1 "coverage-samples: Value 100000 not in range 1 to 1024" "" -- ev --coverage-samples 100000
+expect 1 "samples: Value 2000000000 not in range 0 to 1000000" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
+  -o "$out/y.json" --samples 2000000000
+expect 1 "samples: Value 2000000000 not in range 0 to 1000000" "$out/y.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
+  --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/y.json" --samples 2000000000
 expect 1 "color-pose requires --colors" "" -- ev --color-pose 1
 # A mistyped count of blends is refused before any work (it grew past 6 GB in 16 s).
 expect 1 "blends: at most 100000, not 1000000000" "" -- ev --blends 1000000000

@@ -123,6 +123,8 @@ PY
   expect 1 "asset.*no skin" "" -- "$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --asset "$rig" --animation 0
   expect 2 "car-morph.glb: has no joint" "" -- "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$out/in/car-morph.glb" --animation 0
   expect 1 "times" "" -- "$bin/proxy-eval" "$r/rigged.proxy.json" --asset "$rig" --animation 0 --times 99
+  expect 1 "between: Value 1000000000 not in range 0 to 1000" "" -- "$bin/proxy-eval" "$r/rigged.proxy.json" \
+    --asset "$rig" --animation 0 --between 1000000000
   if [ -x "$host" ]; then
     expect 2 "car-morph.glb: has no joint" "" -- "$host" "$r/rigged.spx" --asset "$out/in/car-morph.glb"
     expect 2 "rigged.proxy.json: .*spx" "" -- "$host" "$r/rigged.proxy.json" --asset "$rig"
