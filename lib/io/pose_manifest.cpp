@@ -30,6 +30,8 @@ PoseManifest read_pose_manifest(const std::string& path) {
     for (const json& p : poses) {
       if (!p.is_object()) fail_input(path, "an entry of 'poses' is not an object");
       m.poses.push_back({require_string(p, "name", path), require_string(p, "file", path), p.value("source", json())});
+      for (size_t k = 0; k + 1 < m.poses.size(); ++k)
+        if (m.poses[k].file == m.poses.back().file) fail_input(path, "lists the pose file '" + m.poses[k].file + "' twice");
     }
     if (m.poses.empty()) fail_input(path, "lists no poses");
     if (j.contains("skin")) m.skin = require_string(j, "skin", path);

@@ -6,6 +6,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
+#include "core/format.hpp"
 #include "core/subject.hpp"
 #include "io/scene.hpp"
 #include "metrics/rest_match.hpp"
@@ -16,9 +17,10 @@ std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::v
                                       const ProxyModel& proxy, const std::string& proxy_path, Log& log,
                                       const std::string& manifest) {
   if (pose_paths.size() + 1 != proxy.poses.size()) {
-    const std::string count = proxy_path + " has " + std::to_string(proxy.poses.size() - 1) + " example poses";
-    if (!manifest.empty()) fail_input(manifest, "lists " + std::to_string(pose_paths.size()) + " poses; " + count);
-    fail_option("poses", count + "; " + std::to_string(pose_paths.size()) + " pose files were given");
+    const std::string count = proxy_path + " has " + counted(proxy.poses.size() - 1, "example pose");
+    if (!manifest.empty()) fail_input(manifest, "lists " + counted(pose_paths.size(), "pose") + "; " + count);
+    fail_option("poses", count + "; " + counted(pose_paths.size(), "pose file") + (pose_paths.size() == 1 ? " was" : " were") +
+                             " given");
   }
   const LoadedMesh rest = load_mesh(rest_path);
   // Made from another mesh, the proxy would be measured (or drawn) on it without a word.

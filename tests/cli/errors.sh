@@ -206,7 +206,13 @@ expect 2 "far.obj: its rest does not hold the proxy's rest spheres (.* centres o
 expect 2 "far.obj: its rest does not hold the proxy's rest spheres (.* centres outside.*): not the mesh the proxy was made from" "$out/far.glb" -- \
   "$bin/proxy-export" "$out/ok.proxy.json" --rest "$out/far.obj" --pose "$out/far.obj" -o "$out/far.glb"
 "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "$out/pm" --morph-targets -q
-expect 2 "pm/poses.json: lists [0-9]* poses; .*ok.proxy.json has 1 example poses" "" -- \
+python3 -c "
+import json, sys
+m = json.load(open(sys.argv[1])); m['poses'].append(dict(m['poses'][0])); json.dump(m, open(sys.argv[2], 'w'))
+" "$out/pm/poses.json" "$out/pm/twice.json"
+expect 2 "twice.json: lists the pose file '.*' twice" "$out/tw.json" -- "$bin/pose-map" --manifest "$out/pm/twice.json" \
+  --spheres "$out/s.json" -o "$out/tw.json"
+expect 2 "pm/poses.json: lists [0-9]* poses; .*ok.proxy.json has 1 example pose$" "" -- \
   "$bin/proxy-eval" "$out/ok.proxy.json" --manifest "$out/pm/poses.json"
 if "$1/samples/runtime-demo" --help | grep -q "usage: runtime-demo"; then passed=$((passed + 1)); else
   echo "FAIL: runtime-demo --help"; fail=$((fail + 1)); fi
