@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "mesh/defects.hpp"
 #include "mesh/deforming_query.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_query.hpp"
@@ -32,7 +33,11 @@ class PoseMapper {
   PoseMapper(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
              const SpheresFile& spheres, const PoseMapOptions& opt, const SkinFile* skin, ProxyModel& proxy, Log& log)
       : rest_(rest), rest_source_(rest_source), poses_(poses), spheres_(spheres), opt_(opt), skin_(skin), proxy_(proxy),
-        log_(log) {}
+        log_(log), open_solid_(!find_defects(rest).watertight()) {}
+
+  // A closed body's poses face outward as its rest does (spheres_fit.hpp): asked before the tets,
+  // so that an inside-out pose fails at once.
+  void check_poses_face_outward() const;
 
   // The paper's tet mesh of M_0: CGAL Mesh_3, or the user's.
   void make_tets();
@@ -145,7 +150,7 @@ class PoseMapper {
   std::vector<std::vector<Eigen::Vector3d>> deformed_;  // per pose: tet vertices
   std::vector<const TriMesh*> meshes_;                  // rest, then the poses
   std::vector<std::unique_ptr<MeshQuery>> queries_;
-  bool open_solid_ = false;
+  bool open_solid_;  // the rest is not watertight: fields bound radii across its holes
   std::vector<std::unique_ptr<DenseField>> fields_;  // per pose, built when first asked
   std::vector<DepthField> depths_;                   // skinned, per pose: its field's depths (floors)
   std::vector<PoseSolid> solids_;

@@ -6,7 +6,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include "core/error.hpp"
-#include "mesh/defects.hpp"
 #include "posemap/gap_filling.hpp"
 #include "posemap/pose_mapper.hpp"
 #include "posemap/spheres_fit.hpp"
@@ -35,6 +34,11 @@ void PoseMapper::solve_map() {
     deformed_.push_back(skinned_ ? skinned_->deform_tets(i + 1) : f_->deform(poses_[i].mesh));
 }
 
+void PoseMapper::check_poses_face_outward() const {
+  if (!open_solid_)
+    for (const PoseInput& input : poses_) check_pose_faces_outward(input.mesh, input.source);
+}
+
 void PoseMapper::build_solids(Log& log) {
   const bool skinned = skin_ != nullptr;  // skinned_ is made beside this
   meshes_.push_back(&rest_);
@@ -47,7 +51,6 @@ void PoseMapper::build_solids(Log& log) {
   }
   // Before anything is built at the spheres' voxel size.
   check_spheres_fit(*queries_[0], spheres_, rest_source_);
-  open_solid_ = !find_defects(rest_).watertight();
   fields_.resize(meshes_.size());
   // Open meshes: the fields bound radii across the holes. Skinned: they put floors under every
   // pose's radii, so that a sphere's one radius asks few poses.
@@ -219,10 +222,8 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   if (!(opt.fill_tolerance >= 0)) fail_option("fill_tolerance", "must be a positive length");
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
-  // Before the tets: a closed body's pose that is inside out fails now, not after Mesh_3.
-  if (find_defects(rest).watertight())
-    for (const PoseInput& input : poses) check_pose_faces_outward(input.mesh, input.source);
   detail::PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
+  mapper.check_poses_face_outward();
   // Mesh_3 keeps one core: the poses' solids (their queries and, skinned or open, fields) are
   // built on the other meanwhile.
   Log beside = log.fork();
