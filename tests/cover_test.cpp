@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <random>
 
@@ -1585,6 +1586,90 @@ TEST(Cover, PolishKeepsABetterSetInside) {
   const SurfaceSamples samples = sample_surface(query.surface(), opt.area_samples, opt.seed);
   for (double v : union_signed_distance(samples.points, polished.spheres))
     EXPECT_LE(v, polished.cover.delta * (1 + 1e-9));
+}
+
+}  // namespace
+}  // namespace spx
+
+namespace spx {
+namespace {
+
+// spaced_points against a scan of every pair: every point of the first `count` within the
+// spacing of a kept one, no two kept ones that close, the kept ones the first of their
+// neighbourhoods (in order).
+TEST(Candidates, SpacedPointsAgainstAScanOfEveryPair) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Eigen::Vector3d> points(200 + rng() % 1500);
+    for (auto& p : points) p = {u(rng), 2 * u(rng), trial % 4 == 0 ? 0.0 : 0.5 * u(rng)};
+    const size_t count = points.size() - rng() % 100;
+    const double spacing = 0.02 + 0.2 * u(rng);
+    const std::vector<uint32_t> kept = spaced_points(points, count, spacing);
+    ASSERT_TRUE(std::is_sorted(kept.begin(), kept.end()));
+    std::vector<char> is_kept(points.size(), 0);
+    for (uint32_t k : kept) {
+      ASSERT_LT(k, count);
+      is_kept[k] = 1;
+    }
+    for (size_t i = 0; i < count; ++i) {
+      bool near_earlier_kept = false, near_kept = false;
+      for (uint32_t k : kept) {
+        const bool near = (points[k] - points[i]).norm() <= spacing;
+        near_kept |= near;
+        near_earlier_kept |= near && k < i;
+      }
+      ASSERT_TRUE(near_kept) << "trial " << trial << ", point " << i;
+      ASSERT_EQ(bool(is_kept[i]), !near_earlier_kept) << "trial " << trial << ", point " << i;
+    }
+  }
+}
+
+// Every triangle split in four at its edges' midpoints, `times` over (shared edges share their
+// midpoint).
+TriMesh subdivided(TriMesh mesh, int times) {
+  for (int n = 0; n < times; ++n) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto [it, fresh] = midpoint.emplace(key, int(mesh.vertices.size()));
+      if (fresh) mesh.vertices.push_back(0.5 * (mesh.vertices[size_t(a)] + mesh.vertices[size_t(b)]));
+      return it->second;
+    };
+    std::vector<Eigen::Vector3i> split;
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const int ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+      split.insert(split.end(), {{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}});
+    }
+    mesh.triangles = std::move(split);
+  }
+  return mesh;
+}
+
+// A tolerance far above the spacing of the vertices (8 % on the barrel split 64-fold, as a scan
+// or a subdivided sculpt is): the cover is solved on vertices an eighth of the tolerance apart, and
+// the vertices its first cover leaves past the tolerance (on this instance some) join until none
+// is. Every vertex and area sample within the tolerance, every sphere inside.
+TEST(Cover, SpacedCoverLeavesNoVertexPastTheTolerance) {
+  const TriMesh mesh = subdivided(make_barrel().rest, 3);
+  SdfOptions o;
+  o.resolution = 48;
+  const SdfResult sdf = build_sdf(mesh, o);
+  const MeshQuery query(mesh);
+  SpherePackOptions opt;
+  opt.tolerance = 0.08 * mesh.diagonal();
+  opt.area_samples = 500;
+  const CoverSelection sel = select_by_cover(sdf.field, query, opt);
+  EXPECT_LT(sel.cover_samples, sel.samples / 2) << "the vertices were not spaced";
+  EXPECT_GT(sel.spaced_joined, 0u) << "the first cover left no vertex bare on this instance";
+  EXPECT_EQ(sel.limited_by, Limit::tolerance);
+  EXPECT_LE(vertex_error(mesh, sel.spheres).max, opt.tolerance * (1 + 1e-9));
+  const SurfaceSamples samples = sample_surface(mesh, opt.area_samples, opt.seed);
+  for (double v : union_signed_distance(samples.points, sel.spheres)) ASSERT_LE(v, opt.tolerance * (1 + 1e-9));
+  for (const Sphere& s : sel.spheres) {
+    EXPECT_TRUE(brute_inside(mesh, s.center));
+    EXPECT_LE(s.radius, brute_distance(mesh, s.center) * (1 + 1e-9));
+  }
 }
 
 }  // namespace

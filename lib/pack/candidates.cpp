@@ -169,6 +169,19 @@ SurfaceSamples sample_surface(const TriMesh& mesh, size_t area_samples, uint64_t
   return out;
 }
 
+std::vector<uint32_t> spaced_points(const std::vector<Eigen::Vector3d>& points, size_t count, double spacing) {
+  const std::vector<Eigen::Vector3d> first(points.begin(), points.begin() + long(count));
+  const detail::SampleGrid grid(first);
+  std::vector<char> near_kept(count, 0);
+  std::vector<uint32_t> kept;
+  for (size_t i = 0; i < count; ++i) {
+    if (near_kept[i]) continue;
+    kept.push_back(uint32_t(i));
+    grid.near(first[i], spacing, [&](uint32_t j) { near_kept[j] |= (first[j] - first[i]).norm() <= spacing; });
+  }
+  return kept;
+}
+
 double deepest_radius(const DenseField& field) {
   float deepest = 0;
   for (float v : field.values) deepest = std::min(deepest, v);

@@ -90,6 +90,11 @@ struct SurfaceSamples {
 SurfaceSamples sample_surface(const TriMesh& mesh, size_t area_samples, uint64_t seed);
 std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed);
 
+// The first `count` of `points` thinned to `spacing`: in order, each point kept unless one kept
+// before lies within `spacing` of it. Every point of the first `count` is then within `spacing`
+// of a kept one, and no two kept ones are closer than that. Indices, ascending.
+std::vector<uint32_t> spaced_points(const std::vector<Eigen::Vector3d>& points, size_t count, double spacing);
+
 // How near a sample its own candidate passes, in parts of the diagonal: float rounding.
 constexpr double kTouchSlack = 1e-6;
 

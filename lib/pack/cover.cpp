@@ -84,11 +84,12 @@ double largest_finite(const std::vector<double>& values) {
 
 }  // namespace
 
-CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits limits, Log& log) {
+CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits limits, Log& log,
+                         const std::vector<int>& start) {
   CoverResult r;
   r.delta = delta;
   const Coverage cov = coverage_at(problem, delta);
-  r.chosen = smallest_cover(cov, limits, 0, &r.lower_bound, log, {}, &r.kept_samples);
+  r.chosen = smallest_cover(cov, limits, 0, &r.lower_bound, log, start, &r.kept_samples);
   improve_cover(problem, cov, delta, r.chosen.size(), r.chosen, log);
   const std::vector<uint32_t> bare = uncovered_samples(cov);
   r.uncovered = bare;

@@ -72,9 +72,10 @@ struct CoverResult {
 constexpr int kSearchBisections = 4;
 constexpr double kSearchReach = 0.3;
 
-// Tolerance mode: the fewest candidates that cover every sample at `delta`.
+// Tolerance mode: the fewest candidates that cover every sample at `delta`. `start`: a cover of
+// fewer samples to complete (smallest_cover's warm start; give limits such as kWarmSearch).
 CoverResult cover_within(const CoverProblem& problem, double delta, SearchLimits limits = kToleranceSearch,
-                         Log& log = Log::silent());
+                         Log& log = Log::silent(), const std::vector<int>& start = {});
 
 // Samples a tolerance leaves out of reach (`which`, stacked indices), covered as near as the
 // candidates come: the fewest candidates (greedy) that bring each within the least delta at which

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <functional>
+#include <optional>
+#include <numeric>
 #include <tuple>
 
 #include "core/error.hpp"
@@ -53,6 +55,112 @@ UnionGaps union_gaps(const std::vector<Eigen::Vector3d>& samples, size_t weighte
 bool kept_over(const UnionGaps& a, const UnionGaps& b) { return a.max <= b.max && a.max * a.median < b.max * b.median; }
 
 namespace {
+
+// Tolerance mode on a mesh whose vertices lie much closer together than the tolerance (a scan, a
+// subdivided sculpt): the cover is first solved on vertices this part of the tolerance apart,
+// each with its own candidate, where every vertex's would make rows of millions of pairs.
+constexpr double kCoverSpacing = 0.125;
+constexpr int kSpacedPasses = 2;
+
+std::vector<uint32_t> every_index(size_t n) {
+  std::vector<uint32_t> out(n);
+  std::iota(out.begin(), out.end(), 0u);
+  return out;
+}
+
+// The samples a cover is first solved on: every one, or where the vertices `spacing` apart
+// (spacing > 0) are fewer than half of them, those and the area samples (`spaced` says which).
+std::vector<uint32_t> samples_to_cover(const SurfaceSamples& samples, size_t vertices, double spacing, bool& spaced) {
+  spaced = false;
+  if (spacing > 0) {
+    std::vector<uint32_t> kept = spaced_points(samples.points, vertices, spacing);
+    spaced = kept.size() < vertices / 2;  // where most are kept, the whole problem costs little more
+    if (spaced) {
+      for (size_t i = vertices; i < samples.points.size(); ++i) kept.push_back(uint32_t(i));
+      return kept;
+    }
+  }
+  return every_index(samples.points.size());
+}
+
+// The problem's samples: the `working` ones of `samples` (vertices first, ascending, then the
+// area samples), the vertices weighted.
+void set_working_samples(const SurfaceSamples& samples, size_t vertices, const std::vector<uint32_t>& working,
+                         CoverProblem& problem) {
+  problem.samples.assign(1, {});
+  for (uint32_t i : working) problem.samples[0].push_back(samples.points[i]);
+  problem.weighted.assign(1, size_t(std::lower_bound(working.begin(), working.end(), uint32_t(vertices)) - working.begin()));
+}
+
+// The vertices left out of `working` that `chosen` leaves farther than `delta`: the spaced
+// cover's promise is every vertex's, so these join the problem and the cover is solved again.
+std::vector<uint32_t> vertices_left_bare(const SurfaceSamples& samples, size_t vertices, const std::vector<uint32_t>& working,
+                                         const CoverProblem& problem, const std::vector<int>& chosen, double delta) {
+  SphereSet spheres;
+  for (int c : chosen) spheres.push_back(problem.spheres[0][size_t(c)]);
+  const std::vector<double> gap =
+      union_signed_distance({samples.points.begin(), samples.points.begin() + long(vertices)}, spheres);
+  std::vector<char> in_working(vertices, 0);
+  for (uint32_t i : working)
+    if (i < vertices) in_working[i] = 1;
+  std::vector<uint32_t> bare;
+  for (size_t i = 0; i < vertices; ++i)
+    if (!in_working[i] && gap[i] > delta) bare.push_back(uint32_t(i));
+  return bare;
+}
+
+// The spaced cover (select_by_cover) made every vertex's: each vertex it leaves farther than the
+// tolerance joins the samples with its own candidates (`add_candidates`) and the cover is
+// completed by a short search from the last, until none is left bare. Each short search stays
+// near the first cover, so the whole is done twice, the second from a full search over the samples
+// the first learned; the smaller cover is kept.
+void cover_every_vertex(const SurfaceSamples& samples, size_t vertices,
+                        const std::function<void(const std::vector<uint32_t>&)>& add_candidates,
+                        std::vector<uint32_t>& working, CoverProblem& problem, CoverSelection& out, Log& log) {
+  const double tolerance = out.target;
+  std::optional<CoverResult> best;
+  for (int pass = 0; pass < kSpacedPasses; ++pass) {
+    if (pass > 0) out.cover = cover_within(problem, tolerance, kToleranceSearch, log);
+    for (;;) {
+      const std::vector<uint32_t> bare = vertices_left_bare(samples, vertices, working, problem, out.cover.chosen, tolerance);
+      ++out.spaced_rounds;
+      log.detail("cover on " + std::to_string(problem.weighted[0]) + " of " + std::to_string(vertices) +
+                 " vertices: " + std::to_string(out.cover.chosen.size()) + " spheres, " + std::to_string(bare.size()) +
+                 " more vertices past the tolerance");
+      if (bare.empty()) break;
+      out.spaced_joined += bare.size();
+      add_candidates(bare);
+      working.insert(working.end(), bare.begin(), bare.end());
+      std::sort(working.begin(), working.end());
+      set_working_samples(samples, vertices, working, problem);
+      out.cover = cover_within(problem, tolerance, kWarmSearch, log, out.cover.chosen);
+    }
+    if (!best || out.cover.chosen.size() < best->chosen.size()) best = out.cover;
+  }
+  out.cover = std::move(*best);
+  out.limited_by = out.cover.uncoverable() > 0 ? Limit::resolution : Limit::tolerance;
+  log.info("covered on " + std::to_string(problem.weighted[0]) + " of the " + std::to_string(vertices) +
+           " vertices (those an eighth of the tolerance apart, and " + std::to_string(out.spaced_joined) +
+           " a cover left past it), then every vertex checked");
+}
+
+// The chosen spheres moved off the voxel grid, the radius staying the exact distance so that
+// they stay inside (an open mesh's radii also depend on the field across its holes: its centres
+// stay put, and this is not called); budget mode then polishes them.
+void refine_selected(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt,
+                     const CoverProblem& problem, CoverSelection& out, Log& log) {
+  StageTimer t(log, "refine");
+  const double max_radius = opt.pack.max_radius;
+  // Budget mode's first aim is the max: the refinement does not trade it for the total.
+  const bool budget = out.limited_by == Limit::budget || out.limited_by == Limit::budget_over_tolerance;
+  const auto radius_at = [&](const Eigen::Vector3d& c) {
+    return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0;
+  };
+  const double step = 0.5 * field.shape.voxel_size;
+  refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres, radius_at, out.cover.delta, step, log, budget);
+  if (budget) polish(problem, opt.pack.max_spheres, out, radius_at, step, opt.polish_rounds, log);
+}
+
 // No candidate at all, said as greedy packing says it: the deepest voxel against the least radius.
 [[noreturn]] void fail_no_candidates(const DenseField& field, double min_radius) {
   double deepest = 0;
@@ -70,26 +178,35 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     fail_option("tolerance", "give a tolerance (a length) or a sphere budget: the cover method needs one");
   CoverSelection out;
   CoverProblem problem;
+  SurfaceSamples samples;
+  const size_t vertices = mesh.surface().vertices.size();
+  // The samples the cover is solved on: every one, or (spaced) the vertices kCoverSpacing x the
+  // tolerance apart and every area sample, joined by the vertices that cover leaves bare.
+  std::vector<uint32_t> working;
+  bool spaced = opt.tangent_candidates && opt.tolerance > 0 && opt.pack.max_spheres == 0;
+  const CandidateOptions limits = candidate_options(opt.pack);
+  const auto add_tangent_candidates = [&](const std::vector<uint32_t>& which) {
+    const TangentCandidates tangent =
+        tangent_candidates(mesh, mesh.surface(), samples, which, &field, deepest_radius(field), limits);
+    problem.spheres[0].insert(problem.spheres[0].end(), tangent.spheres.begin(), tangent.spheres.end());
+    out.touching_samples += tangent.touching;
+    out.unreached_samples += tangent.unreached;
+  };
   {
     StageTimer t(log, "candidates");
-    const CandidateOptions limits = candidate_options(opt.pack);
     problem.spheres.push_back(inscribed_candidates(field, mesh, limits));
     out.voxel_candidates = problem.spheres[0].size();
-    const SurfaceSamples samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
+    samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
+    working = samples_to_cover(samples, vertices, spaced ? kCoverSpacing * opt.tolerance : 0, spaced);
     if (opt.tangent_candidates) {
-      const TangentCandidates tangent = tangent_candidates(mesh, mesh.surface(), samples, field, deepest_radius(field), limits);
-      problem.spheres[0].insert(problem.spheres[0].end(), tangent.spheres.begin(), tangent.spheres.end());
-      out.touching_samples = tangent.touching;
-      out.unreached_samples = tangent.unreached;
+      add_tangent_candidates(working);
       problem.merge = kCandidateMerge;
     }
-    problem.samples.push_back(samples.points);
-    problem.weighted.push_back(mesh.surface().vertices.size());
+    set_working_samples(samples, vertices, working, problem);
   }
   const SphereSet& candidates = problem.spheres[0];
   if (candidates.empty()) fail_no_candidates(field, opt.pack.min_radius);
-  out.candidates = candidates.size();
-  out.samples = problem.sample_count();
+  out.samples = samples.points.size();
   // The centres are refined off the grid after the cover (below), unless the field bounds the radii.
   const bool refined = !opt.pack.field_bounds_radius;
   {
@@ -97,8 +214,13 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     out.target = opt.tolerance;
     const double slack = refined ? kRefinedBudgetSlack : kBudgetSlack;
     out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log, slack);
+    if (spaced) cover_every_vertex(samples, vertices, add_tangent_candidates, working, problem, out, log);
     if (out.limited_by == Limit::resolution)
       out.out_of_reach_added = cover_out_of_reach(problem, out.cover.uncovered, out.cover.chosen);
+    out.candidates = candidates.size();
+    out.cover_samples = problem.sample_count();
+    // The refinement below keeps every sample within the tolerance, not only the cover's.
+    if (spaced) set_working_samples(samples, vertices, every_index(samples.points.size()), problem);
   }
   // Where a sample's own candidate reaches it, the tolerance does not wait on the field (but
   // across an open mesh's holes every radius is the field's bound, which a finer field raises).
@@ -113,20 +235,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     if (size_t(c) >= out.voxel_candidates) out.pool.push_back(candidates[size_t(c)]);
   }
   out.offered = std::move(problem.spheres[0]);  // the cover is done with them
-  if (refined) {
-    // Off the voxel grid: the radius stays the exact distance, so spheres stay inside. (An
-    // open mesh's radii also depend on the field across its holes: its centers stay put.)
-    StageTimer t(log, "refine");
-    const double max_radius = opt.pack.max_radius;
-    // Budget mode's first aim is the max: the refinement does not trade it for the total.
-    const bool budget = out.limited_by == Limit::budget || out.limited_by == Limit::budget_over_tolerance;
-    const auto radius_at = [&](const Eigen::Vector3d& c) {
-      return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0;
-    };
-    const double step = 0.5 * field.shape.voxel_size;
-    refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres, radius_at, out.cover.delta, step, log, budget);
-    if (budget) polish(problem, opt.pack.max_spheres, out, radius_at, step, opt.polish_rounds, log);
-  }
+  if (refined) refine_selected(field, mesh, opt, problem, out, log);
   // What the kept cover chose from: the field's voxels, the samples' tangent balls, or (polished)
   // an earlier refinement's spheres.
   for (int c : out.cover.chosen) {

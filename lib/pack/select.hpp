@@ -38,6 +38,10 @@ struct CoverSelection {
   double target = 0;           // the tolerance (0: budget alone)
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, samples = 0;
+  // Tolerance mode on vertices much closer together than the tolerance: the samples the cover
+  // was solved on (spaced vertices, those they left bare, the area samples), its rounds and the
+  // vertices that joined after the first.
+  size_t cover_samples = 0, spaced_rounds = 0, spaced_joined = 0;
   size_t voxel_candidates = 0;   // candidates [0, voxel_candidates) from the field's voxels, the rest tangent at samples
   size_t touching_samples = 0;   // samples whose tangent ball misses them, given a touching ball too
   size_t unreached_samples = 0;  // samples no candidate of theirs reaches (knife edges, flipped normals)
