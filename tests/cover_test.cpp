@@ -1646,15 +1646,21 @@ TriMesh subdivided(TriMesh mesh, int times) {
   return mesh;
 }
 
+// The barrel split 64-fold (43 000 vertices), and its field at 48 cells.
+std::pair<TriMesh, SdfResult> dense_barrel() {
+  TriMesh mesh = subdivided(make_barrel().rest, 3);
+  SdfOptions o;
+  o.resolution = 48;
+  SdfResult sdf = build_sdf(mesh, o);
+  return {std::move(mesh), std::move(sdf)};
+}
+
 // A tolerance far above the spacing of the vertices (8 % on the barrel split 64-fold, as a scan
 // or a subdivided sculpt is): the cover is solved on vertices an eighth of the tolerance apart, and
 // the vertices its first cover leaves past the tolerance (on this instance some) join until none
 // is. Every vertex and area sample within the tolerance, every sphere inside.
 TEST(Cover, SpacedCoverLeavesNoVertexPastTheTolerance) {
-  const TriMesh mesh = subdivided(make_barrel().rest, 3);
-  SdfOptions o;
-  o.resolution = 48;
-  const SdfResult sdf = build_sdf(mesh, o);
+  const auto [mesh, sdf] = dense_barrel();
   const MeshQuery query(mesh);
   SpherePackOptions opt;
   opt.tolerance = 0.08 * mesh.diagonal();
@@ -1666,6 +1672,33 @@ TEST(Cover, SpacedCoverLeavesNoVertexPastTheTolerance) {
   EXPECT_LE(vertex_error(mesh, sel.spheres).max, opt.tolerance * (1 + 1e-9));
   const SurfaceSamples samples = sample_surface(mesh, opt.area_samples, opt.seed);
   for (double v : union_signed_distance(samples.points, sel.spheres)) ASSERT_LE(v, opt.tolerance * (1 + 1e-9));
+  for (const Sphere& s : sel.spheres) {
+    EXPECT_TRUE(brute_inside(mesh, s.center));
+    EXPECT_LE(s.radius, brute_distance(mesh, s.center) * (1 + 1e-9));
+  }
+}
+
+// Budget mode on the same dense barrel: the vertices are spaced an eighth of the area samples'
+// delta apart, those the cover leaves past its delta join once, and the refinement weighs every
+// vertex. The cover's spheres leave no vertex farther than its delta and the spacing (each lies
+// within the spacing of a covered one), and the refinement, whose max descent weighs every
+// vertex, leaves none farther than they did. At most the budget, every sphere inside.
+TEST(Cover, SpacedBudgetCoverBoundsEveryVertex) {
+  const auto [mesh, sdf] = dense_barrel();
+  const MeshQuery query(mesh);
+  SpherePackOptions opt;
+  opt.pack.max_spheres = 8;
+  opt.area_samples = 300;
+  opt.polish_rounds = 0;
+  const CoverSelection sel = select_by_cover(sdf.field, query, opt);
+  ASSERT_LT(sel.cover_samples, sel.samples / 2) << "the vertices were not spaced";
+  ASSERT_GT(sel.vertex_spacing, 0);
+  SphereSet covered;  // the cover's spheres before the refinement
+  for (int c : sel.cover.chosen) covered.push_back(sel.offered[size_t(c)]);
+  const double max = vertex_error(mesh, sel.spheres).max, before = vertex_error(mesh, covered).max;
+  EXPECT_LE(before, (sel.cover.delta + sel.vertex_spacing) * (1 + 1e-9));
+  EXPECT_LE(max, before * (1 + 1e-9)) << "the refinement raised some vertex's error past the cover's max";
+  EXPECT_LE(sel.spheres.size(), opt.pack.max_spheres);
   for (const Sphere& s : sel.spheres) {
     EXPECT_TRUE(brute_inside(mesh, s.center));
     EXPECT_LE(s.radius, brute_distance(mesh, s.center) * (1 + 1e-9));

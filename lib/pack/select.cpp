@@ -19,19 +19,22 @@ namespace {
 // refined; the best set (kept_over) is kept, its cover with it. A refined sphere sits where no
 // voxel or sample offered one, so the cover can pair it with others it could not before, and
 // the refinement descends again from another start.
-void polish(const CoverProblem& problem, size_t budget, CoverSelection& out,
+// (Spaced, the covers are over `problem`'s samples and the errors over `every` sample.)
+void polish(const CoverProblem& problem, const CoverProblem& every, size_t budget, CoverSelection& out,
             const std::function<double(const Eigen::Vector3d&)>& radius_at, double step, int rounds, Log& log) {
   CoverProblem again = problem;
   again.spheres = {out.offered};
   SphereSet current = out.spheres;
-  UnionGaps now = union_gaps(problem.samples[0], problem.weighted[0], current), best = now;
+  const std::vector<Eigen::Vector3d>& samples = every.samples[0];
+  const size_t weighted = every.weighted[0];
+  UnionGaps now = union_gaps(samples, weighted, current), best = now;
   for (int round = 1; round <= rounds; ++round) {
     again.spheres[0].insert(again.spheres[0].end(), current.begin(), current.end());
     CoverResult cover = cover_with_budget(again, budget, kRefinedBudgetSlack, 1e-2, log, now.largest);
     current.clear();
     for (int c : cover.chosen) current.push_back(again.spheres[0][size_t(c)]);
-    refine_off_grid(again.samples[0], again.weighted[0], current, radius_at, cover.delta, step, log, true);
-    now = union_gaps(again.samples[0], again.weighted[0], current);
+    refine_off_grid(samples, weighted, current, radius_at, cover.delta, step, log, true);
+    now = union_gaps(samples, weighted, current);
     log.detail("polish " + std::to_string(round) + ": vertex error max " + num(now.max) + ", median " + num(now.median) +
                " (kept so far: " + num(best.max) + ", " + num(best.median) + ")");
     if (!kept_over(now, best)) continue;
@@ -61,6 +64,9 @@ namespace {
 // each with its own candidate, where every vertex's would make rows of millions of pairs.
 constexpr double kCoverSpacing = 0.125;
 constexpr int kSpacedPasses = 2;
+// Budget mode spaces the vertices only where they outnumber the area samples this many times
+// (its spacing asks a cover of the area samples first).
+constexpr size_t kVerticesPerAreaSample = 8;
 
 std::vector<uint32_t> every_index(size_t n) {
   std::vector<uint32_t> out(n);
@@ -69,13 +75,17 @@ std::vector<uint32_t> every_index(size_t n) {
 }
 
 // The samples a cover is first solved on: every one, or where the vertices `spacing` apart
-// (spacing > 0) are fewer than half of them, those and the area samples (`spaced` says which).
-std::vector<uint32_t> samples_to_cover(const SurfaceSamples& samples, size_t vertices, double spacing, bool& spaced) {
+// (spacing > 0) are fewer than half of them, those and the area samples (`spaced` says which,
+// `spaced_by` the spacing, or 0).
+std::vector<uint32_t> samples_to_cover(const SurfaceSamples& samples, size_t vertices, double spacing, bool& spaced,
+                                       double& spaced_by) {
   spaced = false;
+  spaced_by = 0;
   if (spacing > 0) {
     std::vector<uint32_t> kept = spaced_points(samples.points, vertices, spacing);
     spaced = kept.size() < vertices / 2;  // where most are kept, the whole problem costs little more
     if (spaced) {
+      spaced_by = spacing;
       for (size_t i = vertices; i < samples.points.size(); ++i) kept.push_back(uint32_t(i));
       return kept;
     }
@@ -109,6 +119,17 @@ std::vector<uint32_t> vertices_left_bare(const SurfaceSamples& samples, size_t v
   return bare;
 }
 
+// The vertices `bare` join the samples the cover is solved on, with their own candidates.
+void join_working(const SurfaceSamples& samples, size_t vertices, const std::vector<uint32_t>& bare,
+                  const std::function<void(const std::vector<uint32_t>&)>& add_candidates,
+                  std::vector<uint32_t>& working, CoverProblem& problem, CoverSelection& out) {
+  out.spaced_joined += bare.size();
+  add_candidates(bare);
+  working.insert(working.end(), bare.begin(), bare.end());
+  std::sort(working.begin(), working.end());
+  set_working_samples(samples, vertices, working, problem);
+}
+
 // The spaced cover (select_by_cover) made every vertex's: each vertex it leaves farther than the
 // tolerance joins the samples with its own candidates (`add_candidates`) and the cover is
 // completed by a short search from the last, until none is left bare. Each short search stays
@@ -128,11 +149,7 @@ void cover_every_vertex(const SurfaceSamples& samples, size_t vertices,
                  " vertices: " + std::to_string(out.cover.chosen.size()) + " spheres, " + std::to_string(bare.size()) +
                  " more vertices past the tolerance");
       if (bare.empty()) break;
-      out.spaced_joined += bare.size();
-      add_candidates(bare);
-      working.insert(working.end(), bare.begin(), bare.end());
-      std::sort(working.begin(), working.end());
-      set_working_samples(samples, vertices, working, problem);
+      join_working(samples, vertices, bare, add_candidates, working, problem, out);
       out.cover = cover_within(problem, tolerance, kWarmSearch, log, out.cover.chosen);
     }
     if (!best || out.cover.chosen.size() < best->chosen.size()) best = out.cover;
@@ -148,7 +165,7 @@ void cover_every_vertex(const SurfaceSamples& samples, size_t vertices,
 // they stay inside (an open mesh's radii also depend on the field across its holes: its centres
 // stay put, and this is not called); budget mode then polishes them.
 void refine_selected(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt,
-                     const CoverProblem& problem, CoverSelection& out, Log& log) {
+                     const CoverProblem& problem, const CoverProblem& every, CoverSelection& out, Log& log) {
   StageTimer t(log, "refine");
   const double max_radius = opt.pack.max_radius;
   // Budget mode's first aim is the max: the refinement does not trade it for the total.
@@ -157,8 +174,56 @@ void refine_selected(const DenseField& field, const MeshQuery& mesh, const Spher
     return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0;
   };
   const double step = 0.5 * field.shape.voxel_size;
-  refine_off_grid(problem.samples[0], problem.weighted[0], out.spheres, radius_at, out.cover.delta, step, log, budget);
-  if (budget) polish(problem, opt.pack.max_spheres, out, radius_at, step, opt.polish_rounds, log);
+  refine_off_grid(every.samples[0], every.weighted[0], out.spheres, radius_at, out.cover.delta, step, log, budget);
+  if (budget) polish(problem, every, opt.pack.max_spheres, out, radius_at, step, opt.polish_rounds, log);
+}
+
+// Budget mode on spaced vertices: the vertices the cover leaves past its delta join, with their
+// own candidates, and the budget is covered once more from that delta (each budget cover is a
+// bisection over tables, so once, as pose-map's budget mode checks its other frames once); the
+// refinement, over every vertex, takes on what that cover leaves.
+void join_bare_vertices_once(const SurfaceSamples& samples, size_t vertices,
+                             const std::function<void(const std::vector<uint32_t>&)>& add_candidates,
+                             std::vector<uint32_t>& working, CoverProblem& problem, CoverSelection& out, size_t budget,
+                             double slack, Log& log) {
+  const std::vector<uint32_t> bare = vertices_left_bare(samples, vertices, working, problem, out.cover.chosen, out.cover.delta);
+  ++out.spaced_rounds;
+  log.info("covered on " + std::to_string(problem.weighted[0]) + " of the " + std::to_string(vertices) +
+           " vertices (those an eighth of the area samples' delta apart); " + std::to_string(bare.size()) +
+           " others past the cover's delta join");
+  if (bare.empty()) return;
+  join_working(samples, vertices, bare, add_candidates, working, problem, out);
+  out.cover = cover_with_budget(problem, budget, slack, 1e-2, log, out.cover.delta);
+}
+
+// Budget mode on a mesh of many more vertices than area samples: the delta the budget reaches
+// over the area samples alone, each with its own candidate besides the field's. It stands for
+// the budget's delta over every sample, which sets how far apart the vertices can be spaced.
+double area_samples_delta(const DenseField& field, const MeshQuery& mesh, const SurfaceSamples& samples,
+                          size_t vertices, const SphereSet& voxel_candidates, const CandidateOptions& limits,
+                          size_t budget) {
+  std::vector<uint32_t> area(samples.points.size() - vertices);
+  std::iota(area.begin(), area.end(), uint32_t(vertices));
+  CoverProblem p;
+  p.spheres = {voxel_candidates};
+  const TangentCandidates t = tangent_candidates(mesh, mesh.surface(), samples, area, &field, deepest_radius(field), limits);
+  p.spheres[0].insert(p.spheres[0].end(), t.spheres.begin(), t.spheres.end());
+  p.merge = kCandidateMerge;
+  set_working_samples(samples, vertices, area, p);
+  p.weighted = {area.size()};
+  return cover_with_budget(p, budget, 0).least_max_delta;
+}
+
+// How far apart the vertices a cover is first solved on may lie (0: every vertex): an eighth of
+// the tolerance, or in budget mode of the area samples' delta where the vertices outnumber them
+// kVerticesPerAreaSample times. (With both a tolerance and a budget, every vertex.)
+double vertex_spacing(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt,
+                      const SurfaceSamples& samples, const SphereSet& voxel_candidates, const CandidateOptions& limits) {
+  const size_t vertices = mesh.surface().vertices.size(), budget = opt.pack.max_spheres;
+  if (!opt.spaced_vertices || !opt.tangent_candidates) return 0;
+  if (budget == 0) return kCoverSpacing * opt.tolerance;
+  if (opt.tolerance > 0 || vertices <= kVerticesPerAreaSample * opt.area_samples) return 0;
+  return kCoverSpacing * area_samples_delta(field, mesh, samples, vertices, voxel_candidates, limits, budget);
 }
 
 // No candidate at all, said as greedy packing says it: the deepest voxel against the least radius.
@@ -183,7 +248,8 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   // The samples the cover is solved on: every one, or (spaced) the vertices kCoverSpacing x the
   // tolerance apart and every area sample, joined by the vertices that cover leaves bare.
   std::vector<uint32_t> working;
-  bool spaced = opt.tangent_candidates && opt.tolerance > 0 && opt.pack.max_spheres == 0;
+  bool spaced = false;
+  const size_t budget = opt.pack.max_spheres;
   const CandidateOptions limits = candidate_options(opt.pack);
   const auto add_tangent_candidates = [&](const std::vector<uint32_t>& which) {
     const TangentCandidates tangent =
@@ -197,7 +263,8 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     problem.spheres.push_back(inscribed_candidates(field, mesh, limits));
     out.voxel_candidates = problem.spheres[0].size();
     samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
-    working = samples_to_cover(samples, vertices, spaced ? kCoverSpacing * opt.tolerance : 0, spaced);
+    working = samples_to_cover(samples, vertices, vertex_spacing(field, mesh, opt, samples, problem.spheres[0], limits),
+                               spaced, out.vertex_spacing);
     if (opt.tangent_candidates) {
       add_tangent_candidates(working);
       problem.merge = kCandidateMerge;
@@ -214,14 +281,17 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     out.target = opt.tolerance;
     const double slack = refined ? kRefinedBudgetSlack : kBudgetSlack;
     out.cover = cover_for(problem, out.target, opt.pack.max_spheres, out.limited_by, log, slack);
-    if (spaced) cover_every_vertex(samples, vertices, add_tangent_candidates, working, problem, out, log);
+    if (spaced && budget == 0) cover_every_vertex(samples, vertices, add_tangent_candidates, working, problem, out, log);
+    if (spaced && budget > 0)
+      join_bare_vertices_once(samples, vertices, add_tangent_candidates, working, problem, out, budget, slack, log);
     if (out.limited_by == Limit::resolution)
       out.out_of_reach_added = cover_out_of_reach(problem, out.cover.uncovered, out.cover.chosen);
     out.candidates = candidates.size();
     out.cover_samples = problem.sample_count();
-    // The refinement below keeps every sample within the tolerance, not only the cover's.
-    if (spaced) set_working_samples(samples, vertices, every_index(samples.points.size()), problem);
   }
+  // The refinement weighs every sample, not only the cover's.
+  CoverProblem every;
+  if (spaced) set_working_samples(samples, vertices, every_index(samples.points.size()), every);
   // Where a sample's own candidate reaches it, the tolerance does not wait on the field (but
   // across an open mesh's holes every radius is the field's bound, which a finer field raises).
   if (opt.tangent_candidates && !opt.pack.field_bounds_radius && out.limited_by == Limit::resolution)
@@ -235,7 +305,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     if (size_t(c) >= out.voxel_candidates) out.pool.push_back(candidates[size_t(c)]);
   }
   out.offered = std::move(problem.spheres[0]);  // the cover is done with them
-  if (refined) refine_selected(field, mesh, opt, problem, out, log);
+  if (refined) refine_selected(field, mesh, opt, problem, spaced ? every : problem, out, log);
   // What the kept cover chose from: the field's voxels, the samples' tangent balls, or (polished)
   // an earlier refinement's spheres.
   for (int c : out.cover.chosen) {

@@ -25,6 +25,10 @@ struct SpherePackOptions {
   size_t area_samples = 4000;   // cover: surface samples besides every vertex
   bool tangent_candidates = true;  // cover: one candidate tangent at every sample besides the voxels'
   uint64_t seed = 1;
+  // Cover: a mesh whose vertices lie much closer together than the delta is covered on vertices
+  // an eighth of it apart first, then checked at every vertex (select.cpp); false: every vertex
+  // from the start (the tests compare the two).
+  bool spaced_vertices = true;
   // Cover, budget mode: the refined spheres join the candidates, and the budget is covered and
   // refined again this many times; a set with no higher max vertex error and a lower product of
   // max and median is kept (select.cpp).
@@ -42,6 +46,7 @@ struct CoverSelection {
   // was solved on (spaced vertices, those they left bare, the area samples), its rounds and the
   // vertices that joined after the first.
   size_t cover_samples = 0, spaced_rounds = 0, spaced_joined = 0;
+  double vertex_spacing = 0;  // how far apart those vertices were spaced (0: every vertex)
   size_t voxel_candidates = 0;   // candidates [0, voxel_candidates) from the field's voxels, the rest tangent at samples
   size_t touching_samples = 0;   // samples whose tangent ball misses them, given a touching ball too
   size_t unreached_samples = 0;  // samples no candidate of theirs reaches (knife edges, flipped normals)
