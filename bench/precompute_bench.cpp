@@ -1,9 +1,10 @@
 // precompute-bench: every precompute stage timed on real meshes, side by side with its baseline
 // in one run (medians of repeats), as JSON.
 //   precompute-bench --data ../shared/data --json OUT.json [--repeats 3] [--max-resolution 512]
-//                    [--resolution N ...] [--no-chains] [--no-routes] [--frames [N ...]] [--sweep-only]
-//                    [--work DIR]
-// The routes and the frame sweep run the tools beside it as whole processes (tool_runs.hpp).
+//                    [--resolution N ...] [--no-chains] [--no-routes] [--frames [N ...]] [--splits [N ...]]
+//                    [--sweep-only] [--work DIR]
+// The routes, the frame sweep and the dense meshes run the tools beside it as whole processes
+// (tool_runs.hpp).
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <sys/resource.h>
@@ -219,6 +220,7 @@ struct Plan {
   int repeats = 3, max_res = 512;
   std::vector<int> resolutions = {64, 128, 256, 512};
   std::vector<size_t> frames = {4, 8, 16, 32, 48, 100};
+  std::vector<int> splits = {1, 2};  // the armadillo split at its midpoints this many times
   bool chains = true, routes = true, sweep_only = false;
 };
 
@@ -237,15 +239,22 @@ int main(int argc, char** argv) {
   app.add_option("--max-resolution", plan.max_res, "Largest armadillo resolution");
   app.add_option("--resolution", plan.resolutions, "Armadillo resolutions (default 64 128 256 512)");
   app.add_flag("!--no-chains", plan.chains, "Only the SDF cases");
-  app.add_flag("!--no-routes", plan.routes, "Without the tools' routes and the frame sweep");
+  app.add_flag("!--no-routes", plan.routes, "Without the tools' routes, the frame sweep and the dense meshes");
   CLI::Option* frames =
       app.add_option("--frames", plan.frames, "Frame counts of the sweep (default 4 8 16 32 48 100; none: skip it)")
           ->expected(0, CLI::detail::expected_max_vector_size);
+  CLI::Option* splits =
+      app.add_option("--splits", plan.splits,
+                     "sphere-pack on the armadillo split at its midpoints N times, spaced against --every-vertex "
+                     "(default 1 2; none: skip it)")
+          ->expected(0, CLI::detail::expected_max_vector_size)
+          ->check(CLI::Range(0, 3));
   app.add_flag("--sweep-only", plan.sweep_only, "Only the frame sweep (no routes, SDF cases or chains)");
   app.add_option("--work", plan.work, "Where the routes and the sweep write their files");
   return tool.run(argc, argv, [&] {
     // `--frames` alone reaches CLI11 as one empty value, which it reads as 0.
     if (frames->results() == std::vector<std::string>{""}) plan.frames.clear();
+    if (splits->results() == std::vector<std::string>{""}) plan.splits.clear();
     for (size_t n : plan.frames)
       if (n == 0) fail_usage("--frames", "a frame count must be at least 1");
     run(plan, tool.log);
@@ -294,6 +303,16 @@ json frame_sweeps(const Plan& plan, const std::string& tools, const Log& log) {
   return sweeps;
 }
 
+// sphere-pack on the armadillo split to a scan's density: the cover on spaced vertices (the
+// default) against every vertex's, at the default tolerance and at 64 spheres.
+json dense_cases(const Plan& plan, const std::string& tools, const Log& log) {
+  json cases = json::array();
+  for (int split : plan.splits)
+    cases.push_back(
+        bench::dense_case(tools, "armadillo", plan.data + "/static/armadillo.obj", split, 64, plan.work, plan.repeats, log));
+  return cases;
+}
+
 void run(const Plan& plan, const Log& log) {
   openvdb::initialize();
   const std::string& data = plan.data;
@@ -305,6 +324,7 @@ void run(const Plan& plan, const Log& log) {
     const std::string tools = bench::tools_dir_beside_this_program();
     if (!plan.sweep_only) result["routes"] = route_cases(plan, tools, log);
     result["frame_sweeps"] = frame_sweeps(plan, tools, log);
+    if (!plan.sweep_only) result["dense"] = dense_cases(plan, tools, log);
   }
   if (plan.sweep_only) {
     write_json_atomic(plan.out, result);

@@ -13,7 +13,9 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "core/atomic_file.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/split.hpp"
 
 extern char** environ;
 
@@ -168,6 +170,57 @@ json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vec
         median(seconds[k]), median(ratios), frames[0], peak[k]);
   }
   return {{"clip", clip.name}, {"rows", rows}, {"triangles", load_mesh(rest).mesh.triangles.size()}};
+}
+
+json dense_case(const std::string& tools, const std::string& name, const std::string& rest, int split, size_t budget,
+                const std::string& work, int repeats, const Log& log) {
+  fs::create_directories(work);
+  const std::string label = name + "-x" + std::to_string(1 << (2 * split));
+  const std::string mesh = work + "/" + label + ".obj", field = work + "/" + label + ".vdb";
+  size_t triangles = 0, vertices = 0;
+  {  // freed before the tools run: a child's peak memory starts from this process's own
+    const TriMesh dense = split_at_midpoints(load_mesh(rest).mesh, split);
+    triangles = dense.triangles.size();
+    vertices = dense.vertices.size();
+    write_file_atomic(mesh, to_obj(dense, label));
+  }
+  run_tool(tools, {"sdf-build", mesh, "-o", field, "-q"});
+  const int runs = triangles > 1000000 ? 1 : repeats;
+  json rows = json::array();
+  // Budget mode where every vertex's run is minutes, not an hour (under a million triangles).
+  std::vector<size_t> modes = {0};
+  if (budget > 0 && triangles <= 1000000) modes.push_back(budget);
+  for (size_t spheres : modes) {
+    std::vector<double> seconds[2];
+    double peak[2] = {0, 0};
+    json report[2];
+    for (int r = 0; r < runs; ++r)
+      for (int every = 0; every < 2; ++every) {
+        const std::string out = work + "/" + label + (every ? "-every" : "-spaced");
+        std::vector<std::string> argv = {"sphere-pack", field, "-o", out + ".spheres.json", "--mesh", mesh,
+                                         "--report", out + ".report.json", "-q"};
+        if (spheres > 0) argv.insert(argv.end(), {"--max-spheres", std::to_string(spheres)});
+        if (every) argv.push_back("--every-vertex");
+        const ToolRun run = run_tool(tools, argv);
+        seconds[every].push_back(run.seconds);
+        peak[every] = std::max(peak[every], run.peak_gib);
+        report[every] = read_json(out + ".report.json");
+      }
+    json row = {{"mode", spheres > 0 ? std::to_string(spheres) + " spheres" : "the default tolerance"}, {"runs", runs}};
+    for (int every = 0; every < 2; ++every) {
+      const json& cover = report[every].at("cover");
+      row[every ? "every_vertex" : "spaced"] = {{"s", median(seconds[every])}, {"peak_gib", peak[every]},
+                                                {"spheres", report[every].at("sphere_count")},
+                                                {"max_error", cover.at("max_error")}, {"median_error", cover.at("median_error")},
+                                                {"samples_covered", cover.at("samples_covered")}};
+    }
+    row["every_over_spaced"] = median(seconds[1]) / median(seconds[0]);
+    say(log, "%s (%zu triangles), %s: spaced %.1f s %.2f GiB %d spheres, every vertex %.1f s %.2f GiB %d spheres",
+        label.c_str(), triangles, row["mode"].get<std::string>().c_str(), median(seconds[0]), peak[0],
+        row["spaced"]["spheres"].get<int>(), median(seconds[1]), peak[1], row["every_vertex"]["spheres"].get<int>());
+    rows.push_back(row);
+  }
+  return {{"mesh", label}, {"triangles", triangles}, {"vertices", vertices}, {"rows", rows}};
 }
 
 }  // namespace spx::bench

@@ -59,4 +59,13 @@ struct ClipSweep {
 nlohmann::json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vector<size_t>& frames,
                            const std::string& work, int repeats, const Log& log);
 
+// sphere-pack on `rest` split at its midpoints `split` times (a scan's density): spaced (the
+// default) against --every-vertex, at the default tolerance and, where `budget` > 0, at that many
+// spheres (under a million triangles); the two in turn `repeats` times (once past a million
+// triangles, where every vertex takes minutes and gigabytes). Per mode: median time, most memory, spheres, max and median
+// vertex error (the reports'), the samples the cover was solved on, and every vertex's time over
+// the spaced one's.
+nlohmann::json dense_case(const std::string& tools, const std::string& name, const std::string& rest, int split,
+                          size_t budget, const std::string& work, int repeats, const Log& log);
+
 }  // namespace spx::bench

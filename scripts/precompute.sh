@@ -49,6 +49,16 @@ for s in r.get("frame_sweeps", []):
             print("| %d | %.2f s%s | %.2fx | %.2f GiB | %d |" % (row["frames"], row["pose_map_s"],
                   "" if row["runs"] > 1 else " (1 run)", row["over_first"], row["peak_gib"], row["spheres"]))
             f.write("%d %.4f %.4f\n" % (row["frames"], row["pose_map_s"], row["peak_gib"]))
+for c in r.get("dense", []):
+    print("\n%s (%d triangles, %d vertices): sphere-pack, the cover on spaced vertices against every vertex's\n" % (
+        c["mesh"], c["triangles"], c["vertices"]))
+    print("| mode | spaced: time, memory, spheres, max / median error, samples covered | every vertex: the same | every / spaced time |")
+    print("|---|---|---|---|")
+    for row in c["rows"]:
+        cell = lambda m: "%.1f s, %.2f GiB, %d, %.5f / %.5f, %d" % (m["s"], m["peak_gib"], m["spheres"], m["max_error"],
+                                                                   m["median_error"], m["samples_covered"])
+        print("| %s%s | %s | %s | %.2fx |" % (row["mode"], "" if row["runs"] > 1 else " (1 run)", cell(row["spaced"]),
+                                           cell(row["every_vertex"]), row["every_over_spaced"]))
 PY
 clips=$(/usr/bin/python3 -c "import json,sys; print(' '.join(s['clip'] for s in json.load(open(sys.argv[1])).get('frame_sweeps', [])))" "$json")
 # The chart needs both halves: the sweep and the routes (not with --sweep-only or --no-routes).

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numeric>
 #include <random>
 
@@ -13,6 +12,7 @@
 #include "io/vdb_io.hpp"
 #include "mesh/union_distance.hpp"
 #include "mesh/inscribed.hpp"
+#include "mesh/split.hpp"
 #include "pack/cover.hpp"
 #include "pack/median_descent.hpp"
 #include "pack/sample_grid.hpp"
@@ -1625,30 +1625,9 @@ TEST(Candidates, SpacedPointsAgainstAScanOfEveryPair) {
   }
 }
 
-// Every triangle split in four at its edges' midpoints, `times` over (shared edges share their
-// midpoint).
-TriMesh subdivided(TriMesh mesh, int times) {
-  for (int n = 0; n < times; ++n) {
-    std::map<std::pair<int, int>, int> midpoint;
-    auto mid = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto [it, fresh] = midpoint.emplace(key, int(mesh.vertices.size()));
-      if (fresh) mesh.vertices.push_back(0.5 * (mesh.vertices[size_t(a)] + mesh.vertices[size_t(b)]));
-      return it->second;
-    };
-    std::vector<Eigen::Vector3i> split;
-    for (const Eigen::Vector3i& t : mesh.triangles) {
-      const int ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
-      split.insert(split.end(), {{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}});
-    }
-    mesh.triangles = std::move(split);
-  }
-  return mesh;
-}
-
 // The barrel split 64-fold (43 000 vertices), and its field at 48 cells.
 std::pair<TriMesh, SdfResult> dense_barrel() {
-  TriMesh mesh = subdivided(make_barrel().rest, 3);
+  TriMesh mesh = split_at_midpoints(make_barrel().rest, 3);
   SdfOptions o;
   o.resolution = 48;
   SdfResult sdf = build_sdf(mesh, o);

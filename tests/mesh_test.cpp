@@ -8,6 +8,7 @@
 #include <atomic>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <random>
@@ -20,6 +21,7 @@
 #include "mesh/components.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/deforming_query.hpp"
+#include "mesh/split.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/near_boundary.hpp"
@@ -880,6 +882,35 @@ TEST(NearBoundaryQuery, GivesMeshQuerysDistanceToTheBitBelowTheReach) {
   }
   EXPECT_GT(below, 2000u);
   EXPECT_GT(walls, 0u);
+}
+
+// Split at the midpoints: the same surface (area and enclosed volume to rounding), four times the
+// triangles per split, each edge's midpoint shared by its two triangles (the box stays closed and
+// of genus 0: V - E + F = 2), every old vertex kept in place.
+TEST(MeshSplit, SplitAtMidpointsKeepsTheSurfaceAndItsClosure) {
+  const TriMesh box = test::box_mesh({0, 0, 0}, {1, 2, 3});
+  const auto area_and_volume = [](const TriMesh& m) {
+    double area = 0, volume = 0;
+    for (const Eigen::Vector3i& t : m.triangles) {
+      const Eigen::Vector3d &a = m.vertices[size_t(t[0])], &b = m.vertices[size_t(t[1])], &c = m.vertices[size_t(t[2])];
+      area += 0.5 * (b - a).cross(c - a).norm();
+      volume += a.dot(b.cross(c)) / 6;
+    }
+    return std::make_pair(area, volume);
+  };
+  for (int times : {1, 2, 3}) {
+    const TriMesh split = split_at_midpoints(box, times);
+    ASSERT_EQ(split.triangles.size(), box.triangles.size() << (2 * times));
+    std::map<std::pair<int, int>, int> edges;
+    for (const Eigen::Vector3i& t : split.triangles)
+      for (int k = 0; k < 3; ++k) ++edges[std::minmax(t[k], t[(k + 1) % 3])];
+    for (const auto& [edge, count] : edges) ASSERT_EQ(count, 2) << "edge " << edge.first << "-" << edge.second;
+    EXPECT_EQ(long(split.vertices.size()) - long(edges.size()) + long(split.triangles.size()), 2);
+    const auto [area, volume] = area_and_volume(split);
+    EXPECT_NEAR(area, area_and_volume(box).first, 1e-12);
+    EXPECT_NEAR(volume, area_and_volume(box).second, 1e-12);
+    for (size_t v = 0; v < box.vertices.size(); ++v) EXPECT_EQ(split.vertices[v], box.vertices[v]);
+  }
 }
 
 }  // namespace

@@ -36,16 +36,22 @@ int main(int argc, char** argv) {
                      ->check(CLI::Range(0, 16))
                      ->capture_default_str()
                      ->needs(budget);
+  bool every_vertex = false;
+  auto* every = tool.app.add_flag("--every-vertex", every_vertex,
+                                  "Cover: solve on every vertex from the start, where a mesh far denser than the "
+                                  "delta is otherwise covered on vertices an eighth of it apart, then checked at every "
+                                  "vertex (the same promise; slower and larger on dense meshes)");
   bool grid_centers = false;
   tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {
     // An option of the other method would be ignored: said, not dropped.
-    for (const CLI::Option* cover_only : {samples, seed, polish})
+    for (const CLI::Option* cover_only : {samples, seed, polish, every})
       if (method == "greedy" && cover_only->count() > 0)
         spx::fail_usage(cover_only->get_name(), "is for the cover method (greedy packing takes no surface samples)");
     if (method != "greedy" && grid_centers) spx::fail_usage("--grid-centers", "is for --method greedy");
     opt.method = method == "greedy" ? spx::PackMethod::greedy : spx::PackMethod::cover;
     opt.pack.refine_centers = !grid_centers;
+    opt.spaced_vertices = !every_vertex;
     spx::sphere_pack_files(input, mesh, output, opt, spx::parse_tolerance(tolerance, "--tolerance"), tool.log,
                            tool.report);
   });

@@ -222,7 +222,7 @@ double vertex_spacing(const DenseField& field, const MeshQuery& mesh, const Sphe
   const size_t vertices = mesh.surface().vertices.size(), budget = opt.pack.max_spheres;
   if (!opt.spaced_vertices || !opt.tangent_candidates) return 0;
   if (budget == 0) return kCoverSpacing * opt.tolerance;
-  if (opt.tolerance > 0 || vertices <= kVerticesPerAreaSample * opt.area_samples) return 0;
+  if (opt.tolerance > 0 || opt.area_samples == 0 || vertices <= kVerticesPerAreaSample * opt.area_samples) return 0;
   return kCoverSpacing * area_samples_delta(field, mesh, samples, vertices, voxel_candidates, limits, budget);
 }
 

@@ -135,6 +135,8 @@ expect 1 "samples: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" 
   --method greedy --samples 100
 expect 1 "seed: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
   --method greedy --seed 3
+expect 1 "every-vertex: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
+  --method greedy --every-vertex
 expect 1 "polish requires --max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --polish 2
 expect 1 "grid-centers: is for --method greedy" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
   --grid-centers
