@@ -59,10 +59,12 @@ bool kept_over(const UnionGaps& a, const UnionGaps& b) { return a.max <= b.max &
 
 namespace {
 
-// Tolerance mode on a mesh whose vertices lie much closer together than the tolerance (a scan, a
-// subdivided sculpt): the cover is first solved on vertices this part of the tolerance apart,
-// each with its own candidate, where every vertex's would make rows of millions of pairs.
+// A mesh whose vertices lie much closer together than the delta (a scan, a subdivided sculpt):
+// the cover is first solved on vertices this part of the delta apart (the tolerance, or in budget
+// mode the area samples' delta), each with its own candidate, where every vertex's would make
+// rows of millions of pairs.
 constexpr double kCoverSpacing = 0.125;
+// Tolerance mode: how many times the spaced cover is made every vertex's (cover_every_vertex).
 constexpr int kSpacedPasses = 2;
 // Budget mode spaces the vertices only where they outnumber the area samples this many times
 // (its spacing asks a cover of the area samples first).
