@@ -77,16 +77,15 @@ std::vector<uint32_t> every_index(size_t n) {
 }
 
 // The samples a cover is first solved on: every one, or where the vertices `spacing` apart
-// (spacing > 0) are fewer than half of them, those and the area samples (`spaced` says which,
-// `spaced_by` the spacing, or 0).
-std::vector<uint32_t> samples_to_cover(const SurfaceSamples& samples, size_t vertices, double spacing, bool& spaced,
+// (spacing > 0) are fewer than half of them, those and the area samples (`spaced_by` the
+// spacing, or 0 for every one).
+std::vector<uint32_t> samples_to_cover(const SurfaceSamples& samples, size_t vertices, double spacing,
                                        double& spaced_by) {
-  spaced = false;
   spaced_by = 0;
   if (spacing > 0) {
     std::vector<uint32_t> kept = spaced_points(samples.points, vertices, spacing);
-    spaced = kept.size() < vertices / 2;  // where most are kept, the whole problem costs little more
-    if (spaced) {
+    // Where most are kept, the whole problem costs little more.
+    if (kept.size() < vertices / 2) {
       spaced_by = spacing;
       for (size_t i = vertices; i < samples.points.size(); ++i) kept.push_back(uint32_t(i));
       return kept;
@@ -146,7 +145,6 @@ void cover_every_vertex(const SurfaceSamples& samples, size_t vertices,
     if (pass > 0) out.cover = cover_within(problem, tolerance, kToleranceSearch, log);
     for (;;) {
       const std::vector<uint32_t> bare = vertices_left_bare(samples, vertices, working, problem, out.cover.chosen, tolerance);
-      ++out.spaced_rounds;
       log.detail("cover on " + std::to_string(problem.weighted[0]) + " of " + std::to_string(vertices) +
                  " vertices: " + std::to_string(out.cover.chosen.size()) + " spheres, " + std::to_string(bare.size()) +
                  " more vertices past the tolerance");
@@ -189,7 +187,6 @@ void join_bare_vertices_once(const SurfaceSamples& samples, size_t vertices,
                              std::vector<uint32_t>& working, CoverProblem& problem, CoverSelection& out, size_t budget,
                              double slack, Log& log) {
   const std::vector<uint32_t> bare = vertices_left_bare(samples, vertices, working, problem, out.cover.chosen, out.cover.delta);
-  ++out.spaced_rounds;
   log.info("covered on " + std::to_string(problem.weighted[0]) + " of the " + std::to_string(vertices) +
            " vertices (those an eighth of the area samples' delta apart); " + std::to_string(bare.size()) +
            " others past the cover's delta join");
@@ -250,7 +247,6 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   // The samples the cover is solved on: every one, or (spaced) the vertices kCoverSpacing x the
   // tolerance apart and every area sample, joined by the vertices that cover leaves bare.
   std::vector<uint32_t> working;
-  bool spaced = false;
   const size_t budget = opt.pack.max_spheres;
   const CandidateOptions limits = candidate_options(opt.pack);
   const auto add_tangent_candidates = [&](const std::vector<uint32_t>& which) {
@@ -266,7 +262,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     out.voxel_candidates = problem.spheres[0].size();
     samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
     working = samples_to_cover(samples, vertices, vertex_spacing(field, mesh, opt, samples, problem.spheres[0], limits),
-                               spaced, out.vertex_spacing);
+                               out.vertex_spacing);
     if (opt.tangent_candidates) {
       add_tangent_candidates(working);
       problem.merge = kCandidateMerge;
@@ -276,6 +272,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   const SphereSet& candidates = problem.spheres[0];
   if (candidates.empty()) fail_no_candidates(field, opt.pack.min_radius);
   out.samples = samples.points.size();
+  const bool spaced = out.vertex_spacing > 0;
   // The centres are refined off the grid after the cover (below), unless the field bounds the radii.
   const bool refined = !opt.pack.field_bounds_radius;
   {

@@ -42,10 +42,9 @@ struct CoverSelection {
   double target = 0;           // the tolerance (0: budget alone)
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, samples = 0;
-  // Tolerance mode on vertices much closer together than the tolerance: the samples the cover
-  // was solved on (spaced vertices, those they left bare, the area samples), its rounds and the
-  // vertices that joined after the first.
-  size_t cover_samples = 0, spaced_rounds = 0, spaced_joined = 0;
+  // The samples the cover was solved on: every one, or on vertices much closer together than the
+  // delta the spaced vertices, those the cover left bare (spaced_joined) and the area samples.
+  size_t cover_samples = 0, spaced_joined = 0;
   double vertex_spacing = 0;  // how far apart those vertices were spaced (0: every vertex)
   size_t voxel_candidates = 0;   // candidates [0, voxel_candidates) from the field's voxels, the rest tangent at samples
   size_t touching_samples = 0;   // samples whose tangent ball misses them, given a touching ball too
