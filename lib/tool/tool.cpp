@@ -111,6 +111,30 @@ std::string Tool::flag_for(const std::string& option) const {
   return app.get_option_no_throw(flag) ? flag : option;
 }
 
+void Tool::add_common_fields(json& r) const {
+  r["generator"] = name_ + " (spx) " + version_string();
+  r["warnings"] = log.warnings();
+  json t = json::object();
+  for (const auto& [stage, seconds] : log.timings()) t[stage] = seconds;
+  r["timings_s"] = t;
+}
+
+void Tool::write_failed_report(ExitCode code, const std::string& message) noexcept {
+  if (report_path_.empty()) return;
+  try {
+    check_outputs_apart();  // never over an input, even when the parse stopped before the run checked
+    json r = json::object();
+    r["status"] = "error";
+    r["error"] = message;
+    r["exit_code"] = static_cast<int>(code);
+    add_common_fields(r);
+    write_json_atomic(report_path_, r);
+  } catch (...) {
+    // The error line is said already; a report that cannot be written (its folder is not there,
+    // or it names an input) is left as it was.
+  }
+}
+
 int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   try {
     app.parse(argc, argv);
@@ -122,6 +146,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "Error: %s (see %s --help)\n", e.what(), name_.c_str());
+    write_failed_report(ExitCode::usage, e.what());
     return static_cast<int>(ExitCode::usage);
   }
   log.set_verbosity(quiet_ > 0 ? -1 : verbose_);
@@ -136,12 +161,8 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     total.stop();
     if (!report_path_.empty()) {
       json r = report;
-      r["generator"] = name_ + " (spx) " + version_string();
       r["status"] = "ok";
-      r["warnings"] = log.warnings();
-      json t = json::object();
-      for (const auto& [stage, seconds] : log.timings()) t[stage] = seconds;
-      r["timings_s"] = t;
+      add_common_fields(r);
       write_json_atomic(report_path_, r);
     }
     return 0;
@@ -149,19 +170,23 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     Log::clear_transient();
     std::fprintf(stderr, "Error: %s: %s\n", flag_for(e.option()).c_str(), e.message().c_str());
     code = e.code();
+    write_failed_report(code, flag_for(e.option()) + ": " + e.message());
   } catch (const Error& e) {
     Log::clear_transient();
     std::fprintf(stderr, "Error: %s\n", e.what());
     code = e.code();
+    write_failed_report(code, e.what());
   } catch (const std::bad_alloc&) {
     Log::clear_transient();
     std::fprintf(stderr, "Error: %s: out of memory (try a coarser --resolution)\n", name_.c_str());
     code = ExitCode::unsupported;
+    write_failed_report(code, "out of memory");
   } catch (const std::exception& e) {
     // Every expected failure is an spx::Error with its class; anything else is our bug.
     Log::clear_transient();
     std::fprintf(stderr, "Error: %s: internal error: %s (please report it with the inputs)\n", name_.c_str(), e.what());
     code = ExitCode::internal;
+    write_failed_report(code, std::string("internal error: ") + e.what());
   }
   return static_cast<int>(code);
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/json_io.hpp"
 #include "core/log.hpp"
 #include "core/tolerance.hpp"
@@ -24,7 +25,9 @@ class Tool {
   Log log;
   json report = json::object();  // tool-specific fields; generator/status/timings added by run()
 
-  // Parses argv, runs `body`, writes --report on success. Returns the process exit code.
+  // Parses argv, runs `body`, writes --report (status "ok", or on failure "error" with the
+  // message and the exit code, so that a script never reads an earlier run's report as this
+  // one's). Returns the process exit code.
   int run(int argc, char** argv, const std::function<void()>& body);
 
   const std::string& name() const { return name_; }
@@ -49,6 +52,10 @@ class Tool {
   // Fails (exit 1, naming the flag) where an output is an input's file or another output's: the
   // run would lose what it was given, or write one file twice.
   void check_outputs_apart() const;
+  // generator, warnings and timings_s, which every report has.
+  void add_common_fields(json& r) const;
+  // The failure's report, where --report was given and can be written.
+  void write_failed_report(ExitCode code, const std::string& message) noexcept;
   std::map<std::string, std::string> flags_;
   std::vector<std::string> file_outputs_, folder_outputs_;
   std::string name_;

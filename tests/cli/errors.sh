@@ -295,6 +295,24 @@ before=$(md5sum <"$out/keep.vdb")
 after=$(md5sum <"$out/keep.vdb")
 if [ "$before" = "$after" ]; then passed=$((passed + 1)); else echo "FAIL: failed run changed keep.vdb"; fail=$((fail + 1)); fi
 
+# A failed run's --report says it failed (an earlier run's "ok" report is not left to be read as
+# this one's): status "error", the message and the exit code, by its schema.
+"$bin/sdf-build" "$out/in/rest.obj" -o "$out/keep.vdb" --resolution 16 -q --report "$out/run.report.json"
+for run in "sdf-build $out/garbage.obj -o $out/keep.vdb:2" "sdf-build $out/in/rest.obj -o $out/keep.vdb --resolution 0:1" \
+           "sphere-pack $out/field.txt -o $out/y.json:2" "sdf-build $out/in/rest.obj --no-such-option:1"; do
+  args=${run%:*} want=${run##*:}
+  # shellcheck disable=SC2086
+  "$bin"/$args --report "$out/run.report.json" 2>/dev/null
+  check "a failed run's report ($args)" /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); \
+sys.exit(0 if r['status']=='error' and r['exit_code']==int(sys.argv[2]) and r['error'] else 1)" "$out/run.report.json" "$want"
+  check "a failed run's report validates ($args)" /usr/bin/python3 "$(dirname "$0")/validate_json.py" \
+    "$(dirname "$0")/../../schemas" failed-report.schema.json "$out/run.report.json"
+done
+# ... but never one that names an input.
+before=$(md5sum <"$out/mine.obj")
+"$bin/sdf-build" "$out/mine.obj" -o "$out/z.vdb" --resolution 0 --report "$out/mine.obj" 2>/dev/null
+check "a failed run's report never over an input" [ "$before" = "$(md5sum <"$out/mine.obj")" ]
+
 # --help and --version succeed on every tool.
 for t in pose-extract sdf-build sphere-pack pose-map proxy-export proxy-eval sample-gen; do
   if "$bin/$t" --help >/dev/null && "$bin/$t" --version | grep -q "(spx) "; then passed=$((passed + 1)); else
