@@ -665,6 +665,53 @@ TEST(MeshQuery, ClosestPointMatchesBruteForce) {
   }
 }
 
+// closest_apart (the shrinking ball's search past a point's own faces, a pruned traversal of the
+// tree) against a scan of every triangle: the nearest point nearer than the radius on a triangle
+// without the corners, or none. Points near the car's vertices, their own faces left out, and
+// radii from past the nearest other triangle to well short of it.
+TEST(MeshQuery, ClosestApartMatchesAScanOfEveryTriangle) {
+  const TriMesh mesh = make_car().rest;
+  const MeshQuery query(mesh);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1), share(0.05, 1.5);
+  const double diag = mesh.diagonal();
+  size_t found = 0, none = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Eigen::Vector3i& own = mesh.triangles[size_t(i * 7) % mesh.triangles.size()];
+    const std::vector<Eigen::Vector3d> corners = {mesh.vertices[size_t(own[0])], mesh.vertices[size_t(own[1])],
+                                                  mesh.vertices[size_t(own[2])]};
+    const Eigen::Vector3d p = corners[0] + 0.05 * diag * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    double nearest = std::numeric_limits<double>::infinity();
+    int triangle = -1;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const Eigen::Vector3i& f = mesh.triangles[t];
+      const Eigen::Vector3d &a = mesh.vertices[size_t(f[0])], &b = mesh.vertices[size_t(f[1])], &c = mesh.vertices[size_t(f[2])];
+      if (has_corner(corners, a, b, c)) continue;
+      const double d = (closest_point_on_triangle(p, a, b, c) - p).norm();
+      if (d < nearest) nearest = d, triangle = int(t);
+    }
+    const double radius = share(rng) * nearest;
+    const ClosestPoint c = query.closest_apart(p, radius, corners);
+    if (nearest < radius) {
+      ++found;
+      ASSERT_GE(c.triangle, 0) << "point " << i;
+      EXPECT_EQ(c.distance, nearest) << "point " << i;
+      EXPECT_NEAR((c.point - p).norm(), nearest, 1e-12 * diag);
+      const Eigen::Vector3i& f = mesh.triangles[size_t(c.triangle)];
+      EXPECT_FALSE(has_corner(corners, mesh.vertices[size_t(f[0])], mesh.vertices[size_t(f[1])], mesh.vertices[size_t(f[2])]));
+      if (c.triangle != triangle)  // equally near (a shared edge or corner)
+        EXPECT_EQ((closest_point_on_triangle(p, mesh.vertices[size_t(f[0])], mesh.vertices[size_t(f[1])],
+                                             mesh.vertices[size_t(f[2])]) - p).norm(), nearest);
+    } else {
+      ++none;
+      EXPECT_EQ(c.triangle, -1) << "point " << i << ": nothing nearer than " << radius;
+      EXPECT_EQ(c.distance, radius);
+    }
+  }
+  EXPECT_GT(found, 100u);
+  EXPECT_GT(none, 100u);
+}
+
 // MeshQuery's tree skips far leaves by a closed-form closest point before CGAL's projection, and
 // a search from a hint starts bounded: both must give what CGAL's own traits give from
 // nothing, to the bit, or outputs would change with a speed-up. Points near the surface, deep

@@ -80,6 +80,52 @@ using Tree = CGAL::AABB_tree<Traits>;
 
 K::Point_3 to_cgal(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 Eigen::Vector3d corner(const Triangle& t, int k) { return {t.vertex(k).x(), t.vertex(k).y(), t.vertex(k).z()}; }
+
+// closest_apart's search, as CGAL's traversal asks it: the nearer box first, every box and
+// triangle farther than the nearest point so far (at first the radius) left, and the triangles
+// with one of the corners skipped.
+class ApartSearch {
+ public:
+  using Priority = double;
+  ApartSearch(const Eigen::Vector3d& p, double radius, const std::vector<Eigen::Vector3d>& corners)
+      : p_(p), corners_(corners), best2_(radius * radius) {}
+  bool go_further() const { return true; }
+  void intersection(const K::Point_3&, const Primitive& primitive) {
+    const Triangle& t = *primitive.id();
+    const Eigen::Vector3d a = corner(t, 0), b = corner(t, 1), c = corner(t, 2);
+    if (has_corner(corners_, a, b, c)) return;
+    const Eigen::Vector3d q = closest_point_on_triangle(p_, a, b, c);
+    const double d2 = (q - p_).squaredNorm();
+    if (d2 >= best2_) return;
+    best2_ = d2;
+    point_ = q;
+    found_ = primitive.id();
+    any_ = true;
+  }
+  template <class Node>
+  bool do_intersect(const K::Point_3&, const Node& node) const {
+    return box2(node.bbox()) < best2_;
+  }
+  template <class Node>
+  std::pair<bool, Priority> do_intersect_with_priority(const K::Point_3&, const Node& node) const {
+    const double d2 = box2(node.bbox());
+    return {d2 < best2_, -d2};
+  }
+  bool any() const { return any_; }
+  Iterator found() const { return found_; }
+  const Eigen::Vector3d& point() const { return point_; }
+
+ private:
+  double box2(const CGAL::Bbox_3& box) const {
+    const Eigen::Vector3d lo(box.xmin(), box.ymin(), box.zmin()), hi(box.xmax(), box.ymax(), box.zmax());
+    return (lo - p_).cwiseMax(p_ - hi).cwiseMax(0.0).squaredNorm();
+  }
+  Eigen::Vector3d p_, point_;
+  const std::vector<Eigen::Vector3d>& corners_;
+  double best2_;
+  Iterator found_;
+  bool any_ = false;
+};
 }  // namespace
 
 struct MeshQuery::Tree {
@@ -150,21 +196,15 @@ ClosestPoint MeshQuery::closest_on(const Eigen::Vector3d& p, int piece_index, co
 
 ClosestPoint MeshQuery::closest_apart(const Eigen::Vector3d& p, double radius,
                                       const std::vector<Eigen::Vector3d>& corners) const {
-  std::vector<Iterator> near;
-  tree_->tree.all_intersected_primitives(K::Sphere_3(to_cgal(p), radius * radius), std::back_inserter(near));
   ClosestPoint out;
   out.distance = radius;
-  for (Iterator t : near) {
-    const Eigen::Vector3d a = corner(*t, 0), b = corner(*t, 1), c = corner(*t, 2);
-    if (has_corner(corners, a, b, c)) continue;
-    const Eigen::Vector3d q = closest_point_on_triangle(p, a, b, c);
-    const double d = (q - p).norm();
-    if (d >= out.distance) continue;
-    out.point = q;
-    out.distance = d;
-    out.piece = static_cast<int>(t - tree_->triangles.cbegin());
-    out.triangle = tree_->ids[static_cast<size_t>(out.piece)];
-  }
+  ApartSearch search(p, radius, corners);
+  tree_->tree.traversal_with_priority(to_cgal(p), search);
+  if (!search.any()) return out;
+  out.point = search.point();
+  out.distance = (out.point - p).norm();
+  out.piece = static_cast<int>(search.found() - tree_->triangles.cbegin());
+  out.triangle = tree_->ids[static_cast<size_t>(out.piece)];
   return out;
 }
 
