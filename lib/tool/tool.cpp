@@ -119,8 +119,10 @@ void Tool::add_common_fields(json& r) const {
   r["timings_s"] = t;
 }
 
-void Tool::write_failed_report(ExitCode code, const std::string& message) noexcept {
-  if (report_path_.empty()) return;
+int Tool::fail_run(ExitCode code, const std::string& message) noexcept {
+  Log::clear_transient();
+  std::fprintf(stderr, "Error: %s\n", message.c_str());
+  if (report_path_.empty()) return static_cast<int>(code);
   try {
     check_outputs_apart();  // never over an input, even when the parse stopped before the run checked
     json r = json::object();
@@ -133,6 +135,7 @@ void Tool::write_failed_report(ExitCode code, const std::string& message) noexce
     // The error line is said already; a report that cannot be written (its folder is not there,
     // or it names an input) is left as it was.
   }
+  return static_cast<int>(code);
 }
 
 int Tool::run(int argc, char** argv, const std::function<void()>& body) {
@@ -145,14 +148,11 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "Error: %s (see %s --help)\n", e.what(), name_.c_str());
-    write_failed_report(ExitCode::usage, e.what());
-    return static_cast<int>(ExitCode::usage);
+    return fail_run(ExitCode::usage, std::string(e.what()) + " (see " + name_ + " --help)");
   }
   log.set_verbosity(quiet_ > 0 ? -1 : verbose_);
   keep_large_blocks_on_the_heap();
 
-  ExitCode code = ExitCode::ok;
   try {
     check_outputs_apart();
     check_output_folders();
@@ -167,28 +167,15 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     }
     return 0;
   } catch (const OptionError& e) {
-    Log::clear_transient();
-    std::fprintf(stderr, "Error: %s: %s\n", flag_for(e.option()).c_str(), e.message().c_str());
-    code = e.code();
-    write_failed_report(code, flag_for(e.option()) + ": " + e.message());
+    return fail_run(e.code(), flag_for(e.option()) + ": " + e.message());
   } catch (const Error& e) {
-    Log::clear_transient();
-    std::fprintf(stderr, "Error: %s\n", e.what());
-    code = e.code();
-    write_failed_report(code, e.what());
+    return fail_run(e.code(), e.what());
   } catch (const std::bad_alloc&) {
-    Log::clear_transient();
-    std::fprintf(stderr, "Error: %s: out of memory (try a coarser --resolution)\n", name_.c_str());
-    code = ExitCode::unsupported;
-    write_failed_report(code, "out of memory");
+    return fail_run(ExitCode::unsupported, name_ + ": out of memory (try a coarser --resolution)");
   } catch (const std::exception& e) {
     // Every expected failure is an spx::Error with its class; anything else is our bug.
-    Log::clear_transient();
-    std::fprintf(stderr, "Error: %s: internal error: %s (please report it with the inputs)\n", name_.c_str(), e.what());
-    code = ExitCode::internal;
-    write_failed_report(code, std::string("internal error: ") + e.what());
+    return fail_run(ExitCode::internal, name_ + ": internal error: " + e.what() + " (please report it with the inputs)");
   }
-  return static_cast<int>(code);
 }
 
 Tolerance parse_tolerance(const std::string& text, const std::string& flag) {

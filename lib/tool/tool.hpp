@@ -54,8 +54,9 @@ class Tool {
   void check_outputs_apart() const;
   // generator, warnings and timings_s, which every report has.
   void add_common_fields(json& r) const;
-  // The failure's report, where --report was given and can be written.
-  void write_failed_report(ExitCode code, const std::string& message) noexcept;
+  // A failure said: its one "Error: <message>" line, and where --report was given and can be
+  // written, its report (status "error", the message, the code). Returns the exit code.
+  int fail_run(ExitCode code, const std::string& message) noexcept;
   std::map<std::string, std::string> flags_;
   std::vector<std::string> file_outputs_, folder_outputs_;
   std::string name_;
