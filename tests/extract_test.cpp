@@ -436,5 +436,17 @@ TEST(PoseExtract, MissingPartsAreClearErrors) {
   }
 }
 
+// What the proxy calls the poses: the manifest's names, a repeated one made unique as the files
+// are, or without a manifest the files' stems.
+TEST(PoseExtract, PoseNamesAreTheManifestsOrTheStems) {
+  const std::string dir = test::temp_dir("pose-names");
+  PoseManifest m;
+  m.poses = {{"walk@1s", "pose-00.obj", {}}, {"Key 1", "Key_1.obj", {}}, {"Key 1", "Key_1-2.obj", {}}};
+  write_file_atomic(dir + "/poses.json", manifest_to_json(m).dump());
+  const std::vector<std::string> files = {dir + "/pose-00.obj", dir + "/Key_1.obj", dir + "/Key_1-2.obj"};
+  EXPECT_EQ(pose_names(dir + "/poses.json", files), (std::vector<std::string>{"walk@1s", "Key 1", "Key 1-2"}));
+  EXPECT_EQ(pose_names("", files), (std::vector<std::string>{"pose-00", "Key_1", "Key_1-2"}));
+}
+
 }  // namespace
 }  // namespace spx

@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
                                             spx::parse_tolerance(fill_tolerance, "--fill-tolerance"),
                                             spx::parse_tolerance(clip_overshoot, "--clip-overshoot")};
     spx::rest_and_poses(manifest, rest, poses, &skin);
-    spx::pose_map_files(rest, poses, spheres, output, opt, tolerances, tool.log, tool.report, skin);
+    spx::pose_map_files(rest, poses, spheres, output, opt, tolerances, tool.log, tool.report, skin,
+                        spx::pose_names(manifest, poses));
   });
 }

@@ -1,9 +1,11 @@
 #include "io/pose_manifest.hpp"
 
 #include <filesystem>
+#include <set>
 
 #include "core/error.hpp"
 #include "core/version.hpp"
+#include "mesh/mesh.hpp"
 
 namespace spx {
 namespace {
@@ -55,6 +57,21 @@ void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<
   poses.clear();
   for (const auto& p : m.poses) poses.push_back(manifest_file_path(manifest, p.file));
   if (skin && !m.skin.empty()) *skin = manifest_file_path(manifest, m.skin);
+}
+
+std::vector<std::string> pose_names(const std::string& manifest, const std::vector<std::string>& pose_paths) {
+  std::vector<std::string> names;
+  if (manifest.empty()) {
+    for (const std::string& path : pose_paths) names.push_back(stem_of(path));
+    return names;
+  }
+  std::set<std::string> taken;
+  for (const ManifestPose& p : read_pose_manifest(manifest).poses) {
+    std::string name = p.name;
+    for (int n = 2; !taken.insert(name).second; ++n) name = p.name + "-" + std::to_string(n);
+    names.push_back(name);
+  }
+  return names;
 }
 
 }  // namespace spx

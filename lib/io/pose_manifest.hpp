@@ -34,4 +34,9 @@ std::string manifest_file_path(const std::string& manifest_path, const std::stri
 void rest_and_poses(const std::string& manifest, std::string& rest, std::vector<std::string>& poses,
                     std::string* skin = nullptr);
 
+// What the poses are called in a proxy: the manifest's names when `manifest` is given (a clip's
+// "walk@4.63333s", not its file's "pose-00"; a name given twice gets "-2", "-3" as pose-extract's
+// files do), else each pose file's stem.
+std::vector<std::string> pose_names(const std::string& manifest, const std::vector<std::string>& pose_paths);
+
 }  // namespace spx

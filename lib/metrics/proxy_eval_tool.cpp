@@ -8,6 +8,7 @@
 #include "core/file_kind.hpp"
 #include "core/format.hpp"
 #include "core/subject.hpp"
+#include "io/pose_manifest.hpp"
 #include "io/scene.hpp"
 #include "metrics/rest_match.hpp"
 
@@ -27,9 +28,13 @@ std::vector<TriMesh> load_pose_meshes(const std::string& rest_path, const std::v
   check_rest_holds(proxy, rest.mesh, rest_path, "mesh");
   std::vector<TriMesh> meshes{rest.mesh};
   std::vector<TriMesh> poses = load_poses(pose_paths, rest);
+  // A proxy made from the manifest calls its poses by the manifest's names, one made from the
+  // files (or by an older pose-map) by their stems: either matches.
+  const std::vector<std::string> names = pose_names(manifest, pose_paths);
   for (size_t i = 0; i < pose_paths.size(); ++i) {
     meshes.push_back(std::move(poses[i]));
-    if (stem_of(pose_paths[i]) != proxy.poses[i + 1].name)
+    const std::string& called = proxy.poses[i + 1].name;
+    if (called != names[i] && called != stem_of(pose_paths[i]))
       log.warn(pose_paths[i] + ": the proxy calls pose " + std::to_string(i + 1) + " '" + proxy.poses[i + 1].name +
                "'; poses are matched by order");
   }

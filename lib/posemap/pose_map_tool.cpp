@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <set>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -58,19 +59,24 @@ struct PoseMapInputs {
 // The input files, the poses, spheres and skin read side by side (they do not depend on one
 // another); a failure is reported as reading them one after another would report it.
 PoseMapInputs read_inputs(const std::string& rest_path, const std::vector<std::string>& pose_paths,
-                          const std::string& spheres_path, const std::string& skin_path, Log& log) {
+                          std::vector<std::string> names, const std::string& spheres_path,
+                          const std::string& skin_path, Log& log) {
   PoseMapInputs in;
   in.rest = load_mesh(rest_path);
-  std::set<std::string> names;
-  for (const auto& path : pose_paths)
-    if (!names.insert(stem_of(path)).second) fail_usage(path, "two poses are named '" + stem_of(path) + "'");
+  if (names.empty()) {
+    std::set<std::string> stems;
+    for (const auto& path : pose_paths) {
+      if (!stems.insert(stem_of(path)).second) fail_usage(path, "two poses are named '" + stem_of(path) + "'");
+      names.push_back(stem_of(path));
+    }
+  }
   std::vector<TriMesh> meshes;
   side_by_side([&] { meshes = load_poses(pose_paths, in.rest); }, [&] { in.spheres = read_spheres_file(spheres_path); },
                [&] {
                  if (!skin_path.empty()) in.skin = read_skin_file(skin_path);
                });
   for (size_t i = 0; i < pose_paths.size(); ++i) {
-    PoseInput pose{stem_of(pose_paths[i]), pose_paths[i], std::move(meshes[i])};
+    PoseInput pose{names[i], pose_paths[i], std::move(meshes[i])};
     // A pose at another scale is most likely another unit (cm vs m).
     const double ratio = pose.mesh.diagonal() / in.rest.mesh.diagonal();
     if (ratio > 3 || ratio < 1.0 / 3)
@@ -191,12 +197,15 @@ json pose_map_report(const PoseMapResult& result) {
 
 void pose_map_files(const std::string& rest_path, const std::vector<std::string>& pose_paths,
                     const std::string& spheres_path, const std::string& output, const PoseMapOptions& given,
-                    const PoseMapTolerances& tolerances, Log& log, json& report, const std::string& skin_path) {
+                    const PoseMapTolerances& tolerances, Log& log, json& report, const std::string& skin_path,
+                    const std::vector<std::string>& names) {
   if (pose_paths.empty()) fail_option("poses", "give at least one example pose");
+  if (!names.empty() && names.size() != pose_paths.size())
+    throw std::logic_error("pose_map_files: a name per pose, or none");
   PoseMapInputs in;
   {
     StageTimer t(log, "load");
-    in = read_inputs(rest_path, pose_paths, spheres_path, skin_path, log);
+    in = read_inputs(rest_path, pose_paths, names, spheres_path, skin_path, log);
   }
   const LoadedMesh& rest = in.rest;
   const std::vector<PoseInput>& poses = in.poses;

@@ -20,9 +20,10 @@ struct PoseMapTolerances {
 json pose_map_report(const PoseMapResult& result);
 
 // pose-map --rest REST --pose P... --spheres S -o OUT.proxy.json [--skin SKIN]: `skin` (empty:
-// none) is the poses' rig, its poses in the order of `poses`.
+// none) is the poses' rig, its poses in the order of `poses`; `names` what the proxy calls the
+// poses (io/pose_manifest.hpp's pose_names; empty: the files' stems).
 void pose_map_files(const std::string& rest, const std::vector<std::string>& poses, const std::string& spheres,
                     const std::string& output, const PoseMapOptions& options, const PoseMapTolerances& tolerances,
-                    Log& log, json& report, const std::string& skin = "");
+                    Log& log, json& report, const std::string& skin = "", const std::vector<std::string>& names = {});
 
 }  // namespace spx

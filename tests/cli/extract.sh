@@ -45,6 +45,20 @@ sys.exit(not (len(s['joints']) == 2 and len(s['poses']) == 2 and len(s['vertex_w
     "$out/rigged/poses/skin.json" "$out/rigged/poses/rest.obj"
   check "skinned clip: the .spx has the skin" /usr/bin/python3 -c \
     "import sys; b=open(sys.argv[1],'rb').read(); sys.exit(not (b[10] == 1 and b[38] == 1))" "$out/rigged/rigged.spx"
+  # The proxy calls a clip's poses by the manifest's names (the clip and the time), as the skin does.
+  check "skinned clip: the proxy's pose names are the manifest's and the skin's" /usr/bin/python3 - \
+    "$out/rigged/rigged.proxy.json" "$out/rigged/poses/poses.json" "$out/rigged/poses/skin.json" <<'PY'
+import json, sys
+proxy, manifest, skin = (json.load(open(f)) for f in sys.argv[1:4])
+names = [p["name"] for p in proxy["poses"]][1:]
+assert names == [p["name"] for p in manifest["poses"]] == [p["name"] for p in skin["poses"]], names
+assert all("@" in n for n in names), names
+PY
+  "$bin/proxy-eval" "$out/rigged/rigged.proxy.json" --manifest "$out/rigged/poses/poses.json" -q \
+    --report "$out/rigged/eval.json"
+  check "skinned clip: proxy-eval --manifest finds the proxy's pose names, no warning" /usr/bin/python3 -c \
+    "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(any('matched by order' in w for w in r['warnings']))" \
+    "$out/rigged/eval.json"
 
   # The whole clip as a host plays it (proxy-eval --asset): each frame and half-way between.
   # At the 2 frames the chain saw, no sphere pokes out and the best-fit blend is that example's
