@@ -22,6 +22,7 @@
 #include "mesh/winding_number.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/solid_boundary.hpp"
+#include "mesh/split.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
 #include "posemap/clip_radius.hpp"
@@ -519,13 +520,15 @@ namespace {
 // pose. Every pose meets the tolerance, every sphere stays inside every pose, a budget is kept,
 // and the set stays near the size the rest alone needs.
 // sphere-pack's cover method on the rest at `resolution`, as a spheres file with its pool.
-CoverSelection pack_rest(const TriMesh& rest, int resolution, const Tolerance& tolerance, SpheresFile& file) {
+CoverSelection pack_rest(const TriMesh& rest, int resolution, const Tolerance& tolerance, SpheresFile& file,
+                         size_t area_samples = 4000) {
   SdfOptions o;
   o.resolution = resolution;
   const SdfResult sdf = build_sdf(rest, o);
   const MeshQuery query(rest);
   SpherePackOptions pack;
   pack.tolerance = tolerance.length(rest.diagonal());
+  pack.area_samples = area_samples;
   pack.pack.field_bounds_radius = sdf.stats.bounded_by_holes;
   CoverSelection sel = select_by_cover(sdf.field, query, pack);
   file.spheres = sel.spheres;
@@ -640,6 +643,46 @@ TEST(PoseMap, JointSelectionOnSharedPoseSets) {
     ASSERT_EQ(poses.size(), 4u) << set;
     expect_joint_selection(rest.mesh, poses, set);
   }
+}
+
+// Poses far denser than the tolerance (the barrel and its poses split 64-fold, 43 000 vertices,
+// at 8 %): each pose is covered on its vertices an eighth of the tolerance apart, the vertices
+// that cover leaves past the tolerance join (on this instance some), and every vertex of every
+// pose ends within it, every sphere inside. --every-vertex solves on every vertex from the start,
+// in as many spheres give or take a few.
+TEST(PoseMap, SpacedJointSelectionLeavesNoVertexPastTheTolerance) {
+  const SampleAsset barrel = make_barrel();
+  const TriMesh rest = split_at_midpoints(barrel.rest, 3);
+  std::vector<PoseInput> poses;
+  for (size_t i = 0; i < barrel.pose_names.size(); ++i)
+    poses.push_back({barrel.pose_names[i], barrel.pose_names[i], split_at_midpoints(barrel.pose(i), 3)});
+  SpheresFile file;
+  pack_rest(rest, 48, {8, true}, file, 500);
+  PoseMapOptions opt;
+  opt.tolerance = 0.08 * rest.diagonal();
+  opt.area_samples = 500;
+  const PoseMapResult r = pose_map(rest, "barrel", poses, file, opt);
+  ASSERT_TRUE(r.summary.selection.has_value());
+  const JointSelection& sel = *r.summary.selection;
+  EXPECT_EQ(sel.spaced_frames, poses.size() + 1) << "the poses' vertices were not spaced";
+  EXPECT_GT(sel.spaced_joined, 0u) << "the first cover left no vertex bare on this instance";
+  EXPECT_LT(sel.samples, (poses.size() + 1) * rest.vertices.size() / 2);
+  EXPECT_EQ(sel.limited_by, Limit::tolerance);
+  for (size_t i = 0; i < r.proxy.poses.size(); ++i) {
+    const TriMesh& mesh = i == 0 ? rest : poses[i - 1].mesh;
+    EXPECT_LE(vertex_error(mesh, r.proxy.poses[i].spheres).max, opt.tolerance * (1 + 1e-9)) << "pose " << i;
+    const MeshQuery q(mesh);
+    for (const Sphere& s : r.proxy.poses[i].spheres) {
+      if (s.radius == 0) continue;
+      EXPECT_TRUE(q.inside(s.center)) << "pose " << i;
+      EXPECT_LE(s.radius, q.distance(s.center) + 1e-9) << "pose " << i;
+    }
+  }
+  opt.every_vertex = true;
+  const PoseMapResult every = pose_map(rest, "barrel", poses, file, opt);
+  ASSERT_TRUE(every.summary.selection.has_value());
+  EXPECT_EQ(every.summary.selection->spaced_frames, 0u);
+  EXPECT_LE(r.proxy.sphere_count(), every.proxy.sphere_count() + 3);
 }
 
 TEST(PoseMap, JointSelectionNeedsCandidates) {

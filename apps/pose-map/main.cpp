@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
                       ->capture_default_str()
                       ->check(CLI::Range(size_t(0), size_t(1000000)));
   auto* seed = tool.app.add_option("--seed", opt.seed, "Selection: seed of the surface samples")->capture_default_str();
+  auto* every = tool.app.add_flag("--every-vertex", opt.every_vertex,
+                                  "Selection with a tolerance: solve on every vertex of each pose from the start, where "
+                                  "a pose far denser than the tolerance is otherwise covered on vertices an eighth of "
+                                  "it apart, then checked at every vertex (the same promise; slower and larger)");
   auto* polish = tool.app.add_option("--polish", opt.polish_rounds,
                                      "Selection with --max-spheres: cover again this many times from the refined "
                                      "spheres, keeping a set with no higher max error over the poses and a lower max "
@@ -68,7 +72,7 @@ int main(int argc, char** argv) {
       ->check(spx::kPositive)
       ->needs(fill);
   // --map-given maps the file's spheres as they are: no selection for these to steer.
-  for (CLI::Option* selection : {tolerance_opt, budget, samples, seed, polish}) given->excludes(selection);
+  for (CLI::Option* selection : {tolerance_opt, budget, samples, seed, polish, every}) given->excludes(selection);
   tool.name_option("poses", "--pose");
   return tool.run(argc, argv, [&] {
     const spx::PoseMapTolerances tolerances{spx::parse_tolerance(tolerance, "--tolerance"),

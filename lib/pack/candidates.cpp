@@ -182,6 +182,23 @@ std::vector<uint32_t> spaced_points(const std::vector<Eigen::Vector3d>& points, 
   return kept;
 }
 
+std::vector<uint32_t> samples_to_cover(const std::vector<Eigen::Vector3d>& points, size_t vertices, double spacing,
+                                       double& spaced_by) {
+  spaced_by = 0;
+  if (spacing > 0) {
+    std::vector<uint32_t> kept = spaced_points(points, vertices, spacing);
+    // Where most are kept, the whole problem costs little more.
+    if (kept.size() < vertices / 2) {
+      spaced_by = spacing;
+      for (size_t i = vertices; i < points.size(); ++i) kept.push_back(uint32_t(i));
+      return kept;
+    }
+  }
+  std::vector<uint32_t> every(points.size());
+  std::iota(every.begin(), every.end(), 0u);
+  return every;
+}
+
 double deepest_radius(const DenseField& field) {
   float deepest = 0;
   for (float v : field.values) deepest = std::min(deepest, v);

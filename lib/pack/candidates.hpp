@@ -95,6 +95,18 @@ std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_sa
 // of a kept one, and no two kept ones are closer than that. Indices, ascending.
 std::vector<uint32_t> spaced_points(const std::vector<Eigen::Vector3d>& points, size_t count, double spacing);
 
+// A mesh whose vertices lie much closer together than the tolerance (a scan, a subdivided
+// sculpt): a cover is first solved on vertices this part of the tolerance apart, then every
+// vertex is checked, where every vertex's samples would make rows of millions of pairs.
+constexpr double kCoverSpacing = 0.125;
+
+// The samples a cover is first solved on, of `points` (the first `vertices` of them vertices, then
+// area samples): where the vertices `spacing` apart (spacing > 0) are fewer than half of them,
+// those and every area sample (`spaced_by` = spacing), else every sample (`spaced_by` = 0).
+// Indices, ascending.
+std::vector<uint32_t> samples_to_cover(const std::vector<Eigen::Vector3d>& points, size_t vertices, double spacing,
+                                       double& spaced_by);
+
 // How near a sample its own candidate passes, in parts of the diagonal: float rounding.
 constexpr double kTouchSlack = 1e-6;
 

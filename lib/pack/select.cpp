@@ -59,11 +59,6 @@ bool kept_over(const UnionGaps& a, const UnionGaps& b) { return a.max <= b.max &
 
 namespace {
 
-// A mesh whose vertices lie much closer together than the delta (a scan, a subdivided sculpt):
-// the cover is first solved on vertices this part of the delta apart (the tolerance, or in budget
-// mode the area samples' delta), each with its own candidate, where every vertex's would make
-// rows of millions of pairs.
-constexpr double kCoverSpacing = 0.125;
 // Tolerance mode: how many times the spaced cover is made every vertex's (cover_every_vertex).
 constexpr int kSpacedPasses = 2;
 // Budget mode spaces the vertices only where they outnumber the area samples this many times
@@ -74,24 +69,6 @@ std::vector<uint32_t> every_index(size_t n) {
   std::vector<uint32_t> out(n);
   std::iota(out.begin(), out.end(), 0u);
   return out;
-}
-
-// The samples a cover is first solved on: every one, or where the vertices `spacing` apart
-// (spacing > 0) are fewer than half of them, those and the area samples (`spaced_by` the
-// spacing, or 0 for every one).
-std::vector<uint32_t> samples_to_cover(const SurfaceSamples& samples, size_t vertices, double spacing,
-                                       double& spaced_by) {
-  spaced_by = 0;
-  if (spacing > 0) {
-    std::vector<uint32_t> kept = spaced_points(samples.points, vertices, spacing);
-    // Where most are kept, the whole problem costs little more.
-    if (kept.size() < vertices / 2) {
-      spaced_by = spacing;
-      for (size_t i = vertices; i < samples.points.size(); ++i) kept.push_back(uint32_t(i));
-      return kept;
-    }
-  }
-  return every_index(samples.points.size());
 }
 
 // The problem's samples: the `working` ones of `samples` (vertices first, ascending, then the
@@ -261,7 +238,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
     problem.spheres.push_back(inscribed_candidates(field, mesh, limits));
     out.voxel_candidates = problem.spheres[0].size();
     samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
-    working = samples_to_cover(samples, vertices, vertex_spacing(field, mesh, opt, samples, problem.spheres[0], limits),
+    working = samples_to_cover(samples.points, vertices, vertex_spacing(field, mesh, opt, samples, problem.spheres[0], limits),
                                out.vertex_spacing);
     if (opt.tangent_candidates) {
       add_tangent_candidates(working);

@@ -57,15 +57,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
           cover_out_of_reach(problem, vertices_in(out.cover.uncovered), out.cover.chosen, &out.out_of_reach_delta);
     // A radius the check lowers was counted on as larger: cover the same problem again.
     if (one_ && lower_unchecked_radii(out.cover.chosen, out)) continue;
-    std::vector<int> order = out.cover.chosen;
-    // Largest first by the rest sphere each becomes, as sphere-pack orders its spheres.
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      return rest_radius(problem, a) > rest_radius(problem, b);
-    });
-    out.chosen = pick(candidates_, order);
-    if (one_)
-      for (size_t n = 0; n < order.size(); ++n) out.chosen[n].radius = radius_[size_t(order[n])];
-    out.samples = problem.sample_count();
+    take_chosen(problem, out);
     size_t more_samples = 0;
     std::vector<size_t> more_frames;
     if (active_.size() < frames_.frame_count() && (opt_.budget == 0 || out.rounds < kBudgetRounds)) {
@@ -75,6 +67,8 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
       else
         more_frames = frames_left_bare(out.cover.chosen, out.cover.delta);
     }
+    // Every frame the cover should hold in is in it: their vertices left out are checked.
+    if (!one_ && more_frames.empty()) more_samples = join_bare_vertices(out.cover.chosen, out.cover.delta, out);
     log_.detail("joint selection, round " + std::to_string(out.rounds) + ": " + std::to_string(out.chosen.size()) +
                 " spheres selected on " + std::to_string(active_.size()) + " of " +
                 std::to_string(frames_.frame_count()) + " frames and " + std::to_string(samples_elsewhere()) +
@@ -109,9 +103,26 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   out.from_around = balls_offered_[1];
   out.frames = active_;
   out.samples_elsewhere = samples_elsewhere();
+  out.spaced_frames = spaced_frames_;
+  out.vertex_spacing = spaced_frames_ > 0 ? kCoverSpacing * opt_.target : 0;
+  if (spaced_frames_ > 0)
+    log_.info("covered on " + std::to_string(spaced_frames_) + " frames' vertices an eighth of the tolerance apart (and " +
+              std::to_string(out.spaced_joined) + " a cover left past it), then every vertex checked");
   out.clip_shrunk = clip_shrunk_;
   note_unused_budget(out.limited_by, out.chosen.size(), opt_.budget, log_);
   return out;
+}
+
+void JointSelector::take_chosen(const CoverProblem& problem, JointSelection& out) const {
+  std::vector<int> order = out.cover.chosen;
+  // Largest first by the rest sphere each becomes, as sphere-pack orders its spheres.
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return rest_radius(problem, a) > rest_radius(problem, b);
+  });
+  out.chosen = pick(candidates_, order);
+  if (one_)
+    for (size_t n = 0; n < order.size(); ++n) out.chosen[n].radius = radius_[size_t(order[n])];
+  out.samples = problem.sample_count();
 }
 
 size_t JointSelector::refine(SphereSet& chosen, double delta) {
@@ -188,6 +199,50 @@ std::vector<uint32_t> JointSelector::every_sample(size_t f) {
   return out;
 }
 
+const std::vector<uint32_t>& JointSelector::working(size_t f) {
+  if (working_[f].empty()) {
+    const bool spacing = opt_.spaced_vertices && !one_ && opt_.budget == 0 && opt_.target > 0;
+    double spaced_by = 0;
+    working_[f] = samples_to_cover(samples(f), vertex_count(f), spacing ? kCoverSpacing * opt_.target : 0, spaced_by);
+    spaced_frames_ += spaced_by > 0;
+  }
+  return working_[f];
+}
+
+size_t JointSelector::working_vertices(size_t f) {
+  const std::vector<uint32_t>& w = working(f);
+  return size_t(std::lower_bound(w.begin(), w.end(), uint32_t(vertex_count(f))) - w.begin());
+}
+
+size_t JointSelector::join_bare_vertices(const std::vector<int>& chosen, double delta, JointSelection& out) {
+  std::vector<std::pair<size_t, std::vector<uint32_t>>> joining;
+  for (size_t f : active_) {
+    const size_t vertices = vertex_count(f);
+    if (working_vertices(f) == vertices) continue;  // not spaced, or every vertex joined
+    std::vector<char> in(vertices, 0);
+    for (uint32_t i : working(f))
+      if (i < vertices) in[i] = 1;
+    SphereSet spheres;
+    for (int c : chosen) spheres.push_back(sphere(size_t(c), f));
+    std::vector<uint32_t> bare;
+    for (uint32_t i : bare_samples({samples_[f].begin(), samples_[f].begin() + long(vertices)}, spheres, delta))
+      if (!in[i]) bare.push_back(i);
+    if (!bare.empty()) joining.emplace_back(f, std::move(bare));
+  }
+  if (joining.empty()) return 0;
+  offer_frame_candidates(joining);
+  if (touching()) touch_out_of_reach(joining, opt_.target, false);
+  size_t joined = 0;
+  for (const auto& [f, bare] : joining) {
+    std::vector<uint32_t>& w = working_[f];
+    w.insert(w.end(), bare.begin(), bare.end());
+    std::sort(w.begin(), w.end());
+    joined += bare.size();
+  }
+  out.spaced_joined += joined;
+  return joined;
+}
+
 void JointSelector::cover_round(const CoverProblem& problem, bool warm, JointSelection& out) {
   // A round's cover takes seconds on a long clip: the round under way, on a terminal.
   log_.begin("joint selection, round " + std::to_string(out.rounds) + " (" + std::to_string(problem.sample_count()) +
@@ -252,7 +307,7 @@ CoverProblem JointSelector::cover_problem(size_t& mostly_absent, bool spheres) {
     p.spheres.push_back(std::move(set));
   };
   if (whole_)
-    for (size_t f : active_) add(f, every_sample(f), vertex_count(f));
+    for (size_t f : active_) add(f, working(f), working_vertices(f));
   for (size_t f = 0; f < extra_.size(); ++f)
     if (!extra_[f].empty()) add(f, extra_[f], 0);
   mostly_absent = spheres ? withdraw_mostly_absent(p) : 0;

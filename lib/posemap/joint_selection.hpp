@@ -81,6 +81,10 @@ struct JointSelectionOptions {
   bool field_bounds_radii = false;  // an open mesh: its fields bound every radius across its holes
   size_t area_samples = 4000;
   uint64_t seed = 1;
+  // Tolerance mode, not skinned: a frame whose vertices lie much closer together than the
+  // tolerance is covered on those kCoverSpacing x it apart, then every vertex checked (false:
+  // every vertex from the start).
+  bool spaced_vertices = true;
   size_t first_frames = 6;   // poses selected on in the first round (those farthest apart)
   size_t frames_per_round = 4;
   // Budget mode: the chosen rest centres then move off the candidates (from this step down to an
@@ -103,6 +107,9 @@ struct JointSelection {
   size_t around = 0, from_around = 0;      // skinned: those still out of reach offered balls around them
   std::vector<size_t> frames;   // the frames selected on, ascending (0: the rest)
   size_t rounds = 0;
+  size_t spaced_frames = 0;     // frames selected on whose vertices were spaced (spaced_vertices),
+  double vertex_spacing = 0;    // that far apart (0: none was)
+  size_t spaced_joined = 0;     // of their vertices left out, those a cover left past the tolerance, then joined
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
   size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
   size_t vertices_out_of_reach = 0;  // of those and the cover's uncoverable, the vertices

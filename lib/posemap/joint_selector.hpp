@@ -32,6 +32,7 @@ class JointSelector {
         offered_(frames.frame_count()),
         extra_(frames.frame_count()),
         held_(frames.frame_count()),
+        working_(frames.frame_count()),
         centers_(one_ ? frames.frame_count() : 0) {}
 
   JointSelection run(const SphereSet& file_candidates);
@@ -93,8 +94,19 @@ class JointSelector {
   const std::vector<Eigen::Vector3d>& samples(size_t f);
 
   std::vector<uint32_t> every_sample(size_t f);
-  // Each frame's vertices (its samples drawn here, before out_of_reach_of reads them side by side).
+  // A frame selected on whole: its samples in the problem. Every one, or where its vertices lie
+  // much closer together than the tolerance (opt_.spaced_vertices), the vertices kCoverSpacing x
+  // it apart and every area sample, joined by the vertices a cover leaves past it
+  // (join_bare_vertices). Ascending, the vertices first.
+  const std::vector<uint32_t>& working(size_t f);
+  // Of working(f), the vertices.
+  size_t working_vertices(size_t f);
+  // Each frame's working vertices (its samples drawn here, before out_of_reach_of reads them side
+  // by side).
   std::vector<std::pair<size_t, std::vector<uint32_t>>> every_vertex_of(const std::vector<size_t>& frames);
+  // Spaced frames: the vertices left out of working(f) that `chosen` leaves past `delta` join it,
+  // their frame's candidates and balls through them offered as to any frame's. Returns how many.
+  size_t join_bare_vertices(const std::vector<int>& chosen, double delta, JointSelection& out);
 
   // Tolerance mode: samples out of reach of every candidate are offered balls touching them.
   bool touching() const { return opt_.target > 0; }
@@ -109,6 +121,9 @@ class JointSelector {
 
   // Candidate c in frame f as the problem has it.
   Sphere sphere(size_t c, size_t f) const { return one_ ? Sphere{centers_[f][c], radius_[c]} : own_[f][c]; }
+
+  // The cover's spheres as the proxy's rest spheres (out.chosen), largest first.
+  void take_chosen(const CoverProblem& problem, JointSelection& out) const;
 
   // The round's cover, in full or (`warm`) from the last round's.
   void cover_round(const CoverProblem& problem, bool warm, JointSelection& out);
@@ -182,6 +197,7 @@ class JointSelector {
   std::vector<std::vector<char>> offered_;             // per frame and sample: its frame's candidates offered
   std::vector<std::vector<uint32_t>> extra_;           // skinned, per frame not whole: its samples in the problem
   std::vector<std::vector<char>> held_;                // per frame and sample: it has been in the problem
+  std::vector<std::vector<uint32_t>> working_;         // per frame selected on: working(f), once asked
   bool whole_ = true;                                  // the frames selected on are whole in the problem
   std::vector<std::pair<size_t, std::vector<uint32_t>>> layout_;  // the last problem's samples: (frame, which)
   std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
@@ -189,6 +205,7 @@ class JointSelector {
   std::vector<char> checked_;                          // skinned: its radius checked in every frame
   std::unique_ptr<CoverageCache> cache_;              // skinned, tolerance: the pairs kept from round to round
   size_t from_frames_ = 0;
+  size_t spaced_frames_ = 0;  // frames whose working samples are spaced vertices
   size_t balls_offered_[2] = {0, 0};  // tolerance: balls through vertices out of reach, and (skinned) around them
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's

@@ -119,6 +119,8 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"limited_by", limit_wording(sel.limited_by)},
           {"frames", {{"selected_on", selected_on}, {"samples_of_the_others", sel.samples_elsewhere},
                       {"checked", proxy.poses.size()}, {"rounds", sel.rounds}}},
+          {"spaced_vertices", {{"frames", sel.spaced_frames}, {"vertex_spacing", sel.vertex_spacing},
+                               {"vertices_joined", sel.spaced_joined}}},
           {"clip", {{"candidates_shrunk", sel.clip_shrunk}}},
           {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered}}},
           {"refined_moves", sel.refined_moves},

@@ -69,6 +69,7 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   options.field_bounds_radii = open_solid_;
   options.area_samples = opt_.area_samples;
   options.seed = opt_.seed;
+  options.spaced_vertices = !opt_.every_vertex;
   options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
   options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
   Frames frames(*this);

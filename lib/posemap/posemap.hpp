@@ -53,6 +53,7 @@ struct PoseMapOptions {
   double clip_overshoot = 0;
   size_t area_samples = 4000;
   uint64_t seed = 1;
+  bool every_vertex = false;  // JointSelectionOptions::spaced_vertices off
   // Joint selection with a budget: covered and refined again this many times from the refined
   // spheres (JointSelectionOptions::polish_rounds); -1: once, and not at all for a skinned body.
   // Once, not sphere-pack's twice: each round refines over every frame (the walk's 48 frames at

@@ -22,11 +22,7 @@ const std::vector<Eigen::Vector3d>& JointSelector::samples(size_t f) {
 std::vector<std::pair<size_t, std::vector<uint32_t>>> JointSelector::every_vertex_of(
     const std::vector<size_t>& frames) {
   std::vector<std::pair<size_t, std::vector<uint32_t>>> out;
-  for (size_t f : frames) {
-    out.emplace_back(f, std::vector<uint32_t>(vertex_count(f)));
-    std::iota(out.back().second.begin(), out.back().second.end(), 0u);
-    samples(f);
-  }
+  for (size_t f : frames) out.emplace_back(f, std::vector<uint32_t>(working(f).begin(), working(f).begin() + long(working_vertices(f))));
   return out;
 }
 
@@ -96,7 +92,7 @@ void JointSelector::select_on_whole(const std::vector<size_t>& more) {
   active_.insert(active_.end(), more.begin(), more.end());
   std::sort(active_.begin(), active_.end());
   std::vector<std::pair<size_t, std::vector<uint32_t>>> wanting;
-  for (size_t f : more) wanting.emplace_back(f, every_sample(f));
+  for (size_t f : more) wanting.emplace_back(f, working(f));
   offer_frame_candidates(wanting);
 }
 
