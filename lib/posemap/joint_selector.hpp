@@ -104,7 +104,7 @@ class JointSelector {
   // Each frame's working vertices (its samples drawn here, before out_of_reach_of reads them side
   // by side).
   std::vector<std::pair<size_t, std::vector<uint32_t>>> every_vertex_of(const std::vector<size_t>& frames);
-  // Spaced frames: the vertices left out of working(f) that `chosen` leaves past `delta` join it,
+  // Spaced frames: the vertices left out of working(f) that `chosen` leaves past (nearly) `delta` join it,
   // their frame's candidates and balls through them offered as to any frame's. Returns how many.
   size_t join_bare_vertices(const std::vector<int>& chosen, double delta, JointSelection& out);
 
