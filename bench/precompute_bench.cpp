@@ -2,6 +2,7 @@
 // in one run (medians of repeats), as JSON.
 //   precompute-bench --data ../shared/data --json OUT.json [--repeats 3] [--max-resolution 512]
 //                    [--resolution N ...] [--no-chains] [--no-routes] [--frames [N ...]] [--splits [N ...]]
+//                    [--pose-splits [N ...]]
 //                    [--sweep-only] [--work DIR]
 // The routes, the frame sweep and the dense meshes run the tools beside it as whole processes
 // (tool_runs.hpp).
@@ -221,6 +222,7 @@ struct Plan {
   std::vector<int> resolutions = {64, 128, 256, 512};
   std::vector<size_t> frames = {4, 8, 16, 32, 48, 100};
   std::vector<int> splits = {1, 2};  // the armadillo split at its midpoints this many times
+  std::vector<int> pose_splits = {3};  // the elephant and its poses split so, for pose-map
   bool chains = true, routes = true, sweep_only = false;
 };
 
@@ -243,18 +245,22 @@ int main(int argc, char** argv) {
   CLI::Option* frames =
       app.add_option("--frames", plan.frames, "Frame counts of the sweep (default 4 8 16 32 48 100; none: skip it)")
           ->expected(0, CLI::detail::expected_max_vector_size);
-  CLI::Option* splits =
-      app.add_option("--splits", plan.splits,
-                     "sphere-pack on the armadillo split at its midpoints N times, spaced against --every-vertex "
-                     "(default 1 2; none: skip it)")
-          ->expected(0, CLI::detail::expected_max_vector_size)
-          ->check(CLI::Range(0, 3));
+  // How many times a dense case's meshes are split at their midpoints (none: skip them).
+  auto split_counts = [&](const char* name, std::vector<int>& counts, const std::string& what, const char* given) {
+    return app.add_option(name, counts, what + " split at their midpoints N times, spaced against --every-vertex "
+                                        "(default " + given + "; none: skip it)")
+        ->expected(0, CLI::detail::expected_max_vector_size)
+        ->check(CLI::Range(0, 3));
+  };
+  CLI::Option* splits = split_counts("--splits", plan.splits, "sphere-pack on the armadillo", "1 2");
+  CLI::Option* pose_splits = split_counts("--pose-splits", plan.pose_splits, "pose-map on the elephant and its 4 poses", "3");
   app.add_flag("--sweep-only", plan.sweep_only, "Only the frame sweep (no routes, SDF cases or chains)");
   app.add_option("--work", plan.work, "Where the routes and the sweep write their files");
   return tool.run(argc, argv, [&] {
     // `--frames` alone reaches CLI11 as one empty value, which it reads as 0.
     if (frames->results() == std::vector<std::string>{""}) plan.frames.clear();
     if (splits->results() == std::vector<std::string>{""}) plan.splits.clear();
+    if (pose_splits->results() == std::vector<std::string>{""}) plan.pose_splits.clear();
     for (size_t n : plan.frames)
       if (n == 0) fail_usage("--frames", "a frame count must be at least 1");
     run(plan, tool.log);
@@ -313,6 +319,16 @@ json dense_cases(const Plan& plan, const std::string& tools, const Log& log) {
   return cases;
 }
 
+json dense_pose_cases(const Plan& plan, const std::string& tools, const Log& log) {
+  json cases = json::array();
+  std::vector<std::string> poses;
+  for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"}) poses.push_back(plan.data + "/elephant/" + p + ".obj");
+  for (int split : plan.pose_splits)
+    cases.push_back(bench::dense_poses_case(tools, "elephant", plan.data + "/elephant/rest.obj", poses, split, plan.work,
+                                            plan.repeats, log));
+  return cases;
+}
+
 void run(const Plan& plan, const Log& log) {
   openvdb::initialize();
   const std::string& data = plan.data;
@@ -325,6 +341,7 @@ void run(const Plan& plan, const Log& log) {
     if (!plan.sweep_only) result["routes"] = route_cases(plan, tools, log);
     result["frame_sweeps"] = frame_sweeps(plan, tools, log);
     if (!plan.sweep_only) result["dense"] = dense_cases(plan, tools, log);
+    if (!plan.sweep_only) result["dense_poses"] = dense_pose_cases(plan, tools, log);
   }
   if (plan.sweep_only) {
     write_json_atomic(plan.out, result);

@@ -223,4 +223,62 @@ json dense_case(const std::string& tools, const std::string& name, const std::st
   return {{"mesh", label}, {"triangles", triangles}, {"vertices", vertices}, {"rows", rows}};
 }
 
+json dense_poses_case(const std::string& tools, const std::string& name, const std::string& rest,
+                      const std::vector<std::string>& poses, int split, const std::string& work, int repeats,
+                      const Log& log) {
+  const std::string label = name + "-x" + std::to_string(1 << (2 * split)), dir = work + "/" + label;
+  fs::create_directories(dir);
+  size_t triangles = 0, vertices = 0;
+  std::vector<std::string> args = {"--rest", dir + "/rest.obj"};
+  {  // freed before the tools run: a child's peak memory starts from this process's own
+    const LoadedMesh loaded = load_mesh(rest);
+    const TriMesh dense = split_at_midpoints(loaded.mesh, split);
+    triangles = dense.triangles.size();
+    vertices = dense.vertices.size();
+    write_file_atomic(dir + "/rest.obj", to_obj(dense, label));
+    for (size_t k = 0; k < poses.size(); ++k) {
+      const std::string path = dir + "/pose-" + std::to_string(k) + ".obj";
+      write_file_atomic(path, to_obj(split_at_midpoints(load_pose(poses[k], loaded), split), label));
+      args.insert(args.end(), {"--pose", path});
+    }
+  }
+  run_tool(tools, {"sdf-build", dir + "/rest.obj", "-o", dir + "/rest.vdb", "-q"});
+  run_tool(tools, {"sphere-pack", dir + "/rest.vdb", "--mesh", dir + "/rest.obj", "-o", dir + "/rest.spheres.json", "-q"});
+  args.insert(args.end(), {"--spheres", dir + "/rest.spheres.json"});
+  const int runs = triangles > 500000 ? 1 : repeats;
+  std::vector<double> seconds[2];
+  double peak[2] = {0, 0};
+  json report[2];
+  for (int r = 0; r < runs; ++r)
+    for (int every = 0; every < 2; ++every) {
+      const std::string out = dir + (every ? "/every" : "/spaced");
+      std::vector<std::string> argv = {"pose-map", "-o", out + ".proxy.json", "--report", out + ".report.json", "-q"};
+      argv.insert(argv.end(), args.begin(), args.end());
+      if (every) argv.push_back("--every-vertex");
+      const ToolRun run = run_tool(tools, argv);
+      seconds[every].push_back(run.seconds);
+      peak[every] = std::max(peak[every], run.peak_gib);
+      report[every] = read_json(out + ".report.json");
+    }
+  json row = {{"mesh", label}, {"triangles", triangles}, {"vertices", vertices}, {"poses", poses.size()}, {"runs", runs}};
+  for (int every = 0; every < 2; ++every) {
+    double worst = 0, medians = 0;
+    for (const json& pose : report[every].at("poses")) {
+      worst = std::max(worst, pose.at("error").at("max").get<double>());
+      medians += pose.at("error").at("median").get<double>() / double(report[every].at("poses").size());
+    }
+    const json& sel = report[every].at("selection");
+    row[every ? "every_vertex" : "spaced"] = {{"s", median(seconds[every])}, {"peak_gib", peak[every]},
+                                              {"spheres", report[every].at("sphere_count")}, {"max_error", worst},
+                                              {"mean_median_error", medians}, {"samples", sel.at("samples")},
+                                              {"rounds", sel.at("frames").at("rounds")},
+                                              {"spaced_vertices", sel.at("spaced_vertices")}};
+  }
+  row["every_over_spaced"] = median(seconds[1]) / median(seconds[0]);
+  say(log, "%s poses (%zu triangles): pose-map spaced %.1f s %.2f GiB %d spheres, every vertex %.1f s %.2f GiB %d spheres",
+      label.c_str(), triangles, median(seconds[0]), peak[0], row["spaced"]["spheres"].get<int>(), median(seconds[1]),
+      peak[1], row["every_vertex"]["spheres"].get<int>());
+  return row;
+}
+
 }  // namespace spx::bench

@@ -68,4 +68,13 @@ nlohmann::json frame_sweep(const std::string& tools, const ClipSweep& clip, cons
 nlohmann::json dense_case(const std::string& tools, const std::string& name, const std::string& rest, int split,
                           size_t budget, const std::string& work, int repeats, const Log& log);
 
+// pose-map on `rest` and its `poses` split at their midpoints `split` times, from sphere-pack's
+// spheres at the default tolerance: spaced (the default) against --every-vertex, in turn
+// `repeats` times (once past half a million triangles). Per way: median time, most memory,
+// spheres, the worst pose's max and the poses' mean median vertex error (the report's), the
+// samples after joining and the rounds; and every vertex's time over the spaced one's.
+nlohmann::json dense_poses_case(const std::string& tools, const std::string& name, const std::string& rest,
+                                const std::vector<std::string>& poses, int split, const std::string& work, int repeats,
+                                const Log& log);
+
 }  // namespace spx::bench

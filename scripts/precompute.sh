@@ -59,6 +59,15 @@ for c in r.get("dense", []):
                                                                    m["median_error"], m["samples_covered"])
         print("| %s%s | %s | %s | %.2fx |" % (row["mode"], "" if row["runs"] > 1 else " (1 run)", cell(row["spaced"]),
                                            cell(row["every_vertex"]), row["every_over_spaced"]))
+if r.get("dense_poses"):
+    print("\npose-map at the default tolerance on poses split at their midpoints, spaced against every vertex's\n")
+    print("| poses | spaced: time, memory, spheres, worst max / mean median error, samples, rounds | every vertex: the same | every / spaced time |")
+    print("|---|---|---|---|")
+for c in r.get("dense_poses", []):
+    cell = lambda m: "%.1f s, %.2f GiB, %d, %.4f / %.4f, %d, %d" % (m["s"], m["peak_gib"], m["spheres"], m["max_error"],
+                                                                   m["mean_median_error"], m["samples"], m["rounds"])
+    print("| %s, %d x %d triangles%s | %s | %s | %.2fx |" % (c["mesh"], c["poses"] + 1, c["triangles"],
+          "" if c["runs"] > 1 else " (1 run)", cell(c["spaced"]), cell(c["every_vertex"]), c["every_over_spaced"]))
 PY
 clips=$(/usr/bin/python3 -c "import json,sys; print(' '.join(s['clip'] for s in json.load(open(sys.argv[1])).get('frame_sweeps', [])))" "$json")
 # The chart needs both halves: the sweep and the routes (not with --sweep-only or --no-routes).
