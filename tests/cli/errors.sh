@@ -128,7 +128,7 @@ expect 1 "fill-max requires --fill-gaps" "$out/n.json" -- pm --fill-max 3
 expect 1 "fill-tolerance requires --fill-gaps" "$out/n.json" -- pm --fill-tolerance 1%
 expect 1 "fill-min-radius requires --fill-gaps" "$out/n.json" -- pm --fill-min-radius 0.01
 expect 1 "clip-overshoot requires --hold-over-clip" "$out/n.json" -- pm --clip-overshoot 1%
-for selection in "--tolerance 1%" "--max-spheres 5" "--samples 100" "--seed 2" "--polish 2"; do
+for selection in "--tolerance 1%" "--max-spheres 5" "--samples 100" "--seed 2" "--polish 2" --every-vertex; do
   expect 1 "excludes" "$out/n.json" -- pm --map-given $selection
 done
 expect 1 "samples: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
