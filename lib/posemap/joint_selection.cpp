@@ -111,7 +111,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   out.vertex_spacing = spaced_frames_ > 0 ? kCoverSpacing * opt_.target : 0;
   if (spaced_frames_ > 0)
     log_.info("covered on " + std::to_string(spaced_frames_) + " frames' vertices an eighth of the tolerance apart (and " +
-              std::to_string(out.spaced_joined) + " a cover left past it), then every vertex checked");
+              std::to_string(out.spaced_joined) + " a cover left near or past it), then every vertex checked");
   out.clip_shrunk = clip_shrunk_;
   note_unused_budget(out.limited_by, out.chosen.size(), opt_.budget, log_);
   return out;

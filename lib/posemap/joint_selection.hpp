@@ -109,7 +109,7 @@ struct JointSelection {
   size_t rounds = 0;
   size_t spaced_frames = 0;     // frames selected on whose vertices were spaced (spaced_vertices),
   double vertex_spacing = 0;    // that far apart (0: none was)
-  size_t spaced_joined = 0;     // of their vertices left out, those a cover left past the tolerance, then joined
+  size_t spaced_joined = 0;     // of their vertices left out, those a cover left near or past the tolerance, then joined
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
   size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
   size_t vertices_out_of_reach = 0;  // of those and the cover's uncoverable, the vertices
