@@ -38,6 +38,28 @@ json read_json(const std::string& path) {
 // The pose-map report's sphere count.
 size_t spheres_in_report(const std::string& report) { return read_json(report).at("sphere_count").get<size_t>(); }
 
+// A tool run two ways (0: spaced, 1: --every-vertex) in turn `runs` times: each way's times, its
+// most memory and its last report. `run_way(every, out)` is the way's command, writing its
+// report to out + ".report.json".
+struct BothWays {
+  std::vector<double> seconds[2];
+  double peak[2] = {0, 0};
+  json report[2];
+};
+BothWays run_both_ways(const std::string& tools, int runs, const std::string& out_stem,
+                       const std::function<std::vector<std::string>(int, const std::string&)>& run_way) {
+  BothWays b;
+  for (int r = 0; r < runs; ++r)
+    for (int every = 0; every < 2; ++every) {
+      const std::string out = out_stem + (every ? "-every" : "-spaced");
+      const ToolRun run = run_tool(tools, run_way(every, out));
+      b.seconds[every].push_back(run.seconds);
+      b.peak[every] = std::max(b.peak[every], run.peak_gib);
+      b.report[every] = read_json(out + ".report.json");
+    }
+  return b;
+}
+
 }  // namespace
 
 std::string tools_dir_beside_this_program() {
@@ -191,21 +213,14 @@ json dense_case(const std::string& tools, const std::string& name, const std::st
   std::vector<size_t> modes = {0};
   if (budget > 0 && triangles <= 1000000) modes.push_back(budget);
   for (size_t spheres : modes) {
-    std::vector<double> seconds[2];
-    double peak[2] = {0, 0};
-    json report[2];
-    for (int r = 0; r < runs; ++r)
-      for (int every = 0; every < 2; ++every) {
-        const std::string out = work + "/" + label + (every ? "-every" : "-spaced");
-        std::vector<std::string> argv = {"sphere-pack", field, "-o", out + ".spheres.json", "--mesh", mesh,
-                                         "--report", out + ".report.json", "-q"};
-        if (spheres > 0) argv.insert(argv.end(), {"--max-spheres", std::to_string(spheres)});
-        if (every) argv.push_back("--every-vertex");
-        const ToolRun run = run_tool(tools, argv);
-        seconds[every].push_back(run.seconds);
-        peak[every] = std::max(peak[every], run.peak_gib);
-        report[every] = read_json(out + ".report.json");
-      }
+    const auto [seconds, peak, report] =
+        run_both_ways(tools, runs, work + "/" + label, [&](int every, const std::string& out) {
+          std::vector<std::string> argv = {"sphere-pack", field, "-o", out + ".spheres.json", "--mesh", mesh,
+                                           "--report", out + ".report.json", "-q"};
+          if (spheres > 0) argv.insert(argv.end(), {"--max-spheres", std::to_string(spheres)});
+          if (every) argv.push_back("--every-vertex");
+          return argv;
+        });
     json row = {{"mode", spheres > 0 ? std::to_string(spheres) + " spheres" : "the default tolerance"}, {"runs", runs}};
     for (int every = 0; every < 2; ++every) {
       const json& cover = report[every].at("cover");
@@ -246,20 +261,12 @@ json dense_poses_case(const std::string& tools, const std::string& name, const s
   run_tool(tools, {"sphere-pack", dir + "/rest.vdb", "--mesh", dir + "/rest.obj", "-o", dir + "/rest.spheres.json", "-q"});
   args.insert(args.end(), {"--spheres", dir + "/rest.spheres.json"});
   const int runs = triangles > 500000 ? 1 : repeats;
-  std::vector<double> seconds[2];
-  double peak[2] = {0, 0};
-  json report[2];
-  for (int r = 0; r < runs; ++r)
-    for (int every = 0; every < 2; ++every) {
-      const std::string out = dir + (every ? "/every" : "/spaced");
-      std::vector<std::string> argv = {"pose-map", "-o", out + ".proxy.json", "--report", out + ".report.json", "-q"};
-      argv.insert(argv.end(), args.begin(), args.end());
-      if (every) argv.push_back("--every-vertex");
-      const ToolRun run = run_tool(tools, argv);
-      seconds[every].push_back(run.seconds);
-      peak[every] = std::max(peak[every], run.peak_gib);
-      report[every] = read_json(out + ".report.json");
-    }
+  const auto [seconds, peak, report] = run_both_ways(tools, runs, dir + "/map", [&](int every, const std::string& out) {
+    std::vector<std::string> argv = {"pose-map", "-o", out + ".proxy.json", "--report", out + ".report.json", "-q"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    if (every) argv.push_back("--every-vertex");
+    return argv;
+  });
   json row = {{"mesh", label}, {"triangles", triangles}, {"vertices", vertices}, {"poses", poses.size()}, {"runs", runs}};
   for (int every = 0; every < 2; ++every) {
     double worst = 0, medians = 0;
