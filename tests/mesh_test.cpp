@@ -957,6 +957,14 @@ TEST(MeshSplit, SplitAtMidpointsKeepsTheSurfaceAndItsClosure) {
     EXPECT_NEAR(area, area_and_volume(box).first, 1e-12);
     EXPECT_NEAR(volume, area_and_volume(box).second, 1e-12);
     for (size_t v = 0; v < box.vertices.size(); ++v) EXPECT_EQ(split.vertices[v], box.vertices[v]);
+    std::vector<std::pair<int, int>> ends;
+    ASSERT_EQ(split_at_midpoints(box, times, &ends).vertices, split.vertices);
+    ASSERT_EQ(ends.size(), split.vertices.size() - box.vertices.size());
+    for (size_t k = 0; k < ends.size(); ++k) {
+      const auto [a, b] = ends[k];
+      ASSERT_LT(size_t(std::max(a, b)), box.vertices.size() + k) << "an end added after its midpoint";
+      EXPECT_EQ(split.vertices[box.vertices.size() + k], 0.5 * (split.vertices[size_t(a)] + split.vertices[size_t(b)]));
+    }
   }
 }
 

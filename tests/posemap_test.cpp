@@ -5,6 +5,7 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 
@@ -735,11 +736,15 @@ ExtractedClip robot_clip(int every) {
 // pose's max vertex error, measured here by brute force, is within the selection's target when
 // it says it met it; no sphere is 0 in half the poses or more (dead weight for the host); every
 // centre is inside by the tools' rule, the exact winding number above 1/2.
+// `percent`: the tolerance both tools are given; `samples`: their area samples.
 PoseMapResult expect_claim_holds(const TriMesh& rest, const std::vector<PoseInput>& poses, const std::string& what,
-                                 const SkinFile* skin = nullptr, int resolution = 64) {
+                                 const SkinFile* skin = nullptr, int resolution = 64,
+                                 double percent = kDefaultTolerancePercent, size_t samples = 4000) {
   SpheresFile file;
-  const CoverSelection alone = pack_rest(rest, resolution, {kDefaultTolerancePercent, true}, file);
-  const PoseMapResult r = pose_map(rest, what, poses, file, {}, Log::silent(), skin);
+  const CoverSelection alone = pack_rest(rest, resolution, {percent, true}, file, samples);
+  PoseMapOptions opt;
+  opt.area_samples = samples;
+  const PoseMapResult r = pose_map(rest, what, poses, file, opt, Log::silent(), skin);
   const json selection = pose_map_report(r)["selection"];
   const double target = selection["target"].get<double>();
   EXPECT_EQ(target, alone.target) << what;
@@ -816,6 +821,53 @@ TEST(PoseMap, SkinnedOpenArticulatedSampleMeetsTheToleranceInEveryFrame) {
   // limbs' tubes reaching into the pelvis and the torso).
   const json report = pose_map_report(r);
   for (const auto& pose : report["poses"]) EXPECT_GT(pose["walls_inside"]["left_out"].get<size_t>(), 0u);
+}
+
+// A skinned clip split at its edges' midpoints `times` over: each midpoint weighed by its ends'
+// weights half and half, and every pose skinned afresh from its joint matrices, so that the poses
+// are what the skin makes of the split rest.
+ExtractedClip split_clip(ExtractedClip clip, int times) {
+  std::vector<std::pair<int, int>> ends;
+  clip.rest.mesh = split_at_midpoints(clip.rest.mesh, times, &ends);
+  std::vector<JointWeights>& weights = clip.skin.vertex_weights;
+  for (const auto& [a, b] : ends) {
+    std::map<int, double> sum;
+    for (int end : {a, b})
+      for (const auto& [joint, w] : weights[size_t(end)]) sum[joint] += 0.5 * w;
+    weights.emplace_back(sum.begin(), sum.end());
+  }
+  clip.skin.vertex_positions = clip.rest.mesh.vertices;
+  const SkinnedVertices skinned(clip.skin, clip.rest.mesh.vertices);
+  for (size_t k = 0; k < clip.poses.size(); ++k)
+    clip.poses[k].mesh = {skinned.all(clip.skin.poses[k].matrices), clip.rest.mesh.triangles};
+  return clip;
+}
+
+// A rigged body far denser than the tolerance (the elephant's walk split 4-fold, 48 256
+// triangles, at 8 %): each frame selected on is covered on its vertices an eighth of the tolerance
+// apart. With 4 frames, every one selected on, every vertex of theirs is then checked and those
+// left near or past the tolerance join; over 13 the other frames' samples join round by round and
+// the problem is compacted, its checks then reading every vertex of every frame. Either way the
+// claim holds at every vertex of every frame, every sphere inside.
+TEST(PoseMap, SpacedSkinnedSelectionLeavesNoVertexPastTheTolerance) {
+  SPX_REQUIRE_SHARED_DATA();
+  for (const int every : {150, 38}) {
+    const std::string dir = test::temp_dir("elephant-dense-" + std::to_string(every));
+    const ExtractedClip clip =
+        split_clip(extract_clip(test::shared_data() + "/elephant/elephant-rigged.glb", dir, every), 1);
+    const std::string what = "dense elephant, " + std::to_string(clip.poses.size()) + " frames";
+    const PoseMapResult r = expect_claim_holds(clip.rest.mesh, clip.poses, what, &clip.skin, 64, 8, 500);
+    ASSERT_TRUE(r.summary.selection.has_value());
+    const JointSelection& sel = *r.summary.selection;
+    EXPECT_EQ(sel.limited_by, Limit::tolerance) << what;
+    EXPECT_EQ(sel.spaced_frames, sel.frames.size()) << what << ": the frames' vertices were not spaced";
+    if (sel.frames.size() == clip.poses.size() + 1) {
+      EXPECT_GT(sel.spaced_joined, 0u) << what << ": the first cover left no vertex near the tolerance";
+      EXPECT_LT(sel.samples, (clip.poses.size() + 1) * clip.rest.mesh.vertices.size() / 2) << what;
+    } else {
+      EXPECT_GT(sel.samples_elsewhere, 0u) << what << ": no other frame's samples joined";
+    }
+  }
 }
 
 // Asked for half the tolerance its spheres file was packed for, the skinned robot's open parts

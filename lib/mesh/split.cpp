@@ -6,12 +6,15 @@
 
 namespace spx {
 
-TriMesh split_at_midpoints(TriMesh mesh, int times) {
+TriMesh split_at_midpoints(TriMesh mesh, int times, std::vector<std::pair<int, int>>* ends) {
+  if (ends) ends->clear();
   for (int n = 0; n < times; ++n) {
     std::map<std::pair<int, int>, int> midpoint;
     const auto mid = [&](int a, int b) {
       const auto [it, fresh] = midpoint.emplace(std::minmax(a, b), int(mesh.vertices.size()));
-      if (fresh) mesh.vertices.push_back(0.5 * (mesh.vertices[size_t(a)] + mesh.vertices[size_t(b)]));
+      if (!fresh) return it->second;
+      mesh.vertices.push_back(0.5 * (mesh.vertices[size_t(a)] + mesh.vertices[size_t(b)]));
+      if (ends) ends->emplace_back(a, b);
       return it->second;
     };
     std::vector<Eigen::Vector3i> split;

@@ -71,8 +71,10 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
       else
         more_frames = frames_left_bare(out.cover.chosen, out.cover.delta);
     }
-    // Every frame the cover should hold in is in it: their vertices left out are checked.
-    if (!one_ && more_frames.empty()) more_samples = join_bare_vertices(out.cover.chosen, out.cover.delta, out);
+    // Every frame the cover should hold in is in it: the vertices its frames left out are checked.
+    // (Once compacted, the check over the clip above has read every sample of every frame.)
+    if (whole_ && more_samples == 0 && more_frames.empty())
+      more_samples = join_bare_vertices(out.cover.chosen, out.cover.delta, out);
     log_.detail("joint selection, round " + std::to_string(out.rounds) + ": " + std::to_string(out.chosen.size()) +
                 " spheres selected on " + std::to_string(active_.size()) + " of " +
                 std::to_string(frames_.frame_count()) + " frames and " + std::to_string(samples_elsewhere()) +
@@ -205,7 +207,7 @@ std::vector<uint32_t> JointSelector::every_sample(size_t f) {
 
 const std::vector<uint32_t>& JointSelector::working(size_t f) {
   if (working_[f].empty()) {
-    const bool spacing = opt_.spaced_vertices && !one_ && opt_.budget == 0 && opt_.target > 0;
+    const bool spacing = opt_.spaced_vertices && opt_.budget == 0 && opt_.target > 0;
     double spaced_by = 0;
     working_[f] = samples_to_cover(samples(f), vertex_count(f), spacing ? kCoverSpacing * opt_.target : 0, spaced_by);
     spaced_frames_ += spaced_by > 0;

@@ -81,7 +81,7 @@ struct JointSelectionOptions {
   bool field_bounds_radii = false;  // an open mesh: its fields bound every radius across its holes
   size_t area_samples = 4000;
   uint64_t seed = 1;
-  // Tolerance mode, not skinned: a frame whose vertices lie much closer together than the
+  // Tolerance mode: a frame selected on whose vertices lie much closer together than the
   // tolerance is covered on those kCoverSpacing x it apart, then every vertex checked (false:
   // every vertex from the start).
   bool spaced_vertices = true;
