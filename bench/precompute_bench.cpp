@@ -222,7 +222,7 @@ struct Plan {
   std::vector<int> resolutions = {64, 128, 256, 512};
   std::vector<size_t> frames = {4, 8, 16, 32, 48, 100};
   std::vector<int> splits = {1, 2};  // the armadillo split at its midpoints this many times
-  std::vector<int> pose_splits = {3};  // the elephant and its poses split so, for pose-map
+  std::vector<int> pose_splits = {3};  // the elephant's poses and its walk's frames split so, for pose-map
   bool chains = true, routes = true, sweep_only = false;
 };
 
@@ -253,7 +253,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 3));
   };
   CLI::Option* splits = split_counts("--splits", plan.splits, "sphere-pack on the armadillo", "1 2");
-  CLI::Option* pose_splits = split_counts("--pose-splits", plan.pose_splits, "pose-map on the elephant and its 4 poses", "3");
+  CLI::Option* pose_splits = split_counts("--pose-splits", plan.pose_splits,
+                                                "pose-map on the elephant and its 4 poses, and on 4 frames of its rigged walk", "3");
   app.add_flag("--sweep-only", plan.sweep_only, "Only the frame sweep (no routes, SDF cases or chains)");
   app.add_option("--work", plan.work, "Where the routes and the sweep write their files");
   return tool.run(argc, argv, [&] {
@@ -323,9 +324,12 @@ json dense_pose_cases(const Plan& plan, const std::string& tools, const Log& log
   json cases = json::array();
   std::vector<std::string> poses;
   for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"}) poses.push_back(plan.data + "/elephant/" + p + ".obj");
-  for (int split : plan.pose_splits)
+  for (int split : plan.pose_splits) {
     cases.push_back(bench::dense_poses_case(tools, "elephant", plan.data + "/elephant/rest.obj", poses, split, plan.work,
                                             plan.repeats, log));
+    cases.push_back(bench::dense_skinned_case(tools, "elephant-walk", plan.data + "/elephant/elephant-rigged.glb",
+                                              {"--animation", "0", "--select", "4"}, split, plan.work, plan.repeats, log));
+  }
   return cases;
 }
 

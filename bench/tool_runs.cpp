@@ -15,7 +15,10 @@
 
 #include "core/atomic_file.hpp"
 #include "mesh/mesh.hpp"
+#include "io/pose_manifest.hpp"
+#include "io/skin_file.hpp"
 #include "mesh/split.hpp"
+#include "posemap/skinned_map.hpp"
 
 extern char** environ;
 
@@ -238,6 +241,46 @@ json dense_case(const std::string& tools, const std::string& name, const std::st
   return {{"mesh", label}, {"triangles", triangles}, {"vertices", vertices}, {"rows", rows}};
 }
 
+namespace {
+
+// pose-map on the dense poses in `dir` (its rest.obj, and `poses`: the tool's pose arguments),
+// spaced against every vertex, from sphere-pack's spheres at the default tolerance: the row.
+json map_dense_both_ways(const std::string& tools, const std::string& label, const std::string& dir,
+                         std::vector<std::string> poses, size_t pose_count, size_t triangles, size_t vertices,
+                         int repeats, const Log& log) {
+  run_tool(tools, {"sdf-build", dir + "/rest.obj", "-o", dir + "/rest.vdb", "-q"});
+  run_tool(tools, {"sphere-pack", dir + "/rest.vdb", "--mesh", dir + "/rest.obj", "-o", dir + "/rest.spheres.json", "-q"});
+  poses.insert(poses.end(), {"--spheres", dir + "/rest.spheres.json"});
+  const int runs = triangles > 500000 ? 1 : repeats;
+  const auto [seconds, peak, report] = run_both_ways(tools, runs, dir + "/map", [&](int every, const std::string& out) {
+    std::vector<std::string> argv = {"pose-map", "-o", out + ".proxy.json", "--report", out + ".report.json", "-q"};
+    argv.insert(argv.end(), poses.begin(), poses.end());
+    if (every) argv.push_back("--every-vertex");
+    return argv;
+  });
+  json row = {{"mesh", label}, {"triangles", triangles}, {"vertices", vertices}, {"poses", pose_count}, {"runs", runs}};
+  for (int every = 0; every < 2; ++every) {
+    double worst = 0, medians = 0;
+    for (const json& pose : report[every].at("poses")) {
+      worst = std::max(worst, pose.at("error").at("max").get<double>());
+      medians += pose.at("error").at("median").get<double>() / double(report[every].at("poses").size());
+    }
+    const json& sel = report[every].at("selection");
+    row[every ? "every_vertex" : "spaced"] = {{"s", median(seconds[every])}, {"peak_gib", peak[every]},
+                                              {"spheres", report[every].at("sphere_count")}, {"max_error", worst},
+                                              {"mean_median_error", medians}, {"samples", sel.at("samples")},
+                                              {"rounds", sel.at("frames").at("rounds")},
+                                              {"spaced_vertices", sel.at("spaced_vertices")}};
+  }
+  row["every_over_spaced"] = median(seconds[1]) / median(seconds[0]);
+  say(log, "%s poses (%zu triangles): pose-map spaced %.1f s %.2f GiB %d spheres, every vertex %.1f s %.2f GiB %d spheres",
+      label.c_str(), triangles, median(seconds[0]), peak[0], row["spaced"]["spheres"].get<int>(), median(seconds[1]),
+      peak[1], row["every_vertex"]["spheres"].get<int>());
+  return row;
+}
+
+}  // namespace
+
 json dense_poses_case(const std::string& tools, const std::string& name, const std::string& rest,
                       const std::vector<std::string>& poses, int split, const std::string& work, int repeats,
                       const Log& log) {
@@ -257,35 +300,42 @@ json dense_poses_case(const std::string& tools, const std::string& name, const s
       args.insert(args.end(), {"--pose", path});
     }
   }
-  run_tool(tools, {"sdf-build", dir + "/rest.obj", "-o", dir + "/rest.vdb", "-q"});
-  run_tool(tools, {"sphere-pack", dir + "/rest.vdb", "--mesh", dir + "/rest.obj", "-o", dir + "/rest.spheres.json", "-q"});
-  args.insert(args.end(), {"--spheres", dir + "/rest.spheres.json"});
-  const int runs = triangles > 500000 ? 1 : repeats;
-  const auto [seconds, peak, report] = run_both_ways(tools, runs, dir + "/map", [&](int every, const std::string& out) {
-    std::vector<std::string> argv = {"pose-map", "-o", out + ".proxy.json", "--report", out + ".report.json", "-q"};
-    argv.insert(argv.end(), args.begin(), args.end());
-    if (every) argv.push_back("--every-vertex");
-    return argv;
-  });
-  json row = {{"mesh", label}, {"triangles", triangles}, {"vertices", vertices}, {"poses", poses.size()}, {"runs", runs}};
-  for (int every = 0; every < 2; ++every) {
-    double worst = 0, medians = 0;
-    for (const json& pose : report[every].at("poses")) {
-      worst = std::max(worst, pose.at("error").at("max").get<double>());
-      medians += pose.at("error").at("median").get<double>() / double(report[every].at("poses").size());
-    }
-    const json& sel = report[every].at("selection");
-    row[every ? "every_vertex" : "spaced"] = {{"s", median(seconds[every])}, {"peak_gib", peak[every]},
-                                              {"spheres", report[every].at("sphere_count")}, {"max_error", worst},
-                                              {"mean_median_error", medians}, {"samples", sel.at("samples")},
-                                              {"rounds", sel.at("frames").at("rounds")},
-                                              {"spaced_vertices", sel.at("spaced_vertices")}};
+  return map_dense_both_ways(tools, label, dir, args, poses.size(), triangles, vertices, repeats, log);
+}
+
+json dense_skinned_case(const std::string& tools, const std::string& name, const std::string& asset,
+                        const std::vector<std::string>& extract, int split, const std::string& work, int repeats,
+                        const Log& log) {
+  const std::string label = name + "-x" + std::to_string(1 << (2 * split)), dir = work + "/" + label;
+  const std::string from = dir + "/extracted";
+  std::vector<std::string> argv = {"pose-extract", asset, "-o", from, "-q"};
+  argv.insert(argv.end(), extract.begin(), extract.end());
+  run_tool(tools, argv);
+  size_t triangles = 0, vertices = 0, poses = 0;
+  {  // freed before the tools run: a child's peak memory starts from this process's own
+    const PoseManifest manifest = read_pose_manifest(from + "/poses.json");
+    const LoadedMesh loaded = load_mesh(from + "/" + manifest.rest);
+    SkinFile skin = read_skin_file(from + "/" + manifest.skin);
+    skin.vertex_weights =
+        weights_for_vertices(skin, loaded.mesh.vertices, 1e-6 * loaded.mesh.diagonal(), from + "/" + manifest.skin);
+    std::vector<std::pair<int, int>> ends;
+    const TriMesh dense = split_at_midpoints(loaded.mesh, split, &ends);
+    append_midpoint_weights(skin.vertex_weights, ends);
+    skin.vertex_positions = dense.vertices;
+    triangles = dense.triangles.size();
+    vertices = dense.vertices.size();
+    poses = manifest.poses.size();
+    // Each frame skinned afresh from its joint matrices, as pose-map checks a rigged frame.
+    const SkinnedVertices skinned(skin, dense.vertices);
+    write_file_atomic(dir + "/" + manifest.rest, to_obj(dense, label));
+    for (size_t k = 0; k < poses; ++k)
+      write_file_atomic(dir + "/" + manifest.poses[k].file,
+                        to_obj({skinned.all(skin.poses[k].matrices), dense.triangles}, manifest.poses[k].name));
+    write_file_atomic(dir + "/" + manifest.skin, skin_to_json(skin).dump());
+    write_file_atomic(dir + "/poses.json", manifest_to_json(manifest).dump(1));
   }
-  row["every_over_spaced"] = median(seconds[1]) / median(seconds[0]);
-  say(log, "%s poses (%zu triangles): pose-map spaced %.1f s %.2f GiB %d spheres, every vertex %.1f s %.2f GiB %d spheres",
-      label.c_str(), triangles, median(seconds[0]), peak[0], row["spaced"]["spheres"].get<int>(), median(seconds[1]),
-      peak[1], row["every_vertex"]["spheres"].get<int>());
-  return row;
+  return map_dense_both_ways(tools, label, dir, {"--manifest", dir + "/poses.json"}, poses, triangles, vertices,
+                             repeats, log);
 }
 
 }  // namespace spx::bench

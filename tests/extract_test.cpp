@@ -448,5 +448,40 @@ TEST(PoseExtract, PoseNamesAreTheManifestsOrTheStems) {
   EXPECT_EQ(pose_names("", files), (std::vector<std::string>{"pose-00", "Key_1", "Key_1-2"}));
 }
 
+// A split mesh's midpoints weighed by their ends half and half: each list sums to 1 in ascending
+// joints, and its blend of any joint matrices is the average of its ends' blends (so a midpoint
+// moves as the midpoint of its ends' skinned places), ends added by an earlier split included.
+TEST(SkinFile, MidpointWeightsBlendTheirEndsHalfAndHalf) {
+  std::vector<JointWeights> weights = {{{0, 1.0}}, {{2, 0.25}, {0, 0.75}}, {{1, 0.5}, {2, 0.5}}};
+  const std::vector<std::pair<int, int>> ends = {{0, 1}, {1, 2}, {3, 4}, {2, 0}};
+  append_midpoint_weights(weights, ends);
+  ASSERT_EQ(weights.size(), 7u);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  JointMatrices m(3);
+  for (Eigen::Matrix4d& j : m) {
+    j = Eigen::Matrix4d::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) j(r, c) = u(rng);
+  }
+  auto blend = [&](const JointWeights& w) {
+    Eigen::Matrix4d sum = Eigen::Matrix4d::Zero();
+    for (const auto& [j, weight] : w) sum += weight * m[size_t(j)];
+    return sum;
+  };
+  for (size_t k = 0; k < ends.size(); ++k) {
+    const JointWeights& w = weights[3 + k];
+    double total = 0;
+    for (size_t n = 0; n < w.size(); ++n) {
+      total += w[n].second;
+      if (n > 0) EXPECT_LT(w[n - 1].first, w[n].first) << "midpoint " << k;
+    }
+    EXPECT_NEAR(total, 1.0, 1e-15) << "midpoint " << k;
+    const auto [a, b] = ends[k];
+    EXPECT_LT((blend(w) - 0.5 * (blend(weights[size_t(a)]) + blend(weights[size_t(b)]))).norm(), 1e-14) << "midpoint " << k;
+  }
+  EXPECT_EQ(weights[3], (JointWeights{{0, 0.875}, {2, 0.125}}));
+}
+
 }  // namespace
 }  // namespace spx

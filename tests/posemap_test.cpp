@@ -5,7 +5,6 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
-#include <map>
 #include <memory>
 #include <random>
 
@@ -829,13 +828,7 @@ TEST(PoseMap, SkinnedOpenArticulatedSampleMeetsTheToleranceInEveryFrame) {
 ExtractedClip split_clip(ExtractedClip clip, int times) {
   std::vector<std::pair<int, int>> ends;
   clip.rest.mesh = split_at_midpoints(clip.rest.mesh, times, &ends);
-  std::vector<JointWeights>& weights = clip.skin.vertex_weights;
-  for (const auto& [a, b] : ends) {
-    std::map<int, double> sum;
-    for (int end : {a, b})
-      for (const auto& [joint, w] : weights[size_t(end)]) sum[joint] += 0.5 * w;
-    weights.emplace_back(sum.begin(), sum.end());
-  }
+  append_midpoint_weights(clip.skin.vertex_weights, ends);
   clip.skin.vertex_positions = clip.rest.mesh.vertices;
   const SkinnedVertices skinned(clip.skin, clip.rest.mesh.vertices);
   for (size_t k = 0; k < clip.poses.size(); ++k)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 #include "core/error.hpp"
@@ -187,6 +188,15 @@ std::vector<JointWeights> weights_for_vertices(const SkinFile& skin, const std::
     out.push_back(skin.vertex_weights[best]);
   }
   return out;
+}
+
+void append_midpoint_weights(std::vector<JointWeights>& weights, const std::vector<std::pair<int, int>>& ends) {
+  for (const auto& [a, b] : ends) {
+    std::map<int, double> sum;  // by joint, ascending
+    for (int end : {a, b})
+      for (const auto& [joint, w] : weights[size_t(end)]) sum[joint] += 0.5 * w;
+    weights.emplace_back(sum.begin(), sum.end());
+  }
 }
 
 }  // namespace spx

@@ -70,4 +70,10 @@ SkinFile skin_from_json(const json& j, const std::string& path);
 std::vector<JointWeights> weights_for_vertices(const SkinFile& skin, const std::vector<Eigen::Vector3d>& vertices,
                                                double tolerance, const std::string& path);
 
+// The weights of a mesh split at its edges' midpoints (split_at_midpoints' `ends`): each added
+// vertex weighed by its two ends half and half, appended to `weights` (the mesh's before the
+// split, one list per vertex). Linear skinning then moves a midpoint as the blend of its ends'
+// joint matrices, as it does any point of a triangle between its corners.
+void append_midpoint_weights(std::vector<JointWeights>& weights, const std::vector<std::pair<int, int>>& ends);
+
 }  // namespace spx
