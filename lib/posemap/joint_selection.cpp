@@ -72,7 +72,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
         more_frames = frames_left_bare(out.cover.chosen, out.cover.delta);
     }
     // Every frame the cover should hold in is in it: the vertices its frames left out are checked.
-    // (Once compacted, the check over the clip above has read every sample of every frame.)
+    // (Once compacted, add_bare_samples above reads every sample of every frame, theirs too.)
     if (whole_ && more_samples == 0 && more_frames.empty())
       more_samples = join_bare_vertices(out.cover.chosen, out.cover.delta, out);
     log_.detail("joint selection, round " + std::to_string(out.rounds) + ": " + std::to_string(out.chosen.size()) +
