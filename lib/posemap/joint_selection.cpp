@@ -48,6 +48,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   select_on_whole(spanning_frames(frames_, opt_.first_frames));
   if (one_) offer_every_frame();
   if (touching()) touch_out_of_reach(every_vertex_of(active_), opt_.target, false);
+  size_t lowered_in_a_row = 0;
   for (;;) {
     ++out.rounds;
     const bool warm = out.rounds > 1 && opt_.budget == 0;
@@ -60,7 +61,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
       out.out_of_reach_added =
           cover_out_of_reach(problem, vertices_in(out.cover.uncovered), out.cover.chosen, &out.out_of_reach_delta);
     // A radius the check lowers was counted on as larger: cover the same problem again.
-    if (one_ && lower_unchecked_radii(out.cover.chosen, out)) continue;
+    if (one_ && chosen_radius_lowered(out, lowered_in_a_row)) continue;
     take_chosen(problem, out);
     size_t more_samples = 0;
     std::vector<size_t> more_frames;
@@ -274,10 +275,10 @@ void JointSelector::warm_cover(const CoverProblem& problem, CoverResult& cover) 
   cover.uncovered = uncovered_samples(coverage);
 }
 
-bool JointSelector::lower_unchecked_radii(const std::vector<int>& chosen, JointSelection& out) {
+size_t JointSelector::check_radii(const std::vector<size_t>& candidates) {
   std::vector<size_t> unchecked;
-  for (int c : chosen)
-    if (!checked_[size_t(c)]) unchecked.push_back(size_t(c));
+  for (size_t c : candidates)
+    if (!checked_[c]) unchecked.push_back(c);
   std::vector<double> least(unchecked.size());
   tbb::parallel_for(size_t(0), unchecked.size(), [&](size_t n) {
     const size_t c = unchecked[n];
@@ -291,10 +292,39 @@ bool JointSelector::lower_unchecked_radii(const std::vector<int>& chosen, JointS
     lowered += least[n] < radius_[unchecked[n]];
     radius_[unchecked[n]] = least[n];
   }
+  if (lowered > 0 && cache_) cache_->clear();
+  return lowered;
+}
+
+bool JointSelector::lower_unchecked_radii(const std::vector<int>& chosen, JointSelection& out) {
+  std::vector<size_t> unchecked;
+  for (int c : chosen)
+    if (!checked_[size_t(c)]) unchecked.push_back(size_t(c));
+  const size_t lowered = check_radii(unchecked);
   out.radii_checked += unchecked.size();
   out.radii_lowered += lowered;
-  if (lowered > 0 && cache_) cache_->clear();
   return lowered > 0;
+}
+
+bool JointSelector::chosen_radius_lowered(JointSelection& out, size_t& in_a_row) {
+  if (!lower_unchecked_radii(out.cover.chosen, out)) {
+    in_a_row = 0;
+    return false;
+  }
+  ++out.covers_redone;
+  if (++in_a_row == 2) check_every_radius(out);
+  return true;
+}
+
+void JointSelector::check_every_radius(JointSelection& out) {
+  std::vector<size_t> every(candidates_.size());
+  std::iota(every.begin(), every.end(), size_t(0));
+  const size_t before = size_t(std::count(checked_.begin(), checked_.end(), char(1)));
+  const size_t lowered = check_radii(every);
+  out.candidates_checked += size_t(std::count(checked_.begin(), checked_.end(), char(1))) - before;
+  out.candidates_lowered += lowered;
+  log_.detail("joint selection: the check lowered radii twice in a row; every candidate checked (" +
+              std::to_string(lowered) + " lowered)");
 }
 
 double JointSelector::rest_radius(const CoverProblem& problem, int c) const {

@@ -119,6 +119,9 @@ struct JointSelection {
   size_t clip_shrunk = 0;       // skinned: candidates whose one radius the clip lowered
   size_t radii_checked = 0;     // skinned: chosen candidates whose one radius was checked in every frame
   size_t radii_lowered = 0;     // of those, the radii the check lowered (each lowering covers again)
+  size_t covers_redone = 0;     // skinned: covers of the same problem again, a chosen radius lowered
+  size_t candidates_checked = 0;  // skinned: candidates checked at once, lowered twice in a row (check_every_radius)
+  size_t candidates_lowered = 0;  // of those, the radii it lowered
   size_t refined_moves = 0;     // the chosen centres' moves off the candidates (refine_step)
   int polish_rounds = 0;        // budget mode: the polish rounds run
   size_t polished = 0;          // budget mode: the polish round whose set was kept (0: the first refinement's)

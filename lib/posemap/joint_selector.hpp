@@ -135,6 +135,16 @@ class JointSelector {
   // radius in every frame (the carry skips frames by their fields' floors, which may be a
   // fraction of a voxel high). Returns whether any was lowered.
   bool lower_unchecked_radii(const std::vector<int>& chosen, JointSelection& out);
+  // The round's chosen radii checked (lower_unchecked_radii): whether one was lowered, so that
+  // the same problem is covered again. `in_a_row` counts the lowerings since a cover held; at two,
+  // every candidate is checked (check_every_radius).
+  bool chosen_radius_lowered(JointSelection& out, size_t& in_a_row);
+  // Of `candidates`, those not checked before checked so. Returns how many it lowered.
+  size_t check_radii(const std::vector<size_t>& candidates);
+  // Every candidate not checked before checked so: once a round's check has lowered radii twice in
+  // a row, the cover is trading each lowered sphere for another the floors overrate (a dense
+  // frame's, or a clip's where they run high), and each re-cover of a large problem takes seconds.
+  void check_every_radius(JointSelection& out);
 
   // More candidates: their spheres in the frames selected on or, skinned, their centres in every
   // frame and their one radius.

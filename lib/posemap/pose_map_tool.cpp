@@ -122,7 +122,9 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"spaced_vertices", {{"frames", sel.spaced_frames}, {"vertex_spacing", sel.vertex_spacing},
                                {"vertices_joined", sel.spaced_joined}}},
           {"clip", {{"candidates_shrunk", sel.clip_shrunk}}},
-          {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered}}},
+          {"one_radius_checked", {{"chosen", sel.radii_checked}, {"lowered", sel.radii_lowered},
+                                  {"covers_redone", sel.covers_redone},
+                                  {"every_candidate", {{"checked", sel.candidates_checked}, {"lowered", sel.candidates_lowered}}}}},
           {"refined_moves", sel.refined_moves},
           {"polish", {{"rounds", sel.polish_rounds}, {"kept", sel.polished}}}};
 }
