@@ -275,7 +275,7 @@ void JointSelector::warm_cover(const CoverProblem& problem, CoverResult& cover) 
   cover.uncovered = uncovered_samples(coverage);
 }
 
-size_t JointSelector::check_radii(const std::vector<size_t>& candidates) {
+JointSelector::Checked JointSelector::check_radii(const std::vector<size_t>& candidates) {
   std::vector<size_t> unchecked;
   for (size_t c : candidates)
     if (!checked_[c]) unchecked.push_back(c);
@@ -293,17 +293,14 @@ size_t JointSelector::check_radii(const std::vector<size_t>& candidates) {
     radius_[unchecked[n]] = least[n];
   }
   if (lowered > 0 && cache_) cache_->clear();
-  return lowered;
+  return {unchecked.size(), lowered};
 }
 
 bool JointSelector::lower_unchecked_radii(const std::vector<int>& chosen, JointSelection& out) {
-  std::vector<size_t> unchecked;
-  for (int c : chosen)
-    if (!checked_[size_t(c)]) unchecked.push_back(size_t(c));
-  const size_t lowered = check_radii(unchecked);
-  out.radii_checked += unchecked.size();
-  out.radii_lowered += lowered;
-  return lowered > 0;
+  const Checked c = check_radii(std::vector<size_t>(chosen.begin(), chosen.end()));
+  out.radii_checked += c.checked;
+  out.radii_lowered += c.lowered;
+  return c.lowered > 0;
 }
 
 bool JointSelector::chosen_radius_lowered(JointSelection& out, size_t& in_a_row) {
@@ -319,12 +316,11 @@ bool JointSelector::chosen_radius_lowered(JointSelection& out, size_t& in_a_row)
 void JointSelector::check_every_radius(JointSelection& out) {
   std::vector<size_t> every(candidates_.size());
   std::iota(every.begin(), every.end(), size_t(0));
-  const size_t before = size_t(std::count(checked_.begin(), checked_.end(), char(1)));
-  const size_t lowered = check_radii(every);
-  out.candidates_checked += size_t(std::count(checked_.begin(), checked_.end(), char(1))) - before;
-  out.candidates_lowered += lowered;
+  const Checked c = check_radii(every);
+  out.candidates_checked += c.checked;
+  out.candidates_lowered += c.lowered;
   log_.detail("joint selection: the check lowered radii twice in a row; every candidate checked (" +
-              std::to_string(lowered) + " lowered)");
+              std::to_string(c.lowered) + " lowered)");
 }
 
 double JointSelector::rest_radius(const CoverProblem& problem, int c) const {

@@ -139,8 +139,11 @@ class JointSelector {
   // the same problem is covered again. `in_a_row` counts the lowerings since a cover held; at two,
   // every candidate is checked (check_every_radius).
   bool chosen_radius_lowered(JointSelection& out, size_t& in_a_row);
-  // Of `candidates`, those not checked before checked so. Returns how many it lowered.
-  size_t check_radii(const std::vector<size_t>& candidates);
+  // Of `candidates`, those not checked before checked so: how many, and how many it lowered.
+  struct Checked {
+    size_t checked = 0, lowered = 0;
+  };
+  Checked check_radii(const std::vector<size_t>& candidates);
   // Every candidate not checked before checked so: once a round's check has lowered radii twice in
   // a row, the cover is trading each lowered sphere for another the floors overrate (a dense
   // frame's, or a clip's where they run high), and each re-cover of a large problem takes seconds.
