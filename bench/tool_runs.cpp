@@ -318,20 +318,15 @@ json dense_skinned_case(const std::string& tools, const std::string& name, const
     SkinFile skin = read_skin_file(from + "/" + manifest.skin);
     skin.vertex_weights =
         weights_for_vertices(skin, loaded.mesh.vertices, 1e-6 * loaded.mesh.diagonal(), from + "/" + manifest.skin);
-    std::vector<std::pair<int, int>> ends;
-    const TriMesh dense = split_at_midpoints(loaded.mesh, split, &ends);
-    append_midpoint_weights(skin.vertex_weights, ends);
-    skin.vertex_positions = dense.vertices;
-    triangles = dense.triangles.size();
-    vertices = dense.vertices.size();
-    poses = manifest.poses.size();
     // Each frame skinned afresh from its joint matrices, as pose-map checks a rigged frame.
-    const SkinnedVertices skinned(skin, dense.vertices);
-    write_file_atomic(dir + "/" + manifest.rest, to_obj(dense, label));
+    const SplitSkinned dense = split_skinned(loaded.mesh, std::move(skin), split);
+    triangles = dense.rest.triangles.size();
+    vertices = dense.rest.vertices.size();
+    poses = manifest.poses.size();
+    write_file_atomic(dir + "/" + manifest.rest, to_obj(dense.rest, label));
     for (size_t k = 0; k < poses; ++k)
-      write_file_atomic(dir + "/" + manifest.poses[k].file,
-                        to_obj({skinned.all(skin.poses[k].matrices), dense.triangles}, manifest.poses[k].name));
-    write_file_atomic(dir + "/" + manifest.skin, skin_to_json(skin).dump());
+      write_file_atomic(dir + "/" + manifest.poses[k].file, to_obj(dense.poses[k], manifest.poses[k].name));
+    write_file_atomic(dir + "/" + manifest.skin, skin_to_json(dense.skin).dump());
     write_file_atomic(dir + "/poses.json", manifest_to_json(manifest).dump(1));
   }
   return map_dense_both_ways(tools, label, dir, {"--manifest", dir + "/poses.json"}, poses, triangles, vertices,

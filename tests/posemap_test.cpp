@@ -822,17 +822,12 @@ TEST(PoseMap, SkinnedOpenArticulatedSampleMeetsTheToleranceInEveryFrame) {
   for (const auto& pose : report["poses"]) EXPECT_GT(pose["walls_inside"]["left_out"].get<size_t>(), 0u);
 }
 
-// A skinned clip split at its edges' midpoints `times` over: each midpoint weighed by its ends'
-// weights half and half, and every pose skinned afresh from its joint matrices, so that the poses
-// are what the skin makes of the split rest.
+// A skinned clip split at its edges' midpoints `times` over, with its skin (split_skinned).
 ExtractedClip split_clip(ExtractedClip clip, int times) {
-  std::vector<std::pair<int, int>> ends;
-  clip.rest.mesh = split_at_midpoints(clip.rest.mesh, times, &ends);
-  append_midpoint_weights(clip.skin.vertex_weights, ends);
-  clip.skin.vertex_positions = clip.rest.mesh.vertices;
-  const SkinnedVertices skinned(clip.skin, clip.rest.mesh.vertices);
-  for (size_t k = 0; k < clip.poses.size(); ++k)
-    clip.poses[k].mesh = {skinned.all(clip.skin.poses[k].matrices), clip.rest.mesh.triangles};
+  SplitSkinned split = split_skinned(clip.rest.mesh, std::move(clip.skin), times);
+  clip.rest.mesh = std::move(split.rest);
+  clip.skin = std::move(split.skin);
+  for (size_t k = 0; k < clip.poses.size(); ++k) clip.poses[k].mesh = std::move(split.poses[k]);
   return clip;
 }
 

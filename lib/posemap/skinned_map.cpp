@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <limits>
 #include <numeric>
+#include <utility>
+
+#include "mesh/split.hpp"
 
 namespace spx {
 
@@ -67,6 +70,18 @@ Eigen::Vector3d SkinnedVertices::at(size_t v, const JointMatrices& m) const {
 std::vector<Eigen::Vector3d> SkinnedVertices::all(const JointMatrices& m) const {
   std::vector<Eigen::Vector3d> out(bind_.size());
   for (size_t v = 0; v < out.size(); ++v) out[v] = at(v, m);
+  return out;
+}
+
+SplitSkinned split_skinned(const TriMesh& rest, SkinFile skin, int times) {
+  SplitSkinned out;
+  std::vector<std::pair<int, int>> ends;
+  out.rest = split_at_midpoints(rest, times, &ends);
+  append_midpoint_weights(skin.vertex_weights, ends);
+  skin.vertex_positions = out.rest.vertices;
+  out.skin = std::move(skin);
+  const SkinnedVertices skinned(out.skin, out.rest.vertices);
+  for (const SkinPose& pose : out.skin.poses) out.poses.push_back({skinned.all(pose.matrices), out.rest.triangles});
   return out;
 }
 

@@ -52,6 +52,17 @@ class SkinnedVertices {
   std::vector<char> bound_;
 };
 
+// A rigged rest split at its edges' midpoints `times` over (split_at_midpoints), its skin with it
+// (append_midpoint_weights; `skin`'s vertex weights are `rest`'s, one list per vertex) and each of
+// the skin's poses skinned afresh, so that the poses are what the skin makes of the split rest: a
+// rigged body of a scan's density made from a shared one, for the benchmarks and tests.
+struct SplitSkinned {
+  TriMesh rest;
+  SkinFile skin;                // vertex weights and positions the split rest's
+  std::vector<TriMesh> poses;   // one per skin.poses
+};
+SplitSkinned split_skinned(const TriMesh& rest, SkinFile skin, int times);
+
 class SkinnedMap {
  public:
   // `skin`'s vertex weights are the rest mesh's (one list per vertex of `f`'s rest mesh).
