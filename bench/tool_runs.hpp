@@ -79,7 +79,7 @@ nlohmann::json dense_poses_case(const std::string& tools, const std::string& nam
 
 // The same for a rigged asset's frames, pose-map following the skin: pose-extract `extract`
 // (its clip and frames) from `asset`, then the rest split `split` times, each midpoint weighed by
-// its ends half and half (append_midpoint_weights), and every frame skinned afresh.
+// its ends half and half, and every frame skinned afresh (split_skinned).
 nlohmann::json dense_skinned_case(const std::string& tools, const std::string& name, const std::string& asset,
                                   const std::vector<std::string>& extract, int split, const std::string& work,
                                   int repeats, const Log& log);
