@@ -13,6 +13,7 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
+#include <tbb/parallel_for.h>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -636,6 +637,65 @@ TEST(WindingNumber, FastMatchesBruteForceOnOpenAndBrokenMeshes) {
   SPX_REQUIRE_SHARED_DATA();
   for (const char* name : {"cylinder/rest.obj", "broken/truck.obj", "broken/hemisphere.obj"})
     check_winding_numbers(load_mesh(test::shared_data() + "/" + name).mesh, 150, 1e-2);
+}
+
+// A winding number built on first use answers to the bit as one built at once, however many
+// threads ask first.
+TEST(WindingNumber, BuiltOnFirstUseGivesTheSameBits) {
+  const TriMesh mesh = make_car().rest;
+  const WindingNumber now(mesh);
+  const WindingNumber later = WindingNumber::on_first_use(mesh);
+  EXPECT_TRUE(now.built());
+  EXPECT_FALSE(later.built());
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  std::mt19937 rng(5);
+  std::vector<Eigen::Vector3d> points(2000);
+  for (auto& p : points) {
+    const Eigen::Vector3d u(std::uniform_real_distribution<double>(0, 1)(rng),
+                            std::uniform_real_distribution<double>(0, 1)(rng),
+                            std::uniform_real_distribution<double>(0, 1)(rng));
+    p = box.min() + u.cwiseProduct(box.sizes());
+  }
+  std::vector<double> asked(points.size());
+  tbb::parallel_for(size_t(0), points.size(), [&](size_t n) { asked[n] = later(points[n]); });
+  EXPECT_TRUE(later.built());
+  for (size_t n = 0; n < points.size(); ++n) {
+    ASSERT_EQ(asked[n], now(points[n])) << n;
+    ASSERT_EQ(later.inside(points[n]), now.inside(points[n])) << n;
+    ASSERT_EQ(later.exact(points[n]), now.exact(points[n])) << n;
+  }
+}
+
+// A closed mesh's query told inside by its refitted hierarchy gives every answer the winding
+// number gives off the surface, and never builds the winding number's hierarchy (a dense pose's
+// largest part).
+TEST(MeshQuery, InsideToldByItsShapeBuildsNoWindingNumber) {
+  const TriMesh mesh = make_barrel().rest;
+  const DeformingQuery hierarchy(mesh);
+  ASSERT_TRUE(hierarchy.closed());
+  const DeformingQuery::Shape shape = hierarchy.shape(mesh.vertices);
+  const MeshQuery plain(mesh);
+  MeshQuery told(mesh);
+  told.tell_inside_by(&shape);
+  EXPECT_FALSE(told.winding_number_built());
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  std::mt19937 rng(7);
+  size_t in = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d u(std::uniform_real_distribution<double>(-0.1, 1.1)(rng),
+                            std::uniform_real_distribution<double>(-0.1, 1.1)(rng),
+                            std::uniform_real_distribution<double>(-0.1, 1.1)(rng));
+    const Eigen::Vector3d p = box.min() + u.cwiseProduct(box.sizes());
+    const bool truth = winding_number_exact(mesh, p) > 0.5;
+    in += truth;
+    ASSERT_EQ(told.inside(p), truth) << i;
+    ASSERT_EQ(plain.inside(p), truth) << i;
+    ASSERT_EQ(told.signed_distance(p), plain.signed_distance(p)) << i;
+  }
+  EXPECT_GT(in, 300u);
+  EXPECT_LT(in, 2700u);
+  EXPECT_FALSE(told.winding_number_built());
+  EXPECT_TRUE(plain.winding_number_built());
 }
 
 TEST(MeshQuery, ClosestPointMatchesBruteForce) {

@@ -134,7 +134,8 @@ struct MeshQuery::Tree {
   ::spx::Tree tree;
 };
 
-MeshQuery::MeshQuery(const TriMesh& mesh) : mesh_(mesh), wn_(mesh_), tree_(std::make_unique<Tree>()) {
+MeshQuery::MeshQuery(const TriMesh& mesh)
+    : mesh_(mesh), wn_(WindingNumber::on_first_use(mesh_)), tree_(std::make_unique<Tree>()) {
   const double diag = mesh_.diagonal();
   boundary_ = solid_boundary(mesh_, wn_);
   const SolidBoundary& boundary = boundary_;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "mesh/deforming_query.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
@@ -58,7 +59,13 @@ class MeshQuery {
   // triangle and distance only (no barycentric weights).
   ClosestPoint closest_apart(const Eigen::Vector3d& p, double radius, const std::vector<Eigen::Vector3d>& corners) const;
   double winding_number(const Eigen::Vector3d& p) const { return wn_(p); }
-  bool inside(const Eigen::Vector3d& p) const { return wn_.inside(p); }
+  // Whether the winding number's hierarchy has been built (it is on the first question).
+  bool winding_number_built() const { return wn_.built(); }
+  bool inside(const Eigen::Vector3d& p) const { return inside_by_ ? inside_by_->inside(p) : wn_.inside(p); }
+  // inside() told by `shape` from now on: a closed mesh's refitted hierarchy (the same mesh), whose
+  // ray count is the winding number off the surface, in a third of the time, so that the winding
+  // number's hierarchy is never built. Set before the query is shared between threads.
+  void tell_inside_by(const DeformingQuery::Shape* shape) { inside_by_ = shape; }
   // Negative inside (winding number > 1/2).
   double signed_distance(const Eigen::Vector3d& p) const;
 
@@ -67,7 +74,11 @@ class MeshQuery {
   // The closest point as the tree found it (its primitive and point) in the caller's terms.
   ClosestPoint closest_on(const Eigen::Vector3d& p, int piece, const Eigen::Vector3d& tree_point) const;
   TriMesh mesh_;
+  // Built on the first inside() or winding number asked: a closed pose whose inside is told by
+  // the refitted hierarchy's ray count (PoseSolid) never asks, nor does the boundary of a single
+  // closed surface, and on a dense mesh it is the query's largest part.
   WindingNumber wn_;
+  const DeformingQuery::Shape* inside_by_ = nullptr;
   std::unique_ptr<Tree> tree_;
   SolidBoundary boundary_;
   TriMesh surface_;  // where the boundary is not whole

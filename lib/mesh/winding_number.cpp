@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 
 namespace spx {
@@ -53,32 +54,55 @@ double winding_number_exact(const TriMesh& mesh, const Eigen::Vector3d& q) {
   return sum / kFourPi;
 }
 
-WindingNumber::WindingNumber(const TriMesh& mesh, double accuracy) : beta_(accuracy) {
+struct WindingNumber::Lazy {
+  const TriMesh& mesh;
+  std::once_flag once;
+};
+
+WindingNumber::WindingNumber(const TriMesh& mesh, double accuracy) : WindingNumber(mesh, accuracy, true) {}
+
+WindingNumber::WindingNumber(const TriMesh& mesh, double accuracy, bool now) : beta_(accuracy) {
+  if (now)
+    tree_ = std::make_unique<const Tree>(mesh);
+  else
+    lazy_.reset(new Lazy{mesh, {}});
+}
+
+WindingNumber WindingNumber::on_first_use(const TriMesh& mesh, double accuracy) { return {mesh, accuracy, false}; }
+
+WindingNumber::~WindingNumber() = default;
+
+const WindingNumber::Tree& WindingNumber::tree() const {
+  if (lazy_) std::call_once(lazy_->once, [&] { tree_ = std::make_unique<const Tree>(lazy_->mesh); });
+  return *tree_;
+}
+
+WindingNumber::Tree::Tree(const TriMesh& mesh) {
   const size_t n = mesh.triangles.size();
-  a_.resize(n);
-  b_.resize(n);
-  c_.resize(n);
+  a.resize(n);
+  b.resize(n);
+  c.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    a_[i] = mesh.vertices[mesh.triangles[i][0]];
-    b_[i] = mesh.vertices[mesh.triangles[i][1]];
-    c_[i] = mesh.vertices[mesh.triangles[i][2]];
+    a[i] = mesh.vertices[mesh.triangles[i][0]];
+    b[i] = mesh.vertices[mesh.triangles[i][1]];
+    c[i] = mesh.vertices[mesh.triangles[i][2]];
   }
-  nodes_.reserve(2 * n / 4 + 2);
+  nodes.reserve(2 * n / 4 + 2);
   if (n > 0) build(0, static_cast<int>(n));
 }
 
-int WindingNumber::build(int first, int count) {
+int WindingNumber::Tree::build(int first, int count) {
   constexpr int kLeafSize = 8;
-  const int index = static_cast<int>(nodes_.size());
-  nodes_.emplace_back();
+  const int index = static_cast<int>(nodes.size());
+  nodes.emplace_back();
 
   // Moments of the cluster.
   Eigen::Vector3d dipole = Eigen::Vector3d::Zero(), weighted = Eigen::Vector3d::Zero();
   double area = 0;
   Eigen::AlignedBox3d centroids;
   for (int i = first; i < first + count; ++i) {
-    const Eigen::Vector3d n = 0.5 * (b_[i] - a_[i]).cross(c_[i] - a_[i]);
-    const Eigen::Vector3d g = (a_[i] + b_[i] + c_[i]) / 3.0;
+    const Eigen::Vector3d n = 0.5 * (b[i] - a[i]).cross(c[i] - a[i]);
+    const Eigen::Vector3d g = (a[i] + b[i] + c[i]) / 3.0;
     const double ai = n.norm();
     dipole += n;
     weighted += ai * g;
@@ -90,19 +114,19 @@ int WindingNumber::build(int first, int count) {
   Eigen::Matrix3d oct[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
   double radius = 0;
   for (int i = first; i < first + count; ++i) {
-    const Eigen::Vector3d n = 0.5 * (b_[i] - a_[i]).cross(c_[i] - a_[i]);
-    const Eigen::Vector3d g = (a_[i] + b_[i] + c_[i]) / 3.0;
+    const Eigen::Vector3d n = 0.5 * (b[i] - a[i]).cross(c[i] - a[i]);
+    const Eigen::Vector3d g = (a[i] + b[i] + c[i]) / 3.0;
     const Eigen::Vector3d d = g - center;
     quad += d * n.transpose();
     // Second moment of the triangle about the cluster center, per unit area:
     // d d^T + (1/12) sum over corners of (v - g)(v - g)^T.
-    const Eigen::Vector3d ea = a_[i] - g, eb = b_[i] - g, ec = c_[i] - g;
+    const Eigen::Vector3d ea = a[i] - g, eb = b[i] - g, ec = c[i] - g;
     const Eigen::Matrix3d second = d * d.transpose() + (ea * ea.transpose() + eb * eb.transpose() + ec * ec.transpose()) / 12.0;
     for (int k = 0; k < 3; ++k) oct[k] += n[k] * second;
-    radius = std::max({radius, (a_[i] - center).norm(), (b_[i] - center).norm(), (c_[i] - center).norm()});
+    radius = std::max({radius, (a[i] - center).norm(), (b[i] - center).norm(), (c[i] - center).norm()});
   }
   {
-    Node& node = nodes_[index];
+    Node& node = nodes[index];
     node.center = center;
     node.dipole = dipole;
     node.quadrupole = quad;
@@ -119,42 +143,47 @@ int WindingNumber::build(int first, int count) {
   std::vector<int> order(count);
   std::iota(order.begin(), order.end(), first);
   const int half = count / 2;
-  auto key = [&](int i) { return a_[i][axis] + b_[i][axis] + c_[i][axis]; };
+  auto key = [&](int i) { return a[i][axis] + b[i][axis] + c[i][axis]; };
   std::nth_element(order.begin(), order.begin() + half, order.end(), [&](int x, int y) {
     const double kx = key(x), ky = key(y);
     return kx != ky ? kx < ky : x < y;
   });
   std::vector<Eigen::Vector3d> ta(count), tb(count), tc(count);
   for (int k = 0; k < count; ++k) {
-    ta[k] = a_[order[k]];
-    tb[k] = b_[order[k]];
-    tc[k] = c_[order[k]];
+    ta[k] = a[order[k]];
+    tb[k] = b[order[k]];
+    tc[k] = c[order[k]];
   }
-  std::copy(ta.begin(), ta.end(), a_.begin() + first);
-  std::copy(tb.begin(), tb.end(), b_.begin() + first);
-  std::copy(tc.begin(), tc.end(), c_.begin() + first);
+  std::copy(ta.begin(), ta.end(), a.begin() + first);
+  std::copy(tb.begin(), tb.end(), b.begin() + first);
+  std::copy(tc.begin(), tc.end(), c.begin() + first);
 
   const int left = build(first, half);
   const int right = build(first + half, count - half);
-  nodes_[index].left = left;
-  nodes_[index].right = right;
+  nodes[index].left = left;
+  nodes[index].right = right;
   return index;
 }
 
 double WindingNumber::exact(const Eigen::Vector3d& q) const {
+  const Tree& tree = this->tree();
+  const auto &a = tree.a, &b = tree.b, &c = tree.c;
   double sum = 0;
-  for (size_t t = 0; t < a_.size(); ++t) sum += solid_angle(a_[t] - q, b_[t] - q, c_[t] - q);
+  for (size_t t = 0; t < a.size(); ++t) sum += solid_angle(a[t] - q, b[t] - q, c[t] - q);
   return sum / kFourPi;
 }
 
 double WindingNumber::operator()(const Eigen::Vector3d& q) const {
-  if (nodes_.empty()) return 0;
+  const Tree& tree = this->tree();
+  const auto &a = tree.a, &b = tree.b, &c = tree.c;
+  const std::vector<Node>& nodes = tree.nodes;
+  if (nodes.empty()) return 0;
   double sum = 0;  // in units of solid angle * 4pi / 4pi, i.e. the winding number
   int stack[128];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
+    const Node& node = nodes[stack[--top]];
     const Eigen::Vector3d r = node.center - q;
     const double d = r.norm();
     if (d > beta_ * node.radius) {
@@ -175,7 +204,7 @@ double WindingNumber::operator()(const Eigen::Vector3d& q) const {
       sum += w / kFourPi;
     } else if (node.left < 0) {
       for (int i = node.first; i < node.first + node.count; ++i)
-        sum += solid_angle_with<fast_atan2>(a_[i] - q, b_[i] - q, c_[i] - q) / kFourPi;
+        sum += solid_angle_with<fast_atan2>(a[i] - q, b[i] - q, c[i] - q) / kFourPi;
     } else {
       stack[top++] = node.left;
       stack[top++] = node.right;

@@ -4,6 +4,8 @@
 // Taylor expansion to second order (Barill's order 2) far away.
 // Inside is w > 1/2; this holds for open meshes, soups and self-intersections.
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -17,6 +19,13 @@ class WindingNumber {
  public:
   // `accuracy` is Barill's beta: expansions are used beyond beta * cluster radius.
   explicit WindingNumber(const TriMesh& mesh, double accuracy = 2.0);
+  // The same, built on the first question (from any thread) instead: for a holder that may never
+  // ask one (a closed pose's MeshQuery, whose inside another hierarchy's ray count tells), where
+  // the hierarchy is the largest part of its memory. `mesh` must outlive it.
+  static WindingNumber on_first_use(const TriMesh& mesh, double accuracy = 2.0);
+  WindingNumber(const WindingNumber&) = delete;
+  WindingNumber& operator=(const WindingNumber&) = delete;
+  ~WindingNumber();
   double operator()(const Eigen::Vector3d& q) const;
   // The exact sum over every triangle (O(triangles)).
   double exact(const Eigen::Vector3d& q) const;
@@ -30,6 +39,8 @@ class WindingNumber {
     return w > 0.5;
   }
   static constexpr double kExactBand = 0.02, kTie = 1e-9;
+  // Whether the hierarchy has been built (on_first_use: not until asked).
+  bool built() const { return tree_ != nullptr; }
 
  private:
   struct Node {
@@ -41,11 +52,19 @@ class WindingNumber {
     int first = 0, count = 0;    // triangle range when a leaf
     int left = -1, right = -1;
   };
-  int build(int first, int count);
+  struct Tree {
+    std::vector<Eigen::Vector3d> a, b, c;  // triangle corners in tree order
+    std::vector<Node> nodes;
+    explicit Tree(const TriMesh& mesh);
+    int build(int first, int count);
+  };
+  struct Lazy;
+  WindingNumber(const TriMesh& mesh, double accuracy, bool now);
+  const Tree& tree() const;
 
-  std::vector<Eigen::Vector3d> a_, b_, c_;  // triangle corners in tree order
-  std::vector<Node> nodes_;
   double beta_;
+  mutable std::unique_ptr<const Tree> tree_;
+  std::unique_ptr<Lazy> lazy_;  // on_first_use: the mesh and its once flag until built
 };
 
 }  // namespace spx

@@ -73,6 +73,9 @@ void PoseMapper::build_solids(Log& log) {
     deforming_ = std::make_unique<DeformingQuery>(rest_);
     if (deforming_->closed())
       for (const TriMesh* m : meshes_) shapes_.push_back(deforming_->shape(m->vertices));
+    // Every pose's inside by its ray count from now on (the frames' own candidates grow on
+    // their queries): no winding number is built for a pose that has not been asked one yet.
+    for (size_t i = 0; i < shapes_.size(); ++i) queries_[i]->tell_inside_by(&shapes_[i]);
   }
   for (size_t i = 0; i < meshes_.size(); ++i)
     solids_.push_back({queries_[i].get(), open_solid_ ? &pose_field(i) : nullptr, proxy_.max_radius,
