@@ -63,8 +63,8 @@ class MeshQuery {
   bool winding_number_built() const { return wn_.built(); }
   bool inside(const Eigen::Vector3d& p) const { return inside_by_ ? inside_by_->inside(p) : wn_.inside(p); }
   // inside() told by `shape` from now on: a closed mesh's refitted hierarchy (the same mesh), whose
-  // ray count is the winding number off the surface, in a third of the time, so that the winding
-  // number's hierarchy is never built. Set before the query is shared between threads.
+  // ray count is the winding number off the surface, so that the winding number's hierarchy is
+  // never built. Set before the query is shared between threads.
   void tell_inside_by(const DeformingQuery::Shape* shape) { inside_by_ = shape; }
   // Negative inside (winding number > 1/2).
   double signed_distance(const Eigen::Vector3d& p) const;

@@ -5,7 +5,6 @@
 // Inside is w > 1/2; this holds for open meshes, soups and self-intersections.
 #include <cmath>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -39,7 +38,8 @@ class WindingNumber {
     return w > 0.5;
   }
   static constexpr double kExactBand = 0.02, kTie = 1e-9;
-  // Whether the hierarchy has been built (on_first_use: not until asked).
+  // Whether the hierarchy has been built (on_first_use: not until asked); not synchronised with
+  // a build under way on another thread.
   bool built() const { return tree_ != nullptr; }
 
  private:
