@@ -18,7 +18,7 @@ PoseSolid::Radius PoseSolid::radius_at(const Eigen::Vector3d& c, bool cause, boo
   if (!(bound > 0) && !cause) return {0, Zero::hole_bound};
   const bool surely_inside =
       (holes && bound > 0) || (trust_floor && field && radius_floor(c) > field->shape.voxel_size);
-  if (!surely_inside && !(shape ? shape->inside(c) : mesh->inside(c))) return {0, Zero::outside};
+  if (!surely_inside && !mesh->inside(c)) return {0, Zero::outside};
   if (closest) *closest = mesh->closest(c);
   const double exact = std::min(max_radius, closest ? closest->tree_distance : mesh->distance(c));
   const double r = std::min(exact, bound);

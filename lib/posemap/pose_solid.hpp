@@ -29,8 +29,8 @@ struct PoseSolid {
 
   // The radius at c. `cause`: tell an outside centre from a hole's bound where the radius is 0
   // (asked for the spheres written, not for every candidate); the radius is the same either way.
-  // A floor (below) past a whole voxel is taken to put c inside without a winding number; where
-  // there is a `shape`, inside is its ray count (the same answer on a closed mesh, cheaper).
+  // A floor (below) past a whole voxel is taken to put c inside without a winding number; else
+  // inside is the query's (pose-map tells a closed pose's query by its `shape`'s ray count).
   // `closest`, where given, gets mesh->closest(c) where the radius asked it (a positive radius
   // did): the same radius, one query for a caller that needs both.
   Radius radius(const Eigen::Vector3d& c, bool cause = true, ClosestPoint* closest = nullptr) const {
