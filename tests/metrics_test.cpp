@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "core/pose_lines.hpp"
 #include "metrics/proxy_eval.hpp"
 #include "metrics/simplex_fit.hpp"
 #include "mesh/union_distance.hpp"
@@ -10,6 +11,35 @@
 
 namespace spx {
 namespace {
+
+// A long clip prints the rest and its worst poses: against a sort of every pose by hand.
+TEST(PoseLines, ALongClipShowsTheRestAndItsWorstPoses) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> value(0, 9);  // few values: ties to break
+  for (size_t count : {1u, 5u, 12u, 13u, 40u, 458u}) {
+    std::vector<PoseLine> lines(count);
+    for (size_t i = 0; i < count; ++i) lines[i] = {"pose " + std::to_string(i), double(value(rng))};
+    lines[0].worst = 100;  // the rest is shown whatever its error, and only once
+    std::vector<size_t> all(count);
+    for (size_t i = 0; i < count; ++i) all[i] = i;
+    EXPECT_EQ(pose_lines_shown(lines, true), all);
+    if (count <= kAllPoseLines) {
+      EXPECT_EQ(pose_lines_shown(lines, false), all) << count;
+      continue;
+    }
+    // By hand: the first, then each other pose shown when fewer than kWorstPoseLines others are
+    // worse than it, or as bad and earlier.
+    std::vector<size_t> expected{0};
+    for (size_t i = 1; i < count; ++i) {
+      size_t ahead = 0;
+      for (size_t j = 1; j < count; ++j)
+        ahead += lines[j].worst > lines[i].worst || (lines[j].worst == lines[i].worst && j < i);
+      if (ahead < kWorstPoseLines) expected.push_back(i);
+    }
+    EXPECT_EQ(pose_lines_shown(lines, false), expected) << count;
+    EXPECT_EQ(expected.size(), kWorstPoseLines + 1);
+  }
+}
 
 TEST(UnionError, OneSphereInACubeIsTheCornerDistance) {
   // Cube [-1,1]^3 (its 8 corners are the vertices), unit sphere at the center: every vertex is

@@ -1,5 +1,6 @@
 #include "tool/tool.hpp"
 #include "io/pose_manifest.hpp"
+#include "io/spx_writer.hpp"
 #include "posemap/pose_map_tool.hpp"
 
 int main(int argc, char** argv) {
@@ -79,6 +80,8 @@ int main(int argc, char** argv) {
                                             spx::parse_tolerance(fill_tolerance, "--fill-tolerance"),
                                             spx::parse_tolerance(clip_overshoot, "--clip-overshoot")};
     spx::rest_and_poses(manifest, rest, poses, &skin);
+    // The proxy must reach a host: a clip too long for a .spx is refused before minutes of work.
+    spx::check_spx_pose_count(poses.size() + 1, manifest.empty() ? "--pose" : manifest);
     spx::pose_map_files(rest, poses, spheres, output, opt, tolerances, tool.log, tool.report, skin,
                         spx::pose_names(manifest, poses));
   });

@@ -12,6 +12,7 @@
 #include "extract/asset.hpp"
 #include "io/pose_manifest.hpp"
 #include "io/skin_file.hpp"
+#include "io/spx_writer.hpp"
 
 namespace spx {
 namespace {
@@ -319,6 +320,9 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
   if (opt.select > 0) requests = select_frames(asset, body, requests, size_t(opt.select), input, log, report);
   write_poses(asset, body, requests, opt, input, dir, log, report);
   log.info(dir + ": rest + " + counted(requests.size(), "pose"));
+  if (requests.size() + 1 > spx_max_poses())
+    log.warn(dir + ": pose-map takes at most " + std::to_string(spx_max_poses() - 1) +
+             " poses besides the rest (what a .spx holds); --select N keeps the N frames that best span the clip");
 }
 
 }  // namespace spx

@@ -54,13 +54,19 @@ void append_skin(std::string& b, const ProxySkin& skin) {
 
 }  // namespace
 
+size_t spx_max_poses() { return SPX_MAX_POSES; }
+
+void check_spx_pose_count(size_t poses, const std::string& subject) {
+  if (poses > SPX_MAX_POSES)
+    fail_unsupported(subject, "has " + std::to_string(poses) + " poses (the rest and " + std::to_string(poses - 1) +
+                                  " examples); a .spx holds at most " + std::to_string(SPX_MAX_POSES) +
+                                  ", the runtime's SPX_MAX_POSES: map fewer poses (pose-extract --select N or --every K)");
+}
+
 std::string encode_spx(const ProxyModel& proxy) {
   const size_t n = proxy.sphere_count(), p = proxy.poses.size(), s = proxy.sites.size();
   if (n == 0 || p == 0 || s == 0) fail_input("", "proxy has no spheres, poses or sites");
-  if (p > SPX_MAX_POSES)
-    fail_unsupported("", "has " + std::to_string(p) + " poses (the rest and " + std::to_string(p - 1) +
-                             " examples); a .spx holds at most " + std::to_string(SPX_MAX_POSES) +
-                             ", the runtime's SPX_MAX_POSES: map fewer poses (pose-extract --select N or --every K)");
+  check_spx_pose_count(p, "");
   std::string b(SPX_HEADER_SIZE, '\0');
   std::memcpy(&b[0], SPX_MAGIC, 8);
   put16(b, 8, SPX_FORMAT_VERSION_MAJOR);

@@ -7,9 +7,11 @@
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 #include "core/format.hpp"
+#include "core/pose_lines.hpp"
 #include "core/subject.hpp"
 #include "io/pose_manifest.hpp"
 #include "io/scene.hpp"
+#include "io/spx_writer.hpp"
 #include "metrics/rest_match.hpp"
 
 namespace spx {
@@ -94,12 +96,14 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
   }
   const json measured = proxy_eval_report(proxy, r);
   char line[256];
+  std::vector<PoseLine> lines;
   for (size_t i = 0; i < r.poses.size(); ++i) {
     const Measurement& m = r.pose_measurements[i];
     std::snprintf(line, sizeof line, "%-12s median %.4g p95 %.4g max %.4g coverage %.3f", r.poses[i].name.c_str(),
                   m.error.abs.median, m.error.abs.p95, m.error.abs.max, m.coverage);
-    log.info(line);
+    lines.push_back({line, m.error.abs.max});
   }
+  print_pose_lines(lines, log, "");
   if (measured["blends"].contains("max")) {
     std::snprintf(line, sizeof line, "%-12s median %.4g max %.4g over %d blends", "blends",
                   measured["blends"]["median"].get<double>(), measured["blends"]["max"].get<double>(), opt.eval.blends);
@@ -130,6 +134,7 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
   if (rest_path.empty() && opt.motion.asset.empty())
     fail_option("rest", "give the examples (--rest/--pose or --manifest), a clip (--asset), or both");
   const ProxyModel proxy = read_proxy_file(proxy_path);
+  check_spx_pose_count(proxy.poses.size(), proxy_path);  // measured as a host loads it, before the work
   std::vector<TriMesh> meshes;
   if (!rest_path.empty()) {
     {

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "core/pose_lines.hpp"
 #include "core/side_by_side.hpp"
 #include "core/subject.hpp"
 #include "posemap/skinned_map.hpp"
@@ -232,18 +234,21 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   std::snprintf(line, sizeof line, "%s: %zu spheres x %zu poses, %zu blend sites", output.c_str(),
                 result.proxy.sphere_count(), result.proxy.poses.size(), result.proxy.sites.size());
   log.info(line);
+  std::vector<PoseLine> lines;
   for (size_t i = 0; i < result.proxy.poses.size(); ++i) {
     const ProxyPose& pose = result.proxy.poses[i];
     if (std::none_of(pose.spheres.begin(), pose.spheres.end(), [](const Sphere& s) { return s.radius > 0; })) {
       // No union to measure against (the warning above says why): not an error of nan.
-      log.info("  " + pose.name + ": no sphere of radius above 0 in this pose, " + std::to_string(pose.outside.size()) +
-               " centers outside");
+      lines.push_back({pose.name + ": no sphere of radius above 0 in this pose, " + std::to_string(pose.outside.size()) +
+                           " centers outside",
+                       std::numeric_limits<double>::infinity()});
       continue;
     }
-    std::snprintf(line, sizeof line, "  %-12s error median %.4g max %.4g, %zu centers outside", pose.name.c_str(),
+    std::snprintf(line, sizeof line, "%-12s error median %.4g max %.4g, %zu centers outside", pose.name.c_str(),
                   result.summary.errors[i].median, result.summary.errors[i].max, pose.outside.size());
-    log.info(line);
+    lines.push_back({line, result.summary.errors[i].max});
   }
+  print_pose_lines(lines, log, "  ");
   report.update(pose_map_report(result));
   report["output"] = output;
   if (!skin_path.empty()) report["skin"] = skin_path;

@@ -216,6 +216,24 @@ expect 2 "twice.json: lists the pose file '.*' twice" "$out/tw.json" -- "$bin/po
   --spheres "$out/s.json" -o "$out/tw.json"
 expect 2 "pm/poses.json: lists [0-9]* poses; .*ok.proxy.json has 1 example pose$" "" -- \
   "$bin/proxy-eval" "$out/ok.proxy.json" --manifest "$out/pm/poses.json"
+# More poses than a .spx holds (the runtime's SPX_MAX_POSES, 256 with the rest): pose-map and
+# proxy-eval refuse before any work, naming the manifest or the proxy.
+python3 -c "
+import json, shutil, sys
+out = sys.argv[1]
+m = json.load(open(out + '/pm/poses.json'))
+first = m['poses'][0]
+m['poses'] = [dict(first, name='p%03d' % i, file='p%03d.obj' % i) for i in range(256)]
+for i in range(256):
+    shutil.copy(out + '/pm/' + first['file'], out + '/pm/p%03d.obj' % i)
+json.dump(m, open(out + '/pm/long.json', 'w'))
+p = json.load(open(out + '/ok.proxy.json'))
+p['poses'] = [dict(p['poses'][-1], name='p%03d' % i) for i in range(257)]
+json.dump(p, open(out + '/long.proxy.json', 'w'))
+" "$out"
+expect 3 "pm/long.json: has 257 poses (the rest and 256 examples); a .spx holds at most 256" "$out/long.json" -- \
+  "$bin/pose-map" --manifest "$out/pm/long.json" --spheres "$out/s.json" -o "$out/long.json"
+expect 3 "long.proxy.json: has 257 poses .*: map fewer poses" "" -- "$bin/proxy-eval" "$out/long.proxy.json" --manifest "$out/pm/long.json"
 if "$1/samples/runtime-demo" --help | grep -q "usage: runtime-demo"; then passed=$((passed + 1)); else
   echo "FAIL: runtime-demo --help"; fail=$((fail + 1)); fi
 
