@@ -26,6 +26,7 @@
 #include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/near_boundary.hpp"
+#include "mesh/normals.hpp"
 #include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
 #include "synthetic/synthetic.hpp"
@@ -696,6 +697,49 @@ TEST(MeshQuery, InsideToldByItsShapeBuildsNoWindingNumber) {
   EXPECT_LT(in, 2700u);
   EXPECT_FALSE(told.winding_number_built());
   EXPECT_TRUE(plain.winding_number_built());
+}
+
+// The solid beside a surface vertex, on either side: everywhere on a closed sphere, nowhere on
+// the same sphere facing inward (the winding number -1 within), and on its lower half (open)
+// where the exact winding number passes 1/2 a probe's length off it, along its normal or against
+// it (near the rim it falls under 1/2 on both sides).
+TEST(MeshQuery, SolidBesideOnlyWhereTheWindingNumberPassesAHalf) {
+  const TriMesh closed = test::uv_sphere(1.0, 16, 32);
+  TriMesh inward = closed;
+  for (auto& t : inward.triangles) std::swap(t[1], t[2]);
+  TriMesh open = closed;
+  open.triangles.clear();
+  for (const auto& t : closed.triangles)
+    if (closed.vertices[size_t(t[0])].z() < 0.0 && closed.vertices[size_t(t[1])].z() < 0.0 &&
+        closed.vertices[size_t(t[2])].z() < 0.0)
+      open.triangles.push_back(t);
+  auto beside = [](const TriMesh& mesh) {
+    const MeshQuery query(mesh);
+    const std::vector<Eigen::Vector3d> normals = angle_weighted_normals(mesh, face_normals(mesh));
+    std::vector<bool> out(mesh.vertices.size());
+    for (size_t v = 0; v < out.size(); ++v) out[v] = query.solid_beside(mesh.vertices[v], normals[v]);
+    return out;
+  };
+  const std::vector<bool> on_closed = beside(closed), on_inward = beside(inward), on_open = beside(open);
+  EXPECT_EQ(std::count(on_closed.begin(), on_closed.end(), true), long(closed.vertices.size()));
+  EXPECT_EQ(std::count(on_inward.begin(), on_inward.end(), true), 0);
+  const std::vector<Eigen::Vector3d> normals = angle_weighted_normals(open, face_normals(open));
+  const double step = kWallProbe * open.diagonal();
+  size_t used = 0, with = 0;
+  std::vector<bool> in_use(open.vertices.size(), false);
+  for (const auto& t : open.triangles)
+    for (int k = 0; k < 3; ++k) in_use[size_t(t[k])] = true;
+  for (size_t v = 0; v < open.vertices.size(); ++v) {
+    if (!in_use[v]) continue;
+    ++used;
+    const Eigen::Vector3d& p = open.vertices[v];
+    const bool truth = winding_number_exact(open, p - step * normals[v]) > 0.5 ||
+                       winding_number_exact(open, p + step * normals[v]) > 0.5;
+    EXPECT_EQ(on_open[v], truth) << v;
+    with += truth;
+  }
+  EXPECT_GT(with, used / 4) << "most of the open sphere still bounds a solid";
+  EXPECT_LT(with, used) << "near the hole it does not";
 }
 
 TEST(MeshQuery, ClosestPointMatchesBruteForce) {

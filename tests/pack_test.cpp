@@ -249,6 +249,33 @@ TEST(SpherePack, PartsOutOfReachAreNamedWithWhatWouldReachThem) {
   EXPECT_FALSE(part.contains("resolution_needed"));
   EXPECT_FALSE(flat.contains("resolution_needed"));
   EXPECT_EQ(flat["tolerance"]["limited_by"].get<std::string>().rfind("flat parts", 0), 0u) << flat["tolerance"];
+
+  // A box off to the side, open (one face missing) and facing inward, beside the car: the
+  // winding number is under 1/2 on both sides of its walls, which hold no sphere at any
+  // resolution. Its vertices are counted as having no solid beside them and no resolution is
+  // named for them (the broken truck's 1 504 cells, at 133, had named a field that reached none).
+  TriMesh inward = make_car().rest;
+  const int base = int(inward.vertices.size());
+  for (int k = 0; k < 8; ++k)
+    inward.vertices.emplace_back(3 * d + 0.1 * d * (k & 1), 0.1 * d * ((k >> 1) & 1), 0.1 * d * ((k >> 2) & 1));
+  // The box's faces wound inward (clockwise seen from outside); the top (z = 1) left out.
+  for (const auto& [a, b, c] : std::vector<std::array<int, 3>>{{0, 1, 2}, {1, 3, 2}, {0, 4, 1}, {1, 4, 5},
+                                                                {2, 3, 6}, {3, 7, 6}, {0, 2, 4}, {2, 6, 4},
+                                                                {1, 5, 3}, {3, 5, 7}})
+    inward.triangles.emplace_back(base + a, base + b, base + c);
+  write_file_atomic(dir + "/inward.obj", to_obj(inward));
+  const json open_box = pack_at("inward", 64, {});
+  ASSERT_TRUE(open_box.contains("parts_out_of_reach")) << open_box["tolerance"];
+  ASSERT_EQ(open_box["parts_out_of_reach"].size(), 1u) << open_box["parts_out_of_reach"];
+  const json& box_part = open_box["parts_out_of_reach"][0];
+  EXPECT_FALSE(box_part["flat"].get<bool>());
+  EXPECT_EQ(box_part["part"].get<std::string>().rfind("part 2 of 2 (10 triangles around", 0), 0u) << box_part["part"];
+  EXPECT_GT(box_part["vertices_out_of_reach"].get<size_t>(), 0u);
+  EXPECT_EQ(box_part["vertices_with_no_solid_beside"], box_part["vertices_out_of_reach"]);
+  EXPECT_FALSE(box_part.contains("resolution_needed"));
+  EXPECT_FALSE(open_box.contains("resolution_needed"));
+  EXPECT_EQ(open_box["tolerance"]["limited_by"].get<std::string>().rfind("flat parts, or surface with no solid", 0), 0u)
+      << open_box["tolerance"];
 }
 
 }  // namespace

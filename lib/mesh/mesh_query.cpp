@@ -137,6 +137,7 @@ struct MeshQuery::Tree {
 MeshQuery::MeshQuery(const TriMesh& mesh)
     : mesh_(mesh), wn_(WindingNumber::on_first_use(mesh_)), tree_(std::make_unique<Tree>()) {
   const double diag = mesh_.diagonal();
+  probe_ = kWallProbe * diag;
   boundary_ = solid_boundary(mesh_, wn_);
   const SolidBoundary& boundary = boundary_;
   const TriMesh& kept = boundary.whole() ? mesh_ : boundary.mesh;
@@ -212,6 +213,10 @@ ClosestPoint MeshQuery::closest_apart(const Eigen::Vector3d& p, double radius,
 double MeshQuery::signed_distance(const Eigen::Vector3d& p) const {
   const double d = distance(p);
   return inside(p) ? -d : d;
+}
+
+bool MeshQuery::solid_beside(const Eigen::Vector3d& p, const Eigen::Vector3d& normal) const {
+  return inside(p - probe_ * normal) || inside(p + probe_ * normal);
 }
 
 }  // namespace spx

@@ -68,6 +68,10 @@ class MeshQuery {
   void tell_inside_by(const DeformingQuery::Shape* shape) { inside_by_ = shape; }
   // Negative inside (winding number > 1/2).
   double signed_distance(const Eigen::Vector3d& p) const;
+  // Whether the solid lies beside surface point p on either side (probed kWallProbe of the
+  // diagonal along `normal` and against it): not on an open or inward-facing part that encloses
+  // nothing there, where no inscribed sphere touches p at any resolution.
+  bool solid_beside(const Eigen::Vector3d& p, const Eigen::Vector3d& normal) const;
 
  private:
   struct Tree;
@@ -82,6 +86,7 @@ class MeshQuery {
   std::unique_ptr<Tree> tree_;
   SolidBoundary boundary_;
   TriMesh surface_;  // where the boundary is not whole
+  double probe_ = 0;  // solid_beside's step: kWallProbe of the diagonal
 };
 
 // The closest point of triangle abc to p, with its barycentric weights on request (Ericson,

@@ -145,7 +145,9 @@ const char* limit_wording(Limit limit) {
     case Limit::resolution: return "the field's resolution (some samples are out of reach)";
     case Limit::reach: return "samples no inscribed sphere reaches (sharp features under the least radius)";
     case Limit::motion: return "vertices no skinned sphere reaches in every frame (where the skin folds)";
-    case Limit::flat: return "flat parts (a stray triangle or a sheet holds no sphere at any resolution)";
+    case Limit::flat:
+      return "flat parts, or surface with no solid beside it (a stray triangle, a sheet, or an open or inward-facing "
+             "part that encloses nothing there holds no sphere at any resolution)";
     case Limit::budget: return "max_spheres";
     case Limit::budget_over_tolerance: return "max_spheres (tighter than the tolerance)";
     case Limit::candidates: return "the candidates (no other lowered any sample's error; fewer spheres than max_spheres)";

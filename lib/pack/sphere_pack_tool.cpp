@@ -11,6 +11,7 @@
 #include "core/format.hpp"
 #include "core/subject.hpp"
 #include "mesh/components.hpp"
+#include "mesh/normals.hpp"
 #include "mesh/union_distance.hpp"
 #include "io/spheres_file.hpp"
 #include "io/vdb_io.hpp"
@@ -140,10 +141,12 @@ double resolution_reaching(double resolution, double gap, double target) {
 
 // The parts (the input mesh's edge-connected pieces) whose vertices on the solid's surface no
 // candidate reaches within `target`: each named by its triangles and centre, with how many
-// vertices, the farthest, whether any candidate lies in its box at all, whether it is flat, and
-// (given the field's `resolution`, where the field limits the candidates, and not flat) the
-// resolution that would reach them. The surface's pieces of split triangles are on vertices of
-// their own: each belongs to the part of the triangle it is cut from.
+// vertices, the farthest, how many of them have no solid beside them (an open or inward-facing
+// part enclosing nothing there: no sphere touches them at any resolution), whether any candidate
+// lies in its box at all, whether it is flat, and (given the field's `resolution`, where the
+// field limits the candidates, not flat) the resolution that would reach those with the solid
+// beside them. The surface's pieces of split triangles are on vertices of their own: each belongs
+// to the part of the triangle it is cut from.
 json parts_out_of_reach(const MeshQuery& query, const SphereSet& candidates, double target, double resolution) {
   const TriMesh& input = query.mesh();
   const TriMesh& surface = query.surface();
@@ -156,13 +159,19 @@ json parts_out_of_reach(const MeshQuery& query, const SphereSet& candidates, dou
     for (int k = 0; k < 3; ++k) part_of[size_t(surface.triangles[t][k])] = part;
   }
   const std::vector<PieceShape> shapes = piece_shapes(input, parts);
-  std::vector<size_t> far(parts.count, 0);
-  std::vector<double> farthest(parts.count, 0);
-  for (size_t v = 0; v < part_of.size(); ++v)
-    if (part_of[v] >= 0 && gap[v] > target) {
-      ++far[size_t(part_of[v])];
-      farthest[size_t(part_of[v])] = std::max(farthest[size_t(part_of[v])], gap[v]);
-    }
+  const std::vector<Eigen::Vector3d> normals = angle_weighted_normals(surface, face_normals(surface));
+  std::vector<size_t> far(parts.count, 0), bare(parts.count, 0);
+  std::vector<double> farthest(parts.count, 0), farthest_beside(parts.count, 0);
+  for (size_t v = 0; v < part_of.size(); ++v) {
+    if (part_of[v] < 0 || !(gap[v] > target)) continue;
+    const size_t p = size_t(part_of[v]);
+    ++far[p];
+    farthest[p] = std::max(farthest[p], gap[v]);
+    if (query.solid_beside(surface.vertices[v], normals[v]))
+      farthest_beside[p] = std::max(farthest_beside[p], gap[v]);
+    else
+      ++bare[p];
+  }
   json out = json::array();
   for (size_t p = 0; p < parts.count; ++p) {
     if (far[p] == 0) continue;
@@ -171,13 +180,23 @@ json parts_out_of_reach(const MeshQuery& query, const SphereSet& candidates, dou
     const bool flat = shapes[p].flat;
     json part = {{"part", piece_name("part", p + 1, parts.count, shapes[p])},
                  {"vertices_out_of_reach", far[p]},
+                 {"vertices_with_no_solid_beside", bare[p]},
                  {"farthest", farthest[p]},
                  {"holds_a_candidate", holds_one},
                  {"flat", flat}};
-    if (resolution > 0 && !flat) part["resolution_needed"] = resolution_reaching(resolution, farthest[p], target);
+    if (resolution > 0 && !flat && bare[p] < far[p])
+      part["resolution_needed"] = resolution_reaching(resolution, farthest_beside[p], target);
     out.push_back(part);
   }
   return out;
+}
+
+// The vertices out of reach with no solid beside them, said once.
+std::string vertices_with_no_solid(size_t bare) {
+  return std::to_string(bare) + (bare == 1 ? " vertex has" : " vertices have") + " no solid beside " +
+         (bare == 1 ? "it" : "them") +
+         " (the winding number is under 1/2 on both sides of the surface there: an open or inward-facing part that "
+         "encloses nothing), which no sphere touches at any resolution";
 }
 
 // The parts out of reach warned about, the first few by name.
@@ -185,14 +204,22 @@ void warn_parts_out_of_reach(const json& parts, Log& log) {
   constexpr size_t kNamed = 5;
   for (size_t n = 0; n < parts.size() && n < kNamed; ++n) {
     const json& part = parts[n];
+    const size_t far = part["vertices_out_of_reach"].get<size_t>();
+    const size_t bare = part["vertices_with_no_solid_beside"].get<size_t>();
     std::string advice;
-    if (part["flat"].get<bool>())
+    if (part["flat"].get<bool>()) {
       advice = "; it is flat (every vertex in one plane) and encloses no volume at any resolution";
-    else if (part.contains("resolution_needed"))
-      advice = std::string(part["holds_a_candidate"].get<bool>() ? "" : "; it holds no inscribed sphere at this resolution") +
-               "; about " + num(part["resolution_needed"].get<double>()) + " cells would reach them";
-    log.warn(part["part"].get<std::string>() + ": " + std::to_string(part["vertices_out_of_reach"].get<size_t>()) +
-             " of its vertices out of reach" + advice);
+    } else {
+      if (bare == far)
+        advice = "; no solid lies beside them (see above), and no sphere touches them at any resolution";
+      else if (bare > 0)
+        advice = "; " + std::to_string(bare) + " of them have no solid beside them (see above)";
+      if (part.contains("resolution_needed"))
+        advice += std::string(part["holds_a_candidate"].get<bool>() ? "" : "; it holds no inscribed sphere at this resolution") +
+                  "; about " + num(part["resolution_needed"].get<double>()) + " cells would reach " +
+                  (bare > 0 ? "the others" : "them");
+    }
+    log.warn(part["part"].get<std::string>() + ": " + std::to_string(far) + " of its vertices out of reach" + advice);
   }
   if (parts.size() > kNamed) log.warn("and " + std::to_string(parts.size() - kNamed) + " more parts (the report lists them)");
 }
@@ -202,38 +229,57 @@ void warn_parts_out_of_reach(const json& parts, Log& log) {
 namespace {
 
 // A tolerance out of reach: how many samples, how far, what would reach them (a finer field,
-// or nothing where the field does not limit the candidates or the parts are flat), and the parts
-// they lie on; in the log and the report. Returns whether every such part is flat.
+// or nothing where the field does not limit the candidates, or for flat parts and vertices with no
+// solid beside them), and the parts they lie on; in the log and the report. Returns whether no
+// resolution is named for any of them.
 bool warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const SpherePackOptions& opt,
                        const CoverSelection& sel, Log& log, json& report) {
   const CoverResult& cover = sel.cover;
   const double target = sel.target;
   const std::string out_of_reach = std::to_string(cover.uncoverable()) +
                                    " surface samples are farther than it from every inscribed sphere (the farthest " +
-                                   num(cover.least_reachable) + ", as near as " + std::to_string(sel.out_of_reach_added) +
-                                   (sel.out_of_reach_added == 1 ? " more sphere brings" : " more spheres bring") +
+                                   num(cover.least_reachable) + ", as near as " +
+                                   (sel.out_of_reach_added == 0 ? std::string("the cover's spheres bring")
+                                    : sel.out_of_reach_added == 1 ? "1 more sphere brings"
+                                                                  : std::to_string(sel.out_of_reach_added) + " more spheres bring") +
                                    " them)";
   // With every sample's own candidate only a sharp tip or edge under the least radius (or a
   // tolerance under float rounding) is out of reach, and no field helps: no resolution named.
   const bool field_limits = sel.limited_by != Limit::reach;
   const double resolution = field_limits ? field_resolution(sdf.field.shape) : 0;
   const json parts = parts_out_of_reach(mesh, sel.offered, target, resolution);
-  // Flat parts enclose nothing at any resolution: the resolution named is the others'.
-  const auto is_flat_part = [](const json& part) { return part["flat"].get<bool>(); };
-  const bool all_flat = !parts.empty() && std::all_of(parts.begin(), parts.end(), is_flat_part);
-  if (field_limits && all_flat) {
+  // Flat parts and vertices with no solid beside them hold no sphere at any resolution: the
+  // resolution named is the others' (the farthest sample would name a field that reaches no more).
+  size_t flat = 0, bare = 0, needing = 0;
+  for (const json& part : parts) {
+    flat += part["flat"].get<bool>();
+    if (!part["flat"].get<bool>()) bare += part["vertices_with_no_solid_beside"].get<size_t>();
+    needing += part.contains("resolution_needed");
+  }
+  const std::string flat_parts = std::to_string(flat) + (flat == 1 ? " part is" : " parts are") +
+                                 " flat (every vertex in one plane) and " + (flat == 1 ? "encloses" : "enclose") +
+                                 " no volume";
+  const std::string unreachable = flat > 0 && bare > 0 ? flat_parts + "; " + vertices_with_no_solid(bare)
+                                  : flat > 0           ? flat_parts
+                                                       : vertices_with_no_solid(bare);
+  const bool none_by_field = field_limits && !parts.empty() && needing == 0;
+  if (none_by_field && bare == 0) {
     log.warn("tolerance " + num(target) + " not met: " + out_of_reach +
              "; the parts whose vertices are out of reach are flat, and no resolution reaches them");
+  } else if (none_by_field) {
+    log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + unreachable +
+             "; no resolution is named for them");
   } else if (field_limits) {
+    const bool some_unreachable = flat + bare > 0;
     double needed = resolution_reaching(resolution, cover.least_reachable, target);
-    if (std::any_of(parts.begin(), parts.end(), is_flat_part)) {
-      needed = resolution;
-      for (const json& part : parts)
-        if (part.contains("resolution_needed")) needed = std::max(needed, part["resolution_needed"].get<double>());
-    }
+    if (some_unreachable) needed = resolution;
+    for (const json& part : parts)
+      if (part.contains("resolution_needed")) needed = std::max(needed, part["resolution_needed"].get<double>());
     log.warn("tolerance " + num(target) + " not met at this field's resolution (" + num(resolution) + " cells, voxel " +
-             num(sdf.field.shape.voxel_size) + "): " + out_of_reach + "; a field of about " + num(needed) +
-             " cells (sdf-build --resolution " + num(needed) + ") would reach them");
+             num(sdf.field.shape.voxel_size) + "): " + out_of_reach +
+             (some_unreachable ? "; " + unreachable : std::string()) + "; a field of about " +
+             num(needed) + " cells (sdf-build --resolution " + num(needed) + ") would reach " +
+             (some_unreachable ? "the others" : "them"));
     report["resolution_needed"] = needed;
   } else {
     log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
@@ -242,7 +288,7 @@ bool warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const Sphere
   }
   warn_parts_out_of_reach(parts, log);
   report["parts_out_of_reach"] = parts;
-  return all_flat;
+  return none_by_field;
 }
 
 // select_by_cover, with its warnings and report; `in_force` is the tolerance opt.tolerance came
