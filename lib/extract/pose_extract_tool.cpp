@@ -147,12 +147,28 @@ std::vector<size_t> farthest_poses(const std::vector<Eigen::Vector3d>& rest,
 namespace {
 
 void check_options(const PoseExtractOptions& opt) {
-  if (opt.morph_targets == !opt.animation.empty())
+  if (opt.morph_targets && !opt.animation.empty())
     fail_option("animation", "give --morph-targets or --animation (one of them)");
   if (opt.animation.empty() && (!opt.frames.empty() || !opt.times.empty() || opt.every || opt.select))
     fail_option("animation", "--frames, --times, --every and --select choose frames of a clip: give --animation");
   if (opt.select < 0) fail_option("select", "must be at least 1");
   if (opt.every < 0) fail_option("every", "must be at least 1");
+}
+
+// What the asset holds to take poses from: its clips (index, name, frames, length) and its
+// morph targets, for the error that asks for one of them.
+std::string poses_on_offer(const Asset& asset) {
+  std::string clips;
+  constexpr size_t kListed = 8;
+  for (size_t i = 0; i < asset.clips().size() && i < kListed; ++i) {
+    const AssetClip& c = asset.clips()[i];
+    clips += (i ? ", " : "") + std::to_string(i) + (c.name.empty() ? "" : " '" + c.name + "'") + " (" +
+             counted(c.frames.size(), "frame") + " over " + num(c.end) + " s)";
+  }
+  if (asset.clips().size() > kListed) clips += " and " + std::to_string(asset.clips().size() - kListed) + " more";
+  const size_t targets = asset.morph_targets().size();
+  return (asset.clips().empty() ? std::string("no animation clips") : counted(asset.clips().size(), "clip") + ": " + clips) +
+         (targets > 0 ? "; " + counted(targets, "morph target") : std::string("; no morph targets"));
 }
 
 // The body and what the report and the log say of it.
@@ -314,6 +330,9 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
   StageTimer read_timer(log, "read");
   const Asset asset(input, opt.mesh);
   read_timer.stop();
+  if (!opt.morph_targets && opt.animation.empty())
+    fail_option("animation", "give --morph-targets or --animation (a clip's name or index): " + input + " holds " +
+                                 poses_on_offer(asset));
   report["asset"] = asset.inventory();
   const Body body = read_body(asset, input, log);
   std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt);

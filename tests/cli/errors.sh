@@ -288,7 +288,9 @@ expect 1 "\-\-times: 3.5 s is outside the clip" "$px/poses.json" -- "$bin/pose-e
 expect 1 "\-\-times: -1 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times=-1
 expect 1 "\-\-times: 0.5 s is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times 0.5,1,0.5
 expect 1 "\-\-frames: frame 1 is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1,0,1
-expect 1 "give \-\-morph-targets or \-\-animation" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px"
+# Neither --morph-targets nor --animation: the error lists what the asset holds to choose from.
+expect 1 "give \-\-morph-targets or \-\-animation .*barrel-morph.glb holds 1 clip: 0 'barrel' (4 frames over 3 s); 3 morph targets" \
+  "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px"
 expect 1 "\-\-select" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --select 0
 expect 1 "\-\-manifest" "$out/o.json" -- "$bin/pose-map" --manifest "$out/in/rest.obj" --rest "$out/in/rest.obj" \
   --spheres "$out/s.json" -o "$out/o.json"
