@@ -71,11 +71,22 @@ bool has_format(const json& j, const char* format) {
   return j.is_object() && j.contains("format") && j["format"].is_string() && j["format"] == format;
 }
 
+// Another of the chain's files given where `format` is read: what it is and where it goes.
+std::string which_file_it_is(const json& j) {
+  if (!j.is_object() || !j.contains("format") || !j["format"].is_string()) return "";
+  const std::string f = j["format"].get<std::string>();
+  if (f == "spx-spheres") return "; it is sphere-pack's spheres file, which pose-map makes a proxy of with the poses";
+  if (f == "spx-proxy") return "; it is pose-map's proxy, which proxy-export and proxy-eval read";
+  if (f == "spx.poses") return "; it is pose-extract's pose manifest, which pose-map and proxy-eval take as --manifest";
+  if (f == "spx.skin") return "; it is pose-extract's skin file, which pose-map takes as --skin";
+  return "";
+}
+
 }  // namespace
 
 void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file) {
   if (!has_format(j, format))
-    fail_input(file, "is not a " + what + " file (expected \"format\": \"" + format + "\")");
+    fail_input(file, "is not a " + what + " file (expected \"format\": \"" + format + "\")" + which_file_it_is(j));
   require_version(j, what, newest, file);
   require_string(j, "generator", file);
 }

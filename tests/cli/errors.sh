@@ -88,6 +88,9 @@ expect 3 "newer than this tool" "$out/p.json" -- \
 echo '{not json' >"$out/broken.proxy.json"
 expect 2 "broken.proxy.json: not valid JSON" "$out/z.spx" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.spx"
 expect 1 "unknown output format" "$out/z.txt" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.txt"
+# Another of the chain's files where a proxy is read: the error says which it is and what reads it.
+expect 2 "s.json: is not a proxy file .*; it is sphere-pack's spheres file, which pose-map makes a proxy of" "$out/z.spx" \
+  -- "$bin/proxy-export" "$out/s.json" -o "$out/z.spx"
 
 # A pose in another unit (centimetres against metres) is warned about, by name.
 /usr/bin/python3 -c "
