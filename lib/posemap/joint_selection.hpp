@@ -113,6 +113,7 @@ struct JointSelection {
   size_t samples_elsewhere = 0; // samples of the other frames in the problem (skinned)
   size_t bare_elsewhere = 0;    // samples of the other frames no candidate reaches at the cover's delta
   size_t vertices_out_of_reach = 0;  // of those and the cover's uncoverable, the vertices
+  size_t vertices_with_no_solid = 0; // open bodies: of those, the ones with no solid beside them in their pose
   size_t out_of_reach_added = 0;     // not skinned: spheres that bring those vertices as near as any candidate comes,
   double out_of_reach_delta = 0;     // the least delta that reaches them all (0: none)
   size_t out_of_reach() const { return cover.uncoverable() + bare_elsewhere; }  // samples, over every frame

@@ -115,6 +115,7 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"lower_bound", sel.cover.lower_bound},
           {"uncoverable_samples", sel.out_of_reach()},
           {"uncoverable_vertices", sel.vertices_out_of_reach},
+          {"uncoverable_vertices_with_no_solid_beside", sel.vertices_with_no_solid},
           {"spheres_for_uncoverable_vertices", sel.out_of_reach_added},
           {"least_reachable_delta", sel.out_of_reach_delta > 0 ? json(sel.out_of_reach_delta) : json(nullptr)},
           {"spheres", sel.chosen.size()},

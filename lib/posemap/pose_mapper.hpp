@@ -24,6 +24,10 @@
 #include "posemap/skinned_map.hpp"
 #include "sdf/sdf.hpp"
 
+namespace spx {
+class SelectionFrames;
+}
+
 namespace spx::detail {
 
 // pose-map's steps, in the order pose_map() takes them, and the state they share: the tets and
@@ -87,6 +91,9 @@ class PoseMapper {
   // The tolerance (as a length, 0: none) and budget asked here, or else what sphere-pack was
   // asked, or else the default tolerance.
   std::pair<double, size_t> selection_size() const;
+  // Of the vertices past `target` from `chosen` in their pose, those with no solid beside them
+  // (an open body's parts that enclose nothing there: no field reaches them).
+  size_t vertices_with_no_solid(const SelectionFrames& frames, const SphereSet& chosen, double target) const;
 
   // The map as the joint selection sees it.
   class Frames;

@@ -7,6 +7,8 @@
 
 #include "core/subject.hpp"
 #include "core/tolerance.hpp"
+#include "mesh/normals.hpp"
+#include "mesh/union_distance.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/pose_mapper.hpp"
 #include "posemap/spheres_fit.hpp"
@@ -73,13 +75,34 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
   options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
   Frames frames(*this);
-  const JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
+  JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
+  if (open_solid_ && selection.vertices_out_of_reach > 0) {
+    selection.vertices_with_no_solid =
+        std::min(selection.vertices_out_of_reach, vertices_with_no_solid(frames, selection.chosen, options.target));
+    // Where none of them has the solid beside it, no field reaches them.
+    if (selection.vertices_with_no_solid == selection.vertices_out_of_reach && selection.limited_by == Limit::resolution)
+      selection.limited_by = Limit::flat;
+  }
   const std::string why = out_of_reach_wording(selection, options, bool(skinned_));
   const bool missed = !(options.target > 0) || selection.vertices_out_of_reach > 0;
   if (selection.out_of_reach() > 0) missed ? log_.warn(why) : log_.detail(why);
   summary.selection = selection;
   summary.selection_target = options.target;
   return selection.chosen;
+}
+
+size_t PoseMapper::vertices_with_no_solid(const SelectionFrames& frames, const SphereSet& chosen, double target) const {
+  const std::vector<SphereSet> in_frames = spheres_in_frames(frames, chosen);
+  size_t out = 0;
+  for (size_t f = 0; f < in_frames.size(); ++f) {
+    const MeshQuery& q = *queries_[f];
+    const TriMesh& surface = q.surface();
+    const std::vector<double> gap = union_signed_distance(surface.vertices, in_frames[f]);
+    const std::vector<Eigen::Vector3d> normals = angle_weighted_normals(surface, face_normals(surface));
+    for (size_t v = 0; v < gap.size(); ++v)
+      out += gap[v] > target && !q.solid_beside(surface.vertices[v], normals[v]);
+  }
+  return out;
 }
 
 std::pair<double, size_t> PoseMapper::selection_size() const {
