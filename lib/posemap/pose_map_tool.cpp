@@ -206,7 +206,9 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
                     const std::string& spheres_path, const std::string& output, const PoseMapOptions& given,
                     const PoseMapTolerances& tolerances, Log& log, json& report, const std::string& skin_path,
                     const std::vector<std::string>& names) {
-  if (pose_paths.empty()) fail_option("poses", "give at least one example pose");
+  if (pose_paths.empty())
+    fail_option("poses", "give at least one example pose (for a body that does not deform, the rest itself: --pose " +
+                             rest_path + ")");
   if (!names.empty() && names.size() != pose_paths.size())
     throw std::logic_error("pose_map_files: a name per pose, or none");
   PoseMapInputs in;

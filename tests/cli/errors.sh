@@ -88,6 +88,9 @@ expect 3 "newer than this tool" "$out/p.json" -- \
 echo '{not json' >"$out/broken.proxy.json"
 expect 2 "broken.proxy.json: not valid JSON" "$out/z.spx" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.spx"
 expect 1 "unknown output format" "$out/z.txt" -- "$bin/proxy-export" "$out/broken.proxy.json" -o "$out/z.txt"
+# No pose at all: the error says what to give for a body that does not deform.
+expect 1 "\-\-pose: give at least one example pose (for a body that does not deform, the rest itself: \-\-pose .*rest.obj)" \
+  "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --spheres "$out/s.json" -o "$out/o.json"
 # Another of the chain's files where a proxy is read: the error says which it is and what reads it.
 expect 2 "s.json: is not a proxy file .*; it is sphere-pack's spheres file, which pose-map makes a proxy of" "$out/z.spx" \
   -- "$bin/proxy-export" "$out/s.json" -o "$out/z.spx"
