@@ -250,11 +250,12 @@ bool warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const Sphere
   const json parts = parts_out_of_reach(mesh, sel.offered, target, resolution);
   // Flat parts and vertices with no solid beside them hold no sphere at any resolution: the
   // resolution named is the others' (the farthest sample would name a field that reaches no more).
-  size_t flat = 0, bare = 0, needing = 0;
+  size_t flat = 0, bare = 0, others = 0;  // flat parts; vertices with no solid beside them, and the rest
   for (const json& part : parts) {
     flat += part["flat"].get<bool>();
-    if (!part["flat"].get<bool>()) bare += part["vertices_with_no_solid_beside"].get<size_t>();
-    needing += part.contains("resolution_needed");
+    if (part["flat"].get<bool>()) continue;
+    bare += part["vertices_with_no_solid_beside"].get<size_t>();
+    others += part["vertices_out_of_reach"].get<size_t>() - part["vertices_with_no_solid_beside"].get<size_t>();
   }
   const std::string flat_parts = std::to_string(flat) + (flat == 1 ? " part is" : " parts are") +
                                  " flat (every vertex in one plane) and " + (flat == 1 ? "encloses" : "enclose") +
@@ -262,7 +263,7 @@ bool warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const Sphere
   const std::string unreachable = flat > 0 && bare > 0 ? flat_parts + "; " + vertices_with_no_solid(bare)
                                   : flat > 0           ? flat_parts
                                                        : vertices_with_no_solid(bare);
-  const bool none_by_field = field_limits && !parts.empty() && needing == 0;
+  const bool none_by_field = !parts.empty() && others == 0;
   if (none_by_field && bare == 0) {
     log.warn("tolerance " + num(target) + " not met: " + out_of_reach +
              "; the parts whose vertices are out of reach are flat, and no resolution reaches them");
@@ -284,7 +285,7 @@ bool warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const Sphere
   } else {
     log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
              " samples have no inscribed sphere of at least the least radius (" + num(opt.pack.min_radius) +
-             ") that reaches them");
+             ") that reaches them" + (flat + bare > 0 ? "; " + unreachable : std::string()));
   }
   warn_parts_out_of_reach(parts, log);
   report["parts_out_of_reach"] = parts;
