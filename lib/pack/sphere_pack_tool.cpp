@@ -283,9 +283,11 @@ bool warn_out_of_reach(const LoadedSdf& sdf, const MeshQuery& mesh, const Sphere
              (some_unreachable ? "the others" : "them"));
     report["resolution_needed"] = needed;
   } else {
+    const std::string least = opt.pack.min_radius > 0 ? " of at least the least radius (" + num(opt.pack.min_radius) + ")"
+                                                      : std::string();
     log.warn("tolerance " + num(target) + " not met: " + out_of_reach + "; " + std::to_string(sel.unreached_samples) +
-             " samples have no inscribed sphere of at least the least radius (" + num(opt.pack.min_radius) +
-             ") that reaches them" + (flat + bare > 0 ? "; " + unreachable : std::string()));
+             " samples have no inscribed sphere" + least + " that reaches them" +
+             (flat + bare > 0 ? "; " + unreachable : std::string()));
   }
   warn_parts_out_of_reach(parts, log);
   report["parts_out_of_reach"] = parts;
