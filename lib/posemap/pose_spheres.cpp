@@ -78,7 +78,8 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
   if (open_solid_ && selection.vertices_out_of_reach > 0) {
     selection.vertices_with_no_solid =
-        std::min(selection.vertices_out_of_reach, vertices_with_no_solid(frames, selection.chosen, options.target));
+        std::min(selection.vertices_out_of_reach,
+                 vertices_with_no_solid(frames, selection.chosen, options.target > 0 ? options.target : selection.cover.delta));
     // Where none of them has the solid beside it, no field reaches them.
     if (selection.vertices_with_no_solid == selection.vertices_out_of_reach && selection.limited_by == Limit::resolution)
       selection.limited_by = Limit::flat;
