@@ -88,9 +88,15 @@ size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_
 // What decided a selection's size, and its words in reports and logs (limit_wording).
 // `candidates`: a budget the selection did not fill, no other candidate lowering any sample's
 // error (set once the selection is done: until then it is `budget`, which the refinement keys on).
-// `flat`: the parts out of reach are flat (a stray triangle, a sheet), which no resolution fills.
+// `flat`: the parts out of reach are flat (a stray triangle, a sheet) or have no solid beside them
+// (kNoSolidBeside), which no resolution fills.
 enum class Limit { tolerance, default_tolerance, resolution, reach, motion, flat, budget, budget_over_tolerance, candidates };
 const char* limit_wording(Limit limit);
+// Why a surface vertex with no solid on either side of it (MeshQuery::solid_beside) is reached by
+// no sphere at any resolution: the one wording sphere-pack's and pose-map's messages share.
+constexpr const char* kNoSolidBeside =
+    "the winding number is under 1/2 on both sides of the surface there: an open or inward-facing part that encloses "
+    "nothing";
 // Budget mode, once done: `candidates` where `used` spheres are fewer than the `budget`.
 void note_unused_budget(Limit& limited_by, size_t used, size_t budget, Log& log);
 

@@ -194,9 +194,7 @@ json parts_out_of_reach(const MeshQuery& query, const SphereSet& candidates, dou
 // The vertices out of reach with no solid beside them, said once.
 std::string vertices_with_no_solid(size_t bare) {
   return std::to_string(bare) + (bare == 1 ? " vertex has" : " vertices have") + " no solid beside " +
-         (bare == 1 ? "it" : "them") +
-         " (the winding number is under 1/2 on both sides of the surface there: an open or inward-facing part that "
-         "encloses nothing), which no sphere touches at any resolution";
+         (bare == 1 ? "it" : "them") + " (" + kNoSolidBeside + "), which no sphere touches at any resolution";
 }
 
 // The parts out of reach warned about, the first few by name.

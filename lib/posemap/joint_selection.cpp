@@ -433,19 +433,15 @@ std::string out_of_reach_wording(const JointSelection& selection, const JointSel
                               "is not asked and no ball of their own is offered";
   if (vertices == 0) return head + ": " + between;
   const size_t bare = selection.vertices_with_no_solid;
-  const std::string no_solid = std::to_string(bare) + (bare == 1 ? " of them has" : " of them have") +
-                               " no solid beside " + (bare == 1 ? "it in its" : "them in their") +
-                               " pose (the winding number is under 1/2 on both sides of the surface there: an "
-                               "open part that encloses nothing), which no sphere touches at any resolution";
+  const std::string no_solid = "no solid beside them in their pose (" + std::string(kNoSolidBeside) + ")";
   const std::string bound = "no ball through them reaches within the field's bound across the holes (a finer "
                             "sdf-build resolution raises it)";
   const std::string why =
       options.field_bounds_radii
           ? (bare == 0           ? "which " + bound
-             : bare >= vertices ? "which have no solid beside them in their pose (the winding number is under 1/2 on "
-                                  "both sides of the surface there: an open part that encloses nothing), and no "
-                                  "sphere touches them at any resolution"
-                                : no_solid + "; the others " + bound)
+             : bare >= vertices ? "which have " + no_solid + ", and no sphere touches them at any resolution"
+                                : std::to_string(bare) + " of them with " + no_solid +
+                                      ", which no sphere touches at any resolution; the others " + bound)
       : skinned ? "which no ball through them or around them keeps reaching in every frame (a skinned sphere keeps "
                   "one radius, the least over the frames, and where the skin folds none does), whatever the resolution"
                 : "which no inscribed ball through them reaches (sharp features)";
