@@ -3,6 +3,9 @@
 #include <random>
 
 #include "core/pose_lines.hpp"
+#include "mesh/mesh_query.hpp"
+#include "mesh/winding_number.hpp"
+#include "metrics/motion_eval.hpp"
 #include "metrics/proxy_eval.hpp"
 #include "metrics/simplex_fit.hpp"
 #include "mesh/union_distance.hpp"
@@ -89,6 +92,27 @@ TEST(Coverage, NestedSpheresCoverTheirVolumeRatio) {
   EXPECT_NEAR(union_coverage(ball, {{Eigen::Vector3d::Zero(), 1.0}}, 64), 1.0, 0.01);
   EXPECT_NEAR(union_coverage(ball, {{Eigen::Vector3d::Zero(), 0.5}}, 64), 0.125, 0.01);
   EXPECT_EQ(union_coverage(ball, {{Eigen::Vector3d::Zero(), 0.0}}, 16), 0.0);
+}
+
+// A closed mesh's inside is told by ray crossings, any other's by the winding number: the same
+// solid both ways gives the same count. Two boxes, one through the other (the winding number is
+// 2 where they overlap), then with a face added again and reversed, which cancel in the winding
+// number but leave the mesh not closed. (No grid point on a face: there the two may differ.)
+TEST(Coverage, ClosedMeshesCountedAsTheWindingNumberCounts) {
+  TriMesh boxes = test::box_mesh(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
+  const TriMesh b = test::box_mesh(Eigen::Vector3d(0.31, -0.37, -0.43), Eigen::Vector3d(1.83, 0.53, 0.33));
+  for (const Eigen::Vector3i& t : b.triangles) boxes.triangles.push_back(t + Eigen::Vector3i::Constant(8));
+  boxes.vertices.insert(boxes.vertices.end(), b.vertices.begin(), b.vertices.end());
+  TriMesh cancelled = boxes;  // a face twice more, once each way: its edges then have 4 triangles
+  const Eigen::Vector3i f = boxes.triangles[0];
+  cancelled.triangles.insert(cancelled.triangles.end(), {f, Eigen::Vector3i(f[0], f[2], f[1])});
+  const SphereSet spheres = {{{0, 0, 0}, 0.7}, {{1.2, 0, 0}, 0.3}, {{-0.6, 0.6, 0.6}, 0.35}};
+  for (int samples : {7, 16, 33}) {
+    const double closed = union_coverage(boxes, spheres, samples);
+    EXPECT_GT(closed, 0.1);
+    EXPECT_LT(closed, 0.9);
+    EXPECT_EQ(closed, union_coverage(cancelled, spheres, samples)) << samples;
+  }
 }
 
 TEST(BlendWeights, MidpointsThenSeededConvexCombinations) {
@@ -186,6 +210,109 @@ TEST(SimplexFit, MeetsItsOptimalityConditions) {
   for (int i = 0; i < 40; ++i) {
     if (w[i] > 1e-12) EXPECT_NEAR(grad[i], lambda, 1e-8 * scale) << i;
     else EXPECT_GE(grad[i], lambda - 1e-8 * scale) << i;
+  }
+}
+
+// A proxy of `spheres` on one joint that stays put (the identity in every frame).
+ProxyModel still_skinned_proxy(const SphereSet& spheres) {
+  ProxyModel proxy;
+  proxy.poses.push_back({"rest", "rest.obj", spheres, {}});
+  proxy.sites = {Eigen::Vector3d::Zero()};
+  proxy.sphere_sites.assign(spheres.size(), 0);
+  proxy.skin.joints = {"root"};
+  proxy.skin.parents = {-1};
+  for (const Sphere& s : spheres) proxy.skin.spheres.push_back({{{0, 0, 0, 0}}, {{1, 0, 0, 0}}, s.center, s.radius});
+  return proxy;
+}
+
+// evaluate_motion over `meshes` (one frame each) against brute force: the exact winding number
+// for inside, MeshQuery's exact distances to the solid's boundary, its surface's vertices for
+// the union's error. Returns how many centres were inside yet in front of the whole mesh's
+// nearest triangle (where a closest point's normal alone would say outside).
+size_t expect_frames_measured_exactly(const std::vector<TriMesh>& meshes, const SphereSet& spheres) {
+  auto frame = [&](size_t i) {
+    MotionFrame f;
+    f.time = double(i);
+    f.mesh = meshes[i];
+    f.joints = {Eigen::Matrix4d::Identity()};
+    return f;
+  };
+  const MotionResult r = evaluate_motion(still_skinned_proxy(spheres), meshes.size(), frame, {}, Log::silent());
+  EXPECT_EQ(r.rows.size(), meshes.size());
+  size_t inside_in_front = 0;
+  for (size_t i = 0; i < meshes.size() && i < r.rows.size(); ++i) {
+    const TriMesh& mesh = meshes[i];
+    const MeshQuery query(mesh);
+    const double rounding = 1e-12 * mesh.diagonal();
+    FrameError want;
+    const ErrorStats stats = summarize_abs(union_signed_distance(query.surface().vertices, spheres));
+    want.median = stats.median, want.max = stats.max;
+    for (const Sphere& s : spheres) {
+      const bool inside = winding_number_exact(mesh, s.center) > 0.5;
+      const double d = query.distance(s.center);
+      want.overshoot = std::max(want.overshoot, s.radius + (inside ? -d : d));
+      want.outside += !inside;
+      double nearest = INFINITY;
+      bool in_front = false;
+      for (const Eigen::Vector3i& t : mesh.triangles) {
+        const Eigen::Vector3d &a = mesh.vertices[size_t(t[0])], &b = mesh.vertices[size_t(t[1])],
+                              &c = mesh.vertices[size_t(t[2])];
+        const Eigen::Vector3d at = closest_point_on_triangle(s.center, a, b, c);
+        if ((at - s.center).norm() < nearest)
+          nearest = (at - s.center).norm(), in_front = (b - a).cross(c - a).dot(s.center - at) > 0;
+      }
+      inside_in_front += inside && in_front;
+    }
+    for (int k : {kSkinned, kRigid}) {
+      const FrameError& got = r.rows[i].error[size_t(k)];
+      EXPECT_EQ(got.outside, want.outside) << "frame " << i << " runtime " << k;
+      EXPECT_NEAR(got.overshoot, want.overshoot, rounding) << "frame " << i << " runtime " << k;
+      EXPECT_NEAR(got.median, want.median, rounding) << "frame " << i;
+      EXPECT_NEAR(got.max, want.max, rounding) << "frame " << i;
+    }
+  }
+  return inside_in_front;
+}
+
+// Over a clip each frame's spheres are measured against the frame's body: a frame on the first
+// frame's closed triangles by one hierarchy refitted to it (the whole mesh where it is one
+// piece; with MeshQuery's boundary and the hierarchy's ray count where it is several), any other
+// frame by a MeshQuery and its winding number. Centres are exact in float (the runtime skins in
+// float), none on a face's plane.
+TEST(MotionEval, EveryFrameMeasuredAsTheExactWindingNumberSays) {
+  // One piece: a sphere stretched and squashed.
+  {
+    const TriMesh round = test::uv_sphere(1.0, 12, 24);
+    std::vector<TriMesh> meshes;
+    for (double t : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+      TriMesh m = round;
+      for (Eigen::Vector3d& v : m.vertices) v = v.cwiseProduct(Eigen::Vector3d(1 + 0.5 * t, 1, 1 - 0.375 * t));
+      meshes.push_back(m);
+    }
+    const SphereSet spheres = {{{0, 0, 0}, 0.5},        {{0.875, 0, 0}, 0.25},  {{1.25, 0.125, 0}, 0.125},
+                               {{0, 0.6875, 0.5}, 0.125}, {{0.25, 0.25, 0.75}, 0.25}, {{-1.125, 0, 0}, 0.0625}};
+    expect_frames_measured_exactly(meshes, spheres);
+  }
+  // Two pieces: one box passing through another, the last frame on other triangles. A centre
+  // inside the first box, nearest to a face of the second that lies inside it, is inside.
+  {
+    const TriMesh a = test::box_mesh(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
+    std::vector<TriMesh> meshes;
+    const std::vector<double> shifts = {-3, -1.75, -0.875, -0.3125, 0.0625, 0.4375, 0.875, 1.25, 0.4375};
+    for (size_t i = 0; i < shifts.size(); ++i) {
+      TriMesh m = a;
+      TriMesh b = test::box_mesh(Eigen::Vector3d(shifts[i], -0.5, -0.5), Eigen::Vector3d(shifts[i] + 1.5, 0.5, 0.5));
+      if (i + 1 == shifts.size())  // the same box, its quads split along their other diagonals
+        b.triangles = {{0, 3, 1}, {0, 2, 3}, {4, 5, 7}, {4, 7, 6}, {0, 5, 4}, {0, 1, 5},
+                       {2, 7, 3}, {2, 6, 7}, {0, 6, 2}, {0, 4, 6}, {1, 7, 5}, {1, 3, 7}};
+      for (const Eigen::Vector3i& t : b.triangles) m.triangles.push_back(t + Eigen::Vector3i::Constant(8));
+      m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
+      meshes.push_back(m);
+    }
+    const SphereSet spheres = {{{-0.125, 0, 0}, 0.25},       {{0.625, 0, 0}, 0.125},          {{0.375, 0.75, 0}, 0.1875},
+                               {{1.25, 0.125, 0}, 0.0625},   {{-0.8125, 0.875, 0.875}, 0.25}, {{1.625, 0.25, 0.25}, 0.125},
+                               {{0.0625, 0.25, 0.375}, 0.375}};
+    EXPECT_GT(expect_frames_measured_exactly(meshes, spheres), 0u);
   }
 }
 

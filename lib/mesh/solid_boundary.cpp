@@ -142,6 +142,9 @@ TriMesh solid_surface(const TriMesh& mesh, const SolidBoundary& boundary) {
   return out;
 }
 
-TriMesh solid_surface(const TriMesh& mesh) { return solid_surface(mesh, solid_boundary(mesh, WindingNumber(mesh))); }
+// The winding number is built only where pieces are probed (not for a single closed surface).
+TriMesh solid_surface(const TriMesh& mesh) {
+  return solid_surface(mesh, solid_boundary(mesh, WindingNumber::on_first_use(mesh)));
+}
 
 }  // namespace spx

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
 #include "io/spx_writer.hpp"
+#include "mesh/components.hpp"
+#include "mesh/deforming_query.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/union_distance.hpp"
 #include "metrics/proxy_eval.hpp"
@@ -28,10 +32,51 @@ SphereSet from_xyzr(const std::vector<float>& xyzr) {
   return s;
 }
 
-// `spheres` against the body `query` holds.
-FrameError measure_frame(const MeshQuery& query, const SphereSet& spheres) {
+// The frames' triangles, where the first frame's close the body: one hierarchy refitted to each
+// frame on them, instead of a MeshQuery's trees and winding number built for every frame (most
+// of a clip's measuring).
+struct ClipTopology {
+  explicit ClipTopology(const TriMesh& first)
+      : triangles(first.triangles), hierarchy(first), one_piece(hierarchy.closed() && edge_components(first).count == 1) {}
+  std::vector<Eigen::Vector3i> triangles;
+  DeformingQuery hierarchy;
+  // A single closed surface bounds everywhere (solid_boundary): its surface is the whole mesh.
+  bool one_piece;
+};
+
+// A frame's body as the measures ask it: the solid's surface vertices, and signed distances to
+// that surface (negative inside: winding number > 1/2).
+class FrameBody {
+ public:
+  FrameBody(const TriMesh& mesh, const ClipTopology& clip) {
+    const bool on_clip = clip.hierarchy.closed() && mesh.triangles == clip.triangles;
+    if (on_clip) shape_.emplace(clip.hierarchy.shape(mesh.vertices));
+    if (on_clip && clip.one_piece) {
+      vertices_ = &mesh.vertices;
+      return;
+    }
+    // Several pieces: the boundary leaves out what lies inside another piece.
+    query_ = std::make_unique<MeshQuery>(mesh);
+    if (shape_) query_->tell_inside_by(&*shape_);  // its ray count: the winding number off the surface
+    vertices_ = &query_->surface().vertices;
+  }
+  const std::vector<Eigen::Vector3d>& surface_vertices() const { return *vertices_; }
+  double signed_distance(const Eigen::Vector3d& p) const {
+    if (query_) return query_->signed_distance(p);
+    const double d = std::abs(shape_->signed_distance(p));
+    return shape_->inside(p) ? -d : d;
+  }
+
+ private:
+  std::optional<DeformingQuery::Shape> shape_;
+  std::unique_ptr<MeshQuery> query_;
+  const std::vector<Eigen::Vector3d>* vertices_ = nullptr;
+};
+
+// `spheres` against the frame's body.
+FrameError measure_frame(const FrameBody& body, const SphereSet& spheres) {
   FrameError e;
-  const std::vector<double> d = union_signed_distance(query.surface().vertices, spheres);
+  const std::vector<double> d = union_signed_distance(body.surface_vertices(), spheres);
   const ErrorStats stats = summarize_abs(d);
   e.median = stats.median;
   e.max = stats.max;
@@ -40,7 +85,7 @@ FrameError measure_frame(const MeshQuery& query, const SphereSet& spheres) {
       ++e.zero;
       continue;
     }
-    const double signed_distance = query.signed_distance(s.center);  // negative inside
+    const double signed_distance = body.signed_distance(s.center);
     e.overshoot = std::max(e.overshoot, s.radius + signed_distance);
     e.outside += signed_distance > 0;
   }
@@ -87,23 +132,24 @@ struct ExampleFit {
   }
 };
 
-MotionRow measure_motion_frame(const Proxy& runtime, const MotionFrame& frame, const ExampleFit* fit) {
+MotionRow measure_motion_frame(const Proxy& runtime, const MotionFrame& frame, const ExampleFit* fit,
+                               const ClipTopology& clip) {
   MotionRow row;
   row.time = frame.time, row.seen = frame.seen, row.between = frame.between;
-  const MeshQuery query(frame.mesh);
+  const FrameBody body(frame.mesh, clip);
   const std::vector<float> matrices = host_matrices(frame.joints);
   std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
   const Status status = skin(runtime, matrices.data(), int(frame.joints.size()), xyzr.data());
   if (status != SPX_OK) fail_input("", std::string("the runtime cannot skin the proxy: ") + status_string(status));
-  row.error[kSkinned] = measure_frame(query, from_xyzr(xyzr));
-  row.error[kRigid] = measure_frame(query, from_xyzr(rigid_per_bone(runtime, matrices)));
+  row.error[kSkinned] = measure_frame(body, from_xyzr(xyzr));
+  row.error[kRigid] = measure_frame(body, from_xyzr(rigid_per_bone(runtime, matrices)));
   if (fit) {
     const Eigen::VectorXd w = fit->weights(frame.mesh);
     row.blend_weights.assign(w.data(), w.data() + w.size());
     for (float& x : row.blend_weights) x = std::max(x, 0.0f);
     if (blend_global_xyzr(runtime, row.blend_weights.data(), uint32_t(w.size()), xyzr.data()) != SPX_OK)
       fail_input("", "the runtime cannot blend the proxy at the best-fit weights");
-    row.error[kBestBlend] = measure_frame(query, from_xyzr(xyzr));
+    row.error[kBestBlend] = measure_frame(body, from_xyzr(xyzr));
   }
   return row;
 }
@@ -124,23 +170,25 @@ MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const 
   MotionResult result;
   result.blend = !examples.empty();
   result.rows.resize(frame_count);
+  if (frame_count == 0) return result;
+  const MotionFrame first_frame = frame(0);
+  const ClipTopology clip(first_frame.mesh);
+  auto measure = [&](const MotionFrame& f) {
+    if (f.joints.size() != runtime.joint_count())
+      fail_input("", "frame at " + std::to_string(f.time) + " s has " + std::to_string(f.joints.size()) +
+                         " joint matrices; the proxy's skin has " + std::to_string(runtime.joint_count()));
+    return measure_motion_frame(runtime, f, result.blend ? &fit : nullptr, clip);
+  };
   // In batches, so progress is reported from one thread; every row lands in its own slot.
   const size_t batch = 16;
-  std::vector<float> first_matrices;
   for (size_t first = 0; first < frame_count; first += batch) {
     log.progress("measuring frames", first, frame_count);
-    tbb::parallel_for(first, std::min(frame_count, first + batch), [&](size_t i) {
-      const MotionFrame f = frame(i);
-      if (f.joints.size() != runtime.joint_count())
-        fail_input("", "frame at " + std::to_string(f.time) + " s has " + std::to_string(f.joints.size()) +
-                           " joint matrices; the proxy's skin has " + std::to_string(runtime.joint_count()));
-      result.rows[i] = measure_motion_frame(runtime, f, result.blend ? &fit : nullptr);
-      if (i == 0) first_matrices = host_matrices(f.joints);
-    });
+    tbb::parallel_for(first, std::min(frame_count, first + batch),
+                      [&](size_t i) { result.rows[i] = i == 0 ? measure(first_frame) : measure(frame(i)); });
   }
+  const std::vector<float> first_matrices = host_matrices(first_frame.joints);
   std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
-  if (frame_count)
-    result.skin_us = median_call_us([&] { skin(runtime, first_matrices.data(), int(first_matrices.size() / 16), xyzr.data()); });
+  result.skin_us = median_call_us([&] { skin(runtime, first_matrices.data(), int(first_matrices.size() / 16), xyzr.data()); });
   return result;
 }
 

@@ -4,12 +4,14 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "io/spx_writer.hpp"
+#include "mesh/deforming_query.hpp"
 #include "mesh/solid_boundary.hpp"
 #include "mesh/winding_number.hpp"
 #include "runtime/spx_runtime.h"
@@ -21,7 +23,16 @@ double union_coverage(const TriMesh& mesh, const SphereSet& spheres, int samples
   const double cell = box.sizes().maxCoeff() / std::max(1, samples);
   if (!(cell > 0)) return 0;
   const Eigen::Vector3i n = (box.sizes() / cell).array().ceil().cast<int>().max(1);
-  const WindingNumber wn(mesh);
+  // A closed mesh's inside by a ray's crossings through its hierarchy (the winding number off the
+  // surface, and cheaper to ask); any other by the winding number's expansions.
+  const DeformingQuery rays(mesh);
+  std::optional<DeformingQuery::Shape> closed;
+  std::optional<WindingNumber> wn;
+  if (rays.closed())
+    closed.emplace(rays.shape(mesh.vertices));
+  else
+    wn.emplace(mesh);
+  auto is_inside = [&](const Eigen::Vector3d& p) { return closed ? closed->inside(p) : wn->inside(p); };
   std::atomic<size_t> inside{0}, covered{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, n.x()), [&](const tbb::blocked_range<int>& r) {
     size_t in = 0, cov = 0;
@@ -29,7 +40,7 @@ double union_coverage(const TriMesh& mesh, const SphereSet& spheres, int samples
       for (int j = 0; j < n.y(); ++j)
         for (int k = 0; k < n.z(); ++k) {
           const Eigen::Vector3d p = box.min() + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
-          if (!wn.inside(p)) continue;
+          if (!is_inside(p)) continue;
           ++in;
           for (const auto& s : spheres)
             if (s.radius > 0 && (p - s.center).squaredNorm() <= s.radius * s.radius) {
