@@ -38,7 +38,7 @@ SphereSet from_xyzr(const std::vector<float>& xyzr) {
 struct ClipTopology {
   explicit ClipTopology(const TriMesh& first)
       : triangles(first.triangles), hierarchy(first), one_piece(hierarchy.closed() && edge_components(first).count == 1) {}
-  std::vector<Eigen::Vector3i> triangles;
+  const std::vector<Eigen::Vector3i>& triangles;  // the first frame's, which outlives this
   DeformingQuery hierarchy;
   // A single closed surface bounds everywhere (solid_boundary): its surface is the whole mesh.
   bool one_piece;
