@@ -349,4 +349,13 @@ bool DeformingQuery::Shape::inside(const Eigen::Vector3d& p) const {
   return winding_number_exact(TriMesh{v_, q_->tri_}, p) > 0.5;
 }
 
+RayInside::RayInside(const TriMesh& mesh, bool use) : rays_(mesh), on_surface_(1e-9 * mesh.diagonal()) {
+  if (use && rays_.closed()) shape_.emplace(rays_.shape(mesh.vertices));
+}
+
+std::optional<bool> RayInside::operator()(const Eigen::Vector3d& p) const {
+  if (!shape_ || shape_->nearer_than(p, on_surface_)) return std::nullopt;
+  return shape_->inside(p);
+}
+
 }  // namespace spx

@@ -105,4 +105,20 @@ class DeformingQuery {
   bool closed_ = false;
 };
 
+// Inside a closed mesh (winding number > 1/2) by a ray's signed crossings through its hierarchy:
+// the winding number off the surface, in a fraction of the time of its expansions. Unknown
+// (nullopt) within 1e-9 of the diagonal of the surface, where a ray from a face counts it or not
+// by a rounding, and everywhere for a mesh that is not closed (or with `use` false): there the
+// caller asks the winding number. `mesh` need not outlive it.
+class RayInside {
+ public:
+  explicit RayInside(const TriMesh& mesh, bool use = true);
+  std::optional<bool> operator()(const Eigen::Vector3d& p) const;
+
+ private:
+  DeformingQuery rays_;
+  std::optional<DeformingQuery::Shape> shape_;
+  double on_surface_ = 0;
+};
+
 }  // namespace spx

@@ -23,16 +23,13 @@ double union_coverage(const TriMesh& mesh, const SphereSet& spheres, int samples
   const double cell = box.sizes().maxCoeff() / std::max(1, samples);
   if (!(cell > 0)) return 0;
   const Eigen::Vector3i n = (box.sizes() / cell).array().ceil().cast<int>().max(1);
-  // A closed mesh's inside by a ray's crossings through its hierarchy (the winding number off the
-  // surface, and cheaper to ask); on the surface (a grid point on a flat face), and off a mesh
-  // that is not closed, by the winding number, as before.
-  const DeformingQuery rays(mesh);
-  std::optional<DeformingQuery::Shape> closed;
-  if (rays.closed()) closed.emplace(rays.shape(mesh.vertices));
+  // Inside by a ray's crossings where the mesh is closed (cheaper than the winding number's
+  // expansions); on its surface, and on a mesh that is not closed, by the winding number.
+  const RayInside rays(mesh);
   const WindingNumber wn = WindingNumber::on_first_use(mesh);
-  const double on_surface = 1e-9 * mesh.diagonal();
   auto is_inside = [&](const Eigen::Vector3d& p) {
-    return closed && !closed->nearer_than(p, on_surface) ? closed->inside(p) : wn.inside(p);
+    const std::optional<bool> in = rays(p);
+    return in ? *in : wn.inside(p);
   };
   std::atomic<size_t> inside{0}, covered{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, n.x()), [&](const tbb::blocked_range<int>& r) {

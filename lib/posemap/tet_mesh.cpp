@@ -224,14 +224,10 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
   // sign off the surface. On it (a flat face meets a bisection's midpoint exactly) either answer
   // is a rounding's: there the expansions are asked as before.
   const WindingNumber wn(surface);
-  const DeformingQuery rays(surface);
-  const std::optional<DeformingQuery::Shape> closed =
-      rays.closed() && !opt.winding_expansions ? std::optional<DeformingQuery::Shape>(rays.shape(surface.vertices))
-                                               : std::nullopt;
-  const double on_surface = 1e-9 * diag;
+  const RayInside rays(surface, !opt.winding_expansions);
   std::function<double(const K::Point_3&)> level = [&](const K::Point_3& p) {
     const Eigen::Vector3d q(p.x(), p.y(), p.z());
-    if (closed && !closed->nearer_than(q, on_surface)) return closed->inside(q) ? -0.5 : 0.5;
+    if (const std::optional<bool> in = rays(q)) return *in ? -0.5 : 0.5;
     return 0.5 - wn(q);
   };
   const Eigen::Vector3d c = box.center();
