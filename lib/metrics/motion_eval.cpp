@@ -8,9 +8,9 @@
 
 #include "core/error.hpp"
 #include "io/spx_writer.hpp"
-#include "mesh/components.hpp"
 #include "mesh/deforming_query.hpp"
 #include "mesh/mesh_query.hpp"
+#include "mesh/solid_boundary.hpp"
 #include "mesh/union_distance.hpp"
 #include "metrics/proxy_eval.hpp"
 #include "metrics/simplex_fit.hpp"
@@ -37,10 +37,13 @@ SphereSet from_xyzr(const std::vector<float>& xyzr) {
 // of a clip's measuring).
 struct ClipTopology {
   explicit ClipTopology(const TriMesh& first)
-      : triangles(first.triangles), hierarchy(first), one_piece(hierarchy.closed() && edge_components(first).count == 1) {}
+      : triangles(first.triangles),
+        hierarchy(first),
+        one_piece(BoundaryParts(first, WindingNumber::on_first_use(first)).whole()) {}
   const std::vector<Eigen::Vector3i>& triangles;  // the first frame's, which outlives this
   DeformingQuery hierarchy;
-  // A single closed surface bounds everywhere (solid_boundary): its surface is the whole mesh.
+  // Where solid_boundary probes nothing (a single closed surface, by its topology alone, the
+  // same in every frame) the solid's surface is the whole mesh. No winding number is built.
   bool one_piece;
 };
 
