@@ -640,6 +640,111 @@ TEST(WindingNumber, FastMatchesBruteForceOnOpenAndBrokenMeshes) {
     check_winding_numbers(load_mesh(test::shared_data() + "/" + name).mesh, 150, 1e-2);
 }
 
+// An open bowl (a sphere without its upper cap) and two of them overlapping: the winding number
+// passes 1/2 across the rim's disc and near the walls, where inside() needs more than the
+// expansion.
+TriMesh open_bowls() {
+  TriMesh bowl = test::uv_sphere(1.0, 40, 80);
+  std::vector<Eigen::Vector3i> kept;
+  for (const auto& t : bowl.triangles)
+    if (bowl.vertices[size_t(t[0])].z() + bowl.vertices[size_t(t[1])].z() + bowl.vertices[size_t(t[2])].z() < 1.5)
+      kept.push_back(t);
+  bowl.triangles = kept;
+  TriMesh two = bowl;
+  const int offset = int(bowl.vertices.size());
+  for (const auto& v : bowl.vertices) two.vertices.push_back(v + Eigen::Vector3d(1.4, 0.3, 0.2));
+  for (const auto& t : bowl.triangles) two.triangles.emplace_back(t[0] + offset, t[1] + offset, t[2] + offset);
+  return two;
+}
+
+// Points where deciding inside is hard: random in the box, a hair off the triangles on either
+// side (as the solid boundary's probes sit), and on or near the rims' discs.
+std::vector<Eigen::Vector3d> hard_points(const TriMesh& mesh, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const double diagonal = box.diagonal().norm();
+  std::vector<Eigen::Vector3d> out;
+  for (int n = 0; n < 300; ++n) out.push_back(box.min() + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(box.sizes()));
+  for (int n = 0; n < 300; ++n) {
+    const auto& t = mesh.triangles[size_t(rng() % mesh.triangles.size())];
+    const Eigen::Vector3d a = mesh.vertices[size_t(t[0])], b = mesh.vertices[size_t(t[1])], c = mesh.vertices[size_t(t[2])];
+    const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
+    const double x = u(rng), y = u(rng) * (1 - x);
+    out.push_back(a + x * (b - a) + y * (c - a) + (n % 2 ? 1e-5 : -1e-5) * diagonal * normal);
+  }
+  double rim = -1;  // the first bowl's rim (the open_bowls' first vertices' highest used)
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) rim = std::max(rim, mesh.vertices[size_t(t[k])].z() - (t[k] >= int(mesh.vertices.size() / 2)) * 9);
+  for (int n = 0; n < 300; ++n) {  // that rim's disc, and a hair above and below it
+    const double angle = 2 * M_PI * u(rng), radius = 1.2 * u(rng);
+    const double z = rim + (n % 3 == 0 ? 0.0 : (n % 3 == 1 ? 1e-3 : -1e-3)) * u(rng);
+    out.emplace_back(radius * std::cos(angle), radius * std::sin(angle), z);
+  }
+  return out;
+}
+
+// bounded()'s interval holds the exact sum, unrefined (the expansions' bounds themselves) and
+// refined; and inside() decides as the exact sum does, mostly without taking it.
+TEST(WindingNumber, BoundedHoldsTheExactSumAndDecidesAsItDoes) {
+  const TriMesh meshes[] = {open_bowls(), make_car().rest};
+  ASSERT_GE(meshes[0].triangles.size(), WindingNumber::kRefinedFrom);  // inside() refines there
+  for (const TriMesh& mesh : meshes) {
+    const WindingNumber wn(mesh);
+    const size_t n = mesh.triangles.size();
+    size_t near_half = 0, decided_cheaply = 0, loose = 0;
+    for (const Eigen::Vector3d& q : hard_points(mesh, 11)) {
+      const double exact = wn.exact(q);
+      const WindingNumber::Bounded raw = wn.bounded(q, 0.5, 0);
+      ASSERT_LE(std::abs(raw.value - exact), raw.error) << q.transpose();
+      loose += std::abs(raw.value - exact) > 1e-12;  // the expansions leave something out
+      const WindingNumber::Bounded refined = wn.bounded(q, 0.5 + WindingNumber::kTie, n / 4);
+      ASSERT_LE(std::abs(refined.value - exact), refined.error) << q.transpose();
+      ASSERT_EQ(wn.inside(q), std::abs(wn(q) - 0.5) < WindingNumber::kExactBand ? exact > 0.5 + WindingNumber::kTie
+                                                                                  : wn(q) > 0.5)
+          << q.transpose();
+      if (std::abs(wn(q) - 0.5) >= WindingNumber::kExactBand) continue;
+      ++near_half;
+      decided_cheaply += std::abs(refined.value - (0.5 + WindingNumber::kTie)) > refined.error;
+    }
+    EXPECT_GT(loose, 100u);
+    if (&mesh != &meshes[0]) continue;  // the car is closed: nothing near 1/2
+    EXPECT_GT(near_half, 100u);
+    // Off the rims' discs themselves (w = 1/2 there to the sum's rounding), the interval decides.
+    EXPECT_GT(decided_cheaply, near_half / 2) << decided_cheaply << " of " << near_half;
+  }
+}
+
+// The expansion's bound where it is taken nearest (just past 4 radii), on single triangles and on
+// clusters of 8 (one leaf): never below what the expansion leaves out, and not so far above it
+// that refining would open clusters for nothing.
+TEST(WindingNumber, TruncationBoundHoldsNearestWhereItIsTaken) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    TriMesh m;
+    const int triangles = trial % 2 ? 1 : 8;
+    for (int t = 0; t < triangles; ++t) {
+      const Eigen::Vector3d corner(u(rng), u(rng), u(rng));
+      for (int k = 0; k < 3; ++k) m.vertices.push_back(corner + 0.5 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      m.triangles.emplace_back(3 * t, 3 * t + 1, 3 * t + 2);
+    }
+    const WindingNumber wn(m);
+    const Eigen::Vector3d center = m.bounds().center();
+    const double radius = m.bounds().diagonal().norm();  // past every corner's distance from any centre inside
+    for (int k = 0; k < 20; ++k) {
+      const Eigen::Vector3d q = center + Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized() * radius * (4.05 + std::abs(u(rng)));
+      const WindingNumber::Bounded b = wn.bounded(q, 0.5, 0);
+      ASSERT_EQ(b.triangles, 0u);  // the expansion, not the triangles
+      const double left_out = std::abs(b.value - wn.exact(q));
+      ASSERT_LE(left_out, b.error) << "trial " << trial << " at " << q.transpose();
+      worst = std::max(worst, left_out / b.error);
+    }
+  }
+  EXPECT_GT(worst, 0.05);
+}
+
 // A winding number built on first use answers to the bit as one built at once, however many
 // threads ask first.
 TEST(WindingNumber, BuiltOnFirstUseGivesTheSameBits) {

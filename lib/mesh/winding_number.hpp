@@ -28,16 +28,29 @@ class WindingNumber {
   double operator()(const Eigen::Vector3d& q) const;
   // The exact sum over every triangle (O(triangles)).
   double exact(const Eigen::Vector3d& q) const;
-  // w > 1/2, decided by the exact sum wherever the expansion lands within kExactBand of 1/2:
-  // the approximation's error may not flip a point near the threshold (an open mesh's hole).
-  // A point on the threshold itself (the plane of a hemisphere's rim: 1/2 up to the sum's
-  // rounding) is outside, whatever order the solid angles are added in.
+  // w > 1/2, decided as the exact sum decides (exact(q) > 1/2 + kTie) wherever the expansion
+  // lands within kExactBand of 1/2: the approximation's error may not flip a point near the
+  // threshold (an open mesh's hole). A point on the threshold itself (the plane of a
+  // hemisphere's rim: 1/2 up to the sum's rounding) is outside, whatever order the solid angles
+  // are added in.
   bool inside(const Eigen::Vector3d& q) const {
     const double w = (*this)(q);
-    if (std::abs(w - 0.5) < kExactBand) return exact(q) > 0.5 + kTie;
+    if (std::abs(w - 0.5) < kExactBand) return exactly_inside(q);
     return w > 0.5;
   }
   static constexpr double kExactBand = 0.02, kTie = 1e-9;
+  // From this many triangles up, inside() near 1/2 refines bounded() before the exact sum.
+  static constexpr size_t kRefinedFrom = 4096;
+
+  // w within `error` of the true sum: the far clusters' expansions each with a bound on what
+  // they leave out, the near triangles' solid angles summed as exact() sums them. Refined (the
+  // clusters of largest bound opened first) until the interval leaves out `level`, or past
+  // `max_triangles` summed one by one.
+  struct Bounded {
+    double value = 0, error = 0;
+    size_t triangles = 0;  // summed one by one
+  };
+  Bounded bounded(const Eigen::Vector3d& q, double level, size_t max_triangles) const;
   // Whether the hierarchy has been built (on_first_use: not until asked); not synchronised with
   // a build under way on another thread.
   bool built() const { return tree_ != nullptr; }
@@ -49,6 +62,8 @@ class WindingNumber {
     Eigen::Matrix3d quadrupole;  // sum over triangles of (centroid - center) * area vector^T
     Eigen::Matrix3d octupole[3]; // [i](j,k): sum of area vector_i * second moment_jk about center
     double radius = 0;
+    double area = 0;             // sum of the triangles' areas
+    double cubed = 0;            // sum of each triangle's area times its farthest corner's distance from center, cubed
     int first = 0, count = 0;    // triangle range when a leaf
     int left = -1, right = -1;
   };
@@ -60,6 +75,10 @@ class WindingNumber {
   };
   struct Lazy;
   WindingNumber(const TriMesh& mesh, double accuracy, bool now);
+  // exact(q) > 1/2 + kTie, by bounded() wherever its interval leaves that level out.
+  bool exactly_inside(const Eigen::Vector3d& q) const;
+  static double far_field(const Node& node, const Eigen::Vector3d& r, double d);
+  static double truncation_bound(const Node& node, double d);
   const Tree& tree() const;
 
   double beta_;
