@@ -15,6 +15,31 @@ constexpr double kFourPi = 4.0 * M_PI;
 // robot split 16-fold, 45 696 triangles of open parts: 18.8 s from 2 radii, 15.3 s from 4).
 constexpr double kBoundedBeta = 4.0;
 
+// The hierarchy's nodes below `root` as an expansion takes them: `far(node, center - q, distance,
+// index)` where a node lies more than `beta` radii from q, `leaf(node)` for a leaf that does not,
+// the children of any other node in turn.
+template <class Nodes, class Far, class Leaf>
+void walk_below(const Nodes& nodes, const Eigen::Vector3d& q, int root, double beta, Far&& far, Leaf&& leaf) {
+  if (nodes.empty()) return;
+  int stack[128];
+  int top = 0;
+  stack[top++] = root;
+  while (top > 0) {
+    const int index = stack[--top];
+    const auto& node = nodes[size_t(index)];
+    const Eigen::Vector3d r = node.center - q;
+    const double d = r.norm();
+    if (d > beta * node.radius)
+      far(node, r, d, index);
+    else if (node.left < 0)
+      leaf(node);
+    else {
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+    }
+  }
+}
+
 // atan2 to about 1e-9 rad, for the fast evaluation's near field (the threshold's neighbourhood
 // is decided by exact(), which keeps std::atan2): the angle reduced to [0, pi/4] by the octant,
 // then to [0, pi/12] by atan(x) = pi/6 + atan((x sqrt3 - 1) / (x + sqrt3)), then the series.
@@ -222,28 +247,16 @@ WindingNumber::Bounded WindingNumber::bounded(const Eigen::Vector3d& q, double l
       value += solid_angle(tree.a[size_t(i)] - q, tree.b[size_t(i)] - q, tree.c[size_t(i)] - q) / kFourPi;
     out.triangles += size_t(node.count);
   };
-  // As operator() takes the nodes below `root`: an expansion where it is far, else its triangles.
   auto visit = [&](int root) {
-    int stack[128];
-    int top = 0;
-    stack[top++] = root;
-    while (top > 0) {
-      const int index = stack[--top];
-      const Node& node = nodes[size_t(index)];
-      const Eigen::Vector3d r = node.center - q;
-      const double d = r.norm();
-      if (d > kBoundedBeta * node.radius) {
-        const Far f{truncation_bound(node, d), far_field(node, r, d) / kFourPi, index};
-        value += f.value;
-        error += f.error;
-        far.push(f);
-      } else if (node.left < 0) {
-        sum_leaf(node);
-      } else {
-        stack[top++] = node.left;
-        stack[top++] = node.right;
-      }
-    }
+    walk_below(
+        nodes, q, root, kBoundedBeta,
+        [&](const Node& node, const Eigen::Vector3d& r, double d, int index) {
+          const Far f{truncation_bound(node, d), far_field(node, r, d) / kFourPi, index};
+          value += f.value;
+          error += f.error;
+          far.push(f);
+        },
+        sum_leaf);
   };
   // exact()'s rounding, which the interval must leave room for: a sum of n solid angles.
   const double rounding = 1e-12 + 1e-15 * double(tree.a.size());
@@ -291,26 +304,14 @@ double WindingNumber::exact(const Eigen::Vector3d& q) const {
 double WindingNumber::operator()(const Eigen::Vector3d& q) const {
   const Tree& tree = this->tree();
   const auto &a = tree.a, &b = tree.b, &c = tree.c;
-  const std::vector<Node>& nodes = tree.nodes;
-  if (nodes.empty()) return 0;
   double sum = 0;  // in units of solid angle * 4pi / 4pi, i.e. the winding number
-  int stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes[stack[--top]];
-    const Eigen::Vector3d r = node.center - q;
-    const double d = r.norm();
-    if (d > beta_ * node.radius) {
-      sum += far_field(node, r, d) / kFourPi;
-    } else if (node.left < 0) {
-      for (int i = node.first; i < node.first + node.count; ++i)
-        sum += solid_angle_with<fast_atan2>(a[i] - q, b[i] - q, c[i] - q) / kFourPi;
-    } else {
-      stack[top++] = node.left;
-      stack[top++] = node.right;
-    }
-  }
+  walk_below(
+      tree.nodes, q, 0, beta_,
+      [&](const Node& node, const Eigen::Vector3d& r, double d, int) { sum += far_field(node, r, d) / kFourPi; },
+      [&](const Node& node) {
+        for (int i = node.first; i < node.first + node.count; ++i)
+          sum += solid_angle_with<fast_atan2>(a[i] - q, b[i] - q, c[i] - q) / kFourPi;
+      });
   return sum;
 }
 
