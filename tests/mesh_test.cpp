@@ -715,16 +715,16 @@ TEST(WindingNumber, BoundedHoldsTheExactSumAndDecidesAsItDoes) {
   }
 }
 
-// The expansion's bound where it is taken nearest (just past 4 radii), on single triangles and on
-// clusters of 8 (one leaf): never below what the expansion leaves out, and not so far above it
-// that refining would open clusters for nothing.
-TEST(WindingNumber, TruncationBoundHoldsNearestWhereItIsTaken) {
+// The third-order expansion's bound, on single triangles, clusters of 8 (one leaf) and of 40 (a
+// parent, its moments moved up from its children's): never below what the expansion leaves out,
+// and not so far above it that refining would open clusters for nothing.
+TEST(WindingNumber, TruncationBoundHoldsWhereverItIsTaken) {
   std::mt19937 rng(21);
   std::uniform_real_distribution<double> u(-1, 1);
   double worst = 0;
   for (int trial = 0; trial < 600; ++trial) {
     TriMesh m;
-    const int triangles = trial % 2 ? 1 : 8;
+    const int triangles = trial % 3 == 0 ? 1 : trial % 3 == 1 ? 8 : 40;  // one leaf, or 8 under a root
     for (int t = 0; t < triangles; ++t) {
       const Eigen::Vector3d corner(u(rng), u(rng), u(rng));
       for (int k = 0; k < 3; ++k) m.vertices.push_back(corner + 0.5 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
@@ -734,7 +734,10 @@ TEST(WindingNumber, TruncationBoundHoldsNearestWhereItIsTaken) {
     const Eigen::Vector3d center = m.bounds().center();
     const double radius = m.bounds().diagonal().norm();  // past every corner's distance from any centre inside
     for (int k = 0; k < 20; ++k) {
-      const Eigen::Vector3d q = center + Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized() * radius * (4.05 + std::abs(u(rng)));
+      // Half just past 4 radii, where the bound is loosest; half out to 44, where an expansion
+      // wrong at third order would leave more than the fourth-order bound.
+      const double radii = 4.05 + (k < 10 ? 1 : 40) * std::abs(u(rng));
+      const Eigen::Vector3d q = center + Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized() * radius * radii;
       const WindingNumber::Bounded b = wn.bounded(q, 0.5, 0);
       ASSERT_EQ(b.triangles, 0u);  // the expansion, not the triangles
       const double left_out = std::abs(b.value - wn.exact(q));

@@ -5,6 +5,7 @@
 // Inside is w > 1/2; this holds for open meshes, soups and self-intersections.
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -40,12 +41,12 @@ class WindingNumber {
   }
   static constexpr double kExactBand = 0.02, kTie = 1e-9;
   // From this many triangles up, inside() near 1/2 refines bounded() before the exact sum.
-  static constexpr size_t kRefinedFrom = 4096;
+  static constexpr size_t kRefinedFrom = 1024;
 
-  // w within `error` of the true sum: the far clusters' expansions each with a bound on what
-  // they leave out, the near triangles' solid angles summed as exact() sums them. Refined (the
-  // clusters of largest bound opened first) until the interval leaves out `level`, or past
-  // `max_triangles` summed one by one.
+  // w within `error` of the true sum: the far clusters' expansions (to third order) each with a
+  // bound on what they leave out, the near triangles' solid angles summed as exact() sums them.
+  // Refined (the clusters of largest bound opened first) until the interval leaves out `level`,
+  // or past `max_triangles` summed one by one.
   struct Bounded {
     double value = 0, error = 0;
     size_t triangles = 0;  // summed one by one
@@ -63,21 +64,37 @@ class WindingNumber {
     Eigen::Matrix3d octupole[3]; // [i](j,k): sum of area vector_i * second moment_jk about center
     double radius = 0;
     double area = 0;             // sum of the triangles' areas
-    double cubed = 0;            // sum of each triangle's area times its farthest corner's distance from center, cubed
+    double quartic = 0;          // sum of each triangle's area times its farthest corner's distance from center, ^4
     int first = 0, count = 0;    // triangle range when a leaf
     int left = -1, right = -1;
+  };
+  // A node's degree-3 moments, T(i,j,k,l) = sum over triangles of the integral of n_i h_j h_k h_l
+  // (h = x - center), as the degree-3 term asks for them: bounded()'s expansion only, so kept
+  // apart from the nodes the fast evaluation walks, and made on bounded()'s first call (most
+  // hierarchies never see one: 200 bytes a node).
+  struct Third {
+    double quartic[15] = {};  // T contracted with R four times: the coefficient of each monomial of R
+    Eigen::Matrix3d pairs = Eigen::Matrix3d::Zero();  // sum_i T(i,i,.,.) + sym(sum_j T(.,j,j,.)): R.pairs.R
+    double traces = 0;        // sum_ik T(i,i,k,k)
   };
   struct Tree {
     std::vector<Eigen::Vector3d> a, b, c;  // triangle corners in tree order
     std::vector<Node> nodes;
     explicit Tree(const TriMesh& mesh);
     int build(int first, int count);
+    const std::vector<Third>& third() const;  // by node, made on the first call (from any thread)
+
+   private:
+    std::vector<Third> third_moments() const;
+    mutable std::once_flag third_once_;
+    mutable std::vector<Third> third_;
   };
   struct Lazy;
   WindingNumber(const TriMesh& mesh, double accuracy, bool now);
   // exact(q) > 1/2 + kTie, by bounded() wherever its interval leaves that level out.
   bool exactly_inside(const Eigen::Vector3d& q) const;
   static double far_field(const Node& node, const Eigen::Vector3d& r, double d);
+  static double third_order(const Third& third, const Eigen::Vector3d& r, double d);
   static double truncation_bound(const Node& node, double d);
   const Tree& tree() const;
 
