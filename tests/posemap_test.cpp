@@ -255,6 +255,96 @@ TEST(PoseMap, AcceptsUserTetsAndStillMapsAffinePosesExactly) {
   EXPECT_THROW(read_medit_tets(dir + "/bad.mesh"), Error);
 }
 
+void expect_same_proxy(const ProxyModel& a, const ProxyModel& b) {
+  ASSERT_EQ(a.poses.size(), b.poses.size());
+  for (size_t i = 0; i < a.poses.size(); ++i) {
+    ASSERT_EQ(a.poses[i].spheres.size(), b.poses[i].spheres.size());
+    for (size_t s = 0; s < a.poses[i].spheres.size(); ++s) {
+      EXPECT_EQ(a.poses[i].spheres[s].center, b.poses[i].spheres[s].center) << "pose " << i << " sphere " << s;
+      EXPECT_EQ(a.poses[i].spheres[s].radius, b.poses[i].spheres[s].radius) << "pose " << i << " sphere " << s;
+    }
+  }
+  EXPECT_EQ(a.sites, b.sites);
+  EXPECT_EQ(a.sphere_sites, b.sphere_sites);
+}
+
+std::string first_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// --tets-cache: the first run meshes and writes the cache, the next reads it and maps to the same
+// spheres to the bit (the same joint selection too); another rest or tet size meshes again and
+// takes the file over; a file that is not a cache is refused and left as it was.
+TEST(PoseMap, TetsCacheMapsAsMeshingDoes) {
+  const std::string dir = test::temp_dir("tets-cache");
+  const std::string cache = dir + "/rest.tets.mesh";
+  const SampleAsset car = make_car();
+  const SpheresFile spheres = test::pack_file(car.rest, 48);
+  std::vector<PoseInput> poses;
+  for (size_t i = 0; i < 2; ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  PoseMapOptions opt;
+  opt.tets.size = car.rest.diagonal() / 12;  // coarse: a quick test
+  const PoseMapResult fresh = pose_map(car.rest, "rest", poses, spheres, opt);
+  opt.tet_cache = cache;
+  const PoseMapResult writing = pose_map(car.rest, "rest", poses, spheres, opt);
+  EXPECT_FALSE(writing.summary.tets_from_cache);
+  const std::string key = first_line(cache);
+  EXPECT_EQ(key.rfind("# spx tets cache ", 0), 0u) << key;
+  const PoseMapResult reading = pose_map(car.rest, "rest", poses, spheres, opt);
+  EXPECT_TRUE(reading.summary.tets_from_cache);
+  EXPECT_EQ(reading.summary.tetrahedra, fresh.summary.tetrahedra);
+  expect_same_proxy(fresh.proxy, writing.proxy);
+  expect_same_proxy(fresh.proxy, reading.proxy);
+
+  // Another tet size: meshed again, the cache now this size's.
+  opt.tets.size = car.rest.diagonal() / 10;
+  EXPECT_FALSE(pose_map(car.rest, "rest", poses, spheres, opt).summary.tets_from_cache);
+  EXPECT_NE(first_line(cache), key);
+  EXPECT_TRUE(pose_map(car.rest, "rest", poses, spheres, opt).summary.tets_from_cache);
+  // Another rest (the barrel) given the car's cache: meshed, not mapped by the car's tets.
+  const SampleAsset barrel = make_barrel();
+  const SpheresFile barrel_spheres = test::pack_file(barrel.rest, 32);
+  PoseMapOptions given;
+  given.map_given = true;
+  given.tet_cache = cache;
+  EXPECT_FALSE(pose_map(barrel.rest, "barrel", {{"dent", "", barrel.pose(0)}}, barrel_spheres, given)
+                   .summary.tets_from_cache);
+
+  // A file that is not a cache (the rest mesh, named by mistake) is refused and kept.
+  const std::string other = dir + "/rest.obj";
+  write_file_atomic(other, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  given.tet_cache = other;
+  EXPECT_THROW(pose_map(barrel.rest, "barrel", {{"dent", "", barrel.pose(0)}}, barrel_spheres, given), OptionError);
+  EXPECT_EQ(read_file(other), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+}
+
+// The cache keeps every bit of the tets, and the bodies that got none (the report names them from
+// a cached run too); its MEDIT file is one read_medit_tets reads.
+TEST(TetMesh, CacheKeepsTheTetsAndTheUnmeshedBodies) {
+  const std::string dir = test::temp_dir("tets-cache-file");
+  const TriMesh rest = make_barrel().rest;
+  TetOptions coarse;
+  coarse.size = rest.diagonal() / 12;
+  TetMesh tets = tetrahedralize(rest, coarse);
+  tets.unmeshed_bodies = {"body 2 of 2 (12 triangles around 3.5, 0.5, 5e-05)", "body 3 of 3 (#4)"};
+  const std::string key = tets_cache_key(rest, coarse);
+  write_tets_cache(dir + "/t.mesh", key, tets);
+  const std::optional<TetMesh> back = read_tets_cache(dir + "/t.mesh", key);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->vertices, tets.vertices);
+  EXPECT_EQ(back->tets, tets.tets);
+  EXPECT_EQ(back->boundary_faces, tets.boundary_faces);
+  EXPECT_EQ(back->unmeshed_bodies, tets.unmeshed_bodies);
+  EXPECT_EQ(read_medit_tets(dir + "/t.mesh").tets, tets.tets);
+  EXPECT_FALSE(read_tets_cache(dir + "/t.mesh", tets_cache_key(rest, {})).has_value());
+  EXPECT_FALSE(read_tets_cache(dir + "/none.mesh", key).has_value());
+  write_file_atomic(dir + "/empty.mesh", "");
+  EXPECT_FALSE(read_tets_cache(dir + "/empty.mesh", key).has_value());
+}
+
 }  // namespace
 }  // namespace spx
 

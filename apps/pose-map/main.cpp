@@ -23,7 +23,14 @@ int main(int argc, char** argv) {
   tool.writes_file("--output");
   tool.app.add_option("--tet-size", opt.tets.size, "Tet edge length (default: bounding-box diagonal / 30)")
       ->check(spx::kPositive);
-  tool.app.add_option("--tets", opt.tet_file, "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
+  auto* tets = tool.app.add_option("--tets", opt.tet_file,
+                                   "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
+  tool.app.add_option("--tets-cache", opt.tet_cache,
+                      "Keep the rest's tets in this file between runs: read where it holds this rest's (for this "
+                      "--tet-size and these tools), else meshed and written (MEDIT .mesh)")
+      ->excludes(tets);
+  tool.writes_file("--tets-cache");
+  tool.name_option("tet_cache", "--tets-cache");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
   auto* fill = tool.app.add_flag("--fill-gaps", opt.fill_gaps,
                                  "Pack what each pose's mapped spheres leave uncovered and map the new spheres back "

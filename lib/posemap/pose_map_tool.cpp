@@ -169,6 +169,8 @@ json pose_map_report(const PoseMapResult& result) {
   return {{"tets",
            {{"method", s.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},
             {"source", s.tet_file},
+            {"cache", s.tet_cache.empty() ? json(nullptr)
+                                          : json{{"file", s.tet_cache}, {"read", s.tets_from_cache}}},
             {"vertices", s.tet_vertices},
             {"tetrahedra", s.tetrahedra},
             {"boundary_faces", s.boundary_faces},

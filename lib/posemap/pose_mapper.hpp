@@ -43,7 +43,11 @@ class PoseMapper {
   // so that an inside-out pose fails at once.
   void check_poses_face_outward() const;
 
-  // The paper's tet mesh of M_0: CGAL Mesh_3, or the user's.
+  // The tets cache (PoseMapOptions::tet_cache) read, before any work: one that is not a cache
+  // fails at once.
+  void read_cached_tets();
+
+  // The paper's tet mesh of M_0: CGAL Mesh_3 (or the cache's), or the user's.
   void make_tets();
 
   // f: the surface motion of every pose carried to the tet vertices; for a rigged body the skin,
@@ -149,6 +153,8 @@ class PoseMapper {
   ProxyModel& proxy_;
   Log& log_;
   TetMesh tets_;
+  std::string tet_cache_key_;           // what the tets cache is asked for
+  std::optional<TetMesh> cached_tets_;  // the cache's, where it held this rest's
   std::unique_ptr<HarmonicMap> f_;
   std::unique_ptr<SkinnedMap> skinned_;  // f for a rigged body
   std::vector<SkinInfluence> influences_;  // skinned: the influence each written sphere follows

@@ -13,9 +13,24 @@
 namespace spx {
 namespace detail {
 
+void PoseMapper::read_cached_tets() {
+  if (opt_.tet_cache.empty()) return;
+  tet_cache_key_ = tets_cache_key(rest_, opt_.tets);
+  cached_tets_ = read_tets_cache(opt_.tet_cache, tet_cache_key_);
+  log_.detail(opt_.tet_cache + (cached_tets_ ? ": the rest's tets from the cache"
+                                             : ": no tets cached for this rest and tet size; meshing, then caching them"));
+}
+
 void PoseMapper::make_tets() {
   StageTimer t(log_, "tetrahedralize");
-  tets_ = opt_.tet_file.empty() ? tetrahedralize(rest_, opt_.tets, log_) : read_medit_tets(opt_.tet_file);
+  if (!opt_.tet_file.empty()) {
+    tets_ = read_medit_tets(opt_.tet_file);
+  } else if (cached_tets_) {
+    tets_ = std::move(*cached_tets_);
+  } else {
+    tets_ = tetrahedralize(rest_, opt_.tets, log_);
+    if (!opt_.tet_cache.empty()) write_tets_cache(opt_.tet_cache, tet_cache_key_, tets_);
+  }
   log_.detail(std::to_string(tets_.tets.size()) + " tets, " + std::to_string(tets_.vertices.size()) + " vertices");
 }
 
@@ -201,6 +216,8 @@ void PoseMapper::summarize(PoseMapSummary& out) const {
   for (const auto& q : queries_) out.walls.emplace_back(q->internal_walls(), q->split_triangles());
   for (const auto& c : rest_centers_) out.centers_outside_tets += f_->locator().locate(c).outside > 0;
   out.tet_file = opt_.tet_file;
+  out.tet_cache = opt_.tet_cache;
+  out.tets_from_cache = cached_tets_.has_value();
   out.tet_vertices = tets_.vertices.size();
   out.tetrahedra = tets_.tets.size();
   out.boundary_faces = tets_.boundary_faces.size();
@@ -227,6 +244,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
   detail::PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
   mapper.check_poses_face_outward();
+  mapper.read_cached_tets();
   // Mesh_3 keeps one core: the poses' solids (their queries and, skinned or open, fields) are
   // built on the other meanwhile.
   Log beside = log.fork();

@@ -10,9 +10,11 @@
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/make_mesh_3.h>
+#include <CGAL/version.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -20,7 +22,10 @@
 #include <optional>
 #include <sstream>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/hash.hpp"
+#include "core/version.hpp"
 #include "core/format.hpp"
 #include "mesh/components.hpp"
 #include "mesh/deforming_query.hpp"
@@ -276,7 +281,10 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& opt, Log& log) 
   }
 }
 
-TetMesh read_medit_tets(const std::string& path) {
+namespace {
+
+// A MEDIT file's tets; its comment lines (after the '#', without the leading blank) in `comments`.
+TetMesh read_medit(const std::string& path, std::vector<std::string>* comments) {
   std::ifstream in(path);
   if (!in) fail_input(path, "cannot open");
   std::error_code ec;
@@ -294,7 +302,12 @@ TetMesh read_medit_tets(const std::string& path) {
     return n;
   };
   while (in >> word) {
-    if (word == "Vertices") {
+    if (word[0] == '#') {
+      std::string rest;
+      std::getline(in, rest);
+      const std::string line = word.substr(1) + rest;
+      if (comments) comments->push_back(line.substr(std::min(line.find_first_not_of(' '), line.size())));
+    } else if (word == "Vertices") {
       const long n = read_count("Vertices", 8);
       m.vertices.resize(size_t(n));
       for (auto& v : m.vertices) {
@@ -319,6 +332,65 @@ TetMesh read_medit_tets(const std::string& path) {
   orient(m);
   find_tet_boundary(m);
   return m;
+}
+
+// The cache's first comment, before its key; each body that got no tets is a comment after it.
+constexpr const char* kCacheTag = "spx tets cache ";
+constexpr const char* kUnmeshedTag = "unmeshed: ";
+
+}  // namespace
+
+TetMesh read_medit_tets(const std::string& path) { return read_medit(path, nullptr); }
+
+std::string tets_cache_key(const TriMesh& rest, const TetOptions& options) {
+  uint64_t h = kFnvOffset;
+  auto add = [&](const void* data, size_t size) { h = fnv1a(h, data, size); };
+  const std::string versions = std::string(version_string()) + " CGAL " + CGAL_VERSION_STR;
+  add(versions.data(), versions.size());
+  add(rest.vertices.data(), rest.vertices.size() * sizeof(rest.vertices[0]));
+  add(rest.triangles.data(), rest.triangles.size() * sizeof(rest.triangles[0]));
+  add(&options.size, sizeof options.size);
+  const char expansions = options.winding_expansions;
+  add(&expansions, 1);
+  char key[17];
+  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(h));
+  return key;
+}
+
+std::optional<TetMesh> read_tets_cache(const std::string& path, const std::string& key) {
+  // Nothing there to lose: no file, or an empty one (a placeholder a script touched).
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec) || std::filesystem::file_size(path, ec) == 0) return std::nullopt;
+  {
+    std::ifstream in(path);
+    std::string first;
+    if (!in || !std::getline(in, first) || first.rfind(std::string("# ") + kCacheTag, 0) != 0)
+      fail_option("tet_cache", path + " is not a tets cache pose-map wrote (its first line is not '# " +
+                                   std::string(kCacheTag) + "...'); it is left as it is: name a new file");
+    if (first != std::string("# ") + kCacheTag + key) return std::nullopt;
+  }
+  std::vector<std::string> comments;
+  TetMesh m = read_medit(path, &comments);
+  for (const std::string& c : comments)
+    if (c.rfind(kUnmeshedTag, 0) == 0) m.unmeshed_bodies.push_back(c.substr(std::string(kUnmeshedTag).size()));
+  return m;
+}
+
+void write_tets_cache(const std::string& path, const std::string& key, const TetMesh& tets) {
+  std::string text = std::string("# ") + kCacheTag + key + "\n";
+  for (const std::string& body : tets.unmeshed_bodies) text += std::string("# ") + kUnmeshedTag + body + "\n";
+  text += "MeshVersionFormatted 2\nDimension 3\nVertices\n" + std::to_string(tets.vertices.size()) + "\n";
+  char line[128];
+  for (const auto& v : tets.vertices) {  // every bit: the map from cached tets is the map from fresh ones
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0\n", v.x(), v.y(), v.z());
+    text += line;
+  }
+  text += "Tetrahedra\n" + std::to_string(tets.tets.size()) + "\n";
+  for (const auto& t : tets.tets) {
+    std::snprintf(line, sizeof line, "%d %d %d %d 0\n", t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1);
+    text += line;
+  }
+  write_file_atomic(path, text + "End\n");
 }
 
 namespace {

@@ -1,6 +1,7 @@
 #pragma once
 // The tetrahedral mesh of the rest shape that carries the surface motion into the interior.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,8 +34,21 @@ struct TetOptions {
 // Sequential and seeded, with no time limit on any step: the same input gives the same tets.
 TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& log = Log::silent());
 
-// A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections).
+// A user tet mesh in MEDIT .mesh format (Vertices + Tetrahedra sections; lines opening with '#'
+// are comments).
 TetMesh read_medit_tets(const std::string& path);
+
+// pose-map's tets cache (`--tets-cache`): the rest's tets kept between runs, so that a run with
+// another tolerance or budget on the same rest skips Mesh_3 and maps to the same bytes. A MEDIT
+// file (read_medit_tets reads it, as other tools do), its first line naming the key of what it
+// was meshed from, then the bodies that got no tets (the report names them from the cache too).
+// The key: the rest mesh, the tet options, the project's and CGAL's versions.
+std::string tets_cache_key(const TriMesh& rest, const TetOptions& options);
+// The tets cached at `path` for `key`; none when there is no file there (or an empty one) or it
+// holds another key's. A file there that is not a tets cache fails (OptionError "tet_cache"), and is not written over.
+std::optional<TetMesh> read_tets_cache(const std::string& path, const std::string& key);
+// Writes `tets` to `path` for `key`, atomically.
+void write_tets_cache(const std::string& path, const std::string& key, const TetMesh& tets);
 
 // The paper's local blend: each point's site is its nearest tet vertex (brute force, in
 // parallel; ties to the lower index). `sites`: those vertices, each once, by index; `of_point`:
