@@ -275,12 +275,11 @@ std::string first_line(const std::string& path) {
   return line;
 }
 
-// --tets-cache: the first run meshes and writes the cache, the next reads it and maps to the same
-// spheres to the bit (the same joint selection too); another rest or tet size meshes again and
-// takes the file over; a file that is not a cache is refused and left as it was.
+// --cache: the first run meshes and writes the rest's tets there, the next reads them and maps to
+// the same spheres to the bit (the same joint selection too); another tet size or rest meshes
+// again into a file of its own; a cache file cut short is meshed again and written over.
 TEST(PoseMap, TetsCacheMapsAsMeshingDoes) {
-  const std::string dir = test::temp_dir("tets-cache");
-  const std::string cache = dir + "/rest.tets.mesh";
+  const std::string dir = test::temp_dir("tets-cache") + "/cache/made";  // made by the run
   const SampleAsset car = make_car();
   const SpheresFile spheres = test::pack_file(car.rest, 48);
   std::vector<PoseInput> poses;
@@ -288,37 +287,52 @@ TEST(PoseMap, TetsCacheMapsAsMeshingDoes) {
   PoseMapOptions opt;
   opt.tets.size = car.rest.diagonal() / 12;  // coarse: a quick test
   const PoseMapResult fresh = pose_map(car.rest, "rest", poses, spheres, opt);
-  opt.tet_cache = cache;
+  opt.cache_dir = dir;
   const PoseMapResult writing = pose_map(car.rest, "rest", poses, spheres, opt);
   EXPECT_FALSE(writing.summary.tets_from_cache);
-  const std::string key = first_line(cache);
-  EXPECT_EQ(key.rfind("# spx tets cache ", 0), 0u) << key;
+  const std::string file = writing.summary.tet_cache;
+  EXPECT_EQ(file, tets_cache_file(dir, tets_cache_key(car.rest, opt.tets)));
+  EXPECT_EQ(first_line(file), "# spx tets cache " + tets_cache_key(car.rest, opt.tets));
   const PoseMapResult reading = pose_map(car.rest, "rest", poses, spheres, opt);
   EXPECT_TRUE(reading.summary.tets_from_cache);
   EXPECT_EQ(reading.summary.tetrahedra, fresh.summary.tetrahedra);
   expect_same_proxy(fresh.proxy, writing.proxy);
   expect_same_proxy(fresh.proxy, reading.proxy);
 
-  // Another tet size: meshed again, the cache now this size's.
-  opt.tets.size = car.rest.diagonal() / 10;
-  EXPECT_FALSE(pose_map(car.rest, "rest", poses, spheres, opt).summary.tets_from_cache);
-  EXPECT_NE(first_line(cache), key);
-  EXPECT_TRUE(pose_map(car.rest, "rest", poses, spheres, opt).summary.tets_from_cache);
-  // Another rest (the barrel) given the car's cache: meshed, not mapped by the car's tets.
+  // Another tet size: meshed again, into its own file; both are then read.
+  PoseMapOptions finer = opt;
+  finer.tets.size = car.rest.diagonal() / 10;
+  const PoseMapResult other = pose_map(car.rest, "rest", poses, spheres, finer);
+  EXPECT_FALSE(other.summary.tets_from_cache);
+  EXPECT_NE(other.summary.tet_cache, file);
+  EXPECT_TRUE(pose_map(car.rest, "rest", poses, spheres, finer).summary.tets_from_cache);
+  // Another rest (the barrel): meshed, not mapped by the car's tets.
   const SampleAsset barrel = make_barrel();
   const SpheresFile barrel_spheres = test::pack_file(barrel.rest, 32);
   PoseMapOptions given;
   given.map_given = true;
-  given.tet_cache = cache;
+  given.cache_dir = dir;
   EXPECT_FALSE(pose_map(barrel.rest, "barrel", {{"dent", "", barrel.pose(0)}}, barrel_spheres, given)
                    .summary.tets_from_cache);
 
-  // A file that is not a cache (the rest mesh, named by mistake) is refused and kept.
-  const std::string other = dir + "/rest.obj";
-  write_file_atomic(other, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  given.tet_cache = other;
-  EXPECT_THROW(pose_map(barrel.rest, "barrel", {{"dent", "", barrel.pose(0)}}, barrel_spheres, given), OptionError);
-  EXPECT_EQ(read_file(other), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  // The car's file cut short after its key: meshed again, the same proxy, the file whole again.
+  const std::string whole = read_file(file);
+  write_file_atomic(file, whole.substr(0, whole.size() / 2));
+  const PoseMapResult repaired = pose_map(car.rest, "rest", poses, spheres, opt);
+  EXPECT_FALSE(repaired.summary.tets_from_cache);
+  expect_same_proxy(fresh.proxy, repaired.proxy);
+  EXPECT_EQ(read_file(file), whole);
+
+  // A cache folder that cannot be made (a file is in the way) fails before any work.
+  write_file_atomic(dir + "/a-file", "x");
+  given.cache_dir = dir + "/a-file";
+  try {
+    pose_map(barrel.rest, "barrel", {{"dent", "", barrel.pose(0)}}, barrel_spheres, given);
+    ADD_FAILURE() << "a file as the cache folder was taken";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::cannot_write) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot make the cache folder"), std::string::npos) << e.what();
+  }
 }
 
 // The cache keeps every bit of the tets, and the bodies that got none (the report names them from
@@ -343,6 +357,8 @@ TEST(TetMesh, CacheKeepsTheTetsAndTheUnmeshedBodies) {
   EXPECT_FALSE(read_tets_cache(dir + "/none.mesh", key).has_value());
   write_file_atomic(dir + "/empty.mesh", "");
   EXPECT_FALSE(read_tets_cache(dir + "/empty.mesh", key).has_value());
+  write_file_atomic(dir + "/cut.mesh", "# spx tets cache " + key + "\nVertices\n3\n0 0 0 0\n");
+  EXPECT_FALSE(read_tets_cache(dir + "/cut.mesh", key).has_value());
 }
 
 }  // namespace

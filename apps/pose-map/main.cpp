@@ -25,12 +25,11 @@ int main(int argc, char** argv) {
       ->check(spx::kPositive);
   auto* tets = tool.app.add_option("--tets", opt.tet_file,
                                    "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
-  tool.app.add_option("--tets-cache", opt.tet_cache,
-                      "Keep the rest's tets in this file between runs: read where it holds this rest's (for this "
-                      "--tet-size and these tools), else meshed and written (MEDIT .mesh)")
+  tool.app.add_option("--cache", opt.cache_dir,
+                      "Keep what no tolerance or budget changes (the rest's tets) in this folder between runs: a "
+                      "later run on the same rest, --tet-size and tools reads it instead of meshing (the same proxy)")
       ->excludes(tets);
-  tool.writes_file("--tets-cache");
-  tool.name_option("tet_cache", "--tets-cache");
+  tool.writes_folder("--cache");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
   auto* fill = tool.app.add_flag("--fill-gaps", opt.fill_gaps,
                                  "Pack what each pose's mapped spheres leave uncovered and map the new spheres back "

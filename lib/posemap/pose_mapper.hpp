@@ -43,8 +43,8 @@ class PoseMapper {
   // so that an inside-out pose fails at once.
   void check_poses_face_outward() const;
 
-  // The tets cache (PoseMapOptions::tet_cache) read, before any work: one that is not a cache
-  // fails at once.
+  // The tets cache (PoseMapOptions::cache_dir) read, before any work: a folder that cannot be
+  // made fails at once.
   void read_cached_tets();
 
   // The paper's tet mesh of M_0: CGAL Mesh_3 (or the cache's), or the user's.
@@ -153,7 +153,7 @@ class PoseMapper {
   ProxyModel& proxy_;
   Log& log_;
   TetMesh tets_;
-  std::string tet_cache_key_;           // what the tets cache is asked for
+  std::string tet_cache_key_, tet_cache_file_;  // what the tets cache is asked for, and where
   std::optional<TetMesh> cached_tets_;  // the cache's, where it held this rest's
   std::unique_ptr<HarmonicMap> f_;
   std::unique_ptr<SkinnedMap> skinned_;  // f for a rigged body

@@ -1,6 +1,7 @@
 #include "posemap/posemap.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -14,11 +15,16 @@ namespace spx {
 namespace detail {
 
 void PoseMapper::read_cached_tets() {
-  if (opt_.tet_cache.empty()) return;
+  if (opt_.cache_dir.empty() || !opt_.tet_file.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(opt_.cache_dir, ec);
+  if (!std::filesystem::is_directory(opt_.cache_dir))
+    fail_write(opt_.cache_dir, "cannot make the cache folder" + (ec ? ": " + ec.message() : std::string()));
   tet_cache_key_ = tets_cache_key(rest_, opt_.tets);
-  cached_tets_ = read_tets_cache(opt_.tet_cache, tet_cache_key_);
-  log_.detail(opt_.tet_cache + (cached_tets_ ? ": the rest's tets from the cache"
-                                             : ": no tets cached for this rest and tet size; meshing, then caching them"));
+  tet_cache_file_ = tets_cache_file(opt_.cache_dir, tet_cache_key_);
+  cached_tets_ = read_tets_cache(tet_cache_file_, tet_cache_key_);
+  log_.detail(tet_cache_file_ + (cached_tets_ ? ": the rest's tets from the cache"
+                                              : ": no tets cached for this rest and tet size; meshing, then caching them"));
 }
 
 void PoseMapper::make_tets() {
@@ -29,7 +35,11 @@ void PoseMapper::make_tets() {
     tets_ = std::move(*cached_tets_);
   } else {
     tets_ = tetrahedralize(rest_, opt_.tets, log_);
-    if (!opt_.tet_cache.empty()) write_tets_cache(opt_.tet_cache, tet_cache_key_, tets_);
+    try {
+      if (!tet_cache_file_.empty()) write_tets_cache(tet_cache_file_, tet_cache_key_, tets_);
+    } catch (const Error& e) {  // the proxy does not need it
+      log_.warn(std::string(e.what()) + ": the tets are not cached");
+    }
   }
   log_.detail(std::to_string(tets_.tets.size()) + " tets, " + std::to_string(tets_.vertices.size()) + " vertices");
 }
@@ -216,7 +226,7 @@ void PoseMapper::summarize(PoseMapSummary& out) const {
   for (const auto& q : queries_) out.walls.emplace_back(q->internal_walls(), q->split_triangles());
   for (const auto& c : rest_centers_) out.centers_outside_tets += f_->locator().locate(c).outside > 0;
   out.tet_file = opt_.tet_file;
-  out.tet_cache = opt_.tet_cache;
+  out.tet_cache = tet_cache_file_;
   out.tets_from_cache = cached_tets_.has_value();
   out.tet_vertices = tets_.vertices.size();
   out.tetrahedra = tets_.tets.size();

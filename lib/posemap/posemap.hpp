@@ -30,9 +30,9 @@ struct PoseMapOptions {
   TetOptions tets;
   double max_radius = 0;    // 0: the spheres file's
   std::string tet_file;     // use this MEDIT tet mesh instead of meshing
-  // The rest's tets kept here between runs (tet_mesh.hpp's cache): read where it holds this rest's
-  // (the same tets, so the same proxy), else meshed and written.
-  std::string tet_cache;
+  // A folder the rest's tets are kept in between runs (tet_mesh.hpp's cache): read where it holds
+  // this rest's (the same tets, so the same proxy), else meshed and written there.
+  std::string cache_dir;
   // The paper's future work: pack the part of each pose's interior the mapped spheres leave
   // uncovered, and map the new centers back to the rest pose through the inverse map.
   bool fill_gaps = false;
@@ -83,7 +83,7 @@ struct GapFilling {
 // radii and error, the joint selection and the gap filling.
 struct PoseMapSummary {
   std::string tet_file;  // the user's tets, or empty: CGAL Mesh_3's
-  std::string tet_cache;  // the tets cache asked for, or empty
+  std::string tet_cache;  // the tets' file in the cache folder asked for, or empty
   bool tets_from_cache = false;  // Mesh_3's tets read from it (else meshed, and written to it)
   size_t tet_vertices = 0, tetrahedra = 0, boundary_faces = 0;
   std::vector<std::string> unmeshed_bodies;

@@ -357,20 +357,22 @@ std::string tets_cache_key(const TriMesh& rest, const TetOptions& options) {
   return key;
 }
 
+std::string tets_cache_file(const std::string& dir, const std::string& key) {
+  return (std::filesystem::path(dir) / ("tets-" + key + ".mesh")).string();
+}
+
 std::optional<TetMesh> read_tets_cache(const std::string& path, const std::string& key) {
-  // Nothing there to lose: no file, or an empty one (a placeholder a script touched).
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec) || std::filesystem::file_size(path, ec) == 0) return std::nullopt;
-  {
-    std::ifstream in(path);
-    std::string first;
-    if (!in || !std::getline(in, first) || first.rfind(std::string("# ") + kCacheTag, 0) != 0)
-      fail_option("tet_cache", path + " is not a tets cache pose-map wrote (its first line is not '# " +
-                                   std::string(kCacheTag) + "...'); it is left as it is: name a new file");
-    if (first != std::string("# ") + kCacheTag + key) return std::nullopt;
-  }
+  std::ifstream in(path);
+  std::string first;
+  if (!in || !std::getline(in, first) || first != std::string("# ") + kCacheTag + key) return std::nullopt;
+  in.close();
   std::vector<std::string> comments;
-  TetMesh m = read_medit(path, &comments);
+  TetMesh m;
+  try {
+    m = read_medit(path, &comments);
+  } catch (const Error&) {
+    return std::nullopt;  // a cache is never a reason to fail
+  }
   for (const std::string& c : comments)
     if (c.rfind(kUnmeshedTag, 0) == 0) m.unmeshed_bodies.push_back(c.substr(std::string(kUnmeshedTag).size()));
   return m;

@@ -38,14 +38,15 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& l
 // are comments).
 TetMesh read_medit_tets(const std::string& path);
 
-// pose-map's tets cache (`--tets-cache`): the rest's tets kept between runs, so that a run with
-// another tolerance or budget on the same rest skips Mesh_3 and maps to the same bytes. A MEDIT
-// file (read_medit_tets reads it, as other tools do), its first line naming the key of what it
-// was meshed from, then the bodies that got no tets (the report names them from the cache too).
-// The key: the rest mesh, the tet options, the project's and CGAL's versions.
+// pose-map's cache (`--cache DIR`): the rest's tets kept between runs, so that a run with another
+// tolerance or budget on the same rest skips Mesh_3 and maps to the same bytes. DIR/tets-KEY.mesh,
+// a MEDIT file (read_medit_tets reads it, as other tools do) whose first line names its key and
+// whose next ones the bodies that got no tets (a run from the cache reports them too). The key:
+// the rest mesh, the tet options, the project's and CGAL's versions.
 std::string tets_cache_key(const TriMesh& rest, const TetOptions& options);
-// The tets cached at `path` for `key`; none when there is no file there (or an empty one) or it
-// holds another key's. A file there that is not a tets cache fails (OptionError "tet_cache"), and is not written over.
+std::string tets_cache_file(const std::string& dir, const std::string& key);
+// The tets cached at `path` for `key`; none where there is no such file, or one that does not
+// read as this key's (cut short, or another's): the tets are then meshed and written again.
 std::optional<TetMesh> read_tets_cache(const std::string& path, const std::string& key);
 // Writes `tets` to `path` for `key`, atomically.
 void write_tets_cache(const std::string& path, const std::string& key, const TetMesh& tets);

@@ -200,13 +200,22 @@ expect 2 "rest.vdb: is an OpenVDB file" "$out/o.json" -- "$bin/pose-map" --rest 
 printf 'MeshVersionFormatted 1\nDimension 3\nVertices\n100000000000\n0 0 0 0\n' >"$out/huge.mesh"
 expect 2 "huge.mesh: section Vertices claims 100000000000 entries" "$out/o.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
   --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/o.json" --tets "$out/huge.mesh"
-# A --tets-cache that names a file that is no cache (the rest mesh, mistyped): refused before any
-# work, the file kept as it was.
+# A --cache folder that cannot be made (a file in the way, the rest mesh mistyped): refused before
+# any work, the file kept as it was.
 cp "$out/in/dent.obj" "$out/dent-copy.obj"
-expect 1 "Error: --tets-cache: .*dent-copy.obj is not a tets cache pose-map wrote.*it is left as it is" "$out/o.json" -- \
+expect 4 "Error: .*dent-copy.obj: cannot make the cache folder" "$out/o.json" -- \
   "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/o.json" \
-  --tets-cache "$out/dent-copy.obj"
-check "--tets-cache wrote over a file that is not a cache" cmp -s "$out/in/dent.obj" "$out/dent-copy.obj"
+  --cache "$out/dent-copy.obj"
+check "--cache wrote over a file" cmp -s "$out/in/dent.obj" "$out/dent-copy.obj"
+# ... but a tets file it cannot write (a folder in its place) is a warning: the proxy does not need it.
+"$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/c.json" \
+  --cache "$out/cache" -q --report "$out/c.report.json"
+tets_file=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['tets']['cache']['file'])" "$out/c.report.json")
+rm -f "$tets_file" && mkdir "$tets_file"
+"$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/c2.json" \
+  --cache "$out/cache" 2>"$out/c2.err"
+check "--cache: a tets file it cannot write failed the run" test -s "$out/c2.json"
+check "--cache: a tets file it cannot write was not warned about" grep -q "warning: .*the tets are not cached" "$out/c2.err"
 # A proxy measured or drawn on another mesh (the barrel moved away), or with a manifest of
 # another pose count: refused, naming the mesh or the manifest, not measured without a word.
 /usr/bin/python3 -c "

@@ -54,18 +54,20 @@ check "--max-spheres 100000: the report says max_spheres decided" \
   --report "$out/t.json"
 check "--tet-size 0.3 did not coarsen the tets" \
   '[ "$(field "$out/t.json" "r[\"tets\"][\"vertices\"]")" -lt "$(field "$out/p.json" "r[\"tets\"][\"vertices\"]")" ]'
-# --tets-cache: written by the first run, read by the next, the same proxy as meshing gives.
+# --cache: the tets written by the first run (the folder made, its report in it), read by the
+# next, the same proxy as meshing gives.
 for run in 1 2; do
   "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/c$run.proxy.json" -q \
-    --tets-cache "$out/rest.tets.mesh" --report "$out/c$run.json"
+    --cache "$out/cache/tools" --report "$out/cache/tools/c$run.json"
 done
-check "--tets-cache: not written, then not read" \
-  '[ "$(field "$out/c1.json" "r[\"tets\"][\"cache\"][\"read\"]")" = False ] &&
-   [ "$(field "$out/c2.json" "r[\"tets\"][\"cache\"][\"read\"]")" = True ] &&
-   head -1 "$out/rest.tets.mesh" | grep -q "^# spx tets cache "'
-check "--tets-cache: a report that does not fit its schema" \
-  '/usr/bin/python3 "$here/validate_json.py" "$here/../../schemas" pose-map-report.schema.json "$out/c1.json" "$out/c2.json" >/dev/null 2>&1'
-check "--tets-cache: the proxy differs from the one meshed afresh" \
+check "--cache: not written, then not read" \
+  '[ "$(field "$out/cache/tools/c1.json" "r[\"tets\"][\"cache\"][\"read\"]")" = False ] &&
+   [ "$(field "$out/cache/tools/c2.json" "r[\"tets\"][\"cache\"][\"read\"]")" = True ] &&
+   head -1 "$(field "$out/cache/tools/c2.json" "r[\"tets\"][\"cache\"][\"file\"]")" | grep -q "^# spx tets cache "'
+check "--cache: a report that does not fit its schema" \
+  '/usr/bin/python3 "$here/validate_json.py" "$here/../../schemas" pose-map-report.schema.json "$out/cache/tools/c1.json" \
+     "$out/cache/tools/c2.json" >/dev/null 2>&1'
+check "--cache: the proxy differs from the one meshed afresh" \
   'cmp -s "$out/p.proxy.json" "$out/c1.proxy.json" && cmp -s "$out/p.proxy.json" "$out/c2.proxy.json"'
 "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/r.proxy.json" --max-radius 0.1 -q
 check "--max-radius 0.1 exceeded" '[ "$(py "
