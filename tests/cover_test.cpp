@@ -13,6 +13,7 @@
 #include "mesh/union_distance.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/split.hpp"
+#include "pack/candidate_cache.hpp"
 #include "pack/cover.hpp"
 #include "pack/median_descent.hpp"
 #include "pack/sample_grid.hpp"
@@ -1388,9 +1389,9 @@ TEST(Candidates, EverySampleIsReachedByItsOwnInscribedCandidate) {
   }
 }
 
-// The barrel sample and its field at `resolution` cells.
-std::pair<TriMesh, SdfResult> barrel_with_field(int resolution) {
-  TriMesh mesh = make_barrel().rest;
+// A sample's rest ("car" or "barrel") and its field at `resolution` cells.
+std::pair<TriMesh, SdfResult> sample_with_field(const std::string& name, int resolution) {
+  TriMesh mesh = make_sample(name).rest;
   SdfOptions o;
   o.resolution = resolution;
   SdfResult sdf = build_sdf(mesh, o);
@@ -1402,7 +1403,7 @@ std::pair<TriMesh, SdfResult> barrel_with_field(int resolution) {
 // halve down to the first at most the least asked; and the balls around it are inscribed and
 // reach it within the distance asked.
 TEST(Candidates, BallsThroughChosenSamplesAndNestedOnes) {
-  const auto [mesh, sdf] = barrel_with_field(24);
+  const auto [mesh, sdf] = sample_with_field("barrel", 24);
   const MeshQuery query(mesh);
   const SurfaceSamples samples = sample_surface(mesh, 300, 1);
   const double start = deepest_radius(sdf.field);
@@ -1494,7 +1495,7 @@ TEST(Candidates, TangentBallIsTheLargestThatFits) {
 // (the report would name a finer resolution); with the tangent candidates the cover meets it,
 // and the max vertex error measured independently is within it, with no sphere past the surface.
 TEST(Candidates, ToleranceFinerThanTheFieldIsMet) {
-  const auto [mesh, sdf] = barrel_with_field(10);
+  const auto [mesh, sdf] = sample_with_field("barrel", 10);
   const MeshQuery query(mesh);
   SpherePackOptions opt;
   opt.tolerance = 0.004 * mesh.diagonal();
@@ -1555,10 +1556,7 @@ TEST(Candidates, FinerFieldOffersFinerCandidates) {
 // kept), at most the budget, every sphere inside at its exact distance, every sample within the
 // delta of the cover kept with it, and some of that cover's spheres an earlier refinement's.
 TEST(Cover, PolishKeepsABetterSetInside) {
-  const TriMesh mesh = make_car().rest;
-  SdfOptions o;
-  o.resolution = 48;
-  const SdfResult sdf = build_sdf(mesh, o);
+  const auto [mesh, sdf] = sample_with_field("car", 48);
   const MeshQuery query(mesh);
   SpherePackOptions opt;
   opt.pack.max_spheres = 10;
@@ -1682,6 +1680,109 @@ TEST(Cover, SpacedBudgetCoverBoundsEveryVertex) {
     EXPECT_TRUE(brute_inside(mesh, s.center));
     EXPECT_LE(s.radius, brute_distance(mesh, s.center) * (1 + 1e-9));
   }
+}
+
+void expect_same_spheres(const CoverSelection& a, const CoverSelection& b, const std::string& what) {
+  ASSERT_EQ(a.spheres.size(), b.spheres.size()) << what;
+  for (size_t s = 0; s < a.spheres.size(); ++s) {
+    EXPECT_EQ(a.spheres[s].center, b.spheres[s].center) << what << ", sphere " << s;
+    EXPECT_EQ(a.spheres[s].radius, b.spheres[s].radius) << what << ", sphere " << s;
+  }
+  EXPECT_EQ(a.cover.chosen, b.cover.chosen) << what;
+}
+
+// sphere-pack --cache: a run at one tolerance keeps the voxel candidates and the samples' balls;
+// runs at another tolerance and at a budget read them and choose the spheres a run without the
+// cache chooses, to the bit. A file cut short is taken as empty and written whole again; another
+// field has a file of its own.
+TEST(Cover, CandidateCacheChoosesAsWithoutIt) {
+  const auto [mesh, sdf] = sample_with_field("car", 48);
+  const MeshQuery query(mesh);
+  const std::string dir = test::temp_dir("candidate-cache") + "/made";  // made by the run
+  SpherePackOptions coarse;
+  coarse.tolerance = 0.05 * mesh.diagonal();
+  coarse.area_samples = 1000;
+  SpherePackOptions fine = coarse;
+  fine.tolerance = 0.02 * mesh.diagonal();
+  SpherePackOptions budget = coarse;
+  budget.tolerance = 0;
+  budget.pack.max_spheres = 10;
+  const auto cached = [&](SpherePackOptions opt) {
+    opt.cache_dir = dir;
+    return select_by_cover(sdf.field, query, opt);
+  };
+  const CoverSelection first = cached(coarse);
+  ASSERT_TRUE(first.cache.has_value());
+  EXPECT_FALSE(first.cache->voxels_read);
+  EXPECT_EQ(first.cache->balls_read, 0u);
+  EXPECT_EQ(first.cache->balls_made, first.samples);
+  EXPECT_FALSE(select_by_cover(sdf.field, query, coarse).cache.has_value());
+  expect_same_spheres(select_by_cover(sdf.field, query, coarse), first, "the first tolerance");
+  const CoverSelection finer = cached(fine);
+  EXPECT_TRUE(finer.cache->voxels_read);
+  EXPECT_EQ(finer.cache->balls_read, finer.samples);
+  EXPECT_EQ(finer.cache->balls_made, 0u);
+  const CoverSelection fine_plain = select_by_cover(sdf.field, query, fine);
+  expect_same_spheres(fine_plain, finer, "another tolerance");
+  expect_same_spheres(select_by_cover(sdf.field, query, budget), cached(budget), "a budget");
+
+  const std::string file = finer.cache->file;
+  const std::string whole = read_file(file);
+  write_file_atomic(file, whole.substr(0, whole.size() / 2));
+  const CoverSelection cut = cached(fine);
+  EXPECT_FALSE(cut.cache->voxels_read);
+  EXPECT_EQ(cut.cache->balls_read, 0u);
+  expect_same_spheres(fine_plain, cut, "a cache cut short");
+  EXPECT_EQ(read_file(file), whole);
+
+  SpherePackOptions elsewhere = coarse;
+  elsewhere.cache_dir = dir;
+  const CoverSelection other_field = select_by_cover(sample_with_field("car", 40).second.field, query, elsewhere);
+  EXPECT_NE(other_field.cache->file, file);
+  EXPECT_FALSE(other_field.cache->voxels_read);
+}
+
+// The cache's balls of any subset of the samples are those tangent_balls makes; it asks only for
+// the samples it lacks (a spaced cover asks some, a later run more), and a cache read back from
+// its file lacks none of them.
+TEST(Candidates, CacheAsksOnlyForTheBallsItLacks) {
+  const auto [mesh, sdf] = sample_with_field("car", 32);
+  const MeshQuery query(mesh);
+  const SurfaceSamples samples = sample_surface(mesh, 200, 1);
+  const CandidateOptions limits;
+  const std::string dir = test::temp_dir("candidate-cache-balls");
+  std::vector<uint32_t> asked;
+  const auto make = [&](const std::vector<uint32_t>& which) {
+    asked = which;
+    return tangent_balls(query, mesh, samples, which, &sdf.field, deepest_radius(sdf.field), limits);
+  };
+  std::vector<uint32_t> even, first_hundred(100), later;
+  std::iota(first_hundred.begin(), first_hundred.end(), 0u);
+  for (uint32_t i = 0; i < 100; i += 2) even.push_back(i);
+  for (uint32_t i = 100; i < 150; ++i) later.push_back(i);
+  const std::vector<SampleBalls> truth = make(first_hundred);
+  {
+    CandidateCache cache(dir, sdf.field, mesh, samples, limits);
+    cache.tangent_balls(even, make);
+    EXPECT_EQ(asked, even);
+    const std::vector<SampleBalls> got = cache.tangent_balls(first_hundred, make);
+    std::vector<uint32_t> odd;
+    for (uint32_t i = 1; i < 100; i += 2) odd.push_back(i);
+    EXPECT_EQ(asked, odd);
+    for (size_t i = 0; i < 100; ++i)
+      for (int k = 0; k < 2; ++k) {
+        EXPECT_EQ(got[i][size_t(k)].center, truth[i][size_t(k)].center) << i;
+        EXPECT_EQ(got[i][size_t(k)].radius, truth[i][size_t(k)].radius) << i;
+      }
+    EXPECT_EQ(cache.save(), "");
+  }
+  CandidateCache back(dir, sdf.field, mesh, samples, limits);
+  asked = {42};
+  back.tangent_balls(first_hundred, make);
+  EXPECT_EQ(asked, std::vector<uint32_t>{42}) << "a sample saved was asked again";
+  EXPECT_EQ(back.balls_read(), 100u);
+  back.tangent_balls(later, make);
+  EXPECT_EQ(asked, later);
 }
 
 }  // namespace

@@ -41,11 +41,15 @@ int main(int argc, char** argv) {
                                   "Cover: solve on every vertex from the start, where a mesh far denser than the "
                                   "delta is otherwise covered on vertices an eighth of it apart, then checked at every "
                                   "vertex (the same promise; slower and larger on dense meshes)");
+  auto* cache = tool.app.add_option("--cache", opt.cache_dir,
+                                    "Cover: keep the candidates no tolerance or budget changes in this folder between "
+                                    "runs: a later run on the same field, mesh and samples reads them (the same spheres)");
+  tool.writes_folder("--cache");
   bool grid_centers = false;
   tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {
     // An option of the other method would be ignored: said, not dropped.
-    for (const CLI::Option* cover_only : {samples, seed, polish, every})
+    for (const CLI::Option* cover_only : {samples, seed, polish, every, cache})
       if (method == "greedy" && cover_only->count() > 0)
         spx::fail_usage(cover_only->get_name(), "is for the cover method (greedy packing takes no surface samples)");
     if (method != "greedy" && grid_centers) spx::fail_usage("--grid-centers", "is for --method greedy");

@@ -215,6 +215,28 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
 TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
                                      const std::vector<uint32_t>& which, const DenseField* field, double start_radius,
                                      const CandidateOptions& opt) {
+  return tangent_candidates_of(tangent_balls(mesh, surface, samples, which, field, start_radius, opt), which, samples,
+                               kTouchSlack * surface.diagonal());
+}
+
+TangentCandidates tangent_candidates_of(const std::vector<SampleBalls>& balls, const std::vector<uint32_t>& which,
+                                        const SurfaceSamples& samples, double slack) {
+  auto reaches = [&](const Sphere& s, const Eigen::Vector3d& p) {
+    return s.radius > 0 && (p - s.center).norm() - s.radius <= slack;
+  };
+  TangentCandidates out;
+  for (size_t n = 0; n < balls.size(); ++n) {
+    for (const Sphere& s : balls[n])
+      if (s.radius > 0) out.spheres.push_back(s), out.touches.push_back(which[n]);
+    out.touching += balls[n][1].radius > 0;
+    out.unreached += !(balls[n][1].radius > 0) && !reaches(balls[n][0], samples.points[which[n]]);
+  }
+  return out;
+}
+
+std::vector<SampleBalls> tangent_balls(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
+                                       const std::vector<uint32_t>& which, const DenseField* field, double start_radius,
+                                       const CandidateOptions& opt) {
   const std::vector<Eigen::Vector3d> faces = face_normals(surface), normals = angle_weighted_normals(surface, faces);
   const size_t vertices = surface.vertices.size();
   const double diag = surface.diagonal();
@@ -222,7 +244,7 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
   start_radius = std::min(start_radius, opt.max_radius);
   // Per sample: the tangent ball, and where it misses the sample by more than the slack (a
   // corner of its own faces) also the ball that touches it.
-  std::vector<std::array<Sphere, 2>> balls(which.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}});
+  std::vector<SampleBalls> balls(which.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}});
   auto bounded = [&](Sphere s) {
     if (opt.field_bounds_radius && s.radius > 0)
       s.radius = std::max(0.0, std::min(s.radius, depth_bound(*field, s.center) - kFieldMargin * field->shape.voxel_size));
@@ -257,14 +279,7 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
                                             1e-3 * slack));
     }
   });
-  TangentCandidates out;
-  for (size_t n = 0; n < balls.size(); ++n) {
-    for (const Sphere& s : balls[n])
-      if (s.radius > 0) out.spheres.push_back(s), out.touches.push_back(which[n]);
-    out.touching += balls[n][1].radius > 0;
-    out.unreached += !(balls[n][1].radius > 0) && !reaches(balls[n][0], samples.points[which[n]]);
-  }
-  return out;
+  return balls;
 }
 
 namespace {

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "mesh/union_distance.hpp"
+#include "pack/candidate_cache.hpp"
 #include "pack/median_descent.hpp"
 
 namespace spx {
@@ -175,14 +176,13 @@ void join_bare_vertices_once(const SurfaceSamples& samples, size_t vertices,
 // Budget mode on a mesh of many more vertices than area samples: the delta the budget reaches
 // over the area samples alone, each with its own candidate besides the field's. It stands for
 // the budget's delta over every sample, which sets how far apart the vertices can be spaced.
-double area_samples_delta(const DenseField& field, const MeshQuery& mesh, const SurfaceSamples& samples,
-                          size_t vertices, const SphereSet& voxel_candidates, const CandidateOptions& limits,
-                          size_t budget) {
+double area_samples_delta(const SurfaceSamples& samples, size_t vertices, const SphereSet& voxel_candidates,
+                          const std::function<TangentCandidates(const std::vector<uint32_t>&)>& tangent, size_t budget) {
   std::vector<uint32_t> area(samples.points.size() - vertices);
   std::iota(area.begin(), area.end(), uint32_t(vertices));
   CoverProblem p;
   p.spheres = {voxel_candidates};
-  const TangentCandidates t = tangent_candidates(mesh, mesh.surface(), samples, area, &field, deepest_radius(field), limits);
+  const TangentCandidates t = tangent(area);
   p.spheres[0].insert(p.spheres[0].end(), t.spheres.begin(), t.spheres.end());
   p.merge = kCandidateMerge;
   set_working_samples(samples, vertices, area, p);
@@ -193,13 +193,14 @@ double area_samples_delta(const DenseField& field, const MeshQuery& mesh, const 
 // How far apart the vertices a cover is first solved on may lie (0: every vertex): an eighth of
 // the tolerance, or in budget mode of the area samples' delta where the vertices outnumber them
 // kVerticesPerAreaSample times. (With both a tolerance and a budget, every vertex.)
-double vertex_spacing(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt,
-                      const SurfaceSamples& samples, const SphereSet& voxel_candidates, const CandidateOptions& limits) {
+double vertex_spacing(const MeshQuery& mesh, const SpherePackOptions& opt, const SurfaceSamples& samples,
+                      const SphereSet& voxel_candidates,
+                      const std::function<TangentCandidates(const std::vector<uint32_t>&)>& tangent) {
   const size_t vertices = mesh.surface().vertices.size(), budget = opt.pack.max_spheres;
   if (!opt.spaced_vertices || !opt.tangent_candidates) return 0;
   if (budget == 0) return kCoverSpacing * opt.tolerance;
   if (opt.tolerance > 0 || opt.area_samples == 0 || vertices <= kVerticesPerAreaSample * opt.area_samples) return 0;
-  return kCoverSpacing * area_samples_delta(field, mesh, samples, vertices, voxel_candidates, limits, budget);
+  return kCoverSpacing * area_samples_delta(samples, vertices, voxel_candidates, tangent, budget);
 }
 
 // No candidate at all, said as greedy packing says it: the deepest voxel against the least radius.
@@ -209,6 +210,36 @@ double vertex_spacing(const DenseField& field, const MeshQuery& mesh, const Sphe
   if (!(deepest > 0)) fail_input("", "no inscribed sphere fits: the field holds no interior voxel");
   fail_input("", "no inscribed sphere fits: the largest interior distance, " + num(deepest) + ", is " +
                      (deepest < min_radius ? "below" : "near") + " the min radius " + num(min_radius));
+}
+// The samples `which`'s own candidates (tangent_candidates), their balls kept in `cache`.
+TangentCandidates cached_tangent_candidates(CandidateCache& cache, const DenseField& field, const MeshQuery& mesh,
+                                            const SurfaceSamples& samples, const CandidateOptions& limits,
+                                            const std::vector<uint32_t>& which) {
+  const std::vector<SampleBalls> balls = cache.tangent_balls(which, [&](const std::vector<uint32_t>& missing) {
+    return tangent_balls(mesh, mesh.surface(), samples, missing, &field, deepest_radius(field), limits);
+  });
+  return tangent_candidates_of(balls, which, samples, kTouchSlack * mesh.surface().diagonal());
+}
+
+// What the kept cover chose from (the field's voxels, the samples' tangent balls, or, polished,
+// an earlier refinement's spheres), and its spheres largest first (what a host culls by), ties
+// in candidate order.
+void order_chosen(CoverSelection& out) {
+  for (int c : out.cover.chosen) {
+    out.chosen_tangent += size_t(c) >= out.voxel_candidates && size_t(c) < out.offered.size();
+    out.chosen_refined += size_t(c) >= out.offered.size();
+  }
+  std::stable_sort(out.spheres.begin(), out.spheres.end(),
+                   [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+}
+
+// The cache's file written where this run added to it (a file that cannot be written is a
+// warning: the spheres do not need it), and what it gave in the report.
+void save_cache(const CandidateCache& cache, CoverSelection& out, Log& log) {
+  if (!cache.active()) return;
+  out.cache = {cache.file(), cache.voxels_read(), cache.balls_read(), cache.balls_made()};
+  const std::string failed = cache.save();
+  if (!failed.empty()) log.warn(failed + ": the candidates are not cached");
 }
 }  // namespace
 
@@ -226,19 +257,24 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   std::vector<uint32_t> working;
   const size_t budget = opt.pack.max_spheres;
   const CandidateOptions limits = candidate_options(opt.pack);
+  samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
+  CandidateCache cache;
+  if (!opt.cache_dir.empty()) cache = CandidateCache(opt.cache_dir, field, mesh.surface(), samples, limits);
+  // The samples' own candidates (tangent_candidates), their balls kept in the cache.
+  const auto tangent = [&](const std::vector<uint32_t>& which) {
+    return cached_tangent_candidates(cache, field, mesh, samples, limits, which);
+  };
   const auto add_tangent_candidates = [&](const std::vector<uint32_t>& which) {
-    const TangentCandidates tangent =
-        tangent_candidates(mesh, mesh.surface(), samples, which, &field, deepest_radius(field), limits);
-    problem.spheres[0].insert(problem.spheres[0].end(), tangent.spheres.begin(), tangent.spheres.end());
-    out.touching_samples += tangent.touching;
-    out.unreached_samples += tangent.unreached;
+    const TangentCandidates t = tangent(which);
+    problem.spheres[0].insert(problem.spheres[0].end(), t.spheres.begin(), t.spheres.end());
+    out.touching_samples += t.touching;
+    out.unreached_samples += t.unreached;
   };
   {
     StageTimer t(log, "candidates");
-    problem.spheres.push_back(inscribed_candidates(field, mesh, limits));
+    problem.spheres.push_back(cache.voxel_candidates([&] { return inscribed_candidates(field, mesh, limits); }));
     out.voxel_candidates = problem.spheres[0].size();
-    samples = sample_surface(mesh.surface(), opt.area_samples, opt.seed);
-    working = samples_to_cover(samples.points, vertices, vertex_spacing(field, mesh, opt, samples, problem.spheres[0], limits),
+    working = samples_to_cover(samples.points, vertices, vertex_spacing(mesh, opt, samples, problem.spheres[0], tangent),
                                out.vertex_spacing);
     if (opt.tangent_candidates) {
       add_tangent_candidates(working);
@@ -282,16 +318,9 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   }
   out.offered = std::move(problem.spheres[0]);  // the cover is done with them
   if (refined) refine_selected(field, mesh, opt, problem, spaced ? every : problem, out, log);
-  // What the kept cover chose from: the field's voxels, the samples' tangent balls, or (polished)
-  // an earlier refinement's spheres.
-  for (int c : out.cover.chosen) {
-    out.chosen_tangent += size_t(c) >= out.voxel_candidates && size_t(c) < out.offered.size();
-    out.chosen_refined += size_t(c) >= out.offered.size();
-  }
-  // Largest first (what a host culls by), ties in candidate order.
-  std::stable_sort(out.spheres.begin(), out.spheres.end(),
-                   [](const Sphere& a, const Sphere& b) { return a.radius > b.radius; });
+  order_chosen(out);
   note_unused_budget(out.limited_by, out.spheres.size(), opt.pack.max_spheres, log);
+  save_cache(cache, out, log);
   return out;
 }
 

@@ -3,6 +3,7 @@
 // inscribed candidates, surface samples, the set cover for a tolerance or a budget, then the
 // centres refined off the grid; and the options sphere-pack's two methods take.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct SpherePackOptions {
   // refined again this many times; a set with no higher max vertex error and a lower product of
   // max and median is kept (select.cpp).
   int polish_rounds = 2;
+  // Cover: a folder the candidates no tolerance or budget changes are kept in between runs
+  // (pack/candidate_cache.hpp); empty: none.
+  std::string cache_dir;
 };
 
 // The cover method on a field and its mesh: the spheres, and how the cover went.
@@ -55,6 +59,14 @@ struct CoverSelection {
   size_t out_of_reach_added = 0;  // spheres that bring the samples out of reach as near as any candidate comes
   SphereSet offered;           // every candidate
   SphereSet pool;              // the voxels' candidates and the chosen tangent ones (pose-map selects from them over every pose)
+  // SpherePackOptions::cache_dir: its file, whether the voxel candidates came from it, and how
+  // many samples' balls it gave and how many were made (then kept in it).
+  struct Cache {
+    std::string file;
+    bool voxels_read = false;
+    size_t balls_read = 0, balls_made = 0;
+  };
+  std::optional<Cache> cache;
 };
 // The samples' gaps to the union of `spheres`: the median and max of the first `weighted` (the
 // vertices, where the error is measured) and the largest of all (what a cover's delta must reach).

@@ -343,7 +343,12 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
                      {"covers_solved", cover.evaluations},
                      {"max_error", error.max},
                      {"median_error", error.median},
-                     {"limited_by", limit}};
+                     {"limited_by", limit},
+                     {"cache", sel.cache ? json{{"file", sel.cache->file},
+                                                {"voxel_candidates_read", sel.cache->voxels_read},
+                                                {"sample_balls_read", sel.cache->balls_read},
+                                                {"sample_balls_made", sel.cache->balls_made}}
+                                         : json(nullptr)}};
   if (target > 0)
     report["tolerance"] = tolerance_report(in_force, target, is_default, met, error.max, spheres.size(), limit);
   return spheres;

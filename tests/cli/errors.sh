@@ -143,6 +143,11 @@ expect 1 "seed: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$o
   --method greedy --seed 3
 expect 1 "every-vertex: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
   --method greedy --every-vertex
+expect 1 "cache: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
+  --method greedy --cache "$out/cache"
+printf 'a file\n' >"$out/a-file"
+expect 4 "a-file: cannot make the cache folder" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
+  --mesh "$out/in/rest.obj" -o "$out/n.json" --cache "$out/a-file"
 expect 1 "polish requires --max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --polish 2
 expect 1 "grid-centers: is for --method greedy" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
   --grid-centers

@@ -39,6 +39,20 @@ check "--grid-centers centers are not on voxel centers" '[ "$(py "
 import json,sys
 f=json.load(open(sys.argv[1])); h=f[\"voxel_size\"]
 print(all(abs(c/h-round(c/h))<1e-6 for s in f[\"spheres\"] for c in s[:3]))" "$out/g.json")" = True ]'
+# --cache: the candidates written by a run at one tolerance, read by a run at another (the same
+# folder pose-map keeps its tets in), which writes the spheres a run without it writes.
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/k1.json" -q --tolerance 5% --cache "$out/cache/tools" \
+  --report "$out/k1.report.json"
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/k2.json" -q --cache "$out/cache/tools" --report "$out/k2.report.json"
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/k0.json" -q
+check "sphere-pack --cache: not written, then not read" \
+  '[ "$(field "$out/k1.report.json" "r[\"cover\"][\"cache\"][\"voxel_candidates_read\"]")" = False ] &&
+   [ "$(field "$out/k2.report.json" "r[\"cover\"][\"cache\"][\"voxel_candidates_read\"]")" = True ] &&
+   [ "$(field "$out/k2.report.json" "r[\"cover\"][\"cache\"][\"sample_balls_made\"]")" = 0 ]'
+check "sphere-pack --cache: a report that does not fit its schema" \
+  '/usr/bin/python3 "$here/validate_json.py" "$here/../../schemas" sphere-pack-report.schema.json "$out/k1.report.json" \
+     "$out/k2.report.json" >/dev/null 2>&1'
+check "sphere-pack --cache: the spheres differ from a run without it" 'cmp -s "$out/k0.json" "$out/k2.json"'
 # --max-spheres past what any error needs: the spheres used are said, fewer than asked.
 said=$("$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/many.json" --max-spheres 100000 --polish 0 \
   --report "$out/many.report.json" 2>&1)

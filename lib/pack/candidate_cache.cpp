@@ -1,0 +1,159 @@
+#include "pack/candidate_cache.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/hash.hpp"
+#include "core/version.hpp"
+
+namespace spx {
+namespace {
+
+constexpr const char* kTag = "spx candidates 1 ";
+constexpr uint64_t kNoVoxels = std::numeric_limits<uint64_t>::max();
+
+template <class T>
+void hash_values(uint64_t& h, const std::vector<T>& v) {
+  h = fnv1a(h, v.data(), v.size() * sizeof(T));
+}
+
+std::string key_of(const DenseField& field, const TriMesh& mesh, const SurfaceSamples& samples,
+                   const CandidateOptions& limits) {
+  uint64_t h = kFnvOffset;
+  const std::string version = version_string();
+  h = fnv1a(h, version.data(), version.size());
+  const GridShape& g = field.shape;
+  const int grid[6] = {g.origin.x(), g.origin.y(), g.origin.z(), g.dims.x(), g.dims.y(), g.dims.z()};
+  h = fnv1a(h, grid, sizeof grid);
+  const double numbers[6] = {g.voxel_size, double(field.background), limits.min_radius, limits.max_radius,
+                             limits.growth, limits.field_bounds_radius ? 1.0 : 0.0};
+  h = fnv1a(h, numbers, sizeof numbers);
+  h = fnv1a(h, field.values.data(), field.values.size() * sizeof(float));
+  hash_values(h, mesh.vertices);
+  hash_values(h, mesh.triangles);
+  hash_values(h, samples.points);
+  hash_values(h, samples.triangle);
+  char key[17];
+  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(h));
+  return key;
+}
+
+// Reads plain values off `bytes` at `at`, false past its end; a sphere as its four doubles.
+struct Reader {
+  const std::string& bytes;
+  size_t at = 0;
+  template <class T>
+  bool get(T* out) {
+    if (bytes.size() - at < sizeof(T)) return false;
+    std::memcpy(out, bytes.data() + at, sizeof(T));
+    at += sizeof(T);
+    return true;
+  }
+  bool get(Sphere* s) { return get(&s->center.x()) && get(&s->center.y()) && get(&s->center.z()) && get(&s->radius); }
+};
+
+template <class T>
+void put(std::string& bytes, const T& value) {
+  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+void put(std::string& bytes, const Sphere& s) {
+  for (double v : {s.center.x(), s.center.y(), s.center.z(), s.radius}) put(bytes, v);
+}
+
+}  // namespace
+
+CandidateCache::CandidateCache(const std::string& dir, const DenseField& field, const TriMesh& mesh,
+                               const SurfaceSamples& samples, const CandidateOptions& limits)
+    : key_(key_of(field, mesh, samples, limits)),
+      known_(samples.points.size(), 0),
+      balls_(samples.points.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}}) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir))
+    fail_write(dir, "cannot make the cache folder" + (ec ? ": " + ec.message() : std::string()));
+  path_ = (std::filesystem::path(dir) / ("candidates-" + key_ + ".bin")).string();
+  if (!std::filesystem::exists(path_, ec)) return;
+  std::string bytes;
+  try {
+    bytes = read_file(path_);
+  } catch (const Error&) {
+    return;  // a cache is never a reason to fail
+  }
+  const std::string head = std::string(kTag) + key_ + "\n";
+  if (bytes.compare(0, head.size(), head) != 0) return;
+  Reader in{bytes, head.size()};
+  uint64_t voxels = 0, count = 0, known = 0;
+  if (!in.get(&voxels)) return;
+  SphereSet read_voxels;
+  if (voxels != kNoVoxels) {
+    if (voxels > bytes.size() / (4 * sizeof(double))) return;  // more than the file holds
+    read_voxels.resize(voxels);
+    for (Sphere& s : read_voxels)
+      if (!in.get(&s)) return;
+  }
+  if (!in.get(&count) || count != samples.points.size() || !in.get(&known) || known > count) return;
+  std::vector<char> read_known(count, 0);
+  std::vector<SampleBalls> read_balls(count, {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}});
+  for (uint64_t k = 0; k < known; ++k) {
+    uint32_t i = 0;
+    if (!in.get(&i) || i >= count || read_known[i] || !in.get(&read_balls[i][0]) || !in.get(&read_balls[i][1])) return;
+    read_known[i] = 1;
+  }
+  if (in.at != bytes.size()) return;
+  if (voxels != kNoVoxels) voxels_ = std::move(read_voxels);
+  known_ = std::move(read_known);
+  balls_ = std::move(read_balls);
+}
+
+SphereSet CandidateCache::voxel_candidates(const std::function<SphereSet()>& make) {
+  if (!active()) return make();
+  voxels_read_ = voxels_.has_value();
+  if (!voxels_) voxels_ = make(), changed_ = true;
+  return *voxels_;
+}
+
+std::vector<SampleBalls> CandidateCache::tangent_balls(
+    const std::vector<uint32_t>& which, const std::function<std::vector<SampleBalls>(const std::vector<uint32_t>&)>& make) {
+  if (!active()) return make(which);
+  std::vector<uint32_t> missing;
+  for (uint32_t i : which)
+    if (!known_[i]) missing.push_back(i);
+  balls_read_ += which.size() - missing.size();
+  if (!missing.empty()) {
+    const std::vector<SampleBalls> made = make(missing);
+    for (size_t n = 0; n < missing.size(); ++n) balls_[missing[n]] = made[n], known_[missing[n]] = 1;
+    balls_made_ += missing.size();
+    changed_ = true;
+  }
+  std::vector<SampleBalls> out;
+  out.reserve(which.size());
+  for (uint32_t i : which) out.push_back(balls_[i]);
+  return out;
+}
+
+std::string CandidateCache::save() const {
+  if (!active() || !changed_) return {};
+  std::string bytes = std::string(kTag) + key_ + "\n";
+  const uint64_t voxels = voxels_ ? voxels_->size() : kNoVoxels, count = known_.size();
+  put(bytes, voxels);
+  if (voxels_)
+    for (const Sphere& s : *voxels_) put(bytes, s);
+  uint64_t known = 0;
+  for (char k : known_) known += k != 0;
+  put(bytes, count);
+  put(bytes, known);
+  for (uint32_t i = 0; i < known_.size(); ++i)
+    if (known_[i]) put(bytes, i), put(bytes, balls_[i][0]), put(bytes, balls_[i][1]);
+  try {
+    write_file_atomic(path_, bytes);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return {};
+}
+
+}  // namespace spx
