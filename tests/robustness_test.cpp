@@ -1,12 +1,16 @@
 // Bad and broken input: each case ends in its documented outcome (README "Robustness" table).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <filesystem>
+
 #include <openvdb/openvdb.h>
 
 #include "core/base64.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "core/version.hpp"
 #include "tool/tool.hpp"
 #include "io/spx_writer.hpp"
 #include "mesh/defects.hpp"
@@ -336,6 +340,24 @@ TEST(Tool, UnexpectedExceptionsAreInternalErrors) {
   EXPECT_EQ(bug.run(1, argv, [] { throw std::logic_error("boom"); }), int(ExitCode::internal));
   Tool bad("tool", "test");
   EXPECT_EQ(bad.run(1, argv, [] { fail_input("in.obj", "bad"); }), int(ExitCode::bad_input));
+}
+
+// The caches between runs are keyed on the program's build: build_identity must be the build ID
+// the linker wrote, as binutils reads it off the program's file.
+TEST(Tool, BuildIdentityIsTheProgramsBuildId) {
+  // readelf on this program's file (its own /proc/self would be the shell's).
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  FILE* pipe = popen(("readelf -n '" + self + "' 2>/dev/null").c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string text;
+  char buffer[512];
+  while (fgets(buffer, sizeof buffer, pipe)) text += buffer;
+  pclose(pipe);
+  const size_t at = text.find("Build ID: ");
+  if (at == std::string::npos) GTEST_SKIP() << "readelf found no build ID in " << self;
+  const std::string id = text.substr(at + 10, text.find('\n', at) - at - 10);
+  EXPECT_EQ(build_identity(), id);
+  EXPECT_GE(build_identity().size(), 16u);
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ void hash_values(uint64_t& h, const std::vector<T>& v) {
 std::string key_of(const DenseField& field, const TriMesh& mesh, const SurfaceSamples& samples,
                    const CandidateOptions& limits) {
   uint64_t h = kFnvOffset;
-  const std::string version = version_string();
+  const std::string version = std::string(version_string()) + " " + build_identity();
   h = fnv1a(h, version.data(), version.size());
   const GridShape& g = field.shape;
   const int grid[6] = {g.origin.x(), g.origin.y(), g.origin.z(), g.dims.x(), g.dims.y(), g.dims.z()};

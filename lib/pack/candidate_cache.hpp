@@ -3,8 +3,8 @@
 // runs, so that a run with another tolerance or budget on the same field skips them and writes the
 // same spheres to the byte. DIR/candidates-KEY.bin holds the field's voxel candidates and the
 // tangent balls of the samples asked so far (a spaced cover asks some of them, a later run more).
-// KEY hashes what they are made of: the field, the mesh, the samples, the radius limits and the
-// project's version.
+// KEY hashes what they are made of: the field, the mesh, the samples, the radius limits, the
+// project's version and the program's build (a tool rebuilt from other code makes them afresh).
 #include <cstdint>
 #include <functional>
 #include <optional>

@@ -345,7 +345,7 @@ TetMesh read_medit_tets(const std::string& path) { return read_medit(path, nullp
 std::string tets_cache_key(const TriMesh& rest, const TetOptions& options) {
   uint64_t h = kFnvOffset;
   auto add = [&](const void* data, size_t size) { h = fnv1a(h, data, size); };
-  const std::string versions = std::string(version_string()) + " CGAL " + CGAL_VERSION_STR;
+  const std::string versions = std::string(version_string()) + " " + build_identity() + " CGAL " + CGAL_VERSION_STR;
   add(versions.data(), versions.size());
   add(rest.vertices.data(), rest.vertices.size() * sizeof(rest.vertices[0]));
   add(rest.triangles.data(), rest.triangles.size() * sizeof(rest.triangles[0]));

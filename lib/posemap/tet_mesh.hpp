@@ -42,7 +42,8 @@ TetMesh read_medit_tets(const std::string& path);
 // tolerance or budget on the same rest skips Mesh_3 and maps to the same bytes. DIR/tets-KEY.mesh,
 // a MEDIT file (read_medit_tets reads it, as other tools do) whose first line names its key and
 // whose next ones the bodies that got no tets (a run from the cache reports them too). The key:
-// the rest mesh, the tet options, the project's and CGAL's versions.
+// the rest mesh, the tet options, the project's and CGAL's versions and the program's build
+// (core/version.hpp: a tool rebuilt from other code meshes afresh).
 std::string tets_cache_key(const TriMesh& rest, const TetOptions& options);
 std::string tets_cache_file(const std::string& dir, const std::string& key);
 // The tets cached at `path` for `key`; none where there is no such file, or one that does not
