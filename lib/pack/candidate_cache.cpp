@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/atomic_file.hpp"
+#include "core/cache_folder.hpp"
 #include "core/error.hpp"
 #include "core/hash.hpp"
 #include "core/version.hpp"
@@ -37,9 +38,7 @@ std::string key_of(const DenseField& field, const TriMesh& mesh, const SurfaceSa
   hash_values(h, mesh.triangles);
   hash_values(h, samples.points);
   hash_values(h, samples.triangle);
-  char key[17];
-  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(h));
-  return key;
+  return cache_key_text(h);
 }
 
 // Reads plain values off `bytes` at `at`, false past its end; a sphere as its four doubles.
@@ -71,11 +70,9 @@ CandidateCache::CandidateCache(const std::string& dir, const DenseField& field, 
     : key_(key_of(field, mesh, samples, limits)),
       known_(samples.points.size(), 0),
       balls_(samples.points.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}}) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (!std::filesystem::is_directory(dir))
-    fail_write(dir, "cannot make the cache folder" + (ec ? ": " + ec.message() : std::string()));
+  make_cache_folder(dir);
   path_ = (std::filesystem::path(dir) / ("candidates-" + key_ + ".bin")).string();
+  std::error_code ec;
   if (!std::filesystem::exists(path_, ec)) return;
   std::string bytes;
   try {

@@ -1,11 +1,11 @@
 #include "posemap/posemap.hpp"
 
 #include <cmath>
-#include <filesystem>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include "core/cache_folder.hpp"
 #include "core/error.hpp"
 #include "posemap/gap_filling.hpp"
 #include "posemap/pose_mapper.hpp"
@@ -16,10 +16,7 @@ namespace detail {
 
 void PoseMapper::read_cached_tets() {
   if (opt_.cache_dir.empty() || !opt_.tet_file.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(opt_.cache_dir, ec);
-  if (!std::filesystem::is_directory(opt_.cache_dir))
-    fail_write(opt_.cache_dir, "cannot make the cache folder" + (ec ? ": " + ec.message() : std::string()));
+  make_cache_folder(opt_.cache_dir);
   tet_cache_key_ = tets_cache_key(rest_, opt_.tets);
   tet_cache_file_ = tets_cache_file(opt_.cache_dir, tet_cache_key_);
   cached_tets_ = read_tets_cache(tet_cache_file_, tet_cache_key_);

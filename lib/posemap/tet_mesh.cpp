@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "core/atomic_file.hpp"
+#include "core/cache_folder.hpp"
 #include "core/error.hpp"
 #include "core/hash.hpp"
 #include "core/version.hpp"
@@ -352,9 +353,7 @@ std::string tets_cache_key(const TriMesh& rest, const TetOptions& options) {
   add(&options.size, sizeof options.size);
   const char expansions = options.winding_expansions;
   add(&expansions, 1);
-  char key[17];
-  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(h));
-  return key;
+  return cache_key_text(h);
 }
 
 std::string tets_cache_file(const std::string& dir, const std::string& key) {
