@@ -216,20 +216,25 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
                                      const std::vector<uint32_t>& which, const DenseField* field, double start_radius,
                                      const CandidateOptions& opt) {
   return tangent_candidates_of(tangent_balls(mesh, surface, samples, which, field, start_radius, opt), which, samples,
-                               kTouchSlack * surface.diagonal());
+                               surface);
 }
 
+namespace {
+// Whether ball s reaches point p within the slack.
+bool reaches(const Sphere& s, const Eigen::Vector3d& p, double slack) {
+  return s.radius > 0 && (p - s.center).norm() - s.radius <= slack;
+}
+}  // namespace
+
 TangentCandidates tangent_candidates_of(const std::vector<SampleBalls>& balls, const std::vector<uint32_t>& which,
-                                        const SurfaceSamples& samples, double slack) {
-  auto reaches = [&](const Sphere& s, const Eigen::Vector3d& p) {
-    return s.radius > 0 && (p - s.center).norm() - s.radius <= slack;
-  };
+                                        const SurfaceSamples& samples, const TriMesh& surface) {
+  const double slack = kTouchSlack * surface.diagonal();
   TangentCandidates out;
   for (size_t n = 0; n < balls.size(); ++n) {
     for (const Sphere& s : balls[n])
       if (s.radius > 0) out.spheres.push_back(s), out.touches.push_back(which[n]);
     out.touching += balls[n][1].radius > 0;
-    out.unreached += !(balls[n][1].radius > 0) && !reaches(balls[n][0], samples.points[which[n]]);
+    out.unreached += !(balls[n][1].radius > 0) && !reaches(balls[n][0], samples.points[which[n]], slack);
   }
   return out;
 }
@@ -252,9 +257,6 @@ std::vector<SampleBalls> tangent_balls(const MeshQuery& mesh, const TriMesh& sur
     if (s.radius < opt.min_radius) s.radius = 0;
     return s;
   };
-  auto reaches = [&](const Sphere& s, const Eigen::Vector3d& p) {
-    return s.radius > 0 && (p - s.center).norm() - s.radius <= slack;
-  };
   tbb::parallel_for(tbb::blocked_range<size_t>(0, balls.size(), 32), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t n = r.begin(); n != r.end(); ++n) {
       const size_t i = which[n];
@@ -274,7 +276,7 @@ std::vector<SampleBalls> tangent_balls(const MeshQuery& mesh, const TriMesh& sur
       const Sphere tangent = tangent_ball(mesh, p, inward, own, start_radius, least);
       balls[n][0] = bounded(tangent);
       // A sharp corner's ball is small: within the slack of the corner it can be no larger.
-      if (!reaches(tangent, p))
+      if (!reaches(tangent, p, slack))
         balls[n][1] = bounded(touching_ball(mesh, p, inward, slack, tangent.radius > 0 ? (tangent.center - p).norm() : start_radius,
                                             1e-3 * slack));
     }

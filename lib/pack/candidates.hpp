@@ -135,14 +135,14 @@ TangentCandidates tangent_candidates(const MeshQuery& mesh, const TriMesh& surfa
 
 // tangent_candidates in two steps (so that sphere-pack's cache can keep the first): each sample's
 // of `which` its tangent ball and, where that misses it by more than the slack, the ball that
-// touches it (radius 0: none); then the candidates of those balls, `slack` kTouchSlack of the
-// surface's diagonal.
+// touches it (radius 0: none); then the candidates of those balls (`surface`: the samples' mesh,
+// whose diagonal sets the slack).
 using SampleBalls = std::array<Sphere, 2>;
 std::vector<SampleBalls> tangent_balls(const MeshQuery& mesh, const TriMesh& surface, const SurfaceSamples& samples,
                                        const std::vector<uint32_t>& which, const DenseField* field, double start_radius,
                                        const CandidateOptions& options);
 TangentCandidates tangent_candidates_of(const std::vector<SampleBalls>& balls, const std::vector<uint32_t>& which,
-                                        const SurfaceSamples& samples, double slack);
+                                        const SurfaceSamples& samples, const TriMesh& surface);
 
 // Balls through the samples `which` of `samples` (drawn on mesh.surface()): tangent_candidates'
 // of each, then, where `nested_down_to` > 0, those nested in each (nested_balls) down to that

@@ -218,7 +218,7 @@ TangentCandidates cached_tangent_candidates(CandidateCache& cache, const DenseFi
   const std::vector<SampleBalls> balls = cache.tangent_balls(which, [&](const std::vector<uint32_t>& missing) {
     return tangent_balls(mesh, mesh.surface(), samples, missing, &field, deepest_radius(field), limits);
   });
-  return tangent_candidates_of(balls, which, samples, kTouchSlack * mesh.surface().diagonal());
+  return tangent_candidates_of(balls, which, samples, mesh.surface());
 }
 
 // What the kept cover chose from (the field's voxels, the samples' tangent balls, or, polished,
