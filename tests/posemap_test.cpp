@@ -34,6 +34,7 @@
 #include "pack/coverage.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/pose_map_tool.hpp"
+#include "posemap/pose_cache.hpp"
 #include "posemap/posemap.hpp"
 #include "posemap/pose_solid.hpp"
 #include "posemap/skinned_map.hpp"
@@ -831,6 +832,13 @@ ExtractedClip extract_clip(const std::string& asset, const std::string& dir, int
   return clip;
 }
 
+// RiggedSimple's bend at `frames` times evenly over its 2 seconds (the shared data's).
+ExtractedClip rigged_simple_frames(const std::string& name, int frames) {
+  std::vector<double> times;
+  for (int k = 1; k <= frames; ++k) times.push_back(2.0 * k / frames);
+  return extract_clip(test::shared_data() + "/rigged-simple/RiggedSimple.glb", test::temp_dir(name), 1, times);
+}
+
 // The robot sample's walk.
 ExtractedClip robot_clip(int every) {
   const std::string dir = test::temp_dir("robot-clip-" + std::to_string(every));
@@ -1013,6 +1021,137 @@ TEST(PoseMap, SkinnedClipIsTheSameOnOneThread) {
   ASSERT_GT(both.proxy.sphere_count(), 0u);
   expect_same_proxy(both.proxy, one.proxy);
   EXPECT_EQ(both.proxy.skin.spheres.size(), one.proxy.skin.spheres.size());
+}
+
+// A pool made again from another's voxels and the candidates it grew (what pose-map's cache
+// keeps, through its file) offers what the first would, ask for ask, though it grows only those
+// the first had not: grown ones given back are offered exactly when a grown one would be.
+TEST(PoseMap, PoseCacheFileOffersAsTheField) {
+  const TriMesh mesh = make_barrel().rest;
+  SdfOptions o;
+  o.resolution = 48;
+  const DenseField field = build_sdf(mesh, o).field;
+  const MeshQuery query(mesh);
+  const CandidateOptions options;
+  const std::vector<Eigen::Vector3d> samples = surface_samples(mesh, 300, 7);
+  const double reach = 0.01 * mesh.diagonal();
+  auto points = [&](size_t from) {
+    return std::vector<Eigen::Vector3d>(samples.begin() + long(from), samples.begin() + long(from + 40));
+  };
+  CandidatesOnDemand first(field, options);
+  first.offer_near(points(0), reach, query);
+  ASSERT_GT(first.grown().size(), 0u);
+
+  const std::string path = test::temp_dir("pose-cache-unit") + "/pose.bin";
+  CachedPoseField kept;
+  kept.voxels = first.voxels();
+  kept.voxel_size = first.voxel_size();
+  kept.grown = first.grown();
+  kept.depths = depth_field(field);
+  write_pose_cache(path, "k1", kept);
+  EXPECT_FALSE(read_pose_cache(path, "k2").has_value()) << "another key's file was read";
+  const std::optional<CachedPoseField> back = read_pose_cache(path, "k1");
+  ASSERT_TRUE(back && back->voxels && back->depths);
+  EXPECT_EQ(back->depths->depth, kept.depths->depth);
+  EXPECT_EQ(back->depths->shape.dims, kept.depths->shape.dims);
+  EXPECT_EQ(back->depths->unit, kept.depths->unit);
+
+  CandidatesOnDemand again(*back->voxels, back->voxel_size, options);
+  again.give_grown(back->grown);
+  CandidatesOnDemand fresh(field, options);
+  for (const size_t from : {size_t(0), size_t(100), size_t(200), size_t(0)}) {
+    const SphereSet want = fresh.offer_near(points(from), reach, query);
+    const SphereSet got = again.offer_near(points(from), reach, query);
+    ASSERT_EQ(got.size(), want.size()) << "from " << from;
+    for (size_t n = 0; n < got.size(); ++n) {
+      EXPECT_EQ(got[n].center, want[n].center);
+      EXPECT_EQ(got[n].radius, want[n].radius);
+    }
+  }
+  EXPECT_EQ(again.grown().size(), fresh.grown().size());
+}
+
+// The poses' cache (pose_cache.hpp): each pose's field's depths, voxels and grown candidates
+// kept between runs give the same proxy, bit for bit, as building the fields: on a skinned
+// clip (every frame's field) and on poses asked for their own candidates, at the tolerance it
+// was written at and at another; a file cut short is built again and written whole.
+TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("pose-cache") + "/cache";
+  const ExtractedClip clip = rigged_simple_frames("pose-cache-clip", 6);
+  const TriMesh& rest = clip.rest.mesh;
+  SpheresFile file;
+  pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);
+  auto run = [&](const PoseMapOptions& opt) { return pose_map(rest, "rigged", clip.poses, file, opt, Log::silent(), &clip.skin); };
+  PoseMapOptions opt;
+  const PoseMapResult fresh = run(opt);
+  EXPECT_TRUE(fresh.summary.pose_caches.empty());
+  opt.cache_dir = dir;
+  const PoseMapResult writing = run(opt);
+  const PoseMapResult reading = run(opt);
+  expect_same_proxy(fresh.proxy, writing.proxy);
+  expect_same_proxy(fresh.proxy, reading.proxy);
+  ASSERT_EQ(reading.summary.pose_caches.size(), clip.poses.size() + 1);
+  size_t read = 0;
+  for (size_t i = 0; i < reading.summary.pose_caches.size(); ++i) {
+    const PoseCacheUse& w = writing.summary.pose_caches[i];
+    const PoseCacheUse& r = reading.summary.pose_caches[i];
+    EXPECT_FALSE(w.file.empty()) << "frame " << i;  // skinned: every frame's field is asked
+    EXPECT_FALSE(w.read) << "frame " << i;
+    EXPECT_EQ(w.grown_read, 0u);
+    EXPECT_EQ(r.file, w.file);
+    EXPECT_TRUE(r.read) << "frame " << i;
+    EXPECT_EQ(r.grown_made, 0u) << "frame " << i << ": grown again what the cache held";
+    EXPECT_EQ(r.grown_read, w.grown_made) << "frame " << i;
+    read += r.grown_read;
+  }
+  EXPECT_GT(read, 0u) << "no frame's own candidates were cached";
+
+  // Another tolerance: the same fields, read; the proxy as without the cache.
+  PoseMapOptions finer = opt;
+  finer.tolerance = 0.6 * kDefaultTolerancePercent / 100 * rest.diagonal();
+  PoseMapOptions finer_fresh = finer;
+  finer_fresh.cache_dir.clear();
+  const PoseMapResult other = run(finer);
+  expect_same_proxy(run(finer_fresh).proxy, other.proxy);
+  for (const PoseCacheUse& u : other.summary.pose_caches) EXPECT_TRUE(u.read);
+
+  // A frame's file cut short: its field built again, the same proxy, the file whole again.
+  const std::string frame_file = other.summary.pose_caches[2].file;
+  const std::string whole = read_file(frame_file);
+  write_file_atomic(frame_file, whole.substr(0, whole.size() / 2));
+  const PoseMapResult repaired = run(finer);
+  EXPECT_FALSE(repaired.summary.pose_caches[2].read);
+  EXPECT_TRUE(repaired.summary.pose_caches[1].read);
+  expect_same_proxy(other.proxy, repaired.proxy);
+  EXPECT_EQ(read_file(frame_file), whole);
+
+  // Poses that are not skinned: fields built only for those asked for their own candidates.
+  const SampleAsset car = make_car();
+  SpheresFile car_spheres;
+  pack_rest(car.rest, 64, {kDefaultTolerancePercent, true}, car_spheres);
+  std::vector<PoseInput> poses;
+  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  PoseMapOptions car_opt;
+  car_opt.tets.size = car.rest.diagonal() / 12;
+  car_opt.tolerance = 0.01 * car.rest.diagonal();  // fine enough that some pose needs its own
+  const PoseMapResult car_fresh = pose_map(car.rest, "car", poses, car_spheres, car_opt);
+  car_opt.cache_dir = dir;
+  const PoseMapResult car_writing = pose_map(car.rest, "car", poses, car_spheres, car_opt);
+  const PoseMapResult car_reading = pose_map(car.rest, "car", poses, car_spheres, car_opt);
+  expect_same_proxy(car_fresh.proxy, car_writing.proxy);
+  expect_same_proxy(car_fresh.proxy, car_reading.proxy);
+  size_t asked = 0;
+  for (size_t i = 0; i < car_reading.summary.pose_caches.size(); ++i) {
+    const PoseCacheUse& r = car_reading.summary.pose_caches[i];
+    EXPECT_EQ(r.file, car_writing.summary.pose_caches[i].file);
+    if (r.file.empty()) continue;
+    ++asked;
+    EXPECT_TRUE(r.read);
+    EXPECT_EQ(r.grown_made, 0u);
+  }
+  EXPECT_TRUE(car_reading.summary.pose_caches[0].file.empty()) << "the rest's field is not asked for";
+  EXPECT_GT(asked, 0u) << "no pose was asked for its own candidates";
 }
 
 TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {
@@ -1476,10 +1615,7 @@ TEST(PoseMap, ClipSelectionChecksEveryChosenRadiusExactly) {
 TEST(PoseMap, SkinnedBudgetRefinedInEveryFrame) {
   SPX_REQUIRE_SHARED_DATA();
   for (int frames : {4, 12}) {
-    std::vector<double> times;  // evenly over the clip's 2 seconds
-    for (int k = 1; k <= frames; ++k) times.push_back(2.0 * k / frames);
-    const ExtractedClip clip = extract_clip(test::shared_data() + "/rigged-simple/RiggedSimple.glb",
-                                            test::temp_dir("skinned-budget-" + std::to_string(frames)), 1, times);
+    const ExtractedClip clip = rigged_simple_frames("skinned-budget-" + std::to_string(frames), frames);
     const TriMesh& rest = clip.rest.mesh;
     SpheresFile file;
     pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);
@@ -1517,10 +1653,7 @@ TEST(PoseMap, SkinnedBudgetRefinedInEveryFrame) {
 // refinement's, and every sphere is inside every frame at no more than its exact distance.
 TEST(PoseMap, SkinnedPolishKeepsNoHigherMax) {
   SPX_REQUIRE_SHARED_DATA();
-  std::vector<double> times;
-  for (int k = 1; k <= 12; ++k) times.push_back(2.0 * k / 12);
-  const ExtractedClip clip = extract_clip(test::shared_data() + "/rigged-simple/RiggedSimple.glb",
-                                          test::temp_dir("skinned-polish"), 1, times);
+  const ExtractedClip clip = rigged_simple_frames("skinned-polish", 12);
   const TriMesh& rest = clip.rest.mesh;
   SpheresFile file;
   pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);

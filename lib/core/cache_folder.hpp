@@ -2,7 +2,10 @@
 // The folder the tools keep files in between runs (`--cache`): what no tolerance or budget
 // changes, in files named by a key of what they were made from.
 #include <cstdint>
+#include <cstring>
 #include <string>
+
+#include "core/sphere.hpp"
 
 namespace spx {
 
@@ -12,5 +15,29 @@ void make_cache_folder(const std::string& dir);
 
 // A key (a hash of what a file was made from) as the 16 hex digits of its name.
 std::string cache_key_text(uint64_t hash);
+
+// A cache file's plain values, in the machine's own layout (a cache is never moved between
+// machines: its key names the program's build). Read off `bytes` from `at`, false past its end.
+struct CacheReader {
+  const std::string& bytes;
+  size_t at = 0;
+  template <class T>
+  bool get(T* out) {
+    if (bytes.size() - at < sizeof(T)) return false;
+    std::memcpy(out, bytes.data() + at, sizeof(T));
+    at += sizeof(T);
+    return true;
+  }
+  bool get(Sphere* s) { return get(&s->center.x()) && get(&s->center.y()) && get(&s->center.z()) && get(&s->radius); }
+  bool done() const { return at == bytes.size(); }
+};
+
+template <class T>
+void cache_put(std::string& bytes, const T& value) {
+  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+inline void cache_put(std::string& bytes, const Sphere& s) {
+  for (double v : {s.center.x(), s.center.y(), s.center.z(), s.radius}) cache_put(bytes, v);
+}
 
 }  // namespace spx

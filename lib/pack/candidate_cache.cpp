@@ -41,28 +41,6 @@ std::string key_of(const DenseField& field, const TriMesh& mesh, const SurfaceSa
   return cache_key_text(h);
 }
 
-// Reads plain values off `bytes` at `at`, false past its end; a sphere as its four doubles.
-struct Reader {
-  const std::string& bytes;
-  size_t at = 0;
-  template <class T>
-  bool get(T* out) {
-    if (bytes.size() - at < sizeof(T)) return false;
-    std::memcpy(out, bytes.data() + at, sizeof(T));
-    at += sizeof(T);
-    return true;
-  }
-  bool get(Sphere* s) { return get(&s->center.x()) && get(&s->center.y()) && get(&s->center.z()) && get(&s->radius); }
-};
-
-template <class T>
-void put(std::string& bytes, const T& value) {
-  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-void put(std::string& bytes, const Sphere& s) {
-  for (double v : {s.center.x(), s.center.y(), s.center.z(), s.radius}) put(bytes, v);
-}
-
 }  // namespace
 
 CandidateCache::CandidateCache(const std::string& dir, const DenseField& field, const TriMesh& mesh,
@@ -82,7 +60,7 @@ CandidateCache::CandidateCache(const std::string& dir, const DenseField& field, 
   }
   const std::string head = std::string(kTag) + key_ + "\n";
   if (bytes.compare(0, head.size(), head) != 0) return;
-  Reader in{bytes, head.size()};
+  CacheReader in{bytes, head.size()};
   uint64_t voxels = 0, count = 0, known = 0;
   if (!in.get(&voxels)) return;
   SphereSet read_voxels;
@@ -100,7 +78,7 @@ CandidateCache::CandidateCache(const std::string& dir, const DenseField& field, 
     if (!in.get(&i) || i >= count || read_known[i] || !in.get(&read_balls[i][0]) || !in.get(&read_balls[i][1])) return;
     read_known[i] = 1;
   }
-  if (in.at != bytes.size()) return;
+  if (!in.done()) return;
   if (voxels != kNoVoxels) voxels_ = std::move(read_voxels);
   known_ = std::move(read_known);
   balls_ = std::move(read_balls);
@@ -136,15 +114,15 @@ std::string CandidateCache::save() const {
   if (!active() || !changed_) return {};
   std::string bytes = std::string(kTag) + key_ + "\n";
   const uint64_t voxels = voxels_ ? voxels_->size() : kNoVoxels, count = known_.size();
-  put(bytes, voxels);
+  cache_put(bytes, voxels);
   if (voxels_)
-    for (const Sphere& s : *voxels_) put(bytes, s);
+    for (const Sphere& s : *voxels_) cache_put(bytes, s);
   uint64_t known = 0;
   for (char k : known_) known += k != 0;
-  put(bytes, count);
-  put(bytes, known);
+  cache_put(bytes, count);
+  cache_put(bytes, known);
   for (uint32_t i = 0; i < known_.size(); ++i)
-    if (known_[i]) put(bytes, i), put(bytes, balls_[i][0]), put(bytes, balls_[i][1]);
+    if (known_[i]) cache_put(bytes, i), cache_put(bytes, balls_[i][0]), cache_put(bytes, balls_[i][1]);
   try {
     write_file_atomic(path_, bytes);
   } catch (const Error& e) {

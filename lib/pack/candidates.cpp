@@ -134,8 +134,23 @@ SphereSet CandidatesOnDemand::offer_near(const std::vector<Eigen::Vector3d>& poi
   return out;
 }
 
+CandidatesOnDemand::CandidatesOnDemand(std::vector<MedialVoxel> voxels, double h, const CandidateOptions& options)
+    : voxels_(std::move(voxels)), options_(options), h_(h), sphere_(voxels_.size()), state_(voxels_.size(), unknown) {}
+
 size_t CandidatesOnDemand::found() const {
   return size_t(std::count_if(state_.begin(), state_.end(), [](char s) { return s != unknown; }));
+}
+
+std::vector<std::pair<uint32_t, Sphere>> CandidatesOnDemand::grown() const {
+  std::vector<std::pair<uint32_t, Sphere>> out;
+  for (size_t v = 0; v < voxels_.size(); ++v)
+    if (state_[v] != unknown) out.emplace_back(uint32_t(v), sphere_[v]);
+  return out;
+}
+
+void CandidatesOnDemand::give_grown(const std::vector<std::pair<uint32_t, Sphere>>& grown) {
+  for (const auto& [v, s] : grown)
+    if (v < voxels_.size() && state_[v] == unknown) sphere_[v] = s, state_[v] = known;
 }
 
 std::vector<Eigen::Vector3d> surface_samples(const TriMesh& mesh, size_t area_samples, uint64_t seed) {

@@ -63,9 +63,18 @@ inline double candidate_extent(const MedialVoxel& voxel, const CandidateOptions&
 class CandidatesOnDemand {
  public:
   CandidatesOnDemand(const DenseField& field, const CandidateOptions& options);
+  // From the near-medial voxels of a field of voxel size h listed before (a cache's).
+  CandidatesOnDemand(std::vector<MedialVoxel> voxels, double h, const CandidateOptions& options);
   // Those not offered before within `reach` of one of `points`, found on `mesh` (the field's).
   SphereSet offer_near(const std::vector<Eigen::Vector3d>& points, double reach, const MeshQuery& mesh);
   size_t found() const;  // candidates found so far (what the offers cost)
+
+  // What a cache keeps: the voxels, and the candidates grown so far by voxel; grown ones given
+  // back (those of the same voxels, field, mesh and options) are offered as if grown here.
+  const std::vector<MedialVoxel>& voxels() const { return voxels_; }
+  double voxel_size() const { return h_; }
+  std::vector<std::pair<uint32_t, Sphere>> grown() const;
+  void give_grown(const std::vector<std::pair<uint32_t, Sphere>>& grown);
 
  private:
   enum State : char { unknown, known, offered };

@@ -146,6 +146,12 @@ json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"errors_before", error_list(fill.errors_before)}};
 }
 
+json pose_cache_json(const std::vector<PoseCacheUse>& caches, size_t i) {
+  if (i >= caches.size() || caches[i].file.empty()) return nullptr;
+  const PoseCacheUse& c = caches[i];
+  return {{"file", c.file}, {"read", c.read}, {"candidates_read", c.grown_read}, {"candidates_grown", c.grown_made}};
+}
+
 }  // namespace
 
 json pose_map_report(const PoseMapResult& result) {
@@ -164,7 +170,8 @@ json pose_map_report(const PoseMapResult& result) {
                        {"other", other},
                        {"another_pose", elsewhere}}},
                      {"error", s.errors[i].to_json()},
-                     {"walls_inside", {{"left_out", s.walls[i].first}, {"split", s.walls[i].second}}}});
+                     {"walls_inside", {{"left_out", s.walls[i].first}, {"split", s.walls[i].second}}},
+                     {"cache", pose_cache_json(s.pose_caches, i)}});
   }
   return {{"tets",
            {{"method", s.tet_file.empty() ? "CGAL Mesh_3 on the winding-number domain" : "user tets"},

@@ -88,6 +88,10 @@ class PoseMapper {
   // plays (the poses given say nothing of them).
   void check_between_poses(PoseMapSummary& out) const;
 
+  // The poses' cache (posemap/pose_cache.hpp) written where this run added to it; a file that
+  // cannot be written is a warning (the proxy does not need it).
+  void save_pose_caches();
+
   // Warnings for every radius 0, and the summary's tets, map, per-pose errors and zero radii.
   void summarize(PoseMapSummary& out) const;
 
@@ -133,6 +137,10 @@ class PoseMapper {
 
   SdfOptions field_options(bool inside_only = false) const;
 
+  // Pose i's depths (`skinned`) and own candidates' voxels from the cache, where it holds them
+  // (pose_cache.hpp): then no field is built for it.
+  bool pose_from_cache(size_t i, bool skinned);
+
   std::vector<ErrorStats> pose_errors() const;
 
   // Pose i's own inscribed candidates that come within `reach` of any of `points` (samples of
@@ -170,6 +178,8 @@ class PoseMapper {
   std::unique_ptr<DeformingQuery> deforming_;    // skinned, closed: one hierarchy refitted to each frame
   std::vector<DeformingQuery::Shape> shapes_;
   std::vector<std::unique_ptr<CandidatesOnDemand>> pose_inscribed_;  // per pose: its own candidates
+  std::vector<PoseCacheUse> pose_cache_;  // per pose, the rest first: its file in the cache folder, if asked
+  std::vector<std::string> pose_cache_key_;
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
   bool grow_ = false;                                    // spheres grown in every pose (joint selection)

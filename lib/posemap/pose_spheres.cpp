@@ -10,6 +10,7 @@
 #include "mesh/normals.hpp"
 #include "mesh/union_distance.hpp"
 #include "posemap/joint_selection.hpp"
+#include "posemap/pose_cache.hpp"
 #include "posemap/pose_mapper.hpp"
 #include "posemap/spheres_fit.hpp"
 
@@ -186,9 +187,49 @@ std::vector<ErrorStats> PoseMapper::pose_errors() const {
   return out;
 }
 
+bool PoseMapper::pose_from_cache(size_t i, bool skinned) {
+  if (opt_.cache_dir.empty() || open_solid_) return false;  // an open body's fields are kept whole
+  PoseCacheUse& use = pose_cache_[i];
+  pose_cache_key_[i] = pose_cache_key(*meshes_[i], rest_, field_options(true), candidate_options(pose_pack_options()));
+  use.file = pose_cache_file(opt_.cache_dir, pose_cache_key_[i]);
+  std::optional<CachedPoseField> cached = read_pose_cache(use.file, pose_cache_key_[i]);
+  if (!cached || (skinned && !cached->depths) || (i > 0 && !cached->voxels)) return false;
+  if (skinned) depths_[i] = std::move(*cached->depths);
+  if (i > 0) {
+    pose_inscribed_[i - 1] = std::make_unique<CandidatesOnDemand>(std::move(*cached->voxels), cached->voxel_size,
+                                                                  candidate_options(pose_pack_options()));
+    pose_inscribed_[i - 1]->give_grown(cached->grown);
+    use.grown_read = cached->grown.size();
+  }
+  use.read = true;
+  return true;
+}
+
+void PoseMapper::save_pose_caches() {
+  for (size_t i = 0; i < pose_cache_.size(); ++i) {
+    PoseCacheUse& use = pose_cache_[i];
+    if (use.file.empty()) continue;
+    CachedPoseField cached;
+    if (!depths_.empty()) cached.depths = depths_[i];
+    if (i > 0 && pose_inscribed_[i - 1]) {
+      cached.voxels = pose_inscribed_[i - 1]->voxels();
+      cached.voxel_size = pose_inscribed_[i - 1]->voxel_size();
+      cached.grown = pose_inscribed_[i - 1]->grown();
+    }
+    use.grown_made = cached.grown.size() - use.grown_read;
+    if (use.read && use.grown_made == 0) continue;
+    try {
+      write_pose_cache(use.file, pose_cache_key_[i], cached);
+    } catch (const Error& e) {  // the proxy does not need it
+      log_.warn(std::string(e.what()) + ": the poses' fields are not cached");
+      return;
+    }
+  }
+}
+
 SphereSet PoseMapper::pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
   if (pose_inscribed_.size() < poses_.size()) pose_inscribed_.resize(poses_.size());
-  if (!pose_inscribed_[i]) {
+  if (!pose_inscribed_[i] && !pose_from_cache(i + 1, false)) {
     pose_inscribed_[i] = std::make_unique<CandidatesOnDemand>(pose_field(i + 1, true), candidate_options(pose_pack_options()));
     release_field(i + 1);
   }

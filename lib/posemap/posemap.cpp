@@ -74,12 +74,16 @@ void PoseMapper::build_solids(Log& log) {
   // Before anything is built at the spheres' voxel size.
   check_spheres_fit(*queries_[0], spheres_, rest_source_);
   fields_.resize(meshes_.size());
+  pose_cache_.resize(opt_.cache_dir.empty() ? 0 : meshes_.size());
+  pose_cache_key_.resize(pose_cache_.size());
+  pose_inscribed_.resize(poses_.size());
   // Open meshes: the fields bound radii across the holes. Skinned: they put floors under every
   // pose's radii, so that a sphere's one radius asks few poses.
   if (open_solid_ || skinned) {
     StageTimer t(log, "pose-fields");
-    if (skinned) depths_.resize(meshes_.size()), pose_inscribed_.resize(poses_.size());
+    if (skinned) depths_.resize(meshes_.size());
     tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) {
+      if (skinned && pose_from_cache(i, true)) return;
       const DenseField& field = pose_field(i, skinned);
       if (!skinned) return;
       // Kept for floors as depths only; a frame's own candidates are listed now, while its
@@ -225,6 +229,7 @@ void PoseMapper::summarize(PoseMapSummary& out) const {
   out.tet_file = opt_.tet_file;
   out.tet_cache = tet_cache_file_;
   out.tets_from_cache = cached_tets_.has_value();
+  out.pose_caches = pose_cache_;
   out.tet_vertices = tets_.vertices.size();
   out.tetrahedra = tets_.tets.size();
   out.boundary_faces = tets_.boundary_faces.size();
@@ -274,6 +279,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   mapper.assign_blend_sites();
   mapper.attach_skin();
   mapper.check_between_poses(result.summary);
+  mapper.save_pose_caches();
   mapper.summarize(result.summary);
   return result;
 }

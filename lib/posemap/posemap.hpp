@@ -30,8 +30,9 @@ struct PoseMapOptions {
   TetOptions tets;
   double max_radius = 0;    // 0: the spheres file's
   std::string tet_file;     // use this MEDIT tet mesh instead of meshing
-  // A folder the rest's tets are kept in between runs (tet_mesh.hpp's cache): read where it holds
-  // this rest's (the same tets, so the same proxy), else meshed and written there.
+  // A folder the rest's tets (tet_mesh.hpp's cache) and each pose's field's depths, voxels and
+  // grown candidates (pose_cache.hpp) are kept in between runs: read where it holds this rest's
+  // and these poses' (the same, so the same proxy), else made and written there.
   std::string cache_dir;
   // The paper's future work: pack the part of each pose's interior the mapped spheres leave
   // uncovered, and map the new centers back to the rest pose through the inverse map.
@@ -79,6 +80,15 @@ struct GapFilling {
   std::vector<ErrorStats> errors_before;  // per pose, the rest first
 };
 
+// pose-map --cache: one pose's file in the cache folder (posemap/pose_cache.hpp), whether its
+// field's depths and voxels were read from it (else built, and written to it), and its own
+// candidates read from it and grown here.
+struct PoseCacheUse {
+  std::string file;  // empty: the pose's field was not asked for
+  bool read = false;
+  size_t grown_read = 0, grown_made = 0;
+};
+
 // What pose-map did besides the proxy, for the tool's report: the tets, the map, each pose's
 // radii and error, the joint selection and the gap filling.
 struct PoseMapSummary {
@@ -101,6 +111,7 @@ struct PoseMapSummary {
   std::vector<ErrorStats> errors;  // on the solid's surface (mesh/solid_boundary.hpp)
   // Per pose: triangles left out as walls inside the solid, and those kept in pieces.
   std::vector<std::pair<size_t, size_t>> walls;
+  std::vector<PoseCacheUse> pose_caches;  // per pose, the rest first (empty without --cache)
   std::optional<JointSelection> selection;  // when selected jointly
   double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
   std::optional<GapFilling> fill;           // when asked

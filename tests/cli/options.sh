@@ -83,6 +83,36 @@ check "--cache: a report that does not fit its schema" \
      "$out/cache/tools/c2.json" >/dev/null 2>&1'
 check "--cache: the proxy differs from the one meshed afresh" \
   'cmp -s "$out/p.proxy.json" "$out/c1.proxy.json" && cmp -s "$out/p.proxy.json" "$out/c2.proxy.json"'
+# ... and each pose's field's part (sphere-pack's candidates at 1 %, where poses are asked for their own):
+# written by the first run, read by the next (nothing grown again), the proxy as built afresh.
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/k0.json" -o "$out/f1.proxy.json" -q --tolerance 1%
+for run in 1 2; do
+  "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/k0.json" -o "$out/f1c$run.proxy.json" -q \
+    --tolerance 1% --cache "$out/cache/tools" --report "$out/cache/tools/f1c$run.json"
+done
+poses_cached=$(py "
+import json,sys
+a, b = ([p['cache'] for p in json.load(open(f))['poses']] for f in sys.argv[1:3])
+written = sum(1 for c in a if c and not c['read'] and c['candidates_grown'] > 0)
+read = all(c['read'] and c['candidates_grown'] == 0 for c in b if c)
+print(written > 0 and read and [c and c['file'] for c in a] == [c and c['file'] for c in b])" \
+  "$out/cache/tools/f1c1.json" "$out/cache/tools/f1c2.json")
+check "--cache: no pose's field written, then read" '[ "$poses_cached" = True ]'
+check "--cache: a poses' report that does not fit its schema" \
+  '/usr/bin/python3 "$here/validate_json.py" "$here/../../schemas" pose-map-report.schema.json "$out/cache/tools/f1c1.json" \
+     "$out/cache/tools/f1c2.json" >/dev/null 2>&1'
+check "--cache: the poses' fields from the cache map another proxy" \
+  'cmp -s "$out/f1.proxy.json" "$out/f1c1.proxy.json" && cmp -s "$out/f1.proxy.json" "$out/f1c2.proxy.json"'
+# A pose's file it cannot write (a folder in its place) is a warning: the proxy does not need it.
+pose_file=$(py "
+import json,sys
+print(next(p['cache']['file'] for p in json.load(open(sys.argv[1]))['poses'] if p['cache']))" "$out/cache/tools/f1c1.json")
+rm -f "$pose_file" && mkdir "$pose_file"
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/k0.json" -o "$out/f1c3.proxy.json" \
+  --tolerance 1% --cache "$out/cache/tools" 2>"$out/f1c3.err"
+check "--cache: a pose's file it cannot write changed the proxy" 'cmp -s "$out/f1.proxy.json" "$out/f1c3.proxy.json"'
+check "--cache: a pose's file it cannot write was not warned about" \
+  'grep -q "warning: .*the poses.* fields are not cached" "$out/f1c3.err"'
 "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/r.proxy.json" --max-radius 0.1 -q
 check "--max-radius 0.1 exceeded" '[ "$(py "
 import json,sys
