@@ -26,6 +26,7 @@
 #include "mesh/split.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
+#include "posemap/carry_cache.hpp"
 #include "posemap/clip_radius.hpp"
 #include "posemap/gap_filling.hpp"
 #include "posemap/harmonic_map.hpp"
@@ -1071,6 +1072,63 @@ TEST(PoseMap, PoseCacheFileOffersAsTheField) {
   EXPECT_EQ(again.grown().size(), fresh.grown().size());
 }
 
+// The carries' cache asks `make` only for the centres it lacks (each once, by its bits), gives
+// back what was made to the bit after a round trip through its file, and takes a file of
+// another key, or cut short, as empty.
+TEST(PoseMap, CarryCacheAsksOnlyForTheCentresItLacks) {
+  const std::string path = test::temp_dir("carry-cache-unit") + "/carry.bin";
+  auto choice_of = [](const Eigen::Vector3d& c) {
+    SkinnedMap::Choice out;
+    out.influence.joint = {int(c.x() * 10) % 7, 1, 2, 3};
+    out.influence.weight = {0.5f, 0.25f, 0.125f, 0.125f};
+    out.influence.bind = c * 3;
+    out.radius = c.norm() / 3;  // not a round number: every bit must come back
+    return out;
+  };
+  size_t asked = 0;
+  const CarryCache::Make make = [&](const SphereSet& missing) {
+    asked += missing.size();
+    std::vector<SkinnedMap::Choice> out;
+    for (const Sphere& s : missing) out.push_back(choice_of(s.center));
+    return out;
+  };
+  SphereSet first, second;
+  for (int k = 0; k < 20; ++k) first.push_back({Eigen::Vector3d(0.1 * k, 0.7 / (k + 1), -0.3 * k), 0});
+  for (int k = 10; k < 30; ++k) second.push_back({Eigen::Vector3d(0.1 * k, 0.7 / (k + 1), -0.3 * k), 0});
+  auto expect_choices = [&](const SphereSet& set, const std::vector<SkinnedMap::Choice>& got) {
+    ASSERT_EQ(got.size(), set.size());
+    for (size_t n = 0; n < set.size(); ++n) {
+      const SkinnedMap::Choice want = choice_of(set[n].center);
+      EXPECT_EQ(got[n].influence.joint, want.influence.joint);
+      EXPECT_EQ(got[n].influence.weight, want.influence.weight);
+      EXPECT_EQ(got[n].influence.bind, want.influence.bind);
+      EXPECT_EQ(got[n].radius, want.radius);
+    }
+  };
+  {
+    CarryCache cache(path, "k1");
+    expect_choices(first, cache.choices(first, make));
+    expect_choices(second, cache.choices(second, make));
+    EXPECT_EQ(asked, 30u) << "a centre the cache held was asked again";
+    EXPECT_EQ(cache.read(), 10u);
+    EXPECT_EQ(cache.made(), 30u);
+    cache.save();
+  }
+  asked = 0;
+  {
+    CarryCache cache(path, "k1");
+    expect_choices(second, cache.choices(second, make));
+    EXPECT_EQ(asked, 0u);
+  }
+  EXPECT_EQ(CarryCache(path, "k2").choices(first, make).size(), first.size());
+  EXPECT_EQ(asked, first.size()) << "another key's file was read";
+  const std::string whole = read_file(path);
+  write_file_atomic(path, whole.substr(0, whole.size() - 1));
+  asked = 0;
+  CarryCache(path, "k1").choices(first, make);
+  EXPECT_EQ(asked, first.size()) << "a file cut short was read";
+}
+
 // The poses' cache (pose_cache.hpp): each pose's field's depths, voxels and grown candidates
 // kept between runs give the same proxy, bit for bit, as building the fields: on a skinned
 // clip (every frame's field) and on poses asked for their own candidates, at the tolerance it
@@ -1106,6 +1164,13 @@ TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
     read += r.grown_read;
   }
   EXPECT_GT(read, 0u) << "no frame's own candidates were cached";
+  // The carries: every candidate's choice made and written by the first run, read by the next.
+  EXPECT_TRUE(fresh.summary.carry_cache.file.empty());
+  EXPECT_FALSE(writing.summary.carry_cache.file.empty());
+  EXPECT_GT(writing.summary.carry_cache.made, 0u);
+  EXPECT_EQ(reading.summary.carry_cache.file, writing.summary.carry_cache.file);
+  EXPECT_EQ(reading.summary.carry_cache.made, 0u) << "a choice the cache held was made again";
+  EXPECT_GT(reading.summary.carry_cache.read, 0u);
 
   // Another tolerance: the same fields, read; the proxy as without the cache.
   PoseMapOptions finer = opt;
@@ -1115,6 +1180,18 @@ TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
   const PoseMapResult other = run(finer);
   expect_same_proxy(run(finer_fresh).proxy, other.proxy);
   for (const PoseCacheUse& u : other.summary.pose_caches) EXPECT_TRUE(u.read);
+  EXPECT_GT(other.summary.carry_cache.read, 0u);
+
+  // The carries' file cut short: every choice made again, the same proxy, and written whole (the
+  // next run makes none).
+  const std::string carry_file = other.summary.carry_cache.file;
+  const std::string carries = read_file(carry_file);
+  write_file_atomic(carry_file, carries.substr(0, carries.size() - 3));
+  const PoseMapResult remade = run(finer);
+  EXPECT_EQ(remade.summary.carry_cache.read, 0u);
+  EXPECT_GT(remade.summary.carry_cache.made, 0u);
+  expect_same_proxy(other.proxy, remade.proxy);
+  EXPECT_EQ(run(finer).summary.carry_cache.made, 0u);
 
   // A frame's file cut short: its field built again, the same proxy, the file whole again.
   const std::string frame_file = other.summary.pose_caches[2].file;
@@ -1151,6 +1228,7 @@ TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
     EXPECT_EQ(r.grown_made, 0u);
   }
   EXPECT_TRUE(car_reading.summary.pose_caches[0].file.empty()) << "the rest's field is not asked for";
+  EXPECT_TRUE(car_reading.summary.carry_cache.file.empty()) << "a body that is not skinned carries nothing";
   EXPECT_GT(asked, 0u) << "no pose was asked for its own candidates";
 }
 

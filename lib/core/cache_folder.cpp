@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace spx {
@@ -18,6 +19,19 @@ std::string cache_key_text(uint64_t hash) {
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
   return text;
+}
+
+std::optional<std::string> read_cache_file(const std::string& path, const std::string& head) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  std::string bytes;
+  try {
+    bytes = read_file(path);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+  if (bytes.compare(0, head.size(), head) != 0) return std::nullopt;
+  return bytes;
 }
 
 }  // namespace spx

@@ -3,6 +3,7 @@
 // changes, in files named by a key of what they were made from.
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "core/sphere.hpp"
@@ -15,6 +16,11 @@ void make_cache_folder(const std::string& dir);
 
 // A key (a hash of what a file was made from) as the 16 hex digits of its name.
 std::string cache_key_text(uint64_t hash);
+
+// The bytes of the cache file at `path`, where they begin with `head` (its tag and key, a line);
+// none where there is no such file, it cannot be read (a cache is never a reason to fail), or it
+// is another key's.
+std::optional<std::string> read_cache_file(const std::string& path, const std::string& head);
 
 // A cache file's plain values, in the machine's own layout (a cache is never moved between
 // machines: its key names the program's build). Read off `bytes` from `at`, false past its end.

@@ -50,16 +50,10 @@ CandidateCache::CandidateCache(const std::string& dir, const DenseField& field, 
       balls_(samples.points.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}}) {
   make_cache_folder(dir);
   path_ = (std::filesystem::path(dir) / ("candidates-" + key_ + ".bin")).string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path_, ec)) return;
-  std::string bytes;
-  try {
-    bytes = read_file(path_);
-  } catch (const Error&) {
-    return;  // a cache is never a reason to fail
-  }
   const std::string head = std::string(kTag) + key_ + "\n";
-  if (bytes.compare(0, head.size(), head) != 0) return;
+  const std::optional<std::string> file = read_cache_file(path_, head);
+  if (!file) return;
+  const std::string& bytes = *file;
   CacheReader in{bytes, head.size()};
   uint64_t voxels = 0, count = 0, known = 0;
   if (!in.get(&voxels)) return;

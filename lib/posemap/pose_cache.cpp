@@ -74,16 +74,10 @@ std::string pose_cache_file(const std::string& dir, const std::string& key) {
 }
 
 std::optional<CachedPoseField> read_pose_cache(const std::string& path, const std::string& key) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return std::nullopt;
-  std::string bytes;
-  try {
-    bytes = read_file(path);
-  } catch (const Error&) {
-    return std::nullopt;  // a cache is never a reason to fail
-  }
   const std::string head = std::string(kTag) + key + "\n";
-  if (bytes.compare(0, head.size(), head) != 0) return std::nullopt;
+  const std::optional<std::string> file = read_cache_file(path, head);
+  if (!file) return std::nullopt;
+  const std::string& bytes = *file;
   CacheReader in{bytes, head.size()};
   CachedPoseField out;
   char has_depths = 0, has_voxels = 0;

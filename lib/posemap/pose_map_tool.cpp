@@ -199,7 +199,11 @@ json pose_map_report(const PoseMapResult& result) {
                                                   : json(nullptr)},
             {"data_points", s.data_points},
             {"dropped_points", s.dropped_points},
-            {"centers_outside_tets", s.centers_outside_tets}}},
+            {"centers_outside_tets", s.centers_outside_tets},
+            {"cache", s.carry_cache.file.empty() ? json(nullptr)
+                                                 : json{{"file", s.carry_cache.file},
+                                                        {"choices_read", s.carry_cache.read},
+                                                        {"choices_made", s.carry_cache.made}}}}},
           {"open_solid", s.open_solid},
           {"radius_source", s.open_solid ? "exact distance to each pose's mesh, bounded across its holes by "
                                            "that pose's own field"

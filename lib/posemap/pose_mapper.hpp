@@ -18,6 +18,7 @@
 #include "mesh/mesh_query.hpp"
 #include "pack/candidates.hpp"
 #include "pack/pack.hpp"
+#include "posemap/carry_cache.hpp"
 #include "posemap/harmonic_map.hpp"
 #include "posemap/pose_solid.hpp"
 #include "posemap/posemap.hpp"
@@ -88,9 +89,9 @@ class PoseMapper {
   // plays (the poses given say nothing of them).
   void check_between_poses(PoseMapSummary& out) const;
 
-  // The poses' cache (posemap/pose_cache.hpp) written where this run added to it; a file that
-  // cannot be written is a warning (the proxy does not need it).
-  void save_pose_caches();
+  // The poses' and the carries' caches (posemap/pose_cache.hpp, carry_cache.hpp) written where
+  // this run added to them; a file that cannot be written is a warning (the proxy does not need it).
+  void save_caches();
 
   // Warnings for every radius 0, and the summary's tets, map, per-pose errors and zero radii.
   void summarize(PoseMapSummary& out) const;
@@ -137,6 +138,12 @@ class PoseMapper {
 
   SdfOptions field_options(bool inside_only = false) const;
 
+  // Skinned: rest centres carried into every pose (SkinnedMap::carry), their choices through
+  // the carries' cache where there is one.
+  SkinnedMap::Carried carry_skinned(const SphereSet& rest);
+  // What a skinned choice depends on, hashed (carry_cache.hpp).
+  std::string carry_cache_key() const;
+
   // Pose i's depths (`skinned`) and own candidates' voxels from the cache, where it holds them
   // (pose_cache.hpp): then no field is built for it.
   bool pose_from_cache(size_t i, bool skinned);
@@ -180,6 +187,7 @@ class PoseMapper {
   std::vector<std::unique_ptr<CandidatesOnDemand>> pose_inscribed_;  // per pose: its own candidates
   std::vector<PoseCacheUse> pose_cache_;  // per pose, the rest first: its file in the cache folder, if asked
   std::vector<std::string> pose_cache_key_;
+  std::unique_ptr<CarryCache> carry_cache_;  // skinned, with a cache folder: made at the first carry
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
   bool grow_ = false;                                    // spheres grown in every pose (joint selection)

@@ -5,8 +5,13 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <filesystem>
+
+#include "core/cache_folder.hpp"
+#include "core/hash.hpp"
 #include "core/subject.hpp"
 #include "core/tolerance.hpp"
+#include "core/version.hpp"
 #include "mesh/normals.hpp"
 #include "mesh/union_distance.hpp"
 #include "posemap/joint_selection.hpp"
@@ -36,7 +41,7 @@ class PoseMapper::Frames : public SelectionFrames {
   std::vector<double> over_clip(const std::vector<SkinInfluence>& in, const std::vector<double>& r) const override {
     return m_.clip_ ? m_.clip_->least(in, r, &m_.log_) : r;
   }
-  SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override { return m_.skinned_->carry(rest, m_.solids_); }
+  SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override { return m_.carry_skinned(rest); }
   double exact_radius(const Eigen::Vector3d& c, size_t f) const override { return m_.solids_[f].exact_radius(c, false).value; }
   // The spheres map_spheres writes (skinned: one radius, exact in every frame); false where one is 0.
   bool spheres_at(const Eigen::Vector3d& c, std::vector<Sphere>& in_frames) const override {
@@ -205,7 +210,43 @@ bool PoseMapper::pose_from_cache(size_t i, bool skinned) {
   return true;
 }
 
-void PoseMapper::save_pose_caches() {
+std::string PoseMapper::carry_cache_key() const {
+  uint64_t h = kFnvOffset;
+  auto add = [&](const void* data, size_t size) { h = fnv1a(h, data, size); };
+  const std::string version = std::string(version_string()) + " " + build_identity();
+  add(version.data(), version.size());
+  for (const TriMesh* m : meshes_) {
+    add(m->vertices.data(), m->vertices.size() * sizeof(m->vertices[0]));
+    add(m->triangles.data(), m->triangles.size() * sizeof(m->triangles[0]));
+  }
+  const std::string skin = skin_to_json(*skin_).dump();
+  add(skin.data(), skin.size());
+  add(tets_.vertices.data(), tets_.vertices.size() * sizeof(tets_.vertices[0]));
+  add(tets_.tets.data(), tets_.tets.size() * sizeof(tets_.tets[0]));
+  const SdfOptions field = field_options(true);
+  const double numbers[4] = {field.voxel_size, proxy_.max_radius, open_solid_ ? 1.0 : 0.0, double(meshes_.size())};
+  add(numbers, sizeof numbers);
+  return cache_key_text(h);
+}
+
+SkinnedMap::Carried PoseMapper::carry_skinned(const SphereSet& rest) {
+  if (opt_.cache_dir.empty()) return skinned_->carry(rest, solids_);
+  if (!carry_cache_) {
+    const std::string key = carry_cache_key();
+    carry_cache_ = std::make_unique<CarryCache>((std::filesystem::path(opt_.cache_dir) / ("carry-" + key + ".bin")).string(), key);
+  }
+  const auto make = [&](const SphereSet& missing) { return skinned_->choices(missing, solids_); };
+  return skinned_->carried(rest, carry_cache_->choices(rest, make), solids_.size());
+}
+
+void PoseMapper::save_caches() {
+  if (carry_cache_) {
+    try {
+      carry_cache_->save();
+    } catch (const Error& e) {  // the proxy does not need it
+      log_.warn(std::string(e.what()) + ": the carries are not cached");
+    }
+  }
   for (size_t i = 0; i < pose_cache_.size(); ++i) {
     PoseCacheUse& use = pose_cache_[i];
     if (use.file.empty()) continue;

@@ -230,6 +230,7 @@ void PoseMapper::summarize(PoseMapSummary& out) const {
   out.tet_cache = tet_cache_file_;
   out.tets_from_cache = cached_tets_.has_value();
   out.pose_caches = pose_cache_;
+  if (carry_cache_) out.carry_cache = {carry_cache_->file(), carry_cache_->read(), carry_cache_->made()};
   out.tet_vertices = tets_.vertices.size();
   out.tetrahedra = tets_.tets.size();
   out.boundary_faces = tets_.boundary_faces.size();
@@ -279,7 +280,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   mapper.assign_blend_sites();
   mapper.attach_skin();
   mapper.check_between_poses(result.summary);
-  mapper.save_pose_caches();
+  mapper.save_caches();
   mapper.summarize(result.summary);
   return result;
 }

@@ -112,6 +112,12 @@ struct PoseMapSummary {
   // Per pose: triangles left out as walls inside the solid, and those kept in pieces.
   std::vector<std::pair<size_t, size_t>> walls;
   std::vector<PoseCacheUse> pose_caches;  // per pose, the rest first (empty without --cache)
+  // pose-map --cache, skinned: the carries' file (posemap/carry_cache.hpp; empty: none), the
+  // candidates' choices read from it and made in this run.
+  struct CarryCacheUse {
+    std::string file;
+    size_t read = 0, made = 0;
+  } carry_cache;
   std::optional<JointSelection> selection;  // when selected jointly
   double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
   std::optional<GapFilling> fill;           // when asked

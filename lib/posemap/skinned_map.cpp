@@ -212,15 +212,25 @@ std::vector<std::pair<Sphere, PoseSolid::Zero>> SkinnedMap::spheres(const Eigen:
 }
 
 SkinnedMap::Carried SkinnedMap::carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
-  Carried out{std::vector<std::vector<Eigen::Vector3d>>(solids.size(), std::vector<Eigen::Vector3d>(rest.size())),
-              std::vector<double>(rest.size()), std::vector<SkinInfluence>(rest.size())};
+  return carried(rest, choices(rest, solids), solids.size());
+}
+
+std::vector<SkinnedMap::Choice> SkinnedMap::choices(const SphereSet& rest, const std::vector<PoseSolid>& solids) const {
+  std::vector<Choice> out(rest.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t s = r.begin(); s != r.end(); ++s) out[s] = choose(rest[s].center, f_.locator().locate(rest[s].center), solids);
+  });
+  return out;
+}
+
+SkinnedMap::Carried SkinnedMap::carried(const SphereSet& rest, const std::vector<Choice>& chosen, size_t poses) const {
+  Carried out{std::vector<std::vector<Eigen::Vector3d>>(poses, std::vector<Eigen::Vector3d>(rest.size())),
+              std::vector<double>(rest.size()), std::vector<SkinInfluence>(rest.size())};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t s = r.begin(); s != r.end(); ++s) {
-      const Eigen::Vector3d& c = rest[s].center;
-      const Choice chosen = choose(c, f_.locator().locate(c), solids);
-      for (size_t i = 0; i < solids.size(); ++i) out.centers[i][s] = center(chosen.influence, c, i);
-      out.radii[s] = chosen.radius;
-      out.influences[s] = chosen.influence;
+      for (size_t i = 0; i < poses; ++i) out.centers[i][s] = center(chosen[s].influence, rest[s].center, i);
+      out.radii[s] = chosen[s].radius;
+      out.influences[s] = chosen[s].influence;
     }
   });
   return out;

@@ -104,6 +104,10 @@ class SkinnedMap {
     std::vector<SkinInfluence> influences;
   };
   Carried carry(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
+  // carry() in its two steps (so that pose-map's cache can keep the first): each centre's
+  // choice, then the centres in each of `poses` poses by it.
+  std::vector<Choice> choices(const SphereSet& rest, const std::vector<PoseSolid>& solids) const;
+  Carried carried(const SphereSet& rest, const std::vector<Choice>& chosen, size_t poses) const;
   // The proxy's skin: the joints, and each of `rest`'s spheres (its radius the one radius) with
   // the influence it follows (one per sphere, as spheres() chose them).
   ProxySkin proxy_skin(const SphereSet& rest, const std::vector<SkinInfluence>& influences) const;
