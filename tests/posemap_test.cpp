@@ -1055,6 +1055,8 @@ TEST(PoseMap, PoseCacheFileOffersAsTheField) {
   ASSERT_TRUE(back && back->voxels && back->depths);
   EXPECT_EQ(back->depths->depth, kept.depths->depth);
   EXPECT_EQ(back->depths->shape.dims, kept.depths->shape.dims);
+  EXPECT_EQ(back->depths->shape.origin, kept.depths->shape.origin);
+  EXPECT_EQ(back->depths->shape.voxel_size, kept.depths->shape.voxel_size);
   EXPECT_EQ(back->depths->unit, kept.depths->unit);
 
   CandidatesOnDemand again(*back->voxels, back->voxel_size, options);

@@ -27,8 +27,9 @@ int main(int argc, char** argv) {
                                    "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
   tool.app.add_option("--cache", opt.cache_dir,
                       "Keep what no tolerance or budget changes (the rest's tets; each pose's field's depths, "
-                      "medial voxels and the candidates grown at them) in this folder between runs: a later run on "
-                      "the same rest, poses, --tet-size and tools reads them instead of making them (the same proxy)")
+                      "medial voxels and the candidates grown at them; a skinned body's carries) in this folder "
+                      "between runs: a later run on the same rest, poses, --tet-size and tools reads them instead "
+                      "of making them (the same proxy)")
       ->excludes(tets);
   tool.writes_folder("--cache");
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");

@@ -30,9 +30,10 @@ struct PoseMapOptions {
   TetOptions tets;
   double max_radius = 0;    // 0: the spheres file's
   std::string tet_file;     // use this MEDIT tet mesh instead of meshing
-  // A folder the rest's tets (tet_mesh.hpp's cache) and each pose's field's depths, voxels and
-  // grown candidates (pose_cache.hpp) are kept in between runs: read where it holds this rest's
-  // and these poses' (the same, so the same proxy), else made and written there.
+  // A folder the rest's tets (tet_mesh.hpp's cache), each pose's field's depths, voxels and grown
+  // candidates (pose_cache.hpp) and a skinned body's carries (carry_cache.hpp) are kept in between
+  // runs: read where it holds this rest's and these poses' (the same, so the same proxy), else
+  // made and written there.
   std::string cache_dir;
   // The paper's future work: pack the part of each pose's interior the mapped spheres leave
   // uncovered, and map the new centers back to the rest pose through the inverse map.
