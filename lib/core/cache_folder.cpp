@@ -5,6 +5,8 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/hash.hpp"
+#include "core/version.hpp"
 
 namespace spx {
 
@@ -13,6 +15,16 @@ void make_cache_folder(const std::string& dir) {
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir))
     fail_write(dir, "cannot make the cache folder" + (ec ? ": " + ec.message() : std::string()));
+}
+
+uint64_t cache_key_start() {
+  const std::string version = std::string(version_string()) + " " + build_identity();
+  return fnv1a(kFnvOffset, version.data(), version.size());
+}
+
+std::string cache_file(const std::string& dir, const std::string& kind, const std::string& key,
+                       const std::string& extension) {
+  return (std::filesystem::path(dir) / (kind + "-" + key + "." + extension)).string();
 }
 
 std::string cache_key_text(uint64_t hash) {

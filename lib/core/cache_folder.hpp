@@ -14,8 +14,14 @@ namespace spx {
 // cannot be (a file in its place).
 void make_cache_folder(const std::string& dir);
 
+// A key's hash begun (FNV-1a) with the project's version and the program's build, which every
+// key holds (a tool rebuilt from other code starts afresh); then what the file is made from.
+uint64_t cache_key_start();
 // A key (a hash of what a file was made from) as the 16 hex digits of its name.
 std::string cache_key_text(uint64_t hash);
+// The file `kind`-KEY.`extension` in the cache folder `dir`.
+std::string cache_file(const std::string& dir, const std::string& kind, const std::string& key,
+                       const std::string& extension);
 
 // The bytes of the cache file at `path`, where they begin with `head` (its tag and key, a line);
 // none where there is no such file, it cannot be read (a cache is never a reason to fail), or it

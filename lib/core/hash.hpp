@@ -14,4 +14,10 @@ inline uint64_t fnv1a(uint64_t h, const void* data, size_t size) {
   return h;
 }
 
+// The bytes of `v`'s values (plain ones: numbers, fixed-size Eigen vectors).
+template <class Vector>
+uint64_t fnv1a_values(uint64_t h, const Vector& v) {
+  return fnv1a(h, v.data(), v.size() * sizeof(v[0]));
+}
+
 }  // namespace spx

@@ -1,15 +1,11 @@
 #include "pack/candidate_cache.hpp"
 
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <limits>
 
 #include "core/atomic_file.hpp"
 #include "core/cache_folder.hpp"
 #include "core/error.hpp"
 #include "core/hash.hpp"
-#include "core/version.hpp"
 
 namespace spx {
 namespace {
@@ -17,16 +13,9 @@ namespace {
 constexpr const char* kTag = "spx candidates 1 ";
 constexpr uint64_t kNoVoxels = std::numeric_limits<uint64_t>::max();
 
-template <class T>
-void hash_values(uint64_t& h, const std::vector<T>& v) {
-  h = fnv1a(h, v.data(), v.size() * sizeof(T));
-}
-
 std::string key_of(const DenseField& field, const TriMesh& mesh, const SurfaceSamples& samples,
                    const CandidateOptions& limits) {
-  uint64_t h = kFnvOffset;
-  const std::string version = std::string(version_string()) + " " + build_identity();
-  h = fnv1a(h, version.data(), version.size());
+  uint64_t h = cache_key_start();
   const GridShape& g = field.shape;
   const int grid[6] = {g.origin.x(), g.origin.y(), g.origin.z(), g.dims.x(), g.dims.y(), g.dims.z()};
   h = fnv1a(h, grid, sizeof grid);
@@ -34,10 +23,10 @@ std::string key_of(const DenseField& field, const TriMesh& mesh, const SurfaceSa
                              limits.growth, limits.field_bounds_radius ? 1.0 : 0.0};
   h = fnv1a(h, numbers, sizeof numbers);
   h = fnv1a(h, field.values.data(), field.values.size() * sizeof(float));
-  hash_values(h, mesh.vertices);
-  hash_values(h, mesh.triangles);
-  hash_values(h, samples.points);
-  hash_values(h, samples.triangle);
+  h = fnv1a_values(h, mesh.vertices);
+  h = fnv1a_values(h, mesh.triangles);
+  h = fnv1a_values(h, samples.points);
+  h = fnv1a_values(h, samples.triangle);
   return cache_key_text(h);
 }
 
@@ -49,7 +38,7 @@ CandidateCache::CandidateCache(const std::string& dir, const DenseField& field, 
       known_(samples.points.size(), 0),
       balls_(samples.points.size(), {Sphere{{0, 0, 0}, 0}, Sphere{{0, 0, 0}, 0}}) {
   make_cache_folder(dir);
-  path_ = (std::filesystem::path(dir) / ("candidates-" + key_ + ".bin")).string();
+  path_ = cache_file(dir, "candidates", key_, "bin");
   const std::string head = std::string(kTag) + key_ + "\n";
   const std::optional<std::string> file = read_cache_file(path_, head);
   if (!file) return;

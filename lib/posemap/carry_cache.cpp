@@ -1,7 +1,7 @@
 #include "posemap/carry_cache.hpp"
 
 #include <algorithm>
-#include <filesystem>
+#include <cstring>
 
 #include "core/atomic_file.hpp"
 #include "core/cache_folder.hpp"

@@ -1,22 +1,14 @@
 #include "posemap/pose_cache.hpp"
 
-#include <filesystem>
-
 #include "core/atomic_file.hpp"
 #include "core/cache_folder.hpp"
 #include "core/error.hpp"
 #include "core/hash.hpp"
-#include "core/version.hpp"
 
 namespace spx {
 namespace {
 
 constexpr const char* kTag = "spx pose field 1 ";
-
-template <class T>
-void hash_values(uint64_t& h, const std::vector<T>& v) {
-  h = fnv1a(h, v.data(), v.size() * sizeof(T));
-}
 
 std::optional<DepthField> read_depths(CacheReader& in) {
   DepthField d;
@@ -49,13 +41,11 @@ void put_depths(std::string& bytes, const DepthField& d) {
 
 std::string pose_cache_key(const TriMesh& pose, const TriMesh& rest, const SdfOptions& field,
                            const CandidateOptions& candidates) {
-  uint64_t h = kFnvOffset;
-  const std::string version = std::string(version_string()) + " " + build_identity();
-  h = fnv1a(h, version.data(), version.size());
-  hash_values(h, pose.vertices);
-  hash_values(h, pose.triangles);
-  hash_values(h, rest.vertices);
-  hash_values(h, rest.triangles);
+  uint64_t h = cache_key_start();
+  h = fnv1a_values(h, pose.vertices);
+  h = fnv1a_values(h, pose.triangles);
+  h = fnv1a_values(h, rest.vertices);
+  h = fnv1a_values(h, rest.triangles);
   const double numbers[9] = {field.voxel_size,
                               field.voxel_size > 0 ? 0.0 : double(field.resolution),
                               double(field.band),
@@ -70,7 +60,7 @@ std::string pose_cache_key(const TriMesh& pose, const TriMesh& rest, const SdfOp
 }
 
 std::string pose_cache_file(const std::string& dir, const std::string& key) {
-  return (std::filesystem::path(dir) / ("pose-" + key + ".bin")).string();
+  return cache_file(dir, "pose", key, "bin");
 }
 
 std::optional<CachedPoseField> read_pose_cache(const std::string& path, const std::string& key) {

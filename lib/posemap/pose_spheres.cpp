@@ -5,13 +5,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <filesystem>
-
 #include "core/cache_folder.hpp"
 #include "core/hash.hpp"
 #include "core/subject.hpp"
 #include "core/tolerance.hpp"
-#include "core/version.hpp"
 #include "mesh/normals.hpp"
 #include "mesh/union_distance.hpp"
 #include "posemap/joint_selection.hpp"
@@ -211,29 +208,20 @@ bool PoseMapper::pose_from_cache(size_t i, bool skinned) {
 }
 
 std::string PoseMapper::carry_cache_key() const {
-  uint64_t h = kFnvOffset;
-  auto add = [&](const void* data, size_t size) { h = fnv1a(h, data, size); };
-  const std::string version = std::string(version_string()) + " " + build_identity();
-  add(version.data(), version.size());
-  for (const TriMesh* m : meshes_) {
-    add(m->vertices.data(), m->vertices.size() * sizeof(m->vertices[0]));
-    add(m->triangles.data(), m->triangles.size() * sizeof(m->triangles[0]));
-  }
-  const std::string skin = skin_to_json(*skin_).dump();
-  add(skin.data(), skin.size());
-  add(tets_.vertices.data(), tets_.vertices.size() * sizeof(tets_.vertices[0]));
-  add(tets_.tets.data(), tets_.tets.size() * sizeof(tets_.tets[0]));
-  const SdfOptions field = field_options(true);
-  const double numbers[4] = {field.voxel_size, proxy_.max_radius, open_solid_ ? 1.0 : 0.0, double(meshes_.size())};
-  add(numbers, sizeof numbers);
-  return cache_key_text(h);
+  uint64_t h = cache_key_start();
+  for (const TriMesh* m : meshes_) h = fnv1a_values(fnv1a_values(h, m->vertices), m->triangles);
+  h = fnv1a_values(h, skin_to_json(*skin_).dump());
+  h = fnv1a_values(fnv1a_values(h, tets_.vertices), tets_.tets);
+  const double numbers[4] = {field_options(true).voxel_size, proxy_.max_radius, open_solid_ ? 1.0 : 0.0,
+                             double(meshes_.size())};
+  return cache_key_text(fnv1a(h, numbers, sizeof numbers));
 }
 
 SkinnedMap::Carried PoseMapper::carry_skinned(const SphereSet& rest) {
   if (opt_.cache_dir.empty()) return skinned_->carry(rest, solids_);
   if (!carry_cache_) {
     const std::string key = carry_cache_key();
-    carry_cache_ = std::make_unique<CarryCache>((std::filesystem::path(opt_.cache_dir) / ("carry-" + key + ".bin")).string(), key);
+    carry_cache_ = std::make_unique<CarryCache>(cache_file(opt_.cache_dir, "carry", key, "bin"), key);
   }
   const auto make = [&](const SphereSet& missing) { return skinned_->choices(missing, solids_); };
   return skinned_->carried(rest, carry_cache_->choices(rest, make), solids_.size());
@@ -269,7 +257,6 @@ void PoseMapper::save_caches() {
 }
 
 SphereSet PoseMapper::pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
-  if (pose_inscribed_.size() < poses_.size()) pose_inscribed_.resize(poses_.size());
   if (!pose_inscribed_[i] && !pose_from_cache(i + 1, false)) {
     pose_inscribed_[i] = std::make_unique<CandidatesOnDemand>(pose_field(i + 1, true), candidate_options(pose_pack_options()));
     release_field(i + 1);

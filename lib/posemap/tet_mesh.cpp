@@ -26,7 +26,6 @@
 #include "core/cache_folder.hpp"
 #include "core/error.hpp"
 #include "core/hash.hpp"
-#include "core/version.hpp"
 #include "core/format.hpp"
 #include "mesh/components.hpp"
 #include "mesh/deforming_query.hpp"
@@ -344,20 +343,17 @@ constexpr const char* kUnmeshedTag = "unmeshed: ";
 TetMesh read_medit_tets(const std::string& path) { return read_medit(path, nullptr); }
 
 std::string tets_cache_key(const TriMesh& rest, const TetOptions& options) {
-  uint64_t h = kFnvOffset;
-  auto add = [&](const void* data, size_t size) { h = fnv1a(h, data, size); };
-  const std::string versions = std::string(version_string()) + " " + build_identity() + " CGAL " + CGAL_VERSION_STR;
-  add(versions.data(), versions.size());
-  add(rest.vertices.data(), rest.vertices.size() * sizeof(rest.vertices[0]));
-  add(rest.triangles.data(), rest.triangles.size() * sizeof(rest.triangles[0]));
-  add(&options.size, sizeof options.size);
+  const std::string cgal = std::string(" CGAL ") + CGAL_VERSION_STR;
+  uint64_t h = fnv1a(cache_key_start(), cgal.data(), cgal.size());
+  h = fnv1a_values(h, rest.vertices);
+  h = fnv1a_values(h, rest.triangles);
+  h = fnv1a(h, &options.size, sizeof options.size);
   const char expansions = options.winding_expansions;
-  add(&expansions, 1);
-  return cache_key_text(h);
+  return cache_key_text(fnv1a(h, &expansions, 1));
 }
 
 std::string tets_cache_file(const std::string& dir, const std::string& key) {
-  return (std::filesystem::path(dir) / ("tets-" + key + ".mesh")).string();
+  return cache_file(dir, "tets", key, "mesh");
 }
 
 std::optional<TetMesh> read_tets_cache(const std::string& path, const std::string& key) {
