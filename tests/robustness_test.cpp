@@ -1,13 +1,17 @@
 // Bad and broken input: each case ends in its documented outcome (README "Robustness" table).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 
 #include <openvdb/openvdb.h>
 
 #include "core/base64.hpp"
 #include "core/atomic_file.hpp"
+#include "core/cache_folder.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/version.hpp"
@@ -415,4 +419,85 @@ TEST(FilesBetweenTools, Base64RoundTripsEveryByteAndLength) {
     EXPECT_EQ(spx::decode_base64(spx::encode_base64(part.data(), part.size())).value(), part) << n;
   }
   EXPECT_FALSE(spx::decode_base64("Zm9v*mFy").has_value());
+}
+
+// --cache-limit: the tools' cache files removed least recently used first (time, then name) until
+// the folder is under the limit, never this run's nor any file the tools do not name so; against
+// the plain account (the shortest run of the oldest files not in use whose removal is enough) at
+// every limit between none and all. A file read is marked used and goes last.
+TEST(CacheFolder, TrimRemovesTheLeastRecentlyUsedFirst) {
+  namespace fs = std::filesystem;
+  struct File {
+    std::string name;
+    uint64_t bytes;
+    int age;  // seconds before now; two files share one, so that their names decide
+  };
+  std::vector<File> files;
+  for (int k = 0; k < 10; ++k) {
+    char key[17];
+    std::snprintf(key, sizeof key, "%016llx", 0x9e3779b97f4a7c15ull * (k + 1));
+    const char* kinds[] = {"pose-", "tets-", "carry-", "candidates-"};
+    const char* exts[] = {".bin", ".mesh", ".bin", ".bin"};
+    files.push_back({kinds[k % 4] + std::string(key) + exts[k % 4], uint64_t(100 + 37 * ((k * 7) % 10)),
+                     k == 3 ? 500 : 100 * (k + 1)});
+  }
+  const std::vector<std::string> others = {"notes.txt", "pose-123.bin", ".pose-0123456789abcdef.bin.tmp.99",
+                                           "Pose-0123456789abcdef.bin", "pose-0123456789ABCDEF.bin"};
+  const std::vector<std::string> in_use = {files[9].name, files[0].name};  // the oldest, and the newest
+  uint64_t total = 0;
+  for (const File& f : files) total += f.bytes;
+  const auto now = fs::file_time_type::clock::now();
+  const auto make = [&](const std::string& dir) {
+    fs::remove_all(dir);
+    fs::create_directories(dir + "/carry-0123456789abcdef.bin");  // a folder: not a cache file
+    for (const File& f : files) {
+      spx::write_file_atomic(dir + "/" + f.name, std::string(f.bytes, 'x'));
+      fs::last_write_time(dir + "/" + f.name, now - std::chrono::seconds(f.age));
+    }
+    for (const std::string& name : others) spx::write_file_atomic(dir + "/" + name, std::string(5000, 'y'));
+  };
+  // The plain account: oldest first, names breaking ties; in-use files passed over.
+  std::vector<File> order = files;
+  std::sort(order.begin(), order.end(), [](const File& a, const File& b) {
+    return a.age != b.age ? a.age > b.age : a.name < b.name;
+  });
+  const std::string dir = spx::test::temp_dir("cache-trim");
+  std::vector<std::string> in_use_paths;
+  for (const std::string& name : in_use) in_use_paths.push_back(dir + "/" + name);
+  for (uint64_t limit = 0; limit <= total + 50; limit += 97) {
+    make(dir);
+    const spx::CacheTrim trim = spx::trim_cache_folder(dir, limit, in_use_paths);
+    std::set<std::string> expected_gone;
+    uint64_t left = total;
+    for (const File& f : order) {
+      if (limit == 0 || left <= limit) break;
+      if (std::find(in_use.begin(), in_use.end(), f.name) != in_use.end()) continue;
+      expected_gone.insert(f.name);
+      left -= f.bytes;
+    }
+    uint64_t removed_bytes = 0;
+    for (const File& f : files) {
+      EXPECT_EQ(fs::exists(dir + "/" + f.name), expected_gone.count(f.name) == 0) << f.name << " at " << limit;
+      if (expected_gone.count(f.name)) removed_bytes += f.bytes;
+    }
+    for (const std::string& name : others) EXPECT_TRUE(fs::exists(dir + "/" + name)) << name;
+    EXPECT_TRUE(fs::is_directory(dir + "/carry-0123456789abcdef.bin"));
+    EXPECT_EQ(trim.files_removed, expected_gone.size());
+    EXPECT_EQ(trim.bytes_removed, removed_bytes);
+    EXPECT_EQ(trim.files_kept, files.size() - expected_gone.size());
+    EXPECT_EQ(trim.bytes_kept, total - removed_bytes);
+    EXPECT_EQ(trim.limit, limit);
+  }
+  // Read (with its head), the oldest file not in use is marked used: now the last to go.
+  make(dir);
+  const File& oldest = order[0].name == files[9].name ? order[1] : order[0];
+  ASSERT_TRUE(spx::read_cache_file(dir + "/" + oldest.name, "xx").has_value());
+  const spx::CacheTrim trim = spx::trim_cache_folder(dir, total - oldest.bytes, in_use_paths);
+  EXPECT_TRUE(fs::exists(dir + "/" + oldest.name));
+  EXPECT_EQ(trim.files_removed, 1u);
+  // Another key's file (a head that does not match) is not marked.
+  make(dir);
+  EXPECT_FALSE(spx::read_cache_file(dir + "/" + oldest.name, "yy").has_value());
+  spx::trim_cache_folder(dir, total - oldest.bytes, in_use_paths);
+  EXPECT_FALSE(fs::exists(dir + "/" + oldest.name));
 }

@@ -25,13 +25,18 @@ int main(int argc, char** argv) {
       ->check(spx::kPositive);
   auto* tets = tool.app.add_option("--tets", opt.tet_file,
                                    "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
-  tool.app.add_option("--cache", opt.cache_dir,
+  auto* cache = tool.app.add_option("--cache", opt.cache_dir,
                       "Keep what no tolerance or budget changes (the rest's tets; each pose's field's depths, "
                       "medial voxels and the candidates grown at them; a skinned body's carries) in this folder "
                       "between runs: a later run on the same rest, poses, --tet-size and tools reads them instead "
                       "of making them (the same proxy)")
       ->excludes(tets);
   tool.writes_folder("--cache");
+  tool.app.add_option("--cache-limit", opt.cache_limit,
+                      "Keep the --cache folder under this size (default 4gb; 0: no limit): after the run, the "
+                      "tools' cache files least recently used are removed, never this run's")
+      ->transform(CLI::AsSizeValue(false))
+      ->needs(cache);
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
   auto* fill = tool.app.add_flag("--fill-gaps", opt.fill_gaps,
                                  "Pack what each pose's mapped spheres leave uncovered and map the new spheres back "

@@ -5,7 +5,10 @@
 #include <cstring>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "core/json_io.hpp"
+#include "core/log.hpp"
 #include "core/sphere.hpp"
 
 namespace spx {
@@ -25,8 +28,34 @@ std::string cache_file(const std::string& dir, const std::string& kind, const st
 
 // The bytes of the cache file at `path`, where they begin with `head` (its tag and key, a line);
 // none where there is no such file, it cannot be read (a cache is never a reason to fail), or it
-// is another key's.
+// is another key's. A file read is marked used (mark_cache_file_used).
 std::optional<std::string> read_cache_file(const std::string& path, const std::string& head);
+// The cache file at `path` used now: its time set, which trim_cache_folder goes by (a file that
+// cannot be touched keeps its time).
+void mark_cache_file_used(const std::string& path);
+
+// The tools' cache files kept under a size: the folder's files named as cache_file names them
+// (KIND-KEY.EXT, KEY 16 hex digits) removed, least recently used first (by their times, then
+// names), until what is left is at most `limit` bytes; never those of `in_use` (this run's), nor
+// any other file. `limit` 0: nothing removed. A file another run removes first is passed over.
+struct CacheTrim {
+  uint64_t limit = 0;
+  size_t files_removed = 0;
+  uint64_t bytes_removed = 0;
+  size_t files_kept = 0;
+  uint64_t bytes_kept = 0;
+};
+CacheTrim trim_cache_folder(const std::string& dir, uint64_t limit, const std::vector<std::string>& in_use);
+
+// trim_cache_folder at the end of a tool's run, said where it removed anything (or where this
+// run's files alone pass the limit).
+CacheTrim keep_cache_under(const std::string& dir, uint64_t limit, const std::vector<std::string>& in_use, Log& log);
+// The report's `cache_folder`: null without a cache folder.
+json cache_trim_json(const std::optional<CacheTrim>& trim);
+
+// The default of the tools' --cache-limit: a farm's clips fill a disk otherwise (a rigged clip's
+// frames keep about 2.5 MB each).
+inline constexpr uint64_t kDefaultCacheLimit = uint64_t(4) << 30;
 
 // A cache file's plain values, in the machine's own layout (a cache is never moved between
 // machines: its key names the program's build). Read off `bytes` from `at`, false past its end.

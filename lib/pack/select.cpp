@@ -235,11 +235,13 @@ void order_chosen(CoverSelection& out) {
 
 // The cache's file written where this run added to it (a file that cannot be written is a
 // warning: the spheres do not need it), and what it gave in the report.
-void save_cache(const CandidateCache& cache, CoverSelection& out, Log& log) {
+// Then the folder kept under its limit.
+void save_cache(const CandidateCache& cache, const SpherePackOptions& opt, CoverSelection& out, Log& log) {
   if (!cache.active()) return;
-  out.cache = {cache.file(), cache.voxels_read(), cache.balls_read(), cache.balls_made()};
+  out.cache = {cache.file(), cache.voxels_read(), cache.balls_read(), cache.balls_made(), {}};
   const std::string failed = cache.save();
   if (!failed.empty()) log.warn(failed + ": the candidates are not cached");
+  out.cache->folder = keep_cache_under(opt.cache_dir, opt.cache_limit, {cache.file()}, log);
 }
 }  // namespace
 
@@ -320,7 +322,7 @@ CoverSelection select_by_cover(const DenseField& field, const MeshQuery& mesh, c
   if (refined) refine_selected(field, mesh, opt, problem, spaced ? every : problem, out, log);
   order_chosen(out);
   note_unused_budget(out.limited_by, out.spheres.size(), opt.pack.max_spheres, log);
-  save_cache(cache, out, log);
+  save_cache(cache, opt, out, log);
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cache_folder.hpp"
 #include "core/log.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
@@ -35,8 +36,10 @@ struct SpherePackOptions {
   // max and median is kept (select.cpp).
   int polish_rounds = 2;
   // Cover: a folder the candidates no tolerance or budget changes are kept in between runs
-  // (pack/candidate_cache.hpp); empty: none.
+  // (pack/candidate_cache.hpp); empty: none. Kept under cache_limit bytes (0: no limit) by
+  // removing the folder's cache files least recently used (core/cache_folder.hpp).
   std::string cache_dir;
+  uint64_t cache_limit = kDefaultCacheLimit;
 };
 
 // The cover method on a field and its mesh: the spheres, and how the cover went.
@@ -65,6 +68,7 @@ struct CoverSelection {
     std::string file;
     bool voxels_read = false;
     size_t balls_read = 0, balls_made = 0;
+    CacheTrim folder;  // the folder after this run's file was written
   };
   std::optional<Cache> cache;
 };

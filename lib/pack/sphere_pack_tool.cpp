@@ -349,6 +349,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
                                                 {"sample_balls_read", sel.cache->balls_read},
                                                 {"sample_balls_made", sel.cache->balls_made}}
                                          : json(nullptr)}};
+  report["cache_folder"] = cache_trim_json(sel.cache ? std::optional<CacheTrim>(sel.cache->folder) : std::nullopt);
   if (target > 0)
     report["tolerance"] = tolerance_report(in_force, target, is_default, met, error.max, spheres.size(), limit);
   return spheres;
@@ -439,6 +440,7 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   report["method"] = opt.method == PackMethod::cover ? "cover" : "greedy";
   report["sphere_count"] = spheres.size();
   report["pack"] = stats.to_json();
+  report.emplace("cache_folder", nullptr);  // greedy packing keeps no cache
 }
 
 }  // namespace spx

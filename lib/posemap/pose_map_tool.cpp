@@ -204,6 +204,7 @@ json pose_map_report(const PoseMapResult& result) {
                                                  : json{{"file", s.carry_cache.file},
                                                         {"choices_read", s.carry_cache.read},
                                                         {"choices_made", s.carry_cache.made}}}}},
+          {"cache_folder", cache_trim_json(s.cache_folder)},
           {"open_solid", s.open_solid},
           {"radius_source", s.open_solid ? "exact distance to each pose's mesh, bounded across its holes by "
                                            "that pose's own field"

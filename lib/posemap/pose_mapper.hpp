@@ -92,6 +92,8 @@ class PoseMapper {
   // The poses' and the carries' caches (posemap/pose_cache.hpp, carry_cache.hpp) written where
   // this run added to them; a file that cannot be written is a warning (the proxy does not need it).
   void save_caches();
+  // Then the cache folder kept under its limit, this run's files (the tets' too) kept.
+  void trim_cache(PoseMapSummary& out);
 
   // Warnings for every radius 0, and the summary's tets, map, per-pose errors and zero radii.
   void summarize(PoseMapSummary& out) const;

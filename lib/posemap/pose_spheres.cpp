@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/cache_folder.hpp"
+#include "core/format.hpp"
 #include "core/hash.hpp"
 #include "core/subject.hpp"
 #include "core/tolerance.hpp"
@@ -235,6 +236,8 @@ void PoseMapper::save_caches() {
       log_.warn(std::string(e.what()) + ": the carries are not cached");
     }
   }
+  size_t unwritten = 0;
+  std::string first_failure;
   for (size_t i = 0; i < pose_cache_.size(); ++i) {
     PoseCacheUse& use = pose_cache_[i];
     if (use.file.empty()) continue;
@@ -250,10 +253,21 @@ void PoseMapper::save_caches() {
     try {
       write_pose_cache(use.file, pose_cache_key_[i], cached);
     } catch (const Error& e) {  // the proxy does not need it
-      log_.warn(std::string(e.what()) + ": the poses' fields are not cached");
-      return;
+      if (unwritten++ == 0) first_failure = e.what();
     }
   }
+  if (unwritten > 0)
+    log_.warn(first_failure + ": " + (unwritten == 1 ? "a pose's field is" : counted(unwritten, "pose") + "' fields are") +
+              " not cached");
+}
+
+void PoseMapper::trim_cache(PoseMapSummary& out) {
+  if (opt_.cache_dir.empty()) return;
+  std::vector<std::string> in_use{tet_cache_file_};
+  if (carry_cache_) in_use.push_back(carry_cache_->file());
+  for (const PoseCacheUse& use : pose_cache_)
+    if (!use.file.empty()) in_use.push_back(use.file);
+  out.cache_folder = keep_cache_under(opt_.cache_dir, opt_.cache_limit, in_use, log_);
 }
 
 SphereSet PoseMapper::pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {

@@ -281,6 +281,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   mapper.attach_skin();
   mapper.check_between_poses(result.summary);
   mapper.save_caches();
+  mapper.trim_cache(result.summary);
   mapper.summarize(result.summary);
   return result;
 }

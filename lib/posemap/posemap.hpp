@@ -33,8 +33,10 @@ struct PoseMapOptions {
   // A folder the rest's tets (tet_mesh.hpp's cache), each pose's field's depths, voxels and grown
   // candidates (pose_cache.hpp) and a skinned body's carries (carry_cache.hpp) are kept in between
   // runs: read where it holds this rest's and these poses' (the same, so the same proxy), else
-  // made and written there.
+  // made and written there. Kept under cache_limit bytes (0: no limit) by removing the folder's
+  // cache files least recently used (core/cache_folder.hpp).
   std::string cache_dir;
+  uint64_t cache_limit = kDefaultCacheLimit;
   // The paper's future work: pack the part of each pose's interior the mapped spheres leave
   // uncovered, and map the new centers back to the rest pose through the inverse map.
   bool fill_gaps = false;
@@ -119,6 +121,7 @@ struct PoseMapSummary {
     std::string file;
     size_t read = 0, made = 0;
   } carry_cache;
+  std::optional<CacheTrim> cache_folder;  // with a cache folder: it after this run's files were written
   std::optional<JointSelection> selection;  // when selected jointly
   double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
   std::optional<GapFilling> fill;           // when asked

@@ -370,6 +370,7 @@ std::optional<TetMesh> read_tets_cache(const std::string& path, const std::strin
   }
   for (const std::string& c : comments)
     if (c.rfind(kUnmeshedTag, 0) == 0) m.unmeshed_bodies.push_back(c.substr(std::string(kUnmeshedTag).size()));
+  mark_cache_file_used(path);
   return m;
 }
 

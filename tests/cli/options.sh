@@ -112,7 +112,25 @@ rm -f "$pose_file" && mkdir "$pose_file"
   --tolerance 1% --cache "$out/cache/tools" 2>"$out/f1c3.err"
 check "--cache: a pose's file it cannot write changed the proxy" 'cmp -s "$out/f1.proxy.json" "$out/f1c3.proxy.json"'
 check "--cache: a pose's file it cannot write was not warned about" \
-  'grep -q "warning: .*the poses.* fields are not cached" "$out/f1c3.err"'
+  'grep -q "warning: .*: a pose.s field is not cached" "$out/f1c3.err"'
+# --cache-limit: the folder's other cache files (sphere-pack's candidates, other runs' tets and
+# poses) removed, least recently used first; this run's kept, and the same proxy.
+mkdir -p "$out/cache/lim" && cp "$out"/cache/tools/*-*.* "$out/cache/lim/" 2>/dev/null
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/k0.json" -o "$out/f1c4.proxy.json" -q \
+  --tolerance 1% --cache "$out/cache/lim" --cache-limit 1kb --report "$out/f1c4.json"
+trimmed=$(py "
+import json,os,sys
+r=json.load(open(sys.argv[1])); c=r['cache_folder']
+used={os.path.basename(p['cache']['file']) for p in r['poses'] if p['cache']} | {os.path.basename(r['tets']['cache']['file'])}
+left={f for f in os.listdir(sys.argv[2]) if '-' in f and not f.endswith('.json')}
+print(c['limit_bytes'] == 1024 and c['files_removed'] > 0 and left == used and c['files_kept'] == len(used)
+      and c['bytes_kept'] == sum(os.path.getsize(os.path.join(sys.argv[2], f)) for f in used))" \
+  "$out/f1c4.json" "$out/cache/lim")
+check "--cache-limit 1kb: kept another run's file or removed this run's" '[ "$trimmed" = True ]'
+check "--cache-limit 1kb: the proxy changed" 'cmp -s "$out/f1.proxy.json" "$out/f1c4.proxy.json"'
+check "--cache-limit: a report that does not fit its schema, or a limit not 4 GiB by default" \
+  '/usr/bin/python3 "$here/validate_json.py" "$here/../../schemas" pose-map-report.schema.json "$out/f1c4.json" \
+     >/dev/null 2>&1 && [ "$(field "$out/cache/tools/f1c2.json" "r[\"cache_folder\"][\"limit_bytes\"]")" = 4294967296 ]'
 "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/s.json" -o "$out/r.proxy.json" --max-radius 0.1 -q
 check "--max-radius 0.1 exceeded" '[ "$(py "
 import json,sys
