@@ -3,7 +3,7 @@
 //   precompute-bench --data ../shared/data --json OUT.json [--repeats 3] [--max-resolution 512]
 //                    [--resolution N ...] [--no-chains] [--no-routes] [--frames [N ...]] [--splits [N ...]]
 //                    [--pose-splits [N ...]]
-//                    [--sweep-only] [--work DIR]
+//                    [--sweep-only] [--no-sweep-cache] [--work DIR]
 // The routes, the frame sweep and the dense meshes run the tools beside it as whole processes
 // (tool_runs.hpp).
 #include <openvdb/openvdb.h>
@@ -223,7 +223,7 @@ struct Plan {
   std::vector<size_t> frames = {4, 8, 16, 32, 48, 100};
   std::vector<int> splits = {1, 2};  // the armadillo split at its midpoints this many times
   std::vector<int> pose_splits = {3};  // the elephant's poses and its walk's frames split so, for pose-map
-  bool chains = true, routes = true, sweep_only = false;
+  bool chains = true, routes = true, sweep_only = false, sweep_cached = true;
 };
 
 void run(const Plan& plan, const Log& log);
@@ -256,6 +256,8 @@ int main(int argc, char** argv) {
   CLI::Option* pose_splits = split_counts("--pose-splits", plan.pose_splits,
                                                 "pose-map on the elephant and its 4 poses, and on 4 frames of its rigged walk", "3");
   app.add_flag("--sweep-only", plan.sweep_only, "Only the frame sweep (no routes, SDF cases or chains)");
+  app.add_flag("!--no-sweep-cache", plan.sweep_cached,
+               "The frame sweep without its runs from a --cache written before (the routes keep theirs)");
   app.add_option("--work", plan.work, "Where the routes and the sweep write their files");
   return tool.run(argc, argv, [&] {
     // `--frames` alone reaches CLI11 as one empty value, which it reads as 0.
@@ -306,7 +308,7 @@ json frame_sweeps(const Plan& plan, const std::string& tools, const Log& log) {
                                 return std::vector<std::string>{"--times", times};
                               }};
   for (const bench::ClipSweep& clip : {walk, bend})
-    sweeps.push_back(bench::frame_sweep(tools, clip, plan.frames, plan.work, plan.repeats, log));
+    sweeps.push_back(bench::frame_sweep(tools, clip, plan.frames, plan.work, plan.repeats, plan.sweep_cached, log));
   return sweeps;
 }
 

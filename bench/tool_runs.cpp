@@ -41,6 +41,20 @@ json read_json(const std::string& path) {
 // The pose-map report's sphere count.
 size_t spheres_in_report(const std::string& report) { return read_json(report).at("sphere_count").get<size_t>(); }
 
+// Throws unless the run from the cache wrote what the fresh run wrote: the proxies byte for
+// byte, and the spheres files but for the field each names (`source`, another route's file).
+void check_same_outputs(const std::string& fresh_proxy, const std::string& cached_proxy,
+                        const std::string& fresh_spheres = "", const std::string& cached_spheres = "") {
+  bool same = read_file(fresh_proxy) == read_file(cached_proxy);
+  if (same && !fresh_spheres.empty()) {
+    json a = read_json(fresh_spheres), b = read_json(cached_spheres);
+    a.erase("source");
+    b.erase("source");
+    same = a == b;
+  }
+  if (!same) throw std::runtime_error(cached_proxy + ": the run from the cache wrote other spheres than " + fresh_proxy);
+}
+
 // A tool run two ways (0: spaced, 1: --every-vertex) in turn `runs` times: each way's times, its
 // most memory and its last report. `run_way(every, out)` is the way's command, writing its
 // report to out + ".report.json".
@@ -112,10 +126,16 @@ json route_case(const std::string& tools, const std::string& name, const std::st
     double peak = 0;
     size_t spheres = 0;
   };
+  // The default route again with both tools' --cache, written by one run before the timed ones:
+  // an artist's second run. Its outputs must be the fresh default route's.
+  const std::string cache = dir + "/cache";
+  fs::remove_all(cache);
   std::vector<Route> routes = {{"paper", {"--method", "greedy"}, {"--map-given"}, {}, {}, {}, {}},
-                               {"default", {}, {}, {}, {}, {}, {}}};
-  for (int r = 0; r < repeats; ++r)
+                               {"default", {}, {}, {}, {}, {}, {}},
+                               {"cached", {"--cache", cache}, {"--cache", cache}, {}, {}, {}, {}}};
+  for (int r = -1; r < repeats; ++r)
     for (Route& route : routes) {
+      if (r < 0 && route.name != "cached") continue;  // the untimed run that writes the cache
       const std::string field = dir + "/" + route.name + ".vdb", spheres = dir + "/" + route.name + ".spheres.json";
       const std::string report = dir + "/" + route.name + ".report.json";
       std::vector<std::string> pack{"sphere-pack", field, "-o", spheres, "--mesh", rest, "-q"};
@@ -127,6 +147,10 @@ json route_case(const std::string& tools, const std::string& name, const std::st
       const ToolRun sdf = run_tool(tools, {"sdf-build", rest, "-o", field, "-q"});
       const ToolRun packed = run_tool(tools, pack);
       const ToolRun mapped = run_tool(tools, map);
+      if (r < 0) continue;
+      if (route.name == "cached")
+        check_same_outputs(dir + "/default.proxy.json", dir + "/cached.proxy.json", dir + "/default.spheres.json",
+                           spheres);
       route.sdf.push_back(sdf.seconds);
       route.pack_s.push_back(packed.seconds);
       route.map_s.push_back(mapped.seconds);
@@ -139,18 +163,24 @@ json route_case(const std::string& tools, const std::string& name, const std::st
     out[route.name] = {{"sdf_s", median(route.sdf)},     {"pack_s", median(route.pack_s)},
                        {"pose_map_s", median(route.map_s)}, {"total_s", median(route.total)},
                        {"peak_gib", route.peak},           {"spheres", route.spheres}};
-  // The ratio of the medians of per-repeat ratios: each pair ran side by side.
-  std::vector<double> ratios;
-  for (int r = 0; r < repeats; ++r) ratios.push_back(routes[1].total[size_t(r)] / routes[0].total[size_t(r)]);
-  out["default_over_paper"] = median(ratios);
-  say(log, "%s: paper route %.2f s, default route %.2f s (%.2fx)", name.c_str(), out["paper"]["total_s"].get<double>(),
-      out["default"]["total_s"].get<double>(), median(ratios));
+  // The medians of per-repeat ratios: each pair ran side by side.
+  const auto ratio = [&](size_t a, size_t b) {
+    std::vector<double> ratios;
+    for (int r = 0; r < repeats; ++r) ratios.push_back(routes[a].total[size_t(r)] / routes[b].total[size_t(r)]);
+    return median(ratios);
+  };
+  out["default_over_paper"] = ratio(1, 0);
+  out["cached_over_paper"] = ratio(2, 0);
+  out["cached_over_default"] = ratio(2, 1);
+  say(log, "%s: paper route %.2f s, default route %.2f s (%.2fx), from the cache %.2f s (%.2fx)", name.c_str(),
+      out["paper"]["total_s"].get<double>(), out["default"]["total_s"].get<double>(), ratio(1, 0),
+      out["cached"]["total_s"].get<double>(), ratio(2, 0));
   out["triangles"] = load_mesh(rest).mesh.triangles.size();
   return out;
 }
 
 json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vector<size_t>& frames,
-                 const std::string& work, int repeats, const Log& log) {
+                 const std::string& work, int repeats, bool with_cache, const Log& log) {
   const std::string dir = work + "/" + clip.name;
   fs::create_directories(dir);
   auto poses_of = [&](size_t n) { return dir + "/frames-" + std::to_string(n); };
@@ -167,32 +197,58 @@ json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vec
   run_tool(tools, {"sdf-build", rest, "-o", field, "-q"});
   run_tool(tools, {"sphere-pack", field, "-o", spheres, "--mesh", rest, "-q"});
   // The counts take turns within each repeat (4, 8, ..., 48, then 4, 8, ... again), so that a
-  // ratio compares runs made side by side, not one count's runs before the next's.
-  std::vector<std::vector<double>> seconds(frames.size());
+  // ratio compares runs made side by side, not one count's runs before the next's. Each fresh
+  // run is followed by one with --cache (written by a run before the timed ones), whose proxy
+  // must be the fresh one's.
+  const std::string cache = dir + "/cache";
+  fs::remove_all(cache);
+  const auto pose_map = [&](const std::string& poses, bool cached) {
+    std::vector<std::string> argv{"pose-map", "--manifest", poses + "/poses.json", "--spheres", spheres, "-o",
+                                  poses + (cached ? "/proxy-cached.json" : "/proxy.json"), "-q"};
+    if (cached) argv.insert(argv.end(), {"--cache", cache});
+    else argv.insert(argv.end(), {"--report", poses + "/report.json"});
+    return run_tool(tools, argv);
+  };
+  if (with_cache)
+    for (size_t n : frames) pose_map(poses_of(n), true);
+  std::vector<std::vector<double>> seconds(frames.size()), cached_seconds(frames.size());
   std::vector<double> peak(frames.size(), 0);
   for (int r = 0; r < repeats; ++r)
     for (size_t k = 0; k < frames.size(); ++k) {
       if (r > 0 && frames[k] > 64) continue;  // one run past 64 frames
       const std::string poses = poses_of(frames[k]);
-      const ToolRun run = run_tool(tools, {"pose-map", "--manifest", poses + "/poses.json", "--spheres", spheres, "-o",
-                                           poses + "/proxy.json", "--report", poses + "/report.json", "-q"});
+      const ToolRun run = pose_map(poses, false);
       seconds[k].push_back(run.seconds);
       peak[k] = std::max(peak[k], run.peak_gib);
+      if (!with_cache) continue;
+      cached_seconds[k].push_back(pose_map(poses, true).seconds);
+      check_same_outputs(poses + "/proxy.json", poses + "/proxy-cached.json");
     }
+  // The median of the per-repeat ratios to the first count: each pair ran side by side.
+  const auto over_first = [](const std::vector<std::vector<double>>& runs, size_t k) {
+    std::vector<double> ratios;
+    for (size_t r = 0; r < runs[k].size(); ++r) ratios.push_back(runs[k][r] / runs[0][r]);
+    return median(ratios);
+  };
   json rows = json::array();
   for (size_t k = 0; k < frames.size(); ++k) {
-    // The median of the per-repeat ratios to the first count: each pair ran side by side.
-    std::vector<double> ratios;
-    for (size_t r = 0; r < seconds[k].size(); ++r) ratios.push_back(seconds[k][r] / seconds[0][r]);
-    rows.push_back({{"frames", frames[k]},
-                    {"pose_map_s", median(seconds[k])},
-                    {"runs", seconds[k].size()},
-                    {"pose_map_runs_s", seconds[k]},
-                    {"peak_gib", peak[k]},
-                    {"spheres", spheres_in_report(poses_of(frames[k]) + "/report.json")},
-                    {"over_first", median(ratios)}});
+    json row = {{"frames", frames[k]},
+                {"pose_map_s", median(seconds[k])},
+                {"runs", seconds[k].size()},
+                {"pose_map_runs_s", seconds[k]},
+                {"peak_gib", peak[k]},
+                {"spheres", spheres_in_report(poses_of(frames[k]) + "/report.json")},
+                {"over_first", over_first(seconds, k)}};
     say(log, "%s, %zu frames: pose-map %.2f s (%.2fx %zu frames), %.2f GiB", clip.name.c_str(), frames[k],
-        median(seconds[k]), median(ratios), frames[0], peak[k]);
+        median(seconds[k]), over_first(seconds, k), frames[0], peak[k]);
+    if (with_cache) {
+      row["cached_s"] = median(cached_seconds[k]);
+      row["cached_runs_s"] = cached_seconds[k];
+      row["cached_over_first"] = over_first(cached_seconds, k);
+      say(log, "%s, %zu frames from the cache: pose-map %.2f s (%.2fx %zu frames)", clip.name.c_str(), frames[k],
+          median(cached_seconds[k]), over_first(cached_seconds, k), frames[0]);
+    }
+    rows.push_back(row);
   }
   return {{"clip", clip.name}, {"rows", rows}, {"triangles", load_mesh(rest).mesh.triangles.size()}};
 }

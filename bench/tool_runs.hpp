@@ -39,10 +39,12 @@ ToolRun run_tool(const std::string& tools_dir, const std::vector<std::string>& a
 // The folder of this program's sibling tools (build/<preset>/apps).
 std::string tools_dir_beside_this_program();
 
-// The chain on a rest mesh and its poses (files), twice per repeat alternating: the paper's
-// route (greedy packing, pose-map mapping those spheres as given) and the default route
-// (coverage selection, joint selection), each stage a process. Medians per stage and of the
-// totals, the ratio, each route's peak memory and sphere count, and the rest's triangles.
+// The chain on a rest mesh and its poses (files), three times per repeat in turn: the paper's
+// route (greedy packing, pose-map mapping those spheres as given), the default route (coverage
+// selection, joint selection) and the default route with both tools' --cache (written by one
+// untimed run first; throws unless it writes the fresh route's spheres and proxy), each stage a
+// process. Medians per stage and of the totals, the ratios, each route's peak memory and sphere
+// count, and the rest's triangles.
 nlohmann::json route_case(const std::string& tools, const std::string& name, const std::string& rest,
                           const std::vector<std::string>& poses, const std::string& work, int repeats, const Log& log);
 
@@ -50,14 +52,15 @@ nlohmann::json route_case(const std::string& tools, const std::string& name, con
 // --select N or the times it gives), for each count: median time and peak memory of `repeats`
 // runs (1 past 64 frames), spheres, and the median of its per-repeat ratios to the first count
 // (the counts take turns within each repeat), and the rest's triangles. The rest's field and
-// spheres are built once.
+// spheres are built once. `with_cache`: each run is followed by one with --cache (written by one
+// untimed run per count first; throws unless its proxy is the fresh one's), timed the same way.
 struct ClipSweep {
   std::string name, asset;
   std::vector<std::string> extract;                                   // pose-extract options besides -o
   std::function<std::vector<std::string>(size_t n)> frames_option;  // the options that take n frames
 };
 nlohmann::json frame_sweep(const std::string& tools, const ClipSweep& clip, const std::vector<size_t>& frames,
-                           const std::string& work, int repeats, const Log& log);
+                           const std::string& work, int repeats, bool with_cache, const Log& log);
 
 // sphere-pack on `rest` split at its midpoints `split` times (a scan's density): spaced (the
 // default) against --every-vertex, at the default tolerance and, where `budget` > 0, at that many

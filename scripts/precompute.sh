@@ -30,24 +30,26 @@ for c in r.get("sdf", []):
         c.get("least_pair_speedup", c["speedup_vs_openvdb"]), c["against_exact"]["ours_max_error_voxels"],
         c["against_exact"]["ours_mean_error_voxels"]))
 if r.get("routes"):
-    print("\n| asset | triangles | poses | paper route: sdf + pack + pose-map (spheres) | default route (spheres) | default / paper | peak memory paper / default |")
-    print("|---|---|---|---|---|---|---|")
+    print("\n| asset | triangles | poses | paper route: sdf + pack + pose-map (spheres) | default route (spheres) | default / paper | default from its --cache | cached / paper | peak memory paper / default |")
+    print("|---|---|---|---|---|---|---|---|---|")
     with open(d + "/routes.dat", "w") as f:
         for x in r["routes"]:
-            p, q = x["paper"], x["default"]
-            print("| %s | %d | %d | %.2f + %.2f + %.2f = %.2f s (%d) | %.2f + %.2f + %.2f = %.2f s (%d) | %.2fx | %.2f / %.2f GiB |" % (
+            p, q, c = x["paper"], x["default"], x["cached"]
+            print("| %s | %d | %d | %.2f + %.2f + %.2f = %.2f s (%d) | %.2f + %.2f + %.2f = %.2f s (%d) | %.2fx | %.2f + %.2f + %.2f = %.2f s | %.2fx | %.2f / %.2f GiB |" % (
                 x["mesh"], x["triangles"], x["poses"], p["sdf_s"], p["pack_s"], p["pose_map_s"], p["total_s"], p["spheres"],
                 q["sdf_s"], q["pack_s"], q["pose_map_s"], q["total_s"], q["spheres"], x["default_over_paper"],
-                p["peak_gib"], q["peak_gib"]))
+                c["sdf_s"], c["pack_s"], c["pose_map_s"], c["total_s"], x["cached_over_paper"], p["peak_gib"], q["peak_gib"]))
             f.write("%d %.4f %.4f \"%s\"\n" % (x["triangles"], p["total_s"], q["total_s"], x["mesh"]))
 for s in r.get("frame_sweeps", []):
     print("\n%s (%d triangles): pose-map at the defaults\n" % (s["clip"], s["triangles"]))
-    print("| frames | time | against the first row | peak memory | spheres |")
-    print("|---|---|---|---|---|")
+    cached = all("cached_s" in row for row in s["rows"])
+    print("| frames | time | against the first row | peak memory | spheres |" + (" from the cache | against its first row |" if cached else ""))
+    print("|---|---|---|---|---|" + ("---|---|" if cached else ""))
     with open("%s/%s.dat" % (d, s["clip"]), "w") as f:
         for row in s["rows"]:
             print("| %d | %.2f s%s | %.2fx | %.2f GiB | %d |" % (row["frames"], row["pose_map_s"],
-                  "" if row["runs"] > 1 else " (1 run)", row["over_first"], row["peak_gib"], row["spheres"]))
+                  "" if row["runs"] > 1 else " (1 run)", row["over_first"], row["peak_gib"], row["spheres"]) +
+                  (" %.2f s | %.2fx |" % (row["cached_s"], row["cached_over_first"]) if cached else ""))
             f.write("%d %.4f %.4f\n" % (row["frames"], row["pose_map_s"], row["peak_gib"]))
 for c in r.get("dense", []):
     print("\n%s (%d triangles, %d vertices): sphere-pack, the cover on spaced vertices against every vertex's\n" % (
