@@ -32,11 +32,7 @@ int main(int argc, char** argv) {
                       "of making them (the same proxy)")
       ->excludes(tets);
   tool.writes_folder("--cache");
-  tool.app.add_option("--cache-limit", opt.cache_limit,
-                      "Keep the --cache folder under this size (default 4gb; 0: no limit): after the run, the "
-                      "tools' cache files least recently used are removed, never this run's")
-      ->transform(CLI::AsSizeValue(false))
-      ->needs(cache);
+  spx::add_cache_limit(tool.app, opt.cache_limit, cache);
   tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
   auto* fill = tool.app.add_flag("--fill-gaps", opt.fill_gaps,
                                  "Pack what each pose's mapped spheres leave uncovered and map the new spheres back "

@@ -45,11 +45,7 @@ int main(int argc, char** argv) {
                                     "Cover: keep the candidates no tolerance or budget changes in this folder between "
                                     "runs: a later run on the same field, mesh and samples reads them (the same spheres)");
   tool.writes_folder("--cache");
-  tool.app.add_option("--cache-limit", opt.cache_limit,
-                      "Keep the --cache folder under this size (default 4gb; 0: no limit): after the run, the "
-                      "tools' cache files least recently used are removed, never this run's")
-      ->transform(CLI::AsSizeValue(false))
-      ->needs(cache);
+  spx::add_cache_limit(tool.app, opt.cache_limit, cache);
   bool grid_centers = false;
   tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {

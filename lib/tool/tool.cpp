@@ -178,6 +178,16 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   }
 }
 
+CLI::Option* add_cache_limit(CLI::App& app, uint64_t& limit, CLI::Option* cache) {
+  return app
+      .add_option("--cache-limit", limit,
+                  "Keep the --cache folder under this size (default 4gb; 0: no limit): after the run, the tools' "
+                  "cache files least recently used are removed, never this run's")
+      ->transform(CLI::AsSizeValue(false))
+      ->check(kNonNegative)  // after the units: "-1" would wrap to the largest size
+      ->needs(cache);
+}
+
 Tolerance parse_tolerance(const std::string& text, const std::string& flag) {
   Tolerance t;
   if (text.empty()) return t;

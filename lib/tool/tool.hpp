@@ -69,6 +69,10 @@ class Tool {
 // not -3"; CLI11's spelled out the range up to the largest double).
 extern const CLI::Validator kPositive, kNonNegative;
 
+// sphere-pack's and pose-map's --cache-limit (a size: bytes, or kb, mb, gb in powers of 1024),
+// which needs their --cache option `cache`.
+CLI::Option* add_cache_limit(CLI::App& app, uint64_t& limit, CLI::Option* cache);
+
 // "0.05" (mesh units) or "1%" (of the diagonal); empty: not set. A usage error naming `flag`.
 Tolerance parse_tolerance(const std::string& text, const std::string& flag);
 

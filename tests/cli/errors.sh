@@ -148,6 +148,13 @@ expect 1 "cache: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$
 printf 'a file\n' >"$out/a-file"
 expect 4 "a-file: cannot make the cache folder" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
   --mesh "$out/in/rest.obj" -o "$out/n.json" --cache "$out/a-file"
+# --cache-limit: a size that is not one (negative, a unit it does not know) or without --cache.
+expect 1 "--cache-limit: must be 0 or more, not -1" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
+  --mesh "$out/in/rest.obj" -o "$out/n.json" --cache "$out/cache" --cache-limit -1
+expect 1 "--cache-limit: zb unit not recognized" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \
+  --pose "$out/in/dent.obj" --spheres "$out/n.json" -o "$out/n.json" --cache "$out/cache" --cache-limit 3zb
+expect 1 "--cache-limit requires --cache" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
+  --mesh "$out/in/rest.obj" -o "$out/n.json" --cache-limit 1gb
 expect 1 "polish requires --max-spheres" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --polish 2
 expect 1 "grid-centers: is for --method greedy" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
   --grid-centers
