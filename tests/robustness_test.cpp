@@ -424,7 +424,8 @@ TEST(FilesBetweenTools, Base64RoundTripsEveryByteAndLength) {
 // --cache-limit: the tools' cache files removed least recently used first (time, then name) until
 // the folder is under the limit, never this run's nor any file the tools do not name so; against
 // the plain account (the shortest run of the oldest files not in use whose removal is enough) at
-// every limit between none and all. A file read is marked used and goes last.
+// every limit between none and all. A file read is marked used and goes last. A killed run's
+// temporary file of a cache file, two hours old, goes whatever the limit; a live run's stays.
 TEST(CacheFolder, TrimRemovesTheLeastRecentlyUsedFirst) {
   namespace fs = std::filesystem;
   struct File {
@@ -447,6 +448,7 @@ TEST(CacheFolder, TrimRemovesTheLeastRecentlyUsedFirst) {
   uint64_t total = 0;
   for (const File& f : files) total += f.bytes;
   const auto now = fs::file_time_type::clock::now();
+  const std::string stale_temp = ".tets-0123456789abcdef.mesh.tmp.4242";
   const auto make = [&](const std::string& dir) {
     fs::remove_all(dir);
     fs::create_directories(dir + "/carry-0123456789abcdef.bin");  // a folder: not a cache file
@@ -455,6 +457,11 @@ TEST(CacheFolder, TrimRemovesTheLeastRecentlyUsedFirst) {
       fs::last_write_time(dir + "/" + f.name, now - std::chrono::seconds(f.age));
     }
     for (const std::string& name : others) spx::write_file_atomic(dir + "/" + name, std::string(5000, 'y'));
+    // Temporary files two hours old: a cache file's (a killed run's: it goes) and another's (stays).
+    for (const std::string& name : {stale_temp, std::string(".notes.txt.tmp.5")}) {
+      spx::write_file_atomic(dir + "/" + name, std::string(300, 'z'));
+      fs::last_write_time(dir + "/" + name, now - std::chrono::hours(2));
+    }
   };
   // The plain account: oldest first, names breaking ties; in-use files passed over.
   std::vector<File> order = files;
@@ -482,8 +489,10 @@ TEST(CacheFolder, TrimRemovesTheLeastRecentlyUsedFirst) {
     }
     for (const std::string& name : others) EXPECT_TRUE(fs::exists(dir + "/" + name)) << name;
     EXPECT_TRUE(fs::is_directory(dir + "/carry-0123456789abcdef.bin"));
-    EXPECT_EQ(trim.files_removed, expected_gone.size());
-    EXPECT_EQ(trim.bytes_removed, removed_bytes);
+    EXPECT_TRUE(fs::exists(dir + "/.notes.txt.tmp.5"));
+    EXPECT_FALSE(fs::exists(dir + "/" + stale_temp)) << "at " << limit;  // whatever the limit
+    EXPECT_EQ(trim.files_removed, expected_gone.size() + 1);
+    EXPECT_EQ(trim.bytes_removed, removed_bytes + 300);
     EXPECT_EQ(trim.files_kept, files.size() - expected_gone.size());
     EXPECT_EQ(trim.bytes_kept, total - removed_bytes);
     EXPECT_EQ(trim.limit, limit);
@@ -494,7 +503,7 @@ TEST(CacheFolder, TrimRemovesTheLeastRecentlyUsedFirst) {
   ASSERT_TRUE(spx::read_cache_file(dir + "/" + oldest.name, "xx").has_value());
   const spx::CacheTrim trim = spx::trim_cache_folder(dir, total - oldest.bytes, in_use_paths);
   EXPECT_TRUE(fs::exists(dir + "/" + oldest.name));
-  EXPECT_EQ(trim.files_removed, 1u);
+  EXPECT_EQ(trim.files_removed, 2u);  // the oldest not in use, and the stale temporary file
   // Another key's file (a head that does not match) is not marked.
   make(dir);
   EXPECT_FALSE(spx::read_cache_file(dir + "/" + oldest.name, "yy").has_value());

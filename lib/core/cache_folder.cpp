@@ -1,6 +1,7 @@
 #include "core/cache_folder.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <iterator>
 #include <cstdio>
 #include <filesystem>
@@ -70,6 +71,17 @@ bool is_cache_file_name(const std::string& name) {
   return all(0, dash, lower) && all(dash + 1, dot, hex) && all(dot + 1, name.size(), lower);
 }
 
+// Whether `name` is a temporary file of a cache file's writing (atomic_file: ".NAME.tmp.PID").
+bool is_cache_temp_name(const std::string& name) {
+  const size_t tmp = name.rfind(".tmp.");
+  return name.size() > 1 && name[0] == '.' && tmp != std::string::npos && tmp + 5 < name.size() &&
+         is_cache_file_name(name.substr(1, tmp - 1)) &&
+         std::all_of(name.begin() + long(tmp + 5), name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// A temporary file this old is a run's that was killed while writing (SIGKILL leaves them).
+constexpr std::chrono::hours kStaleTemp{1};
+
 }  // namespace
 
 CacheTrim trim_cache_folder(const std::string& dir, uint64_t limit, const std::vector<std::string>& in_use) {
@@ -83,19 +95,25 @@ CacheTrim trim_cache_folder(const std::string& dir, uint64_t limit, const std::v
   std::vector<std::string> used_names;  // in_use's files are in `dir`: their names say which
   for (const std::string& path : in_use) used_names.push_back(fs::path(path).filename().string());
   std::vector<Entry> files;
+  CacheTrim trim;
+  trim.limit = limit;
+  const fs::file_time_type stale = fs::file_time_type::clock::now() - kStaleTemp;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
+    const bool temp = is_cache_temp_name(name);
     std::error_code e1, e2;
-    if (!is_cache_file_name(name) || !it->is_regular_file(e1)) continue;
+    if ((!temp && !is_cache_file_name(name)) || !it->is_regular_file(e1)) continue;
     const uint64_t bytes = it->file_size(e1);
     const fs::file_time_type time = it->last_write_time(e2);
     if (e1 || e2) continue;
+    if (temp) {  // a killed run's half file goes, whatever the limit; a live run's is left alone
+      if (time < stale && fs::remove(it->path(), e1) && !e1) trim.files_removed += 1, trim.bytes_removed += bytes;
+      continue;
+    }
     const bool used = std::find(used_names.begin(), used_names.end(), name) != used_names.end();
     files.push_back({time, name, bytes, used});
   }
-  CacheTrim trim;
-  trim.limit = limit;
   for (const Entry& f : files) trim.bytes_kept += f.bytes;
   trim.files_kept = files.size();
   if (limit == 0 || trim.bytes_kept <= limit) return trim;

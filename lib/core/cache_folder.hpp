@@ -38,6 +38,8 @@ void mark_cache_file_used(const std::string& path);
 // (KIND-KEY.EXT, KEY 16 hex digits) removed, least recently used first (by their times, then
 // names), until what is left is at most `limit` bytes; never those of `in_use` (this run's), nor
 // any other file. `limit` 0: nothing removed. A file another run removes first is passed over.
+// Whatever the limit, a cache file's temporary file over an hour old (".NAME.tmp.PID": a run
+// killed while writing it) is removed too, and counted as removed.
 struct CacheTrim {
   uint64_t limit = 0;
   size_t files_removed = 0;
