@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <iterator>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <tuple>
 
 #include "core/atomic_file.hpp"
@@ -108,7 +108,10 @@ CacheTrim trim_cache_folder(const std::string& dir, uint64_t limit, const std::v
     const fs::file_time_type time = it->last_write_time(e2);
     if (e1 || e2) continue;
     if (temp) {  // a killed run's half file goes, whatever the limit; a live run's is left alone
-      if (time < stale && fs::remove(it->path(), e1) && !e1) trim.files_removed += 1, trim.bytes_removed += bytes;
+      if (time < stale && fs::remove(it->path(), e1) && !e1) {
+        trim.files_removed += 1;
+        trim.bytes_removed += bytes;
+      }
       continue;
     }
     const bool used = std::find(used_names.begin(), used_names.end(), name) != used_names.end();
@@ -148,8 +151,8 @@ std::string size_text(uint64_t bytes) {
 CacheTrim keep_cache_under(const std::string& dir, uint64_t limit, const std::vector<std::string>& in_use, Log& log) {
   const CacheTrim trim = trim_cache_folder(dir, limit, in_use);
   if (trim.files_removed > 0)
-    log.info(dir + ": " + counted(trim.files_removed, "cache file") + " (" + size_text(trim.bytes_removed) +
-             ") least recently used removed, to keep it under its limit of " + size_text(limit));
+    log.info(dir + ": removed " + counted(trim.files_removed, "cache file") + " (" + size_text(trim.bytes_removed) +
+             "), the least recently used or left half-written, to keep it under its limit of " + size_text(limit));
   if (limit > 0 && trim.bytes_kept > limit)
     log.detail(dir + ": this run's cache files alone hold " + size_text(trim.bytes_kept) + ", over its limit of " +
                size_text(limit));
