@@ -32,8 +32,13 @@ std::string cache_file(const std::string& dir, const std::string& kind, const st
   return (std::filesystem::path(dir) / (kind + "-" + key + "." + extension)).string();
 }
 
+namespace {
+// A key's hex digits in a file's name: all of a 64-bit hash's.
+constexpr size_t kKeyDigits = 16;
+}  // namespace
+
 std::string cache_key_text(uint64_t hash) {
-  char text[17];
+  char text[kKeyDigits + 1];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
   return text;
 }
@@ -62,7 +67,7 @@ namespace {
 // Whether `name` is one cache_file makes: KIND-KEY.EXT, KIND and EXT lowercase letters.
 bool is_cache_file_name(const std::string& name) {
   const size_t dash = name.find('-'), dot = name.rfind('.');
-  if (dash == 0 || dash == std::string::npos || dot != dash + 17 || dot + 1 == name.size()) return false;
+  if (dash == 0 || dash == std::string::npos || dot != dash + 1 + kKeyDigits || dot + 1 == name.size()) return false;
   const auto all = [&](size_t from, size_t to, auto&& is) {
     return std::all_of(name.begin() + from, name.begin() + to, [&](char c) { return is(c); });
   };
