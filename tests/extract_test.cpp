@@ -1,4 +1,7 @@
 // pose-extract: poses out of rigged and morph-target assets, and the chain run on them.
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -314,6 +317,83 @@ TEST(PoseExtract, ChainOnSelectedClipFramesKeepsEverySphereInside) {
   std::vector<TriMesh> meshes = {r.mesh};
   for (const auto& p : poses) meshes.push_back(load_pose(p, r));
   expect_spheres_inside(dir + "/chain/proxy.json", meshes, "RiggedSimple");
+}
+
+// An asset handed over as FBX or COLLADA (the formats DCC tools and asset stores ship rigs in) gives
+// the poses its glTF gives, at the same times, within float rounding. The files are the glTF
+// re-exported by assimp, with two of its exporters' slips undone first: both write key times as
+// seconds whatever the ticks are, so the keys are put in seconds; FBX drops the root node's own
+// transform, so an identity root goes above it. (Its binary FBX does not read back into its own
+// importer, hence ASCII; its COLLADA of the elephant's matrices does not either, hence
+// RiggedSimple there.) The FBX importer also resamples the clip's keys and ends it at its stack's
+// stop, so the times asked lie inside.
+std::string reexport(const std::string& asset, const std::string& format, const std::string& out) {
+  Assimp::Importer importer;
+  if (!importer.ReadFile(asset, 0)) return importer.GetErrorString();
+  aiScene* scene = importer.GetOrphanedScene();
+  for (unsigned a = 0; a < scene->mNumAnimations; ++a) {
+    aiAnimation* clip = scene->mAnimations[a];
+    const double tps = clip->mTicksPerSecond > 0 ? clip->mTicksPerSecond : 25.0;
+    for (unsigned c = 0; c < clip->mNumChannels; ++c) {
+      aiNodeAnim* ch = clip->mChannels[c];
+      for (unsigned k = 0; k < ch->mNumPositionKeys; ++k) ch->mPositionKeys[k].mTime /= tps;
+      for (unsigned k = 0; k < ch->mNumRotationKeys; ++k) ch->mRotationKeys[k].mTime /= tps;
+      for (unsigned k = 0; k < ch->mNumScalingKeys; ++k) ch->mScalingKeys[k].mTime /= tps;
+    }
+    clip->mDuration /= tps;
+    clip->mTicksPerSecond = 1;
+  }
+  if (format == "fbxa") {
+    aiNode* root = new aiNode("exported-root");
+    root->mNumChildren = 1;
+    root->mChildren = new aiNode*[1]{scene->mRootNode};
+    scene->mRootNode->mParent = root;
+    scene->mRootNode = root;
+  }
+  Assimp::Exporter exporter;
+  const aiReturn written = exporter.Export(scene, format, out);
+  delete scene;
+  return written == AI_SUCCESS ? out : exporter.GetErrorString();
+}
+
+TEST(PoseExtract, FbxAndColladaGiveTheGltfsPoses) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("fbx");
+  const std::string simple = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
+  const std::string elephant = test::shared_data() + "/elephant/elephant-rigged.glb";
+  struct Case {
+    std::string gltf, format, file;
+    std::vector<double> times;
+  };
+  const Case cases[] = {{simple, "fbxa", "simple.fbx", {0.3, 0.6, 1.0}},
+                        {simple, "collada", "simple.dae", {0.3, 0.8, 1.5, 2.0}},
+                        {elephant, "fbxa", "elephant.fbx", {0.5, 5.01, 10.3, 14.9}}};
+  for (const Case& c : cases) {
+    ASSERT_EQ(reexport(c.gltf, c.format, dir + "/" + c.file), dir + "/" + c.file);
+    PoseExtractOptions opt;
+    opt.animation = "0";
+    opt.times = c.times;
+    json report;
+    pose_extract_files(c.gltf, dir + "/" + c.file + ".gltf-poses", opt, Log::silent(), report);
+    pose_extract_files(dir + "/" + c.file, dir + "/" + c.file + ".poses", opt, Log::silent(), report);
+    const PoseManifest ours = read_pose_manifest(dir + "/" + c.file + ".poses/poses.json");
+    const PoseManifest theirs = read_pose_manifest(dir + "/" + c.file + ".gltf-poses/poses.json");
+    ASSERT_EQ(ours.poses.size(), c.times.size()) << c.file;
+    const LoadedMesh rest = load_mesh(dir + "/" + c.file + ".gltf-poses/" + theirs.rest);
+    const double tol = 1e-5 * rest.mesh.diagonal();
+    // The re-exported mesh is matched to the glTF's by its triangles (its vertices come in
+    // another order, split at every corner).
+    EXPECT_LE(max_vertex_distance(rest.mesh, load_pose(dir + "/" + c.file + ".poses/" + ours.rest, rest)), tol)
+        << c.file << ": the bind pose";
+    double moved = 0;
+    for (size_t k = 0; k < c.times.size(); ++k) {
+      const TriMesh mine = load_pose(dir + "/" + c.file + ".poses/" + ours.poses[k].file, rest);
+      const TriMesh gltf = load_pose(dir + "/" + c.file + ".gltf-poses/" + theirs.poses[k].file, rest);
+      EXPECT_LE(max_vertex_distance(mine, gltf), tol) << c.file << " at " << c.times[k] << " s";
+      moved = std::max(moved, max_vertex_distance(gltf, rest.mesh));
+    }
+    EXPECT_GT(moved, 0.05 * rest.mesh.diagonal()) << c.file << ": the times asked should move the body";
+  }
 }
 
 // Farthest-point selection against brute force: the greedy choice is a 2-approximation of the
