@@ -8,7 +8,10 @@
 
 namespace spx {
 
-// importer.ReadFile(path, flags). Where assimp cannot read a .gltf or .glb, the project's glTF
+// importer.ReadFile(path, flags). A .gltf or .glb is first checked for the extensions it requires
+// (exit 3 for one the tools cannot honour) and, where it holds integer data that assimp would
+// read wrong, read from memory with that data as floats (mesh/gltf_input.hpp). Where assimp
+// cannot read a .gltf or .glb, the project's glTF
 // reader says what is wrong with the file ("not a glTF: its JSON does not parse (...)",
 // "truncated", "contains no mesh"); a .gltf it finds nothing wrong with (a buffer whose URI is
 // percent-encoded, "My%20Body.bin", which assimp opens as written) is read again from memory as

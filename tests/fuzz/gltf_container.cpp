@@ -1,12 +1,15 @@
 // libFuzzer target: the glTF container reader (GLB chunks, a .gltf's JSON and its data: buffers)
-// on arbitrary bytes. Bad input must end in spx::Error, never a crash or another exception; what
-// it lets through is an object whose views all point into its one buffer.
+// on arbitrary bytes, then what is done to it before assimp reads it (the extensions it requires,
+// its integer accessors rewritten as floats). Bad input must end in spx::Error, never a crash or
+// another exception; what it lets through is an object whose views all point into its one buffer,
+// and whose rewritten accessors are floats in views inside it.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 
 #include "core/error.hpp"
 #include "core/gltf_file.hpp"
+#include "mesh/gltf_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);
@@ -17,6 +20,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (const auto& view : file.doc["bufferViews"])
       if (!glb && view["buffer"] != 0) std::abort();  // a .gltf's buffers merged into one
     spx::encode_glb(file);
+    spx::check_required_extensions(file.doc, "fuzz.gltf");
+    spx::GltfFile floats = file;
+    const size_t views = file.doc["bufferViews"].size();
+    const size_t changed = spx::float_accessors(floats, "fuzz.gltf");
+    if (floats.doc["bufferViews"].size() != views + changed) std::abort();
+    for (size_t v = views; v < views + changed; ++v) {  // the views it added, the only ones it trusts
+      const auto& view = floats.doc["bufferViews"][v];
+      if (view["byteOffset"].get<size_t>() + view["byteLength"].get<size_t>() > floats.bin.size()) std::abort();
+    }
+    if (changed > 0) spx::encode_glb(floats);
   } catch (const spx::Error&) {
   }
   return 0;

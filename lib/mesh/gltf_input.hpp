@@ -1,0 +1,26 @@
+#pragma once
+// A glTF asset made ready for assimp (5.2), which reads some valid ones wrong without a word: it
+// copies the bytes of an integer accessor into floats where glTF allows integers for
+// floating-point data, so a skin weight of 255 (normalized: 1) reads as 3.6e-43 and the poses come
+// out wrong, and it ignores the extensions an asset requires.
+#include <string>
+
+#include "core/gltf_file.hpp"
+
+namespace spx {
+
+// Exit 3 naming the first extension in `extensionsRequired` that the tools cannot honour. Those
+// they can: KHR_draco_mesh_compression (assimp decodes it), KHR_mesh_quantization
+// (float_accessors), and those of materials, textures and lights, which change no geometry.
+void check_required_extensions(const json& doc, const std::string& path);
+
+// Rewrites as floats every integer accessor a reader takes as floating-point data: a mesh's
+// attributes but its joints (JOINTS_n) and application-specific ones ("_NAME"), its morph
+// targets' attributes, and clips' outputs (normalized rotations and morph weights). The values are
+// the spec's: c / 255, c / 65535, max(c / 127, -1), max(c / 32767, -1) where normalized, else c;
+// min and max too; a sparse accessor becomes dense. The new data goes at the end of the binary
+// buffer. Returns how many accessors changed (0: the file is as it was). Exit 2 naming `path`
+// where an accessor or its view is out of range.
+size_t float_accessors(GltfFile& file, const std::string& path);
+
+}  // namespace spx
