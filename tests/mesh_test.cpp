@@ -22,6 +22,7 @@
 #include "mesh/components.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/deforming_query.hpp"
+#include "mesh/gltf_input.hpp"
 #include "mesh/split.hpp"
 #include "mesh/inscribed.hpp"
 #include "mesh/mesh_query.hpp"
@@ -226,6 +227,84 @@ TEST(MeshLoad, GlbRestWithObjPoses) {
 
 // A .gltf beside its buffer "My Body.bin", the URI percent-encoded as Blender writes it
 // ("My%20Body.bin"): assimp opens the URI as written and fails; the file reads as the GLB does.
+// The integer accessors rewritten as floats, against the values worked out by hand from the spec:
+// a strided view, an accessor's own offset, a sparse one with and without a view, the signed
+// types' -1 clamp, min and max; the attributes left alone (joints, floats, "_NAME").
+TEST(GltfInput, IntegerAccessorsBecomeTheSpecsFloats) {
+  GltfFile file;
+  auto put = [&](auto v) { file.bin.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  // View 0, stride 8: two pad bytes, then per element two uint16 (normalized VEC2) and a 4-byte gap.
+  put(uint16_t(0));
+  const uint16_t pairs[3][2] = {{0, 65535}, {32768, 1}, {7, 9}};
+  for (const auto& pair : pairs) {
+    put(pair[0]);
+    put(pair[1]);
+    put(uint32_t(0xDEADBEEF));
+  }
+  ASSERT_EQ(file.bin.size(), 26u);
+  // View 1: int8 normalized SCALAR -128, -127, 0, 127; view 2: sparse indices (uint8) 2, 0;
+  // view 3: sparse values (int16 normalized) -32768, 16384.
+  for (int8_t c : {-128, -127, 0, 127}) put(c);
+  for (uint8_t c : {2, 0}) put(c);
+  put(uint16_t(0));
+  for (int16_t c : {-32768, 16384}) put(c);
+  file.doc = json::parse(R"({
+    "asset": {"version": "2.0"},
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 26, "byteStride": 8},
+                    {"buffer": 0, "byteOffset": 26, "byteLength": 4},
+                    {"buffer": 0, "byteOffset": 30, "byteLength": 2},
+                    {"buffer": 0, "byteOffset": 34, "byteLength": 4}],
+    "accessors": [
+      {"bufferView": 0, "byteOffset": 2, "componentType": 5123, "normalized": true, "count": 3, "type": "VEC2",
+       "min": [0, 1], "max": [65535, 65535]},
+      {"bufferView": 1, "componentType": 5120, "normalized": true, "count": 4, "type": "SCALAR",
+       "sparse": {"count": 2, "indices": {"bufferView": 2, "componentType": 5121},
+                  "values": {"bufferView": 1, "byteOffset": 2}}},
+      {"componentType": 5122, "normalized": true, "count": 3, "type": "SCALAR",
+       "sparse": {"count": 2, "indices": {"bufferView": 2, "componentType": 5121}, "values": {"bufferView": 3}}},
+      {"bufferView": 1, "componentType": 5121, "count": 4, "type": "SCALAR"},
+      {"bufferView": 1, "componentType": 5121, "count": 4, "type": "VEC4"}],
+    "meshes": [{"primitives": [{"attributes": {"TEXCOORD_0": 0, "JOINTS_0": 4, "_ID": 3},
+                                "targets": [{"POSITION": 1}]}]}],
+    "animations": [{"samplers": [{"input": 3, "output": 2}], "channels": []}]
+  })");
+  const json before = file.doc;
+  ASSERT_EQ(float_accessors(file, "t.glb"), 3u);
+  auto floats = [&](size_t a) {
+    const json& accessor = file.doc["accessors"][a];
+    EXPECT_EQ(accessor["componentType"], 5126);
+    EXPECT_FALSE(accessor.contains("sparse") || accessor.contains("normalized") || accessor.contains("byteOffset"));
+    const json& view = file.doc["bufferViews"][accessor["bufferView"].get<size_t>()];
+    std::vector<float> out(view["byteLength"].get<size_t>() / 4);
+    std::memcpy(out.data(), file.bin.data() + view["byteOffset"].get<size_t>(), out.size() * 4);
+    return out;
+  };
+  EXPECT_EQ(floats(0), (std::vector<float>{0.0f, 1.0f, float(32768 / 65535.0), float(1 / 65535.0), float(7 / 65535.0),
+                                           float(9 / 65535.0)}));
+  EXPECT_EQ(file.doc["accessors"][0]["min"], json::array({0.0, double(float(1 / 65535.0))}));
+  EXPECT_EQ(file.doc["accessors"][0]["max"], json::array({1.0, 1.0}));
+  // Element 2 takes the first sparse value (0 as int8), element 0 the second (127: 1).
+  EXPECT_EQ(floats(1), (std::vector<float>{1.0f, float(-127 / 127.0), 0.0f, 1.0f}));
+  EXPECT_EQ(floats(2), (std::vector<float>{float(16384 / 32767.0), 0.0f, -1.0f}));
+  for (size_t a : {3u, 4u}) EXPECT_EQ(file.doc["accessors"][a], before["accessors"][a]) << a;
+  EXPECT_EQ(float_accessors(file, "t.glb"), 0u) << "floats already";
+  // A view past the buffer, an accessor past its view: exit 2 naming the file.
+  for (const char* broken : {R"({"bufferViews": [{"buffer": 0, "byteOffset": 30, "byteLength": 40}]})",
+                             R"({"accessors": [{"bufferView": 1, "componentType": 5121, "count": 5, "type": "SCALAR"}]})"}) {
+    GltfFile bad;
+    bad.bin = file.bin;
+    bad.doc = before;
+    bad.doc.merge_patch(json::parse(broken));
+    try {
+      float_accessors(bad, "bad.glb");
+      ADD_FAILURE() << broken;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << broken;
+      EXPECT_EQ(e.subject(), "bad.glb");
+    }
+  }
+}
+
 TEST(MeshLoad, GltfWithAPercentEncodedBufferReadsAsItsGlb) {
   SPX_REQUIRE_SHARED_DATA();
   const std::string glb_path = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
