@@ -21,6 +21,7 @@
 #include "io/scene.hpp"
 #include "io/skin_file.hpp"
 #include "io/proxy_file.hpp"
+#include "mesh/defects.hpp"
 #include "mesh/gltf_input.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/sphere_pack_tool.hpp"
@@ -518,6 +519,57 @@ TEST(PoseExtract, IntegerGltfDataGivesItsFloatTwinsPoses) {
     EXPECT_EQ(e.code(), ExitCode::unsupported);
     EXPECT_NE(e.message().find("requires the glTF extension EXT_meshopt_compression"), std::string::npos) << e.what();
   }
+}
+
+// A part placed by a mirroring transform (a left wheel as the right one scaled by -1) is drawn by
+// glTF, and every renderer, with its faces' order reversed, so that it faces out. Read so by the
+// mesh loader and by pose-extract: the unit cube placed plain, mirrored (det -1, once with the
+// clip moving it) and mirrored twice (det +1) makes three outward cubes, volume 3. Before, the
+// mirrored one faced inward: "faces inward ... gets no spheres; flip its faces" of a valid file.
+TEST(PoseExtract, MirroredPartsFaceOutAsGltfDrawsThem) {
+  const std::string dir = test::temp_dir("mirror");
+  GltfFile file;
+  auto put = [&](auto v) { file.bin.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  for (int x : {0, 1})
+    for (int y : {0, 1})
+      for (int z : {0, 1})
+        for (int c : {x, y, z}) put(float(c));
+  const uint16_t faces[12][3] = {{0, 1, 2}, {1, 3, 2}, {4, 6, 5}, {5, 6, 7}, {0, 4, 1}, {1, 4, 5},
+                                 {2, 3, 6}, {3, 7, 6}, {0, 2, 4}, {2, 6, 4}, {1, 5, 3}, {3, 5, 7}};
+  for (const auto& f : faces)
+    for (uint16_t v : f) put(v);
+  for (float t : {0.0f, 1.0f}) put(t);
+  for (float c : {-0.5f, 0.0f, 0.0f, -0.5f, 0.0f, 2.0f}) put(c);  // the mirrored cube's keys: up by 2
+  file.doc = json::parse(R"({
+    "asset": {"version": "2.0"},
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96}, {"buffer": 0, "byteOffset": 96, "byteLength": 72},
+                    {"buffer": 0, "byteOffset": 168, "byteLength": 8}, {"buffer": 0, "byteOffset": 176, "byteLength": 24}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]},
+                  {"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"},
+                  {"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1]},
+                  {"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"}],
+    "meshes": [{"name": "cube", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "nodes": [{"name": "plain", "mesh": 0},
+              {"name": "mirrored", "mesh": 0, "scale": [-1, 1, 1], "translation": [-0.5, 0, 0]},
+              {"name": "twice", "mesh": 0, "scale": [-1, -1, 1], "translation": [4, 3, 0]}],
+    "scenes": [{"nodes": [0, 1, 2]}], "scene": 0,
+    "animations": [{"name": "lift", "samplers": [{"input": 2, "output": 3}],
+                    "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}}]}]
+  })");
+  write_file_atomic(dir + "/cubes.glb", encode_glb(file));
+  const LoadedMesh loaded = load_mesh(dir + "/cubes.glb");
+  EXPECT_NEAR(signed_volume(loaded.mesh), 3.0, 1e-9);
+  PoseExtractOptions opt;
+  opt.animation = "0";
+  opt.times = {1.0};
+  json report;
+  pose_extract_files(dir + "/cubes.glb", dir + "/ex", opt, Log::silent(), report);
+  const LoadedMesh rest = load_mesh(dir + "/ex/rest.obj");
+  EXPECT_NEAR(signed_volume(rest.mesh), 3.0, 1e-9);
+  const TriMesh lifted = load_pose(dir + "/ex/pose-00.obj", rest);
+  EXPECT_NEAR(signed_volume(lifted), 3.0, 1e-9);
+  EXPECT_NEAR(max_vertex_distance(lifted, rest.mesh), 2.0, 1e-6);  // the clip moved the mirrored cube
+  EXPECT_TRUE(find_defects(rest.mesh).inside_out_parts.empty());
 }
 
 // Farthest-point selection against brute force: the greedy choice is a 2-approximation of the

@@ -142,6 +142,7 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
   check_importable(path, "an asset", "glTF/GLB, FBX or COLLADA");
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
   scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset");
+  face_out_mirrored(const_cast<aiScene*>(scene_));  // the importer's own scene, ours to change
 
   std::vector<std::pair<const aiNode*, unsigned>> placed;
   collect_instances(scene_->mRootNode, placed);

@@ -1,6 +1,11 @@
 #include "mesh/assimp_scene.hpp"
 
+#include <assimp/SceneCombiner.h>
+
+#include <algorithm>
+#include <map>
 #include <optional>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
@@ -21,7 +26,9 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
     }
     if (file) {
       check_required_extensions(file->doc, path);
-      if (float_accessors(*file, path) > 0) {
+      // Both, whatever the first finds (no short circuit).
+      const size_t rewritten = float_accessors(*file, path);
+      if (rewritten + complete_mirrored_channels(*file, path) > 0) {
         const std::string glb = encode_glb(*file);
         const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
         if (scene && scene->mRootNode) return scene;
@@ -42,6 +49,44 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
     }
   }
   fail_input(path, "cannot read " + what + ": " + error);
+}
+
+namespace {
+
+void face_out_mirrored(aiScene* scene, aiNode* node, const aiMatrix4x4& parent, std::map<unsigned, unsigned>& reversed,
+                       std::vector<aiMesh*>& added) {
+  const aiMatrix4x4 global = parent * node->mTransformation;
+  if (global.Determinant() < 0)
+    for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+      const unsigned k = node->mMeshes[i];
+      if (k >= scene->mNumMeshes || scene->mMeshes[k]->mNumBones) continue;
+      auto it = reversed.find(k);
+      if (it == reversed.end()) {
+        aiMesh* copy = nullptr;
+        Assimp::SceneCombiner::Copy(&copy, scene->mMeshes[k]);
+        for (unsigned f = 0; f < copy->mNumFaces; ++f)
+          std::reverse(copy->mFaces[f].mIndices, copy->mFaces[f].mIndices + copy->mFaces[f].mNumIndices);
+        it = reversed.emplace(k, unsigned(scene->mNumMeshes + added.size())).first;
+        added.push_back(copy);
+      }
+      node->mMeshes[i] = it->second;
+    }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) face_out_mirrored(scene, node->mChildren[c], global, reversed, added);
+}
+
+}  // namespace
+
+void face_out_mirrored(aiScene* scene) {
+  std::map<unsigned, unsigned> reversed;
+  std::vector<aiMesh*> added;
+  face_out_mirrored(scene, scene->mRootNode, aiMatrix4x4(), reversed, added);
+  if (added.empty()) return;
+  aiMesh** meshes = new aiMesh*[scene->mNumMeshes + added.size()];
+  std::copy(scene->mMeshes, scene->mMeshes + scene->mNumMeshes, meshes);
+  std::copy(added.begin(), added.end(), meshes + scene->mNumMeshes);
+  delete[] scene->mMeshes;
+  scene->mMeshes = meshes;
+  scene->mNumMeshes += unsigned(added.size());
 }
 
 }  // namespace spx

@@ -19,4 +19,11 @@ namespace spx {
 // <what>: <assimp's error>". The scene is the importer's.
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what);
 
+// Each mesh that a node places by a mirroring transform (its global transform's determinant below
+// 0) gets its faces' order reversed, as glTF says and renderers draw it: with its vertices
+// transformed and the order kept, the part would face inward (and be no solid). Where other nodes
+// place it unmirrored, the reversed faces are a copy of the mesh of its own. A mesh with bones is
+// left as it is (its skin places it, not its node).
+void face_out_mirrored(aiScene* scene);
+
 }  // namespace spx

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <set>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -278,6 +280,97 @@ size_t float_accessors(GltfFile& file, const std::string& path) {
     ++changed;
   }
   return changed;
+}
+
+namespace {
+
+// Appends `values` as a float accessor of `type` (with its own view); returns its index.
+size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, const char* type) {
+  while (file.bin.size() % 4) file.bin += '\0';
+  json& doc = file.doc;
+  doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", file.bin.size()}, {"byteLength", values.size() * 4}});
+  for (double v : values) {
+    const float f = float(v);
+    file.bin.append(reinterpret_cast<const char*>(&f), 4);
+  }
+  if (!doc.contains("accessors")) doc["accessors"] = json::array();
+  json accessor = {{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", kFloat}, {"count", 1}, {"type", type}};
+  if (std::string(type) == "SCALAR") accessor["min"] = accessor["max"] = json::array({double(float(values[0]))});
+  doc["accessors"].push_back(accessor);
+  return doc["accessors"].size() - 1;
+}
+
+// A node's translation, rotation or scale as glTF gives it (or its default); empty where it is
+// not a list of numbers of the path's size.
+std::vector<double> node_path_value(const json& node, const std::string& path) {
+  const std::vector<double> fallback = path == "rotation" ? std::vector<double>{0, 0, 0, 1}
+                                       : path == "scale"  ? std::vector<double>{1, 1, 1}
+                                                          : std::vector<double>{0, 0, 0};
+  if (!node.contains(path)) return fallback;
+  const json& v = node[path];
+  if (!v.is_array() || v.size() != fallback.size()) return {};
+  std::vector<double> out;
+  for (const json& c : v) {
+    if (!c.is_number()) return {};
+    out.push_back(c.get<double>());
+  }
+  return out;
+}
+
+}  // namespace
+
+size_t complete_mirrored_channels(GltfFile& file, const std::string& path) {
+  json& doc = file.doc;
+  if (!doc.contains("animations") || !doc["animations"].is_array() || !doc.contains("nodes")) return 0;
+  const json nodes = doc["nodes"];
+  size_t added = 0;
+  for (json& clip : doc["animations"]) {
+    if (!clip.is_object() || !clip.contains("channels") || !clip["channels"].is_array() || !clip.contains("samplers") ||
+        !clip["samplers"].is_array())
+      continue;
+    // Per mirrored node the clip moves: the paths it moves, and the first key time of one of them.
+    std::map<size_t, std::set<std::string>> moved;
+    std::map<size_t, double> first_time;
+    for (const json& channel : clip["channels"]) {
+      if (!channel.is_object() || !channel.contains("target") || !channel["target"].is_object()) continue;
+      const json& target = channel["target"];
+      const std::string p = text(target, "path");
+      if (!target.contains("node") || !target["node"].is_number_unsigned() || (p != "translation" && p != "rotation" && p != "scale"))
+        continue;
+      const size_t n = target["node"].get<size_t>();
+      if (n >= nodes.size() || !nodes[n].is_object()) continue;
+      const std::vector<double> scale = node_path_value(nodes[n], "scale");
+      if (scale.empty() || !(scale[0] * scale[1] * scale[2] < 0)) continue;
+      moved[n].insert(p);
+      if (first_time.count(n) || !channel.contains("sampler") || !channel["sampler"].is_number_unsigned()) continue;
+      const size_t s = channel["sampler"].get<size_t>();
+      if (s >= clip["samplers"].size() || !clip["samplers"][s].is_object() || !clip["samplers"][s].contains("input")) continue;
+      const json& input = clip["samplers"][s]["input"];
+      if (!input.is_number_unsigned() || !doc.contains("accessors") || !doc["accessors"].is_array() ||
+          input.get<size_t>() >= doc["accessors"].size())
+        continue;
+      const json& accessor = doc["accessors"][input.get<size_t>()];
+      if (!accessor.is_object() || !accessor.contains("componentType") || accessor["componentType"] != kFloat ||
+          components(accessor) != 1)
+        continue;
+      const std::vector<double> times = accessor_values(file, accessor, path);
+      if (!times.empty()) first_time[n] = times[0];
+    }
+    for (const auto& [n, paths] : moved) {
+      if (!first_time.count(n)) continue;
+      for (const char* missing : {"translation", "rotation", "scale"}) {
+        if (paths.count(missing)) continue;
+        const std::vector<double> value = node_path_value(nodes[n], missing);
+        if (value.empty()) continue;
+        const size_t input = add_float_accessor(file, {first_time[n]}, "SCALAR");
+        const size_t output = add_float_accessor(file, value, value.size() == 4 ? "VEC4" : "VEC3");
+        clip["samplers"].push_back({{"input", input}, {"output", output}, {"interpolation", "LINEAR"}});
+        clip["channels"].push_back({{"sampler", clip["samplers"].size() - 1}, {"target", {{"node", n}, {"path", missing}}}});
+        ++added;
+      }
+    }
+  }
+  return added;
 }
 
 }  // namespace spx

@@ -23,4 +23,12 @@ void check_required_extensions(const json& doc, const std::string& path);
 // where an accessor or its view is out of range.
 size_t float_accessors(GltfFile& file, const std::string& path);
 
+// assimp fills the paths a clip leaves a node without from the node's matrix decomposed, whose
+// rotation takes a mirroring scale's sign (scale -1, 1, 1 becomes a half turn about x and scale
+// -1, -1, -1), beside the scale the node itself gives: a mirrored part a clip moves turns over.
+// Each mirrored node a clip moves (its scale's product below 0) gets the paths the clip leaves out
+// as one-key channels holding its own translation, rotation or scale. Returns how many channels
+// were added (0: the file is as it was).
+size_t complete_mirrored_channels(GltfFile& file, const std::string& path);
+
 }  // namespace spx

@@ -45,8 +45,12 @@ RawMesh read_raw(const std::string& path) {
   Assimp::Importer importer;
   // Keep only triangles; never drop degenerate ones silently (the report lists them).
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  // Read as it is, its mirrored parts turned to face out, then placed (pre-transformed): the same
+  // steps in the same order as reading with those flags.
+  face_out_mirrored(const_cast<aiScene*>(read_scene(importer, path, 0, "mesh")));
   const aiScene* scene =
-      read_scene(importer, path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType, "mesh");
+      importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
+  if (!scene || !scene->mRootNode) fail_input(path, std::string("cannot read mesh: ") + importer.GetErrorString());
 
   RawMesh raw;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
