@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -400,6 +401,89 @@ TEST(PoseExtract, FbxAndColladaGiveTheGltfsPoses) {
       moved = std::max(moved, max_vertex_distance(gltf, rest.mesh));
     }
     EXPECT_GT(moved, 0.05 * rest.mesh.diagonal()) << c.file << ": the times asked should move the body";
+  }
+}
+
+// An FBX blend shape (a Morpher's channel and its Shape, as Maya and Blender write them; here a
+// hand-written ASCII file: the unit cube whose corner (1, 1, 1) the shape lifts by 1) is a morph
+// target like glTF's: pose "Bump" moves that corner alone.
+TEST(PoseExtract, FbxBlendShapeIsAMorphTarget) {
+  const std::string dir = test::temp_dir("fbx-shape");
+  auto listed = [](const std::vector<int>& values) {
+    std::string out;
+    for (int v : values) out += (out.empty() ? "" : ",") + std::to_string(v);
+    return out;
+  };
+  std::vector<int> corners, polygons;
+  for (int x : {0, 1})
+    for (int y : {0, 1})
+      for (int z : {0, 1}) corners.insert(corners.end(), {x, y, z});
+  for (const auto& q : {std::array<int, 4>{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}})
+    polygons.insert(polygons.end(), {q[0], q[1], q[2], -(q[3] + 1)});  // a polygon's last index i is written -(i + 1)
+  write_file_atomic(dir + "/bump.fbx", R"(; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+}
+Objects:  {
+	Geometry: 1000, "Geometry::Cube", "Mesh" {
+		Vertices: *24 {
+			a: )" + listed(corners) + R"(
+		}
+		PolygonVertexIndex: *24 {
+			a: )" + listed(polygons) + R"(
+		}
+		GeometryVersion: 124
+	}
+	Geometry: 2000, "Geometry::Bump", "Shape" {
+		Version: 100
+		Indexes: *1 {
+			a: 7
+		}
+		Vertices: *3 {
+			a: 0,0,1
+		}
+		Normals: *3 {
+			a: 0,0,0
+		}
+	}
+	Model: 3000, "Model::Cube", "Mesh" {
+		Version: 232
+	}
+	Deformer: 4000, "Deformer::Morpher", "BlendShape" {
+		Version: 100
+	}
+	Deformer: 5000, "SubDeformer::Bump", "BlendShapeChannel" {
+		Version: 100
+		DeformPercent: 0
+		FullWeights: *1 {
+			a: 100
+		}
+	}
+}
+Connections:  {
+	C: "OO",3000,0
+	C: "OO",1000,3000
+	C: "OO",4000,1000
+	C: "OO",5000,4000
+	C: "OO",2000,5000
+}
+)");
+  PoseExtractOptions opt;
+  opt.morph_targets = true;
+  json report;
+  pose_extract_files(dir + "/bump.fbx", dir + "/ex", opt, Log::silent(), report);
+  const PoseManifest manifest = read_pose_manifest(dir + "/ex/poses.json");
+  ASSERT_EQ(manifest.poses.size(), 1u);
+  EXPECT_EQ(manifest.poses[0].name, "Bump");
+  const LoadedMesh rest = load_mesh(dir + "/ex/rest.obj");
+  ASSERT_EQ(rest.mesh.vertices.size(), 8u);
+  EXPECT_NEAR(signed_volume(rest.mesh), 1.0, 1e-12);
+  const TriMesh bump = load_pose(dir + "/ex/" + manifest.poses[0].file, rest);
+  for (size_t v = 0; v < 8; ++v) {
+    const Eigen::Vector3d& p = rest.mesh.vertices[v];
+    const Eigen::Vector3d lift = p == Eigen::Vector3d(1, 1, 1) ? Eigen::Vector3d(0, 0, 1) : Eigen::Vector3d::Zero();
+    EXPECT_EQ(bump.vertices[v], p + lift) << "corner " << p.transpose();
   }
 }
 
