@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <random>
 #include <tuple>
@@ -302,6 +303,39 @@ TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   }
   EXPECT_LT(worst, 1e-6);
   EXPECT_GT(moved, 0.01);
+}
+
+// A STEP clip holds each key's value until the next key: between keys, the pose of the key before
+// (assimp read every clip as linear, so the poses glided). The barrel's morph weights (one value
+// per target a key) and the rigged elephant's joints, their samplers set to STEP: the same frames,
+// the same poses at the keys, and half-way between two keys the first one's.
+TEST(PoseExtract, StepClipsHoldEachKeyUntilTheNext) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("step");
+  json report;
+  sample_gen_files("barrel", dir, Log::silent(), report);
+  for (const std::string& linear : {dir + "/barrel-morph.glb", test::shared_data() + "/elephant/elephant-rigged.glb"}) {
+    GltfFile file = read_gltf_file(linear);
+    for (json& sampler : file.doc["animations"][0]["samplers"]) sampler["interpolation"] = "STEP";
+    const std::string stepped = linear + ".step.glb";
+    write_file_atomic(dir + "/" + std::filesystem::path(stepped).filename().string(), encode_glb(file));
+    const Asset glide(linear, ""), step(dir + "/" + std::filesystem::path(stepped).filename().string(), "");
+    const std::vector<double>& frames = glide.clips()[0].frames;
+    ASSERT_EQ(step.clips()[0].frames, frames) << linear;
+    double moved = 0;
+    for (size_t f = 1; f + 1 < frames.size(); f += std::max<size_t>(1, frames.size() / 6)) {
+      EXPECT_EQ(step.at_time(0, frames[f]), glide.at_time(0, frames[f])) << linear << " at key " << f;
+      const double between = 0.5 * (frames[f] + frames[f + 1]);
+      const auto held = step.at_time(0, between), key = glide.at_time(0, frames[f]), glided = glide.at_time(0, between);
+      double off = 0;  // a value interpolated with itself: equal up to the last bit
+      for (size_t v = 0; v < key.size(); ++v) {
+        off = std::max(off, (held[v] - key[v]).norm());
+        moved = std::max(moved, (glided[v] - key[v]).norm());
+      }
+      EXPECT_LE(off, 1e-12 * (1 + key[0].norm())) << linear << " half-way after key " << f;
+    }
+    EXPECT_GT(moved, 0.0) << linear << ": half-way should differ from the key before when gliding";
+  }
 }
 
 // The whole chain on poses taken from a skinned clip with --select: every sphere inside every pose.

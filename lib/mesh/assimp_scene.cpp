@@ -26,9 +26,11 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
     }
     if (file) {
       check_required_extensions(file->doc, path);
-      // Both, whatever the first finds (no short circuit).
-      const size_t rewritten = float_accessors(*file, path);
-      if (rewritten + complete_mirrored_channels(*file, path) > 0) {
+      // Each, whatever the one before finds (no short circuit); the floats first, which the others read.
+      size_t changes = float_accessors(*file, path);
+      changes += complete_mirrored_channels(*file, path);
+      changes += step_samplers_as_held_keys(*file, path);
+      if (changes > 0) {
         const std::string glb = encode_glb(*file);
         const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
         if (scene && scene->mRootNode) return scene;

@@ -202,6 +202,31 @@ json float_bounds(const json& bounds, int type, bool normalized) {
   return out;
 }
 
+// Appends `values` as floats in a view of their own; returns the view's index.
+size_t append_float_view(GltfFile& file, const std::vector<double>& values) {
+  while (file.bin.size() % 4) file.bin += '\0';
+  file.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", file.bin.size()}, {"byteLength", values.size() * 4}});
+  for (double v : values) {
+    const float f = float(v);
+    file.bin.append(reinterpret_cast<const char*>(&f), 4);
+  }
+  return file.doc["bufferViews"].size() - 1;
+}
+
+// ... and a float accessor of `type` reading them (with min and max where it is a SCALAR, as a
+// clip's times must have); returns its index.
+size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, const std::string& type) {
+  json accessor = {{"bufferView", append_float_view(file, values)}, {"componentType", kFloat}, {"type", type}};
+  accessor["count"] = values.size() / components(accessor);
+  if (type == "SCALAR" && !values.empty()) {
+    accessor["min"] = json::array({double(float(*std::min_element(values.begin(), values.end())))});
+    accessor["max"] = json::array({double(float(*std::max_element(values.begin(), values.end())))});
+  }
+  if (!file.doc.contains("accessors")) file.doc["accessors"] = json::array();
+  file.doc["accessors"].push_back(accessor);
+  return file.doc["accessors"].size() - 1;
+}
+
 // The accessors read as floating-point data (see the header), by index.
 std::set<size_t> float_data_accessors(const json& doc, const std::string& path) {
   std::set<size_t> out;
@@ -261,20 +286,11 @@ size_t float_accessors(GltfFile& file, const std::string& path) {
       fail_input(path, "not a glTF 2.0 asset: an accessor has no componentType");
     const int type = accessor["componentType"].get<int>();
     if (type == kFloat || component_bytes(type) == 0 || components(accessor) == 0) continue;
-    const std::vector<double> values = accessor_values(file, accessor, path);
-    while (file.bin.size() % 4) file.bin += '\0';
-    const size_t offset = file.bin.size();
-    for (double v : values) {
-      const float f = float(v);
-      char bytes[4];
-      std::memcpy(bytes, &f, 4);
-      file.bin.append(bytes, 4);
-    }
-    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * 4}});
+    const size_t view = append_float_view(file, accessor_values(file, accessor, path));
     const bool normalized = flag(accessor, "normalized");
     for (const char* bound : {"min", "max"})
       if (accessor.contains(bound) && accessor[bound].is_array()) accessor[bound] = float_bounds(accessor[bound], type, normalized);
-    accessor["bufferView"] = doc["bufferViews"].size() - 1;
+    accessor["bufferView"] = view;
     accessor["componentType"] = kFloat;
     for (const char* gone : {"byteOffset", "normalized", "sparse"}) accessor.erase(gone);
     ++changed;
@@ -283,22 +299,6 @@ size_t float_accessors(GltfFile& file, const std::string& path) {
 }
 
 namespace {
-
-// Appends `values` as a float accessor of `type` (with its own view); returns its index.
-size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, const char* type) {
-  while (file.bin.size() % 4) file.bin += '\0';
-  json& doc = file.doc;
-  doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", file.bin.size()}, {"byteLength", values.size() * 4}});
-  for (double v : values) {
-    const float f = float(v);
-    file.bin.append(reinterpret_cast<const char*>(&f), 4);
-  }
-  if (!doc.contains("accessors")) doc["accessors"] = json::array();
-  json accessor = {{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", kFloat}, {"count", 1}, {"type", type}};
-  if (std::string(type) == "SCALAR") accessor["min"] = accessor["max"] = json::array({double(float(values[0]))});
-  doc["accessors"].push_back(accessor);
-  return doc["accessors"].size() - 1;
-}
 
 // A node's translation, rotation or scale as glTF gives it (or its default); empty where it is
 // not a list of numbers of the path's size.
@@ -371,6 +371,45 @@ size_t complete_mirrored_channels(GltfFile& file, const std::string& path) {
     }
   }
   return added;
+}
+
+size_t step_samplers_as_held_keys(GltfFile& file, const std::string& path) {
+  json& doc = file.doc;
+  if (!doc.contains("animations") || !doc["animations"].is_array() || !doc.contains("accessors") ||
+      !doc["accessors"].is_array())
+    return 0;
+  size_t changed = 0;
+  for (json& clip : doc["animations"]) {
+    if (!clip.is_object() || !clip.contains("samplers") || !clip["samplers"].is_array()) continue;
+    for (json& sampler : clip["samplers"]) {
+      if (!sampler.is_object() || text(sampler, "interpolation") != "STEP") continue;
+      const size_t input = whole_member(sampler, "input", SIZE_MAX, path, "a clip's sampler");
+      const size_t output = whole_member(sampler, "output", SIZE_MAX, path, "a clip's sampler");
+      const json& accessors = doc["accessors"];
+      if (input >= accessors.size() || output >= accessors.size() || !accessors[input].is_object() ||
+          !accessors[output].is_object())
+        fail_input(path, "a clip's sampler names an accessor that does not exist");
+      const json in = accessors[input], out = accessors[output];
+      if (!in.contains("componentType") || in["componentType"] != kFloat || components(in) != 1 ||
+          !out.contains("componentType") || out["componentType"] != kFloat || components(out) == 0)
+        continue;  // not as the spec says: left to assimp
+      const std::vector<double> times = accessor_values(file, in, path), values = accessor_values(file, out, path);
+      const size_t n = components(out), keys = times.size();
+      if (keys < 2 || values.size() % (keys * n) != 0) continue;
+      const size_t per_key = values.size() / keys;  // a morph weights' key holds one value per target
+      std::vector<double> held_times = {times[0]}, held_values(values.begin(), values.begin() + long(per_key));
+      for (size_t k = 1; k < keys; ++k) {
+        held_times.insert(held_times.end(), {times[k], times[k]});
+        held_values.insert(held_values.end(), values.begin() + long((k - 1) * per_key), values.begin() + long(k * per_key));
+        held_values.insert(held_values.end(), values.begin() + long(k * per_key), values.begin() + long((k + 1) * per_key));
+      }
+      sampler["input"] = add_float_accessor(file, held_times, "SCALAR");
+      sampler["output"] = add_float_accessor(file, held_values, text(out, "type"));
+      sampler["interpolation"] = "LINEAR";
+      ++changed;
+    }
+  }
+  return changed;
 }
 
 }  // namespace spx

@@ -31,4 +31,10 @@ size_t float_accessors(GltfFile& file, const std::string& path);
 // were added (0: the file is as it was).
 size_t complete_mirrored_channels(GltfFile& file, const std::string& path);
 
+// assimp reads every clip's keys as linear ones, so a STEP sampler's value glided between its keys
+// where glTF holds it. Each STEP sampler is rewritten as a linear one holding each value until the
+// next key, where it steps: that key is given twice, first with the value before (the key times
+// stay the same, so do a clip's frames). Returns how many samplers changed.
+size_t step_samplers_as_held_keys(GltfFile& file, const std::string& path);
+
 }  // namespace spx

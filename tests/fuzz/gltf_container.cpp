@@ -1,6 +1,6 @@
 // libFuzzer target: the glTF container reader (GLB chunks, a .gltf's JSON and its data: buffers)
 // on arbitrary bytes, then what is done to it before assimp reads it (the extensions it requires,
-// its integer accessors rewritten as floats, its mirrored nodes' channels completed). Bad input must end in spx::Error, never a crash or
+// its integer accessors rewritten as floats, its mirrored nodes' channels completed, its STEP keys held). Bad input must end in spx::Error, never a crash or
 // another exception; what it lets through is an object whose views all point into its one buffer,
 // and whose rewritten accessors are floats in views inside it.
 #include <cstdint>
@@ -30,7 +30,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (view["byteOffset"].get<size_t>() + view["byteLength"].get<size_t>() > floats.bin.size()) std::abort();
     }
     const size_t channels = spx::complete_mirrored_channels(floats, "fuzz.gltf");
-    if (changed + channels > 0) spx::encode_glb(floats);
+    const size_t steps = spx::step_samplers_as_held_keys(floats, "fuzz.gltf");
+    if (changed + channels + steps > 0) spx::encode_glb(floats);
   } catch (const spx::Error&) {
   }
   return 0;
