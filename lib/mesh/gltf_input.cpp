@@ -25,6 +25,9 @@ std::string text(const json& object, const char* key) {
   return it != object.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
+// An index: a whole number 0 or above (signed where the code set it, unsigned as read).
+bool is_index(const json& v) { return v.is_number_integer() && v.get<int64_t>() >= 0; }
+
 bool changes_no_geometry(const std::string& extension) {
   for (const char* prefix : {"KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_"})
     if (extension.rfind(prefix, 0) == 0) return true;
@@ -107,9 +110,10 @@ double component_value(const char* at, int type, bool normalized) {
 
 size_t whole_member(const json& object, const char* key, size_t otherwise, const std::string& path, const char* of) {
   if (!object.contains(key)) return otherwise;
-  if (!object[key].is_number_unsigned())
+  // Read from a file, 0 is unsigned; set by the code (a .gltf's merged buffers), a signed 0.
+  if (!object[key].is_number_integer() || object[key].get<int64_t>() < 0)
     fail_input(path, std::string("not a glTF 2.0 asset: ") + of + "'s '" + key + "' is not a whole number 0 or above");
-  return object[key].get<size_t>();
+  return size_t(object[key].get<int64_t>());
 }
 
 // The bytes [offset, offset + length) of view `v` in the binary buffer, checked.
@@ -231,8 +235,8 @@ size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, con
 std::set<size_t> float_data_accessors(const json& doc, const std::string& path) {
   std::set<size_t> out;
   const auto add = [&](const json& index) {
-    if (!index.is_number_unsigned()) fail_input(path, "not a glTF 2.0 asset: an accessor index is not a whole number 0 or above");
-    out.insert(index.get<size_t>());
+    if (!is_index(index)) fail_input(path, "not a glTF 2.0 asset: an accessor index is not a whole number 0 or above");
+    out.insert(size_t(index.get<int64_t>()));
   };
   // Each list held by name while it is walked (value() returns a copy; items() would outlive it).
   const json meshes = doc.value("meshes", json::array());
@@ -335,21 +339,21 @@ size_t complete_mirrored_channels(GltfFile& file, const std::string& path) {
       if (!channel.is_object() || !channel.contains("target") || !channel["target"].is_object()) continue;
       const json& target = channel["target"];
       const std::string p = text(target, "path");
-      if (!target.contains("node") || !target["node"].is_number_unsigned() || (p != "translation" && p != "rotation" && p != "scale"))
+      if (!target.contains("node") || !is_index(target["node"]) || (p != "translation" && p != "rotation" && p != "scale"))
         continue;
-      const size_t n = target["node"].get<size_t>();
+      const size_t n = size_t(target["node"].get<int64_t>());
       if (n >= nodes.size() || !nodes[n].is_object()) continue;
       const std::vector<double> scale = node_path_value(nodes[n], "scale");
       if (scale.empty() || !(scale[0] * scale[1] * scale[2] < 0)) continue;
       moved[n].insert(p);
-      if (first_time.count(n) || !channel.contains("sampler") || !channel["sampler"].is_number_unsigned()) continue;
-      const size_t s = channel["sampler"].get<size_t>();
+      if (first_time.count(n) || !channel.contains("sampler") || !is_index(channel["sampler"])) continue;
+      const size_t s = size_t(channel["sampler"].get<int64_t>());
       if (s >= clip["samplers"].size() || !clip["samplers"][s].is_object() || !clip["samplers"][s].contains("input")) continue;
       const json& input = clip["samplers"][s]["input"];
-      if (!input.is_number_unsigned() || !doc.contains("accessors") || !doc["accessors"].is_array() ||
-          input.get<size_t>() >= doc["accessors"].size())
+      if (!is_index(input) || !doc.contains("accessors") || !doc["accessors"].is_array() ||
+          size_t(input.get<int64_t>()) >= doc["accessors"].size())
         continue;
-      const json& accessor = doc["accessors"][input.get<size_t>()];
+      const json& accessor = doc["accessors"][size_t(input.get<int64_t>())];
       if (!accessor.is_object() || !accessor.contains("componentType") || accessor["componentType"] != kFloat ||
           components(accessor) != 1)
         continue;
