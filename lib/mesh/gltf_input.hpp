@@ -1,8 +1,10 @@
 #pragma once
 // A glTF asset made ready for assimp (5.2), which reads some valid ones wrong without a word: it
 // copies the bytes of an integer accessor into floats where glTF allows integers for
-// floating-point data, so a skin weight of 255 (normalized: 1) reads as 3.6e-43 and the poses come
-// out wrong, and it ignores the extensions an asset requires.
+// floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
+// out wrong), turns over a mirrored node that a clip moves, reads STEP keys as linear ones, and
+// ignores the extensions an asset requires. Each function below mends one of those in the
+// document and its binary buffer, which assimp then reads from memory (mesh/assimp_scene).
 #include <string>
 
 #include "core/gltf_file.hpp"
