@@ -31,14 +31,6 @@ void require_objects(const json& doc, const char* list, const std::string& path)
     fail_input(path, std::string("not a glTF 2.0 asset: its '") + list + "' is not a list of objects");
 }
 
-size_t count_member(const json& object, const char* key, const char* of, const std::string& path) {
-  if (!object.contains(key)) return 0;
-  if (!object[key].is_number_unsigned())
-    fail_input(path, std::string("not a glTF 2.0 asset: a ") + of + "'s '" + key + "' is not a whole number 0 or above (" +
-                         object[key].dump() + ")");
-  return object[key].get<size_t>();
-}
-
 // A relative URI's path: "%20" is a space (a Blender export of "My Body.gltf" writes its buffer as
 // "My%20Body.bin"). A '%' not followed by two hex digits stays as it is.
 std::string percent_decoded(const std::string& uri) {
@@ -85,14 +77,14 @@ GltfFile merge_buffers(json doc, const std::string& path) {
     while (out.bin.size() % 8) out.bin += '\0';
     base.push_back(out.bin.size());
     std::string bytes = buffer_bytes(buffer, path);
-    if (bytes.size() < count_member(buffer, "byteLength", "buffer", path)) fail_input(path, "a buffer is shorter than its byteLength");
+    if (bytes.size() < gltf_whole_number(buffer, "byteLength", 0, path, "a buffer")) fail_input(path, "a buffer is shorter than its byteLength");
     out.bin += bytes;
   }
   for (json& view : doc["bufferViews"]) {
-    const size_t b = count_member(view, "buffer", "bufferView", path);
+    const size_t b = gltf_whole_number(view, "buffer", 0, path, "a bufferView");
     if (b >= base.size()) fail_input(path, "a bufferView names a buffer that does not exist");
     view["buffer"] = 0;
-    view["byteOffset"] = count_member(view, "byteOffset", "bufferView", path) + base[b];
+    view["byteOffset"] = gltf_whole_number(view, "byteOffset", 0, path, "a bufferView") + base[b];
   }
   if (!base.empty()) doc["buffers"] = json::array({{{"byteLength", out.bin.size()}}});
   out.doc = std::move(doc);
@@ -120,6 +112,15 @@ json parse_document(const std::string& text, const std::string& path) {
 }
 
 }  // namespace
+
+size_t gltf_whole_number(const json& object, const char* key, size_t otherwise, const std::string& path, const char* of) {
+  if (!object.contains(key)) return otherwise;
+  const json& v = object[key];
+  if (!v.is_number_integer() || v.get<int64_t>() < 0)
+    fail_input(path, std::string("not a glTF 2.0 asset: ") + of + "'s '" + key + "' is not a whole number 0 or above (" +
+                         v.dump() + ")");
+  return size_t(v.get<int64_t>());
+}
 
 GltfFile read_gltf_file(const std::string& path) { return gltf_from_bytes(read_file(path), path); }
 

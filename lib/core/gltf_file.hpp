@@ -20,6 +20,11 @@ GltfFile read_gltf_file(const std::string& path);
 // The same, from the file's bytes (a .gltf's buffer files are still looked for beside `path`).
 GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path);
 
+// A member that is a count, an index or an offset: `otherwise` where it is missing, else a whole
+// number 0 or above (unsigned as read from a file, or signed where code set it), else exit 2
+// naming `path`: "not a glTF 2.0 asset: <of>'s '<key>' is not a whole number 0 or above (<value>)".
+size_t gltf_whole_number(const json& object, const char* key, size_t otherwise, const std::string& path, const char* of);
+
 // The GLB container: the JSON chunk, then the BIN chunk when `bin` is not empty.
 std::string encode_glb(const GltfFile& file);
 

@@ -17,35 +17,37 @@ namespace spx {
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what) {
   const std::string ext = lower_extension(path);
   const bool gltf = ext == ".gltf" || ext == ".glb";
+  // A glTF is parsed once: mended for assimp where it needs it, and asked why where assimp fails.
+  std::optional<GltfFile> file;
+  std::optional<Error> not_gltf;  // the container's fault, told only where assimp fails too
   if (gltf) {
-    std::optional<GltfFile> file;
     try {
       file = read_gltf_file(path);
-    } catch (const Error&) {
-      // assimp's turn: where it fails too, the error below says what is wrong with the file.
+    } catch (const Error& e) {
+      not_gltf = e;
     }
-    if (file) {
-      check_required_extensions(file->doc, path);
-      // Each, whatever the one before finds (no short circuit); the floats first, which the others read.
-      size_t changes = float_accessors(*file, path);
-      changes += complete_mirrored_channels(*file, path);
-      changes += step_samplers_as_held_keys(*file, path);
-      if (changes > 0) {
-        const std::string glb = encode_glb(*file);
-        const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
-        if (scene && scene->mRootNode) return scene;
-        fail_input(path, "cannot read " + what + ": " + importer.GetErrorString());
-      }
+  }
+  if (file) {
+    check_required_extensions(file->doc, path);
+    // Each, whatever the one before finds (no short circuit); the floats first, which the others read.
+    size_t changes = float_accessors(*file, path);
+    changes += complete_mirrored_channels(*file, path);
+    changes += step_samplers_as_held_keys(*file, path);
+    if (changes > 0) {
+      const std::string glb = encode_glb(*file);
+      const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
+      if (scene && scene->mRootNode) return scene;
+      fail_input(path, "cannot read " + what + ": " + importer.GetErrorString());
     }
   }
   const aiScene* scene = importer.ReadFile(path, flags);
   if (scene && scene->mRootNode) return scene;
   const std::string error = importer.GetErrorString();
-  if (gltf) {
-    const GltfFile file = read_gltf_file(path);  // throws saying what is wrong with the container
-    if (file.doc.value("meshes", json::array()).empty()) fail_input(path, "contains no mesh");
+  if (not_gltf) throw *not_gltf;  // says what is wrong with the container
+  if (file) {
+    if (file->doc.value("meshes", json::array()).empty()) fail_input(path, "contains no mesh");
     if (ext == ".gltf") {
-      const std::string glb = encode_glb(file);
+      const std::string glb = encode_glb(*file);
       scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
       if (scene && scene->mRootNode) return scene;
     }

@@ -108,14 +108,6 @@ double component_value(const char* at, int type, bool normalized) {
   return normalized ? normalized_value(c, type) : c;
 }
 
-size_t whole_member(const json& object, const char* key, size_t otherwise, const std::string& path, const char* of) {
-  if (!object.contains(key)) return otherwise;
-  // Read from a file, 0 is unsigned; set by the code (a .gltf's merged buffers), a signed 0.
-  if (!object[key].is_number_integer() || object[key].get<int64_t>() < 0)
-    fail_input(path, std::string("not a glTF 2.0 asset: ") + of + "'s '" + key + "' is not a whole number 0 or above");
-  return size_t(object[key].get<int64_t>());
-}
-
 // The bytes [offset, offset + length) of view `v` in the binary buffer, checked.
 struct ViewBytes {
   size_t begin = 0, end = 0, stride = 0;
@@ -125,12 +117,12 @@ ViewBytes view_bytes(const GltfFile& file, size_t v, const std::string& path) {
   const json& views = file.doc["bufferViews"];
   if (v >= views.size()) fail_input(path, "an accessor names a bufferView that does not exist (" + std::to_string(v) + ")");
   const json& view = views[v];
-  if (whole_member(view, "buffer", 0, path, "a bufferView") != 0)
+  if (gltf_whole_number(view, "buffer", 0, path, "a bufferView") != 0)
     fail_unsupported(path, "an integer accessor lies in a buffer other than the file's own binary one");
   ViewBytes out;
-  out.begin = whole_member(view, "byteOffset", 0, path, "a bufferView");
-  out.end = out.begin + whole_member(view, "byteLength", 0, path, "a bufferView");
-  out.stride = whole_member(view, "byteStride", 0, path, "a bufferView");
+  out.begin = gltf_whole_number(view, "byteOffset", 0, path, "a bufferView");
+  out.end = out.begin + gltf_whole_number(view, "byteLength", 0, path, "a bufferView");
+  out.stride = gltf_whole_number(view, "byteStride", 0, path, "a bufferView");
   if (out.end < out.begin || out.end > file.bin.size()) fail_input(path, "a bufferView runs past the end of its buffer");
   return out;
 }
@@ -155,7 +147,7 @@ void read_elements(const GltfFile& file, size_t v, size_t offset, size_t count, 
 // The accessor's values as a reader takes them, dense (zeros where it has no view; sparse ones
 // put in place).
 std::vector<double> accessor_values(const GltfFile& file, const json& accessor, const std::string& path) {
-  const size_t count = whole_member(accessor, "count", 0, path, "an accessor");
+  const size_t count = gltf_whole_number(accessor, "count", 0, path, "an accessor");
   const size_t n = components(accessor);
   const int type = accessor["componentType"].get<int>();
   const bool normalized = flag(accessor, "normalized");
@@ -163,8 +155,8 @@ std::vector<double> accessor_values(const GltfFile& file, const json& accessor, 
   if (count > std::max(file.bin.size(), size_t(1) << 20)) fail_input(path, "an accessor counts more elements than its file holds");
   std::vector<double> values(count * n, 0.0);
   if (accessor.contains("bufferView"))
-    read_elements(file, whole_member(accessor, "bufferView", 0, path, "an accessor"),
-                  whole_member(accessor, "byteOffset", 0, path, "an accessor"), count, n, type, normalized, values, nullptr,
+    read_elements(file, gltf_whole_number(accessor, "bufferView", 0, path, "an accessor"),
+                  gltf_whole_number(accessor, "byteOffset", 0, path, "an accessor"), count, n, type, normalized, values, nullptr,
                   path);
   if (accessor.contains("sparse")) {
     const json& sparse = accessor["sparse"];
@@ -175,21 +167,21 @@ std::vector<double> accessor_values(const GltfFile& file, const json& accessor, 
                  sparse["indices"].is_object() && sparse["values"].is_object());
     const json& indices = sparse["indices"];
     const json& given = sparse["values"];
-    const size_t k = whole_member(sparse, "count", 0, path, "a sparse accessor");
-    const size_t index_type = whole_member(indices, "componentType", 0, path, "a sparse accessor's indices");
+    const size_t k = gltf_whole_number(sparse, "count", 0, path, "a sparse accessor");
+    const size_t index_type = gltf_whole_number(indices, "componentType", 0, path, "a sparse accessor's indices");
     as_spec_says(index_type == 5121 || index_type == 5123 || index_type == 5125);
     if (k > count) fail_input(path, "a sparse accessor replaces more elements than it has");
     std::vector<double> where(k);
-    read_elements(file, whole_member(indices, "bufferView", 0, path, "a sparse accessor's indices"),
-                  whole_member(indices, "byteOffset", 0, path, "a sparse accessor's indices"), k, 1, int(index_type), false,
+    read_elements(file, gltf_whole_number(indices, "bufferView", 0, path, "a sparse accessor's indices"),
+                  gltf_whole_number(indices, "byteOffset", 0, path, "a sparse accessor's indices"), k, 1, int(index_type), false,
                   where, nullptr, path);
     std::vector<size_t> at(k);
     for (size_t i = 0; i < k; ++i) {
       if (where[i] >= double(count)) fail_input(path, "a sparse accessor replaces an element it does not have");
       at[i] = size_t(where[i]);
     }
-    read_elements(file, whole_member(given, "bufferView", 0, path, "a sparse accessor's values"),
-                  whole_member(given, "byteOffset", 0, path, "a sparse accessor's values"), k, n, type, normalized, values,
+    read_elements(file, gltf_whole_number(given, "bufferView", 0, path, "a sparse accessor's values"),
+                  gltf_whole_number(given, "byteOffset", 0, path, "a sparse accessor's values"), k, n, type, normalized, values,
                   &at, path);
   }
   return values;
@@ -387,8 +379,8 @@ size_t step_samplers_as_held_keys(GltfFile& file, const std::string& path) {
     if (!clip.is_object() || !clip.contains("samplers") || !clip["samplers"].is_array()) continue;
     for (json& sampler : clip["samplers"]) {
       if (!sampler.is_object() || text(sampler, "interpolation") != "STEP") continue;
-      const size_t input = whole_member(sampler, "input", SIZE_MAX, path, "a clip's sampler");
-      const size_t output = whole_member(sampler, "output", SIZE_MAX, path, "a clip's sampler");
+      const size_t input = gltf_whole_number(sampler, "input", SIZE_MAX, path, "a clip's sampler");
+      const size_t output = gltf_whole_number(sampler, "output", SIZE_MAX, path, "a clip's sampler");
       const json& accessors = doc["accessors"];
       if (input >= accessors.size() || output >= accessors.size() || !accessors[input].is_object() ||
           !accessors[output].is_object())
