@@ -338,6 +338,108 @@ TEST(PoseExtract, StepClipsHoldEachKeyUntilTheNext) {
   }
 }
 
+// Elements' widths by glTF type; the floats of `file`'s accessor `index` (tightly packed or
+// strided); a float accessor of `type` appended for `values`, returning its index.
+size_t width_of(const std::string& type) {
+  return std::map<std::string, size_t>{{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}}.at(type);
+}
+std::vector<float> accessor_floats(const GltfFile& file, size_t index) {
+  const json& accessor = file.doc["accessors"][index];
+  const json& view = file.doc["bufferViews"][accessor["bufferView"].get<size_t>()];
+  const size_t n = width_of(accessor["type"].get<std::string>()), count = accessor["count"].get<size_t>();
+  const size_t stride = view.value("byteStride", n * 4);
+  const size_t begin = view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0));
+  std::vector<float> out(count * n);
+  for (size_t i = 0; i < count; ++i) std::memcpy(&out[i * n], file.bin.data() + begin + i * stride, n * 4);
+  return out;
+}
+size_t append_floats(GltfFile& file, const std::vector<float>& values, const std::string& type) {
+  while (file.bin.size() % 4) file.bin += '\0';
+  file.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", file.bin.size()}, {"byteLength", values.size() * 4}});
+  file.bin.append(reinterpret_cast<const char*>(values.data()), values.size() * 4);
+  json accessor = {{"bufferView", file.doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"type", type},
+                   {"count", values.size() / width_of(type)}};
+  if (type == "SCALAR") {
+    accessor["min"] = {*std::min_element(values.begin(), values.end())};
+    accessor["max"] = {*std::max_element(values.begin(), values.end())};
+  }
+  file.doc["accessors"].push_back(accessor);
+  return file.doc["accessors"].size() - 1;
+}
+
+// Valid glTF that assimp reads wrong without a word: CUBICSPLINE clips (Maya's and Blender's
+// Bezier curves unsampled) glided linearly between their keys. The rigged elephant's joints and the
+// barrel's morph weights get tangents (in 0, out 1.5 times the slope to the next key, so the curve
+// overshoots), and a linear twin holds the file's keys and, half-way between them, the spline's
+// values as the glTF spec's Hermite form gives them (worked out here; a rotation normalized). The
+// cubic clip has the linear one's frames (the keys its rewrite added are none), the same poses at
+// the keys and the twin's half-way, where it glided before.
+TEST(PoseExtract, CubicClipsFollowTheirSplines) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("cubic");
+  json report;
+  sample_gen_files("barrel", dir, Log::silent(), report);
+  for (const std::string& linear : {dir + "/barrel-morph.glb", test::shared_data() + "/elephant/elephant-rigged.glb"}) {
+    GltfFile cubic = read_gltf_file(linear), twin = cubic;
+    for (size_t s = 0; s < cubic.doc["animations"][0]["samplers"].size(); ++s) {
+      json& sampler = cubic.doc["animations"][0]["samplers"][s];
+      const std::vector<float> times = accessor_floats(cubic, sampler["input"].get<size_t>());
+      const std::vector<float> values = accessor_floats(cubic, sampler["output"].get<size_t>());
+      const std::string type = cubic.doc["accessors"][sampler["output"].get<size_t>()]["type"];
+      const size_t keys = times.size(), width = values.size() / keys;
+      std::vector<float> spline, twin_times, twin_values;
+      auto out_tangent = [&](size_t k, size_t c) {
+        return k + 1 < keys ? 1.5f * (values[(k + 1) * width + c] - values[k * width + c]) / (times[k + 1] - times[k]) : 0.0f;
+      };
+      for (size_t k = 0; k < keys; ++k) {
+        for (size_t c = 0; c < width; ++c) spline.push_back(0.0f);
+        for (size_t c = 0; c < width; ++c) spline.push_back(values[k * width + c]);
+        for (size_t c = 0; c < width; ++c) spline.push_back(out_tangent(k, c));
+        twin_times.push_back(times[k]);
+        twin_values.insert(twin_values.end(), values.begin() + long(k * width), values.begin() + long((k + 1) * width));
+        if (k + 1 == keys) continue;
+        // Half-way: h00 = h01 = 1/2, h10 = 1/8, h11 = -1/8 (the next key's in-tangent is 0).
+        const double td = double(times[k + 1]) - times[k];
+        std::vector<double> half(width);
+        double norm = 0;
+        for (size_t c = 0; c < width; ++c) {
+          half[c] = 0.5 * values[k * width + c] + 0.125 * td * out_tangent(k, c) + 0.5 * values[(k + 1) * width + c];
+          norm += half[c] * half[c];
+        }
+        twin_times.push_back(float(times[k] + 0.5 * td));
+        for (size_t c = 0; c < width; ++c) twin_values.push_back(float(type == "VEC4" ? half[c] / std::sqrt(norm) : half[c]));
+      }
+      sampler["output"] = append_floats(cubic, spline, type);
+      sampler["interpolation"] = "CUBICSPLINE";
+      json& twin_sampler = twin.doc["animations"][0]["samplers"][s];
+      twin_sampler["input"] = append_floats(twin, twin_times, "SCALAR");
+      twin_sampler["output"] = append_floats(twin, twin_values, type);
+    }
+    const std::string name = std::filesystem::path(linear).stem().string();
+    write_file_atomic(dir + "/" + name + ".cubic.glb", encode_glb(cubic));
+    write_file_atomic(dir + "/" + name + ".twin.glb", encode_glb(twin));
+    const Asset glide(linear, ""), spline(dir + "/" + name + ".cubic.glb", ""), twin_asset(dir + "/" + name + ".twin.glb", "");
+    const std::vector<double>& frames = glide.clips()[0].frames;
+    ASSERT_EQ(spline.clips()[0].frames, frames) << linear;
+    EXPECT_EQ(spline.clips()[0].keys, glide.clips()[0].keys) << linear;
+    const double diagonal = weld_body(glide).rest.diagonal();
+    double off_key = 0, off_half = 0, from_glide = 0;
+    for (size_t f = 0; f + 1 < frames.size(); f += std::max<size_t>(1, frames.size() / 9)) {
+      const double between = 0.5 * (frames[f] + frames[f + 1]);
+      const auto key = spline.at_time(0, frames[f]), want_key = glide.at_time(0, frames[f]);
+      const auto half = spline.at_time(0, between), want_half = twin_asset.at_time(0, between), glided = glide.at_time(0, between);
+      for (size_t v = 0; v < key.size(); ++v) {
+        off_key = std::max(off_key, (key[v] - want_key[v]).norm());
+        off_half = std::max(off_half, (half[v] - want_half[v]).norm());
+        from_glide = std::max(from_glide, (half[v] - glided[v]).norm());
+      }
+    }
+    EXPECT_LE(off_key, 1e-9 * diagonal) << linear;
+    EXPECT_LE(off_half, 1e-5 * diagonal) << linear << ": half-way off the spline";
+    EXPECT_GT(from_glide, 1e-3 * diagonal) << linear << ": the spline should leave the linear glide half-way";
+  }
+}
+
 // The whole chain on poses taken from a skinned clip with --select: every sphere inside every pose.
 TEST(PoseExtract, ChainOnSelectedClipFramesKeepsEverySphereInside) {
   SPX_REQUIRE_SHARED_DATA();
@@ -526,28 +628,19 @@ Connections:  {
 // reader must take from them (the spec's c / 255, max(c / 32767, -1), ... where normalized, else c).
 void quantize(const GltfFile& file, GltfFile& quantized, GltfFile& twin, size_t index, int type, bool normalized,
               double scale) {
-  const json& accessor = file.doc["accessors"][index];
-  const json& view = file.doc["bufferViews"][accessor["bufferView"].get<size_t>()];
-  const std::map<std::string, size_t> widths = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}};
-  const size_t n = widths.at(accessor["type"].get<std::string>()), count = accessor["count"].get<size_t>();
-  const size_t stride = view.value("byteStride", n * 4);
-  const size_t begin = view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0));
   const auto [lo, hi, divisor] = type == 5121   ? std::tuple(0.0, 255.0, 255.0)
                                  : type == 5120 ? std::tuple(-127.0, 127.0, 127.0)
                                  : type == 5123 ? std::tuple(0.0, 65535.0, 65535.0)
                                                 : std::tuple(-32767.0, 32767.0, 32767.0);
   const size_t bytes = type == 5121 || type == 5120 ? 1 : 2;
   std::string ints, floats;
-  for (size_t i = 0; i < count; ++i)
-    for (size_t c = 0; c < n; ++c) {
-      float v;
-      std::memcpy(&v, file.bin.data() + begin + i * stride + c * 4, 4);
-      const double q = std::clamp(std::round(v * scale), lo, hi);
-      const int32_t stored = int32_t(q);
-      ints.append(reinterpret_cast<const char*>(&stored), bytes);  // little-endian
-      const float read = float(normalized ? std::max(q / divisor, -1.0) : q);
-      floats.append(reinterpret_cast<const char*>(&read), 4);
-    }
+  for (const float v : accessor_floats(file, index)) {
+    const double q = std::clamp(std::round(v * scale), lo, hi);
+    const int32_t stored = int32_t(q);
+    ints.append(reinterpret_cast<const char*>(&stored), bytes);  // little-endian
+    const float read = float(normalized ? std::max(q / divisor, -1.0) : q);
+    floats.append(reinterpret_cast<const char*>(&read), 4);
+  }
   const auto put = [&](GltfFile& out, const std::string& data, int component_type, bool norm) {
     while (out.bin.size() % 4) out.bin += '\0';
     out.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", out.bin.size()}, {"byteLength", data.size()}});

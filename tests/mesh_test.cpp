@@ -13,6 +13,7 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 #include <tbb/parallel_for.h>
 
 #include "core/atomic_file.hpp"
@@ -303,6 +304,95 @@ TEST(GltfInput, IntegerAccessorsBecomeTheSpecsFloats) {
       EXPECT_EQ(e.subject(), "bad.glb");
     }
   }
+}
+
+// Cubic splines made linear: keys between the file's (as often as the tools sample a clip, so
+// half-way is one) valued on the spline, against the Hermite form of the glTF spec worked out here
+// per basis function; a rotation normalized; a morph weights' key of two targets; the file's key
+// times kept apart from the added ones.
+TEST(GltfInput, CubicSplinesBecomeKeysOnTheSpline) {
+  GltfFile file;
+  auto put = [&](float v) { file.bin.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  // Times 0, 0.5, 2 (view 0); per key in-tangent, value, out-tangent: translation (view 1),
+  // rotation (view 2), weights of 2 targets (view 3).
+  const std::vector<float> times = {0, 0.5f, 2}, translation = {9, 9, 9, 0, 0, 0, 1, 2, 3,  //
+                                                                  4, 0, 0, 1, 1, 1, -2, 0, 5,    //
+                                                                  0, 1, 0, 3, 1, 2, 7, 7, 7};
+  const std::vector<float> rotation = {0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0,  //
+                                       0, 2, 0, 0, 0, 0.6f, 0, 0.8f, 0, 0, 0, 0,  //
+                                       0, 0, 0, 0, 1, 0, 0, 0, 5, 5, 5, 5};
+  const std::vector<float> weights = {0, 0, 0, 1, 2, 0,  //
+                                      1, 1, 1, 0, 0, 0,  //
+                                      0, 0, 0.5f, 0.5f, 0, 0};
+  for (const auto* list : {&times, &translation, &rotation, &weights})
+    for (float v : *list) put(v);
+  file.doc = json::parse(R"({
+    "asset": {"version": "2.0"},
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 12}, {"buffer": 0, "byteOffset": 12, "byteLength": 108},
+                    {"buffer": 0, "byteOffset": 120, "byteLength": 144}, {"buffer": 0, "byteOffset": 264, "byteLength": 72}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "SCALAR", "min": [0], "max": [2]},
+                  {"bufferView": 1, "componentType": 5126, "count": 9, "type": "VEC3"},
+                  {"bufferView": 2, "componentType": 5126, "count": 9, "type": "VEC4"},
+                  {"bufferView": 3, "componentType": 5126, "count": 18, "type": "SCALAR"}],
+    "animations": [{"samplers": [{"input": 0, "output": 0, "interpolation": "LINEAR"}], "channels": []},
+                   {"samplers": [{"input": 0, "output": 1, "interpolation": "CUBICSPLINE"},
+                                 {"input": 0, "output": 2, "interpolation": "CUBICSPLINE"},
+                                 {"input": 0, "output": 3, "interpolation": "CUBICSPLINE"}], "channels": []}]
+  })");
+  std::vector<AddedKeys> added;
+  ASSERT_EQ(cubic_samplers_as_keys(file, "t.glb", added), 3u);
+  ASSERT_EQ(added.size(), 2u);
+  EXPECT_EQ(added[0].added, 0u);
+  EXPECT_TRUE(added[0].asset_times.empty());
+  EXPECT_EQ(added[1].asset_times, (std::vector<double>{0, 0.5, 2}));
+  // 0.5 s apart: 30 steps; 1.5 s: 90. So 29 + 89 keys added to each sampler.
+  EXPECT_EQ(added[1].added, 3u * (29 + 89));
+  EXPECT_EQ(file.doc["animations"][0]["samplers"][0]["interpolation"], "LINEAR");
+  auto floats = [&](size_t a) {
+    const json& accessor = file.doc["accessors"][a];
+    EXPECT_EQ(accessor["componentType"], 5126);
+    const json& view = file.doc["bufferViews"][accessor["bufferView"].get<size_t>()];
+    std::vector<float> out(view["byteLength"].get<size_t>() / 4);
+    std::memcpy(out.data(), file.bin.data() + view["byteOffset"].get<size_t>(), out.size() * 4);
+    return out;
+  };
+  // Hermite basis at s over a key gap td: p = h00 v0 + h10 td b0 + h01 v1 + h11 td a1.
+  auto spline = [](const std::vector<float>& v, size_t width, size_t k, double s, double td, size_t c) {
+    const double h00 = 2 * s * s * s - 3 * s * s + 1, h10 = s * s * s - 2 * s * s + s, h01 = -2 * s * s * s + 3 * s * s,
+                 h11 = s * s * s - s * s;
+    auto at = [&](size_t key, size_t part) { return double(v[(3 * key + part) * width + c]); };
+    return h00 * at(k, 1) + h10 * td * at(k, 2) + h01 * at(k + 1, 1) + h11 * td * at(k + 1, 0);
+  };
+  const std::vector<std::pair<const std::vector<float>*, size_t>> outputs = {{&translation, 3}, {&rotation, 4}, {&weights, 2}};
+  for (size_t n = 0; n < 3; ++n) {
+    const json& sampler = file.doc["animations"][1]["samplers"][n];
+    EXPECT_EQ(sampler["interpolation"], "LINEAR");
+    const std::vector<float> t = floats(sampler["input"].get<size_t>()), v = floats(sampler["output"].get<size_t>());
+    const auto& [given, width] = outputs[n];
+    ASSERT_EQ(t.size(), 3u + 29 + 89);
+    ASSERT_EQ(v.size(), t.size() * width);
+    EXPECT_EQ(t[0], 0.0f);
+    EXPECT_EQ(t[30], 0.5f);
+    EXPECT_EQ(t[15], 0.25f);
+    EXPECT_EQ(t.back(), 2.0f);
+    EXPECT_EQ(file.doc["accessors"][sampler["output"].get<size_t>()]["type"], n == 0 ? "VEC3" : n == 1 ? "VEC4" : "SCALAR");
+    for (size_t c = 0; c < width; ++c) {
+      EXPECT_EQ(v[30 * width + c], (*given)[(3 * 1 + 1) * width + c]) << "the key's own value, sampler " << n;
+      EXPECT_EQ(v[t.size() * width - width + c], (*given)[(3 * 2 + 1) * width + c]) << "the last key, sampler " << n;
+    }
+    // Half-way and a quarter of the way through each gap.
+    for (const auto& [i, k, s, td] : std::vector<std::tuple<size_t, size_t, double, double>>{
+             {15, 0, 0.5, 0.5}, {8, 0, 8 / 30.0, 0.5}, {30 + 45, 1, 0.5, 1.5}, {30 + 22, 1, 22 / 90.0, 1.5}}) {
+      std::vector<double> want(width);
+      double norm = 0;
+      for (size_t c = 0; c < width; ++c) norm += std::pow(want[c] = spline(*given, width, k, s, td, c), 2);
+      for (size_t c = 0; c < width; ++c) {
+        const double expected = n == 1 ? want[c] / std::sqrt(norm) : want[c];
+        EXPECT_NEAR(v[i * width + c], expected, 1e-6) << "sampler " << n << " key " << i << " component " << c;
+      }
+    }
+  }
+  EXPECT_EQ(cubic_samplers_as_keys(file, "t.glb", added), 0u) << "linear already";
 }
 
 TEST(MeshLoad, GltfWithAPercentEncodedBufferReadsAsItsGlb) {

@@ -49,6 +49,20 @@ Eigen::Quaterniond to_eigen(const aiQuaternion& q) { return Eigen::Quaterniond(q
 
 double ticks_per_second(const aiAnimation* a) { return a->mTicksPerSecond > 0 ? a->mTicksPerSecond : 25.0; }
 
+// Keeps of a clip's key times (ticks) those of the file's keys, `asset_times` (seconds, sorted):
+// assimp's times are the file's floats times 1 000 in float, so within a float's rounding.
+void drop_added_keys(std::set<double>& times, double ticks_per_second, const std::vector<double>& asset_times) {
+  for (auto it = times.begin(); it != times.end();) {
+    const double s = *it / ticks_per_second;
+    const auto next = std::lower_bound(asset_times.begin(), asset_times.end(), s);
+    const auto near = [&](std::vector<double>::const_iterator k) {
+      return k != asset_times.end() && std::abs(*k - s) <= 1e-6 * std::max(1.0, std::abs(s));
+    };
+    const bool asset_key = near(next) || (next != asset_times.begin() && near(std::prev(next)));
+    it = asset_key ? std::next(it) : times.erase(it);
+  }
+}
+
 // The key value at `t`: held before the first and after the last key, interpolated between.
 template <class Key, class Lerp>
 auto sample(const Key* keys, unsigned n, double t, Lerp lerp) -> decltype(lerp(keys[0], keys[0], 0.0)) {
@@ -141,14 +155,15 @@ std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, co
 Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), importer_(new Assimp::Importer) {
   check_importable(path, "an asset", "glTF/GLB, FBX or COLLADA");
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
-  scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset");
+  std::vector<AddedKeys> added;
+  scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset", &added);
   face_out_mirrored(const_cast<aiScene*>(scene_));  // the importer's own scene, ours to change
 
   std::vector<std::pair<const aiNode*, unsigned>> placed;
   collect_instances(scene_->mRootNode, placed);
   list_meshes(placed, wanted);
   use_meshes(placed);
-  read_clips();
+  read_clips(added);
 }
 
 // Every mesh instance the hierarchy places, and which of them make the body.
@@ -239,8 +254,9 @@ void Asset::link_joint_parents() {
     }
 }
 
-// Every clip with its distinct key times.
-void Asset::read_clips() {
+// Every clip with its distinct key times: the file's, not those that made its cubic splines
+// linear (`added`, per clip).
+void Asset::read_clips(const std::vector<AddedKeys>& added) {
   for (unsigned a = 0; a < scene_->mNumAnimations; ++a) {
     const aiAnimation* anim = scene_->mAnimations[a];
     AssetClip clip;
@@ -261,6 +277,10 @@ void Asset::read_clips() {
     }
     clip.node_channels = anim->mNumChannels;
     clip.morph_channels = anim->mNumMorphMeshChannels;
+    if (a < added.size() && added[a].added > 0) {
+      drop_added_keys(times, clip.ticks_per_second, added[a].asset_times);
+      clip.keys -= added[a].added;
+    }
     // Key times of separate channels that differ by rounding are one frame.
     for (double t : times) {
       const double s = t / clip.ticks_per_second;

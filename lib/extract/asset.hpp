@@ -18,6 +18,8 @@ class Importer;
 
 namespace spx {
 
+struct AddedKeys;  // mesh/gltf_input.hpp
+
 // One mesh placed by one node of the file's hierarchy.
 struct AssetMesh {
   std::string name;  // the mesh's own name ("mesh-<i>" when it has none)
@@ -104,7 +106,7 @@ class Asset {
   struct Pose;
   void list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed, const std::string& wanted);
   void use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed);
-  void read_clips();
+  void read_clips(const std::vector<AddedKeys>& added);
   int joint_of(const aiNode* node, const Eigen::Matrix4d& inverse_bind);
   void link_joint_parents();
   Pose clip_pose(size_t clip, double seconds) const;

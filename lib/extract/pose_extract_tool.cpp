@@ -7,6 +7,7 @@
 #include <set>
 
 #include "core/atomic_file.hpp"
+#include "core/clip_steps.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "extract/asset.hpp"
@@ -233,9 +234,6 @@ std::vector<PoseRequest> select_frames(const Asset& asset, const Body& body, con
   return kept;
 }
 
-// Times a second the clip's skin samples between keys at least (skin.json's clip).
-constexpr double kClipRate = 60;
-
 // The rig of a clip's poses: the joints, the welded rest's vertices and weights (a welded vertex
 // takes its first file vertex's, as its position), and the joint matrices of the rest and
 // every pose.
@@ -251,16 +249,13 @@ SkinFile skin_of(const Asset& asset, const WeldedBody& body, const std::vector<P
   const AssetClip& clip = asset.clips()[requests.front().clip];
   skin.morph_channels = clip.morph_channels;
   // The whole clip for the radius rule over the motion: every key, and between keys at least
-  // half-way and as often as a host at kClipRate Hz samples it (keys far apart leave the
+  // half-way and as often as a host samples it (clip_steps_between: keys far apart leave the
   // skeleton to interpolate through many frames).
   skin.clip.name = clip.name;
   for (size_t f = 0; f < clip.frames.size(); ++f) {
     if (f > 0) {
       const double from = clip.frames[f - 1], gap = clip.frames[f] - from;
-      // An even count, so half-way (where hosts and proxy-eval look between keys) is one of them:
-      // keys 1/30 s apart stored as floats are a hair over two 60 Hz steps apart.
-      int steps = std::max(2, int(std::ceil(gap * kClipRate - 1e-6)));
-      steps += steps % 2;
+      const int steps = clip_steps_between(gap);
       for (int k = 1; k < steps; ++k) skin.clip.times.push_back(from + gap * k / steps);
     }
     skin.clip.times.push_back(clip.frames[f]);

@@ -14,7 +14,9 @@
 
 namespace spx {
 
-const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what) {
+const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
+                          std::vector<AddedKeys>* added_keys) {
+  if (added_keys) added_keys->clear();
   const std::string ext = lower_extension(path);
   const bool gltf = ext == ".gltf" || ext == ".glb";
   // A glTF is parsed once: mended for assimp where it needs it, and asked why where assimp fails.
@@ -33,6 +35,9 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
     size_t changes = float_accessors(*file, path);
     changes += complete_mirrored_channels(*file, path);
     changes += step_samplers_as_held_keys(*file, path);
+    std::vector<AddedKeys> added;
+    changes += cubic_samplers_as_keys(*file, path, added);
+    if (added_keys) *added_keys = std::move(added);
     if (changes > 0) {
       const std::string glb = encode_glb(*file);
       const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");

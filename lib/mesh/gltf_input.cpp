@@ -3,18 +3,15 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <map>
 #include <set>
 #include <vector>
 
 #include "core/error.hpp"
+#include "mesh/gltf_accessors.hpp"
 
 namespace spx {
-namespace {
+namespace detail {
 
-constexpr int kFloat = 5126;
-
-// Members read without trusting their types (a file's wrong type is its fault, not an internal error).
 bool flag(const json& object, const char* key) {
   const auto it = object.find(key);
   return it != object.end() && it->is_boolean() && it->get<bool>();
@@ -25,8 +22,22 @@ std::string text(const json& object, const char* key) {
   return it != object.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
-// An index: a whole number 0 or above (signed where the code set it, unsigned as read).
 bool is_index(const json& v) { return v.is_number_integer() && v.get<int64_t>() >= 0; }
+
+size_t components(const json& accessor) {
+  const std::string type = text(accessor, "type");
+  if (type == "SCALAR") return 1;
+  if (type == "VEC2") return 2;
+  if (type == "VEC3") return 3;
+  if (type == "VEC4") return 4;
+  return 0;
+}
+
+}  // namespace detail
+
+using namespace detail;
+
+namespace {
 
 bool changes_no_geometry(const std::string& extension) {
   for (const char* prefix : {"KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_"})
@@ -48,16 +59,6 @@ size_t component_bytes(int type) {
     default:
       return 0;
   }
-}
-
-// Components per element of the types an attribute or a clip's output may have; 0 for the others.
-size_t components(const json& accessor) {
-  const std::string type = text(accessor, "type");
-  if (type == "SCALAR") return 1;
-  if (type == "VEC2") return 2;
-  if (type == "VEC3") return 3;
-  if (type == "VEC4") return 4;
-  return 0;
 }
 
 template <typename T>
@@ -144,8 +145,64 @@ void read_elements(const GltfFile& file, size_t v, size_t offset, size_t count, 
   }
 }
 
-// The accessor's values as a reader takes them, dense (zeros where it has no view; sparse ones
-// put in place).
+// min or max as a reader takes them (given in the accessor's component type).
+json float_bounds(const json& bounds, int type, bool normalized) {
+  json out = json::array();
+  for (const json& b : bounds) {
+    if (!b.is_number()) return bounds;
+    const double c = b.get<double>();
+    out.push_back(double(float(normalized ? normalized_value(c, type) : c)));
+  }
+  return out;
+}
+
+// Appends `values` as floats in a view of their own; returns the view's index.
+size_t append_float_view(GltfFile& file, const std::vector<double>& values) {
+  while (file.bin.size() % 4) file.bin += '\0';
+  file.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", file.bin.size()}, {"byteLength", values.size() * 4}});
+  for (double v : values) {
+    const float f = float(v);
+    file.bin.append(reinterpret_cast<const char*>(&f), 4);
+  }
+  return file.doc["bufferViews"].size() - 1;
+}
+
+// The accessors read as floating-point data (see the header), by index.
+std::set<size_t> float_data_accessors(const json& doc, const std::string& path) {
+  std::set<size_t> out;
+  const auto add = [&](const json& index) {
+    if (!is_index(index)) fail_input(path, "not a glTF 2.0 asset: an accessor index is not a whole number 0 or above");
+    out.insert(size_t(index.get<int64_t>()));
+  };
+  // Each list held by name while it is walked (value() returns a copy; items() would outlive it).
+  const json meshes = doc.value("meshes", json::array());
+  for (const json& mesh : meshes) {
+    const json primitives = mesh.is_object() ? mesh.value("primitives", json::array()) : json::array();
+    for (const json& primitive : primitives) {
+      if (!primitive.is_object()) continue;
+      const json attributes = primitive.value("attributes", json::object());
+      if (attributes.is_object())
+        for (const auto& [name, index] : attributes.items())
+          if (name.rfind("JOINTS_", 0) != 0 && name.rfind('_', 0) != 0) add(index);
+      const json targets = primitive.value("targets", json::array());
+      for (const json& target : targets)
+        if (target.is_object())
+          for (const auto& [name, index] : target.items()) add(index);
+    }
+  }
+  const json clips = doc.value("animations", json::array());
+  for (const json& clip : clips) {
+    const json samplers = clip.is_object() ? clip.value("samplers", json::array()) : json::array();
+    for (const json& sampler : samplers)
+      if (sampler.is_object() && sampler.contains("output")) add(sampler["output"]);
+  }
+  return out;
+}
+
+}  // namespace
+
+namespace detail {
+
 std::vector<double> accessor_values(const GltfFile& file, const json& accessor, const std::string& path) {
   const size_t count = gltf_whole_number(accessor, "count", 0, path, "an accessor");
   const size_t n = components(accessor);
@@ -187,30 +244,6 @@ std::vector<double> accessor_values(const GltfFile& file, const json& accessor, 
   return values;
 }
 
-// min or max as a reader takes them (given in the accessor's component type).
-json float_bounds(const json& bounds, int type, bool normalized) {
-  json out = json::array();
-  for (const json& b : bounds) {
-    if (!b.is_number()) return bounds;
-    const double c = b.get<double>();
-    out.push_back(double(float(normalized ? normalized_value(c, type) : c)));
-  }
-  return out;
-}
-
-// Appends `values` as floats in a view of their own; returns the view's index.
-size_t append_float_view(GltfFile& file, const std::vector<double>& values) {
-  while (file.bin.size() % 4) file.bin += '\0';
-  file.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", file.bin.size()}, {"byteLength", values.size() * 4}});
-  for (double v : values) {
-    const float f = float(v);
-    file.bin.append(reinterpret_cast<const char*>(&f), 4);
-  }
-  return file.doc["bufferViews"].size() - 1;
-}
-
-// ... and a float accessor of `type` reading them (with min and max where it is a SCALAR, as a
-// clip's times must have); returns its index.
 size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, const std::string& type) {
   json accessor = {{"bufferView", append_float_view(file, values)}, {"componentType", kFloat}, {"type", type}};
   accessor["count"] = values.size() / components(accessor);
@@ -223,39 +256,7 @@ size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, con
   return file.doc["accessors"].size() - 1;
 }
 
-// The accessors read as floating-point data (see the header), by index.
-std::set<size_t> float_data_accessors(const json& doc, const std::string& path) {
-  std::set<size_t> out;
-  const auto add = [&](const json& index) {
-    if (!is_index(index)) fail_input(path, "not a glTF 2.0 asset: an accessor index is not a whole number 0 or above");
-    out.insert(size_t(index.get<int64_t>()));
-  };
-  // Each list held by name while it is walked (value() returns a copy; items() would outlive it).
-  const json meshes = doc.value("meshes", json::array());
-  for (const json& mesh : meshes) {
-    const json primitives = mesh.is_object() ? mesh.value("primitives", json::array()) : json::array();
-    for (const json& primitive : primitives) {
-      if (!primitive.is_object()) continue;
-      const json attributes = primitive.value("attributes", json::object());
-      if (attributes.is_object())
-        for (const auto& [name, index] : attributes.items())
-          if (name.rfind("JOINTS_", 0) != 0 && name.rfind('_', 0) != 0) add(index);
-      const json targets = primitive.value("targets", json::array());
-      for (const json& target : targets)
-        if (target.is_object())
-          for (const auto& [name, index] : target.items()) add(index);
-    }
-  }
-  const json clips = doc.value("animations", json::array());
-  for (const json& clip : clips) {
-    const json samplers = clip.is_object() ? clip.value("samplers", json::array()) : json::array();
-    for (const json& sampler : samplers)
-      if (sampler.is_object() && sampler.contains("output")) add(sampler["output"]);
-  }
-  return out;
-}
-
-}  // namespace
+}  // namespace detail
 
 void check_required_extensions(const json& doc, const std::string& path) {
   const json required = doc.value("extensionsRequired", json::array());
@@ -290,120 +291,6 @@ size_t float_accessors(GltfFile& file, const std::string& path) {
     accessor["componentType"] = kFloat;
     for (const char* gone : {"byteOffset", "normalized", "sparse"}) accessor.erase(gone);
     ++changed;
-  }
-  return changed;
-}
-
-namespace {
-
-// A node's translation, rotation or scale as glTF gives it (or its default); empty where it is
-// not a list of numbers of the path's size.
-std::vector<double> node_path_value(const json& node, const std::string& path) {
-  const std::vector<double> fallback = path == "rotation" ? std::vector<double>{0, 0, 0, 1}
-                                       : path == "scale"  ? std::vector<double>{1, 1, 1}
-                                                          : std::vector<double>{0, 0, 0};
-  if (!node.contains(path)) return fallback;
-  const json& v = node[path];
-  if (!v.is_array() || v.size() != fallback.size()) return {};
-  std::vector<double> out;
-  for (const json& c : v) {
-    if (!c.is_number()) return {};
-    out.push_back(c.get<double>());
-  }
-  return out;
-}
-
-}  // namespace
-
-size_t complete_mirrored_channels(GltfFile& file, const std::string& path) {
-  json& doc = file.doc;
-  if (!doc.contains("animations") || !doc["animations"].is_array() || !doc.contains("nodes")) return 0;
-  const json nodes = doc["nodes"];
-  size_t added = 0;
-  for (json& clip : doc["animations"]) {
-    if (!clip.is_object() || !clip.contains("channels") || !clip["channels"].is_array() || !clip.contains("samplers") ||
-        !clip["samplers"].is_array())
-      continue;
-    // Per mirrored node the clip moves: the paths it moves, and the first key time of one of them.
-    std::map<size_t, std::set<std::string>> moved;
-    std::map<size_t, double> first_time;
-    for (const json& channel : clip["channels"]) {
-      if (!channel.is_object() || !channel.contains("target") || !channel["target"].is_object()) continue;
-      const json& target = channel["target"];
-      const std::string p = text(target, "path");
-      if (!target.contains("node") || !is_index(target["node"]) || (p != "translation" && p != "rotation" && p != "scale"))
-        continue;
-      const size_t n = size_t(target["node"].get<int64_t>());
-      if (n >= nodes.size() || !nodes[n].is_object()) continue;
-      const std::vector<double> scale = node_path_value(nodes[n], "scale");
-      if (scale.empty() || !(scale[0] * scale[1] * scale[2] < 0)) continue;
-      moved[n].insert(p);
-      if (first_time.count(n) || !channel.contains("sampler") || !is_index(channel["sampler"])) continue;
-      const size_t s = size_t(channel["sampler"].get<int64_t>());
-      if (s >= clip["samplers"].size() || !clip["samplers"][s].is_object() || !clip["samplers"][s].contains("input")) continue;
-      const json& input = clip["samplers"][s]["input"];
-      if (!is_index(input) || !doc.contains("accessors") || !doc["accessors"].is_array() ||
-          size_t(input.get<int64_t>()) >= doc["accessors"].size())
-        continue;
-      const json& accessor = doc["accessors"][size_t(input.get<int64_t>())];
-      if (!accessor.is_object() || !accessor.contains("componentType") || accessor["componentType"] != kFloat ||
-          components(accessor) != 1)
-        continue;
-      const std::vector<double> times = accessor_values(file, accessor, path);
-      if (!times.empty()) first_time[n] = times[0];
-    }
-    for (const auto& [n, paths] : moved) {
-      if (!first_time.count(n)) continue;
-      for (const char* missing : {"translation", "rotation", "scale"}) {
-        if (paths.count(missing)) continue;
-        const std::vector<double> value = node_path_value(nodes[n], missing);
-        if (value.empty()) continue;
-        const size_t input = add_float_accessor(file, {first_time[n]}, "SCALAR");
-        const size_t output = add_float_accessor(file, value, value.size() == 4 ? "VEC4" : "VEC3");
-        clip["samplers"].push_back({{"input", input}, {"output", output}, {"interpolation", "LINEAR"}});
-        clip["channels"].push_back({{"sampler", clip["samplers"].size() - 1}, {"target", {{"node", n}, {"path", missing}}}});
-        ++added;
-      }
-    }
-  }
-  return added;
-}
-
-size_t step_samplers_as_held_keys(GltfFile& file, const std::string& path) {
-  json& doc = file.doc;
-  if (!doc.contains("animations") || !doc["animations"].is_array() || !doc.contains("accessors") ||
-      !doc["accessors"].is_array())
-    return 0;
-  size_t changed = 0;
-  for (json& clip : doc["animations"]) {
-    if (!clip.is_object() || !clip.contains("samplers") || !clip["samplers"].is_array()) continue;
-    for (json& sampler : clip["samplers"]) {
-      if (!sampler.is_object() || text(sampler, "interpolation") != "STEP") continue;
-      const size_t input = gltf_whole_number(sampler, "input", SIZE_MAX, path, "a clip's sampler");
-      const size_t output = gltf_whole_number(sampler, "output", SIZE_MAX, path, "a clip's sampler");
-      const json& accessors = doc["accessors"];
-      if (input >= accessors.size() || output >= accessors.size() || !accessors[input].is_object() ||
-          !accessors[output].is_object())
-        fail_input(path, "a clip's sampler names an accessor that does not exist");
-      const json in = accessors[input], out = accessors[output];
-      if (!in.contains("componentType") || in["componentType"] != kFloat || components(in) != 1 ||
-          !out.contains("componentType") || out["componentType"] != kFloat || components(out) == 0)
-        continue;  // not as the spec says: left to assimp
-      const std::vector<double> times = accessor_values(file, in, path), values = accessor_values(file, out, path);
-      const size_t n = components(out), keys = times.size();
-      if (keys < 2 || values.size() % (keys * n) != 0) continue;
-      const size_t per_key = values.size() / keys;  // a morph weights' key holds one value per target
-      std::vector<double> held_times = {times[0]}, held_values(values.begin(), values.begin() + long(per_key));
-      for (size_t k = 1; k < keys; ++k) {
-        held_times.insert(held_times.end(), {times[k], times[k]});
-        held_values.insert(held_values.end(), values.begin() + long((k - 1) * per_key), values.begin() + long(k * per_key));
-        held_values.insert(held_values.end(), values.begin() + long(k * per_key), values.begin() + long((k + 1) * per_key));
-      }
-      sampler["input"] = add_float_accessor(file, held_times, "SCALAR");
-      sampler["output"] = add_float_accessor(file, held_values, text(out, "type"));
-      sampler["interpolation"] = "LINEAR";
-      ++changed;
-    }
   }
   return changed;
 }

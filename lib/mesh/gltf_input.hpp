@@ -2,10 +2,12 @@
 // A glTF asset made ready for assimp (5.2), which reads some valid ones wrong without a word: it
 // copies the bytes of an integer accessor into floats where glTF allows integers for
 // floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
-// out wrong), turns over a mirrored node that a clip moves, reads STEP keys as linear ones, and
-// ignores the extensions an asset requires. Each function below mends one of those in the
-// document and its binary buffer, which assimp then reads from memory (mesh/assimp_scene).
+// out wrong), turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as
+// linear ones, and ignores the extensions an asset requires. Each function below mends one of
+// those in the document and its binary buffer, which assimp then reads from memory
+// (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp.
 #include <string>
+#include <vector>
 
 #include "core/gltf_file.hpp"
 
@@ -38,5 +40,20 @@ size_t complete_mirrored_channels(GltfFile& file, const std::string& path);
 // next key, where it steps: that key is given twice, first with the value before (the key times
 // stay the same, so do a clip's frames). Returns how many samplers changed.
 size_t step_samplers_as_held_keys(GltfFile& file, const std::string& path);
+
+// The key times of a clip whose cubic splines were made linear (cubic_samplers_as_keys): the keys
+// added between the asset's are no frames of its.
+struct AddedKeys {
+  std::vector<double> asset_times;  // every key time of the clip's samplers in the file (s), sorted
+  size_t added = 0;                 // keys added, over the clip's samplers
+};
+
+// assimp reads a CUBICSPLINE sampler's values at its keys and glides linearly between them, where
+// glTF follows the Hermite spline of its tangents (a rotation's then normalized). Each is rewritten
+// as a linear sampler with keys between its own as often as the tools sample a clip
+// (clip_steps_between, so half-way is one), valued on the spline: exact at every time the tools
+// ask of a clip, linear only between those. `added[a]` receives clip a's key times (empty where
+// none of its samplers changed). Returns how many samplers changed.
+size_t cubic_samplers_as_keys(GltfFile& file, const std::string& path, std::vector<AddedKeys>& added);
 
 }  // namespace spx

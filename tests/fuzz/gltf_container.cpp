@@ -1,12 +1,13 @@
 // libFuzzer target: the glTF container reader (GLB chunks, a .gltf's JSON and its data: buffers)
 // on arbitrary bytes, then what is done to it before assimp reads it (the extensions it requires,
 // its integer accessors rewritten as floats, its mirrored nodes' channels completed, its STEP
-// keys held). Bad input must end in spx::Error, never a crash or another exception; what it lets
+// keys held, its cubic splines made linear). Bad input must end in spx::Error, never a crash or another exception; what it lets
 // through is an object whose views all point into its one buffer, and whose rewritten accessors
 // are floats in views inside it.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/gltf_file.hpp"
@@ -32,7 +33,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const size_t channels = spx::complete_mirrored_channels(floats, "fuzz.gltf");
     const size_t steps = spx::step_samplers_as_held_keys(floats, "fuzz.gltf");
-    if (changed + channels + steps > 0) spx::encode_glb(floats);
+    std::vector<spx::AddedKeys> added;
+    const size_t cubic = spx::cubic_samplers_as_keys(floats, "fuzz.gltf", added);
+    if (cubic > 0 && added.size() != floats.doc["animations"].size()) std::abort();
+    if (changed + channels + steps + cubic > 0) spx::encode_glb(floats);
   } catch (const spx::Error&) {
   }
   return 0;

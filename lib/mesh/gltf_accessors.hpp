@@ -1,0 +1,30 @@
+#pragma once
+// A glTF's accessors read and written as a reader takes them: what the mends of mesh/gltf_input
+// (the file's data) and mesh/gltf_clips (its clips) share. Internal to mesh/.
+#include <string>
+#include <vector>
+
+#include "core/gltf_file.hpp"
+
+namespace spx::detail {
+
+inline constexpr int kFloat = 5126;
+
+// Members read without trusting their types (a file's wrong type is its fault, not an internal error).
+bool flag(const json& object, const char* key);
+std::string text(const json& object, const char* key);
+// An index: a whole number 0 or above (signed where the code set it, unsigned as read).
+bool is_index(const json& v);
+
+// Components per element of the types an attribute or a clip's output may have; 0 for the others.
+size_t components(const json& accessor);
+
+// The accessor's values as a reader takes them, dense (zeros where it has no view; sparse ones
+// put in place). Exit 2 naming `path` where the accessor or its view is out of range.
+std::vector<double> accessor_values(const GltfFile& file, const json& accessor, const std::string& path);
+
+// Appends `values` as a float accessor of `type` in a view of its own (with min and max where it
+// is a SCALAR, as a clip's times must have); returns its index.
+size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, const std::string& type);
+
+}  // namespace spx::detail
