@@ -321,7 +321,8 @@ ClipOvershoot check_over_clip(const SkinFile& skin, const TriMesh& rest, double 
     log.warn("between the poses given, " + std::to_string(out.spheres_out) + " of " + std::to_string(radii.size()) +
              " spheres poke out of the body at some of the clip's " + std::to_string(out.times) + " times (by up to " +
              num(out.worst) + ", " + num(100 * out.worst / rest.diagonal()) + " % of the diagonal; " +
-             std::to_string(out.centres_outside) + " centres leave it): --hold-over-clip keeps them inside");
+             counted(out.centres_outside, "centre") + (out.centres_outside == 1 ? " leaves" : " leave") +
+             " it): --hold-over-clip keeps them inside");
   return out;
 }
 
