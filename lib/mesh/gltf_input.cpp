@@ -10,6 +10,7 @@
 #include "mesh/gltf_accessors.hpp"
 
 namespace spx {
+// The accessor helpers mesh/gltf_accessors.hpp declares, shared with the clips' mends.
 namespace detail {
 
 bool flag(const json& object, const char* key) {
