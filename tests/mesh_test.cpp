@@ -417,6 +417,74 @@ TEST(MeshLoad, GltfWithAPercentEncodedBufferReadsAsItsGlb) {
   }
 }
 
+// A mesh instanced by EXT_mesh_gpu_instancing (gltfpack -mi): each instance where renderers draw
+// it, in the node's frame (the node moved by 10 along x). A unit cube three times: as it is; scaled
+// 2 along x, turned a quarter about z (a rotation of normalized shorts) and moved 3 along x;
+// mirrored in x and moved 3 along y. The body is the three cubes, volume 4, faces out, in the box
+// worked out by hand, whether the extension is used or required (assimp placed the cube once at
+// the node; required, the tools refused it).
+TEST(MeshLoad, GpuInstancesArePlacedAsRenderersDrawThem) {
+  const TriMesh cube = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  GltfFile file;
+  auto floats = [&](const std::vector<float>& v) {
+    const size_t at = file.bin.size();
+    file.bin.append(reinterpret_cast<const char*>(v.data()), v.size() * 4);
+    return at;
+  };
+  std::vector<float> corners;
+  for (const auto& p : cube.vertices) corners.insert(corners.end(), {float(p.x()), float(p.y()), float(p.z())});
+  std::vector<uint32_t> indices;
+  for (const auto& f : cube.triangles) indices.insert(indices.end(), {uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
+  const size_t positions = floats(corners), faces = file.bin.size();
+  file.bin.append(reinterpret_cast<const char*>(indices.data()), indices.size() * 4);
+  const size_t t = floats({0, 0, 0, 3, 0, 0, 0, 3, 0}), rotations = file.bin.size();
+  for (int16_t c : {0, 0, 0, 32767, 0, 0, 23170, 23170, 0, 0, 0, 32767}) file.bin.append(reinterpret_cast<const char*>(&c), 2);
+  const size_t scales = floats({1, 1, 1, 2, 1, 1, -1, 1, 1});
+  file.doc = {{"asset", {{"version", "2.0"}}},
+              {"scene", 0},
+              {"scenes", {{{"nodes", {0}}}}},
+              {"nodes", {{{"name", "bolts"}, {"mesh", 0}, {"translation", {10, 0, 0}},
+                          {"extensions", {{"EXT_mesh_gpu_instancing",
+                                           {{"attributes", {{"TRANSLATION", 2}, {"ROTATION", 3}, {"SCALE", 4}}}}}}}}}},
+              {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+              {"bufferViews", {{{"buffer", 0}, {"byteOffset", positions}, {"byteLength", corners.size() * 4}},
+                               {{"buffer", 0}, {"byteOffset", faces}, {"byteLength", indices.size() * 4}},
+                               {{"buffer", 0}, {"byteOffset", t}, {"byteLength", 36}},
+                               {{"buffer", 0}, {"byteOffset", rotations}, {"byteLength", 24}},
+                               {{"buffer", 0}, {"byteOffset", scales}, {"byteLength", 36}}}},
+              {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", cube.vertices.size()}, {"type", "VEC3"},
+                              {"min", {0, 0, 0}}, {"max", {1, 1, 1}}},
+                             {{"bufferView", 1}, {"componentType", 5125}, {"count", indices.size()}, {"type", "SCALAR"}},
+                             {{"bufferView", 2}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+                             {{"bufferView", 3}, {"componentType", 5122}, {"normalized", true}, {"count", 3}, {"type", "VEC4"}},
+                             {{"bufferView", 4}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}}}},
+              {"extensionsUsed", {"EXT_mesh_gpu_instancing"}}};
+  const std::string dir = test::temp_dir("instances");
+  for (const bool required : {false, true}) {
+    if (required) file.doc["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+    const std::string path = dir + (required ? "/required.glb" : "/used.glb");
+    write_file_atomic(path, encode_glb(file));
+    const TriMesh body = load_mesh(path).mesh;
+    EXPECT_EQ(body.triangles.size(), 3 * cube.triangles.size()) << path;
+    const MeshDefects d = find_defects(body);
+    EXPECT_EQ(d.components, 3u) << path;
+    EXPECT_NEAR(d.signed_volume, 4.0, 2e-4) << path;  // the quarter turn in shorts: 1/32767 off unit
+    const Eigen::AlignedBox3d box = body.bounds();
+    EXPECT_LT((box.min() - Eigen::Vector3d(9, 0, 0)).norm(), 1e-4) << path << ": " << box.min().transpose();
+    EXPECT_LT((box.max() - Eigen::Vector3d(13, 4, 1)).norm(), 1e-4) << path << ": " << box.max().transpose();
+  }
+  // Attributes that count different numbers of instances: exit 2 naming the file.
+  file.doc["accessors"][4]["count"] = 2;
+  write_file_atomic(dir + "/uneven.glb", encode_glb(file));
+  try {
+    load_mesh(dir + "/uneven.glb");
+    ADD_FAILURE() << "read instances of uneven counts";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input);
+    EXPECT_NE(std::string(e.what()).find("count different numbers of instances"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MeshLoad, ReadsEveryListedFormat) {
   const std::string dir = test::temp_dir("formats");
   // ASCII STL of a unit box, written by hand: STL repeats corners per facet, the weld joins them.

@@ -31,8 +31,10 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
   }
   if (file) {
     check_required_extensions(file->doc, path);
-    // Each, whatever the one before finds (no short circuit); the floats first, which the others read.
-    size_t changes = float_accessors(*file, path);
+    // Each, whatever the one before finds (no short circuit); the instances first (they read their
+    // accessors as a reader takes them), then the floats, which the others read.
+    size_t changes = instances_as_nodes(*file, path);
+    changes += float_accessors(*file, path);
     changes += complete_mirrored_channels(*file, path);
     changes += step_samplers_as_held_keys(*file, path);
     std::vector<AddedKeys> added;

@@ -40,6 +40,8 @@ using namespace detail;
 
 namespace {
 
+constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
+
 bool changes_no_geometry(const std::string& extension) {
   for (const char* prefix : {"KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_"})
     if (extension.rfind(prefix, 0) == 0) return true;
@@ -264,7 +266,9 @@ void check_required_extensions(const json& doc, const std::string& path) {
   for (const json& e : required) {
     if (!e.is_string()) fail_input(path, "not a glTF 2.0 asset: its extensionsRequired lists a name that is not a string");
     const std::string name = e.get<std::string>();
-    if (name == "KHR_draco_mesh_compression" || name == "KHR_mesh_quantization" || changes_no_geometry(name)) continue;
+    if (name == "KHR_draco_mesh_compression" || name == "KHR_mesh_quantization" || name == kInstancing ||
+        changes_no_geometry(name))
+      continue;
     fail_unsupported(path, "requires the glTF extension " + name +
                                ", which the tools do not read (its meshes would come out missing or wrong); export it "
                                "without " + name);
@@ -294,6 +298,89 @@ size_t float_accessors(GltfFile& file, const std::string& path) {
     ++changed;
   }
   return changed;
+}
+
+namespace {
+
+// An instance's translation, rotation or scale from the extension's accessor `name` (none where
+// the attribute is not given); exit 2 naming `path` where it is not a list of `width` numbers
+// for each of `count` instances.
+std::vector<double> instance_values(const GltfFile& file, const json& attributes, const char* name, size_t width,
+                                    size_t& count, const std::string& path) {
+  if (!attributes.contains(name)) return {};
+  const auto list = file.doc.find("accessors");
+  if (list == file.doc.end() || !list->is_array()) fail_input(path, "not a glTF 2.0 asset: it has instances but no accessors");
+  const json& accessors = *list;
+  const json& index = attributes[name];
+  if (!is_index(index) || size_t(index.get<int64_t>()) >= accessors.size() || !accessors[size_t(index.get<int64_t>())].is_object())
+    fail_input(path, std::string("a node's EXT_mesh_gpu_instancing names no accessor for its ") + name);
+  const json& accessor = accessors[size_t(index.get<int64_t>())];
+  if (components(accessor) != width || !accessor.contains("componentType") || !accessor["componentType"].is_number_integer())
+    fail_input(path, std::string("a node's EXT_mesh_gpu_instancing ") + name + " is not a list of " +
+                         (width == 4 ? "VEC4" : "VEC3"));
+  std::vector<double> values = accessor_values(file, accessor, path);
+  const size_t n = values.size() / width;
+  if (count != SIZE_MAX && n != count)
+    fail_input(path, "a node's EXT_mesh_gpu_instancing attributes count different numbers of instances");
+  count = n;
+  return values;
+}
+
+}  // namespace
+
+size_t instances_as_nodes(GltfFile& file, const std::string& path) {
+  json& doc = file.doc;
+  if (!doc.contains("nodes") || !doc["nodes"].is_array()) return 0;
+  size_t expanded = 0;
+  const size_t given = doc["nodes"].size();
+  for (size_t n = 0; n < given; ++n) {
+    const json node = doc["nodes"][n];  // a copy: nodes are added below
+    if (!node.is_object() || !node.contains("mesh") || node.contains("skin") || !node.contains("extensions") ||
+        !node["extensions"].is_object() || !node["extensions"].contains(kInstancing))
+      continue;
+    const json& instancing = node["extensions"][kInstancing];
+    if (!instancing.is_object() || !instancing.contains("attributes") || !instancing["attributes"].is_object())
+      fail_input(path, "a node's EXT_mesh_gpu_instancing has no attributes");
+    const json& attributes = instancing["attributes"];
+    size_t count = SIZE_MAX;
+    const std::vector<double> t = instance_values(file, attributes, "TRANSLATION", 3, count, path);
+    const std::vector<double> r = instance_values(file, attributes, "ROTATION", 4, count, path);
+    const std::vector<double> s = instance_values(file, attributes, "SCALE", 3, count, path);
+    if (count == SIZE_MAX) continue;  // no attribute: the node's mesh once, as it is
+    json children = node.value("children", json::array());
+    if (!children.is_array()) fail_input(path, "not a glTF 2.0 asset: a node's children are not a list");
+    for (size_t i = 0; i < count; ++i) {
+      json instance = {{"mesh", node["mesh"]}};
+      if (node.contains("name") && node["name"].is_string())
+        instance["name"] = node["name"].get<std::string>() + "#" + std::to_string(i + 1);
+      const auto put = [&](const char* key, const std::vector<double>& v, size_t width) {
+        if (!v.empty()) instance[key] = std::vector<double>(v.begin() + long(i * width), v.begin() + long((i + 1) * width));
+      };
+      put("translation", t, 3);
+      put("rotation", r, 4);
+      put("scale", s, 3);
+      children.push_back(doc["nodes"].size());
+      doc["nodes"].push_back(instance);
+    }
+    json& placed = doc["nodes"][n];
+    placed.erase("mesh");
+    placed["children"] = children;
+    placed["extensions"].erase(kInstancing);
+    ++expanded;
+  }
+  // Where no node has it any more, nor is it used or required.
+  const bool left = std::any_of(doc["nodes"].begin(), doc["nodes"].end(), [](const json& node) {
+    return node.is_object() && node.contains("extensions") && node["extensions"].is_object() &&
+           node["extensions"].contains(kInstancing);
+  });
+  for (const char* list : {"extensionsUsed", "extensionsRequired"})
+    if (expanded > 0 && !left && doc.contains(list) && doc[list].is_array()) {
+      json kept = json::array();
+      for (const json& name : doc[list])
+        if (name != kInstancing) kept.push_back(name);
+      doc[list] = kept;
+    }
+  return expanded;
 }
 
 }  // namespace spx

@@ -2,8 +2,9 @@
 // A glTF asset made ready for assimp (5.2), which reads some valid ones wrong without a word: it
 // copies the bytes of an integer accessor into floats where glTF allows integers for
 // floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
-// out wrong), turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as
-// linear ones, and ignores the extensions an asset requires. Each function below mends one of
+// out wrong), places a mesh instanced by a node once, turns over a mirrored node that a clip
+// moves, reads STEP keys and cubic splines as linear ones, and ignores the extensions an asset
+// requires. Each function below mends one of
 // those in the document and its binary buffer, which assimp then reads from memory
 // (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp.
 #include <string>
@@ -15,8 +16,17 @@ namespace spx {
 
 // Exit 3 naming the first extension in `extensionsRequired` that the tools cannot honour. Those
 // they can: KHR_draco_mesh_compression (assimp decodes it), KHR_mesh_quantization
-// (float_accessors), and those of materials, textures and lights, which change no geometry.
+// (float_accessors), EXT_mesh_gpu_instancing (instances_as_nodes), and those of materials,
+// textures and lights, which change no geometry.
 void check_required_extensions(const json& doc, const std::string& path);
+
+// assimp places a mesh that a node instances by EXT_mesh_gpu_instancing once, at the node, where
+// renderers draw it at every instance (a car's wheels or bolts, as gltfpack -mi writes them). Each
+// such node's instances become child nodes of its own, each the mesh at the instance's
+// translation, rotation and scale (in the node's frame, as the extension says), and the node keeps
+// its children but not the mesh. Returns how many nodes changed. Exit 2 naming `path` where the
+// extension's attributes are not as it says.
+size_t instances_as_nodes(GltfFile& file, const std::string& path);
 
 // Rewrites as floats every integer accessor a reader takes as floating-point data: a mesh's
 // attributes but its joints (JOINTS_n) and application-specific ones ("_NAME"), its morph

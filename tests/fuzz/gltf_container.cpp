@@ -1,6 +1,6 @@
 // libFuzzer target: the glTF container reader (GLB chunks, a .gltf's JSON and its data: buffers)
 // on arbitrary bytes, then what is done to it before assimp reads it (the extensions it requires,
-// its integer accessors rewritten as floats, its mirrored nodes' channels completed, its STEP
+// its instanced meshes made nodes, its integer accessors rewritten as floats, its mirrored nodes' channels completed, its STEP
 // keys held, its cubic splines made linear). Bad input must end in spx::Error, never a crash or another exception; what it lets
 // through is an object whose views all point into its one buffer, and whose rewritten accessors
 // are floats in views inside it.
@@ -24,7 +24,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     spx::encode_glb(file);
     spx::check_required_extensions(file.doc, "fuzz.gltf");
     spx::GltfFile floats = file;
-    const size_t views = file.doc["bufferViews"].size();
+    const size_t nodes = floats.doc.contains("nodes") && floats.doc["nodes"].is_array() ? floats.doc["nodes"].size() : 0;
+    if (spx::instances_as_nodes(floats, "fuzz.gltf") > 0 && floats.doc["nodes"].size() < nodes) std::abort();
+    const size_t views = floats.doc["bufferViews"].size();
     const size_t changed = spx::float_accessors(floats, "fuzz.gltf");
     if (floats.doc["bufferViews"].size() != views + changed) std::abort();
     for (size_t v = views; v < views + changed; ++v) {  // the views it added, the only ones it trusts
