@@ -13,11 +13,12 @@ namespace spx {
 
 // importer.ReadFile(path, flags). A .gltf or .glb is first checked for the extensions it requires
 // (exit 3 for one the tools cannot honour) and, where it holds what assimp would read wrong
-// (integer data meant as floats, a mirrored node a clip moves, STEP keys, cubic splines), read
-// from memory made right (mesh/gltf_input.hpp); `added_keys`, where given, receives per clip the
-// keys the cubic splines' rewrite added (empty for a clip without, or a file of another kind). Where assimp cannot read a .gltf or .glb, the project's glTF
-// reader says what is wrong with the file ("not a glTF: its JSON does not parse (...)",
-// "truncated", "contains no mesh"); a .gltf it finds nothing wrong with (a buffer whose URI is
+// (meshes instanced by a node, integer data meant as floats, a mirrored node a clip moves, STEP
+// keys, cubic splines), read from memory made right (mesh/gltf_input.hpp); `added_keys`, where
+// given, receives per clip the keys the cubic splines' rewrite added (empty for a clip without, or
+// a file of another kind). Where assimp cannot read a .gltf or .glb, the project's glTF reader
+// says what is wrong with the file ("not a glTF: its JSON does not parse (...)", "truncated",
+// "contains no mesh"); a .gltf it finds nothing wrong with (a buffer whose URI is
 // percent-encoded, "My%20Body.bin", which assimp opens as written) is read again from memory as
 // the GLB that reader makes of it. Otherwise throws spx::Error naming `path` (exit 2): "cannot read
 // <what>: <assimp's error>". The scene is the importer's.

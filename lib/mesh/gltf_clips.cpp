@@ -18,9 +18,9 @@ using namespace detail;
 namespace {
 
 // The float sampler `sampler`'s times and values, where its accessors are as the spec says (none
-// where not: left to assimp); `n` receives the values' components per element.
+// where not: left to assimp); `n` and `type` receive the values' components per element and type.
 bool sampler_data(const GltfFile& file, const json& sampler, const std::string& path, std::vector<double>& times,
-                  std::vector<double>& values, size_t& n) {
+                  std::vector<double>& values, size_t& n, std::string& type) {
   const size_t input = gltf_whole_number(sampler, "input", SIZE_MAX, path, "a clip's sampler");
   const size_t output = gltf_whole_number(sampler, "output", SIZE_MAX, path, "a clip's sampler");
   const json& accessors = file.doc["accessors"];
@@ -35,6 +35,7 @@ bool sampler_data(const GltfFile& file, const json& sampler, const std::string& 
   times = accessor_values(file, in, path);
   values = accessor_values(file, out, path);
   n = components(out);
+  type = text(out, "type");
   return true;
 }
 
@@ -134,8 +135,8 @@ size_t step_samplers_as_held_keys(GltfFile& file, const std::string& path) {
       if (!sampler.is_object() || text(sampler, "interpolation") != "STEP") continue;
       std::vector<double> times, values;
       size_t n = 0;
-      if (!sampler_data(file, sampler, path, times, values, n)) continue;  // not as the spec says: left to assimp
-      const std::string type = text(doc["accessors"][size_t(sampler["output"])], "type");
+      std::string type;
+      if (!sampler_data(file, sampler, path, times, values, n, type)) continue;  // not as the spec says: left to assimp
       const size_t keys = times.size();
       if (keys < 2 || values.size() % (keys * n) != 0) continue;
       const size_t per_key = values.size() / keys;  // a morph weights' key holds one value per target
@@ -193,10 +194,10 @@ size_t cubic_samplers_as_keys(GltfFile& file, const std::string& path, std::vect
     for (json& sampler : *samplers) {
       std::vector<double> times, values;
       size_t n = 0;
-      if (!sampler.is_object() || !sampler_data(file, sampler, path, times, values, n)) continue;
+      std::string type;
+      if (!sampler.is_object() || !sampler_data(file, sampler, path, times, values, n, type)) continue;
       asset_times.insert(asset_times.end(), times.begin(), times.end());
       if (!cubic(sampler)) continue;
-      const std::string type = text(doc["accessors"][size_t(sampler["output"])], "type");
       const size_t keys = times.size();
       if (keys == 0 || values.size() % (3 * keys * n) != 0) continue;  // not as the spec says: left to assimp
       const size_t width = values.size() / (3 * keys);  // a morph weights' key holds one value per target

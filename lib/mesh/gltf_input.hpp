@@ -4,9 +4,8 @@
 // floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
 // out wrong), places a mesh instanced by a node once, turns over a mirrored node that a clip
 // moves, reads STEP keys and cubic splines as linear ones, and ignores the extensions an asset
-// requires. Each function below mends one of
-// those in the document and its binary buffer, which assimp then reads from memory
-// (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp.
+// requires. Each function below mends one of those in the document and its binary buffer, which
+// assimp then reads from memory (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp.
 #include <string>
 #include <vector>
 

@@ -1,9 +1,9 @@
 // libFuzzer target: the glTF container reader (GLB chunks, a .gltf's JSON and its data: buffers)
 // on arbitrary bytes, then what is done to it before assimp reads it (the extensions it requires,
-// its instanced meshes made nodes, its integer accessors rewritten as floats, its mirrored nodes' channels completed, its STEP
-// keys held, its cubic splines made linear). Bad input must end in spx::Error, never a crash or another exception; what it lets
-// through is an object whose views all point into its one buffer, and whose rewritten accessors
-// are floats in views inside it.
+// its instanced meshes made nodes, its integer accessors rewritten as floats, its mirrored nodes'
+// channels completed, its STEP keys held, its cubic splines made linear). Bad input must end in
+// spx::Error, never a crash or another exception; what it lets through is an object whose views
+// all point into its one buffer, and whose rewritten accessors are floats in views inside it.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
