@@ -19,8 +19,8 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 "$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" "$root/lib/core/atomic_file.cpp" \
   "$root/lib/io/spheres_file.cpp" "$root/lib/io/proxy_file.cpp" "$root/lib/io/skin_file.cpp" "$root/lib/core/version.cpp" \
   -o "$out/json_readers"
-"$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
-  "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -o "$out/gltf_container"
+"$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/gltf_meshopt.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
+  "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -lmeshoptimizer -o "$out/gltf_container"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
 seeds=$out/seeds/car

@@ -8,6 +8,7 @@
 #include "core/atomic_file.hpp"
 #include "core/base64.hpp"
 #include "core/error.hpp"
+#include "core/gltf_meshopt.hpp"
 
 namespace spx {
 namespace {
@@ -69,25 +70,90 @@ std::string buffer_bytes(const json& buffer, const std::string& path) {
   return read_file(file);
 }
 
-// A .gltf's buffers as one: each appended at a multiple of 8 bytes, its views moved with it.
-GltfFile merge_buffers(json doc, const std::string& path) {
+// Whether `doc` lists extension `name`, or one of its views carries it.
+bool uses_extension(const json& doc, const char* name) {
+  for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+    const json names = doc.value(list, json::array());
+    if (names.is_array() && std::find(names.begin(), names.end(), json(name)) != names.end()) return true;
+  }
+  for (const json& view : doc["bufferViews"])
+    if (view.contains("extensions") && view["extensions"].is_object() && view["extensions"].contains(name)) return true;
+  return false;
+}
+
+// A buffer EXT_meshopt_compression marks as its fallback: the compressed views' data uncompressed,
+// which a reader that decodes them need not load.
+bool meshopt_fallback(const json& buffer) {
+  const json* ext = buffer.contains("extensions") && buffer["extensions"].is_object() && buffer["extensions"].contains(kMeshoptCompression)
+                        ? &buffer["extensions"][kMeshoptCompression]
+                        : nullptr;
+  return ext && ext->is_object() && ext->contains("fallback") && (*ext)["fallback"] == true;
+}
+
+// Each buffer's bytes: a GLB's first, with no uri, is its BIN chunk; the others are their uri's,
+// or none where a file that uses EXT_meshopt_compression gives no uri or marks the buffer its
+// fallback (the data the compressed views stand for).
+std::vector<BufferBytes> buffer_list(const json& doc, const std::string* glb_bin, const std::string& path) {
+  std::vector<BufferBytes> out;
+  const bool meshopt = uses_extension(doc, kMeshoptCompression);
+  for (const json& buffer : doc.value("buffers", json::array())) {
+    if (glb_bin && out.empty() && !buffer.contains("uri")) {
+      out.push_back(*glb_bin);
+    } else if (meshopt && (!buffer.contains("uri") || meshopt_fallback(buffer))) {
+      out.push_back(std::nullopt);
+    } else {
+      std::string bytes = buffer_bytes(buffer, path);
+      if (bytes.size() < gltf_whole_number(buffer, "byteLength", 0, path, "a buffer")) fail_input(path, "a buffer is shorter than its byteLength");
+      out.push_back(std::move(bytes));
+    }
+  }
+  return out;
+}
+
+// The buffers as one: each appended at a multiple of 8 bytes, its views moved with it.
+GltfFile merge_buffers(json doc, const std::vector<BufferBytes>& buffers, const std::string& path) {
   GltfFile out;
   std::vector<size_t> base;
-  for (const json& buffer : doc.value("buffers", json::array())) {
+  for (const BufferBytes& bytes : buffers) {
     while (out.bin.size() % 8) out.bin += '\0';
     base.push_back(out.bin.size());
-    std::string bytes = buffer_bytes(buffer, path);
-    if (bytes.size() < gltf_whole_number(buffer, "byteLength", 0, path, "a buffer")) fail_input(path, "a buffer is shorter than its byteLength");
-    out.bin += bytes;
+    if (bytes) out.bin += *bytes;
   }
   for (json& view : doc["bufferViews"]) {
     const size_t b = gltf_whole_number(view, "buffer", 0, path, "a bufferView");
     if (b >= base.size()) fail_input(path, "a bufferView names a buffer that does not exist");
+    if (!buffers[b]) fail_input(path, "a bufferView lies in a buffer with no data (no uri, and not decoded from EXT_meshopt_compression)");
     view["buffer"] = 0;
     view["byteOffset"] = gltf_whole_number(view, "byteOffset", 0, path, "a bufferView") + base[b];
   }
   if (!base.empty()) doc["buffers"] = json::array({{{"byteLength", out.bin.size()}}});
   out.doc = std::move(doc);
+  return out;
+}
+
+// The bytes the views read, each view's at a multiple of 4 bytes: the compressed streams a file
+// held beside them are not carried on (into the GLB assimp reads, or the one proxy-export writes).
+void keep_views_bytes_only(GltfFile& file, const std::string& path) {
+  std::string bin;
+  for (json& view : file.doc["bufferViews"]) {
+    const size_t offset = gltf_whole_number(view, "byteOffset", 0, path, "a bufferView");
+    const size_t length = gltf_whole_number(view, "byteLength", 0, path, "a bufferView");
+    if (offset > file.bin.size() || length > file.bin.size() - offset) fail_input(path, "a bufferView runs past the end of its buffer");
+    while (bin.size() % 4) bin += '\0';
+    view["byteOffset"] = bin.size();
+    bin.append(file.bin, offset, length);
+  }
+  file.bin = std::move(bin);
+  file.doc["buffers"] = json::array({{{"byteLength", file.bin.size()}}});
+}
+
+// The document and its buffers as a GltfFile: compressed views decoded, the buffers merged.
+GltfFile plain_file(json doc, const std::string* glb_bin, const std::string& path) {
+  std::vector<BufferBytes> buffers = buffer_list(doc, glb_bin, path);
+  const size_t decoded = decode_meshopt_views(doc, buffers, path);
+  GltfFile out = merge_buffers(std::move(doc), buffers, path);
+  out.decoded_views = decoded;
+  if (decoded > 0) keep_views_bytes_only(out, path);
   return out;
 }
 
@@ -130,7 +196,7 @@ GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path) {
     // anything else is not one, and its bytes are not quoted back.
     const size_t first = bytes.find_first_not_of(" \t\r\n", bytes.compare(0, 3, "\xef\xbb\xbf") == 0 ? 3 : 0);
     if (first == std::string::npos || bytes[first] != '{') fail_input(path, "not a glTF (neither GLB nor JSON)");
-    return merge_buffers(parse_document(bytes, path), path);
+    return plain_file(parse_document(bytes, path), nullptr, path);
   }
   if (bytes.size() < 20 || get32(bytes, 4) != 2) fail_input(path, "not a GLB of glTF 2.0");
   if (get32(bytes, 8) > bytes.size()) fail_input(path, "truncated: its header says " + std::to_string(get32(bytes, 8)) + " bytes");
@@ -146,7 +212,9 @@ GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path) {
     at += 8 + length;
   }
   if (!seen_json) fail_input(path, "a GLB without its JSON chunk");
-  return out;
+  // The usual GLB, one buffer and nothing compressed, is taken as it is.
+  if (out.doc.value("buffers", json::array()).size() <= 1 && !uses_extension(out.doc, kMeshoptCompression)) return out;
+  return plain_file(std::move(out.doc), &out.bin, path);
 }
 
 std::string encode_glb(const GltfFile& file) {

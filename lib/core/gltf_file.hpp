@@ -9,12 +9,15 @@ namespace spx {
 
 struct GltfFile {
   json doc;         // the document; when `bin` is not empty, buffers[0] is it
-  std::string bin;  // the binary buffer (a GLB's BIN chunk, or a .gltf's buffers merged)
+  std::string bin;  // the binary buffer (a GLB's BIN chunk, or the file's buffers merged)
+  size_t decoded_views = 0;  // views EXT_meshopt_compression compressed in the file, decoded here
 };
 
 // Reads a .glb, or a .gltf whose buffers are data: URIs or files beside it (merged into one, the
-// views moved with them). Exit 2 naming the file when it is not a glTF 2.0 asset; exit 3 for
-// what it holds that this cannot carry (a buffer that cannot be read).
+// views moved with them; a GLB's too where it has more than its BIN chunk). Views compressed by
+// EXT_meshopt_compression come out decoded (core/gltf_meshopt), so the file reads as the plain
+// one it stands for. Exit 2 naming the file when it is not a glTF 2.0 asset; exit 3 for what it
+// holds that this cannot carry (a buffer that cannot be read).
 GltfFile read_gltf_file(const std::string& path);
 
 // The same, from the file's bytes (a .gltf's buffer files are still looked for beside `path`).

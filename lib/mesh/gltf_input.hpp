@@ -16,7 +16,8 @@ namespace spx {
 // Exit 3 naming the first extension in `extensionsRequired` that the tools cannot honour. Those
 // they can: KHR_draco_mesh_compression (assimp decodes it), KHR_mesh_quantization
 // (float_accessors), EXT_mesh_gpu_instancing (instances_as_nodes), and those of materials,
-// textures and lights, which change no geometry.
+// textures and lights, which change no geometry. (EXT_meshopt_compression is decoded as the file
+// is read, core/gltf_meshopt, and is no longer listed by then.)
 void check_required_extensions(const json& doc, const std::string& path);
 
 // assimp places a mesh that a node instances by EXT_mesh_gpu_instancing once, at the node, where
