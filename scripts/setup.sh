@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libassimp-dev libopenvdb-dev
   libboost-iostreams-dev libcli11-dev nlohmann-json3-dev libtbb-dev libgtest-dev libbenchmark-dev
-  libbullet-dev libmeshoptimizer-dev python3 python3-jsonschema python3-dev python3-numpy pybind11-dev clang-14 libclang-rt-14-dev
+  libbullet-dev libmeshoptimizer-dev libdraco-dev python3 python3-jsonschema python3-dev python3-numpy pybind11-dev clang-14 libclang-rt-14-dev
   chromium fonts-dejavu-core)  # Chromium: the proxy page's browser test (headless)
 missing=()
 for p in "${packages[@]}"; do

@@ -1,5 +1,9 @@
 // Compressed glTF: EXT_meshopt_compression (gltfpack -c and the web optimizers write it; the
-// container decoded by core/gltf_meshopt), and the poses of assets so compressed.
+// container decoded by core/gltf_meshopt) and KHR_draco_mesh_compression (gltf-pipeline,
+// gltf-transform and Blender's exporter write it; decoded by mesh/gltf_draco), and the poses of
+// assets so compressed.
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 
@@ -363,6 +367,141 @@ TEST(PoseExtract, MeshoptCompressedAssetsGiveTheirPlainTwinsPoses) {
       EXPECT_EQ(obj_parts(dir + "/" + name + "-packed/" + ours.poses[k].file),
                 obj_parts(dir + "/" + name + "-plain/" + theirs.poses[k].file))
           << name << " pose " << k;
+  }
+}
+
+// The elephant's primitive as a Draco mesh: positions, joints and weights (normalized bytes, as
+// exporters quantize them) for each vertex, and its triangles.
+struct DracoAttributes {
+  int position = -1, joints = -1, weights = -1;  // the encoded mesh's attribute ids
+};
+std::string draco_stream(const std::vector<float>& positions, const std::vector<uint16_t>& joints,
+                         const std::vector<uint8_t>& weights, const std::vector<uint32_t>& indices, DracoAttributes& ids) {
+  draco::Mesh mesh;
+  const size_t n = positions.size() / 3;
+  mesh.set_num_points(uint32_t(n));
+  const auto add = [&](draco::GeometryAttribute::Type type, int components, draco::DataType data, bool normalized, int bytes,
+                       const void* values) {
+    draco::GeometryAttribute a;
+    a.Init(type, nullptr, uint8_t(components), data, normalized, components * bytes, 0);
+    const int id = mesh.AddAttribute(a, true, uint32_t(n));
+    for (size_t i = 0; i < n; ++i)
+      mesh.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(uint32_t(i)),
+                                            static_cast<const char*>(values) + i * size_t(components * bytes));
+    return int(mesh.attribute(id)->unique_id());
+  };
+  ids.position = add(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32, false, 4, positions.data());
+  ids.joints = add(draco::GeometryAttribute::GENERIC, 4, draco::DT_UINT16, false, 2, joints.data());
+  ids.weights = add(draco::GeometryAttribute::GENERIC, 4, draco::DT_UINT8, true, 1, weights.data());
+  for (size_t t = 0; t + 2 < indices.size(); t += 3)
+    mesh.AddFace({draco::PointIndex(indices[t]), draco::PointIndex(indices[t + 1]), draco::PointIndex(indices[t + 2])});
+  draco::Encoder encoder;
+  encoder.SetSpeedOptions(5, 5);
+  draco::EncoderBuffer buffer;
+  EXPECT_TRUE(encoder.EncodeMeshToBuffer(mesh, &buffer).ok());
+  return std::string(buffer.data(), buffer.size());
+}
+
+template <class T>
+std::vector<T> values_of(const GltfFile& file, const json& accessor, size_t width) {
+  const json& view = file.doc["bufferViews"][accessor["bufferView"].get<size_t>()];
+  std::vector<T> out(accessor["count"].get<size_t>() * width);
+  const size_t stride = view.value("byteStride", width * sizeof(T));
+  for (size_t i = 0; i < out.size() / width; ++i)
+    std::memcpy(&out[i * width], file.bin.data() + view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0)) + i * stride,
+                width * sizeof(T));
+  return out;
+}
+
+// A Draco-compressed skinned asset gives the poses of its plain twin (the stream decoded here,
+// by the same library, into ordinary accessors: the encoder orders the vertices its own way), to
+// the bit: the rigged elephant with its mesh in KHR_draco_mesh_compression, its weights as
+// normalized bytes inside the stream (as exporters quantize them), its skin and clip plain.
+TEST(PoseExtract, DracoCompressedSkinGivesItsPlainTwinsPoses) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("draco");
+  const GltfFile file = read_gltf_file(test::shared_data() + "/elephant/elephant-rigged.glb");
+  const json& primitive = file.doc["meshes"][0]["primitives"][0];
+  const json& accessors = file.doc["accessors"];
+  const std::vector<float> positions = values_of<float>(file, accessors[primitive["attributes"]["POSITION"].get<size_t>()], 3);
+  const std::vector<uint16_t> joints = values_of<uint16_t>(file, accessors[primitive["attributes"]["JOINTS_0"].get<size_t>()], 4);
+  const std::vector<float> weights = values_of<float>(file, accessors[primitive["attributes"]["WEIGHTS_0"].get<size_t>()], 4);
+  const std::vector<uint32_t> indices = values_of<uint32_t>(file, accessors[primitive["indices"].get<size_t>()], 1);
+  std::vector<uint8_t> bytes(weights.size());
+  for (size_t i = 0; i < weights.size(); ++i) bytes[i] = uint8_t(std::lround(255 * weights[i]));
+  DracoAttributes ids;
+  const std::string stream = draco_stream(positions, joints, bytes, indices, ids);
+
+  // The twin: the stream decoded, its points and faces as plain accessors.
+  draco::DecoderBuffer in;
+  in.Init(stream.data(), stream.size());
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&in);
+  ASSERT_TRUE(decoded.ok());
+  const draco::Mesh& mesh = *decoded.value();
+  const size_t n = mesh.num_points();
+  std::string p(n * 12, '\0'), j(n * 8, '\0'), w(n * 4, '\0'), f(mesh.num_faces() * 12, '\0');
+  for (size_t i = 0; i < n; ++i) {
+    mesh.GetAttributeByUniqueId(uint32_t(ids.position))->GetMappedValue(draco::PointIndex(uint32_t(i)), &p[i * 12]);
+    mesh.GetAttributeByUniqueId(uint32_t(ids.joints))->GetMappedValue(draco::PointIndex(uint32_t(i)), &j[i * 8]);
+    mesh.GetAttributeByUniqueId(uint32_t(ids.weights))->GetMappedValue(draco::PointIndex(uint32_t(i)), &w[i * 4]);
+  }
+  for (uint32_t t = 0; t < mesh.num_faces(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = mesh.face(draco::FaceIndex(t))[k].value();
+      std::memcpy(&f[t * 12 + size_t(k) * 4], &v, 4);
+    }
+  GltfFile twin = file, packed = file;
+  const auto point = [&](GltfFile& g, const json& attribute, const std::string& data, int type, size_t count) {
+    json& a = g.doc["accessors"][attribute.get<size_t>()];
+    a["componentType"] = type;
+    a["count"] = count;
+    a.erase("byteOffset");
+    if (type == 5121) a["normalized"] = true;
+    if (data.empty()) a.erase("bufferView");
+    else a["bufferView"] = append_view(g, data);
+  };
+  const json& attributes = primitive["attributes"];
+  for (GltfFile* g : {&twin, &packed}) {
+    const bool plain = g == &twin;
+    point(*g, attributes["POSITION"], plain ? p : "", 5126, n);
+    point(*g, attributes["JOINTS_0"], plain ? j : "", 5123, n);
+    point(*g, attributes["WEIGHTS_0"], plain ? w : "", 5121, n);
+    point(*g, primitive["indices"], plain ? f : "", 5125, mesh.num_faces() * 3);
+  }
+  json& draco_primitive = packed.doc["meshes"][0]["primitives"][0];
+  draco_primitive["extensions"]["KHR_draco_mesh_compression"] = {
+      {"bufferView", append_view(packed, stream)},
+      {"attributes", {{"POSITION", ids.position}, {"JOINTS_0", ids.joints}, {"WEIGHTS_0", ids.weights}}}};
+  packed.doc["extensionsUsed"].push_back("KHR_draco_mesh_compression");
+  packed.doc["extensionsRequired"].push_back("KHR_draco_mesh_compression");
+  write_file_atomic(dir + "/plain.glb", encode_glb(twin));
+  write_file_atomic(dir + "/draco.glb", encode_glb(packed));
+
+  PoseExtractOptions opt;
+  opt.animation = "0";
+  opt.times = {0.5, 5.01, 10.3};
+  json report;
+  pose_extract_files(dir + "/plain.glb", dir + "/plain", opt, Log::silent(), report);
+  pose_extract_files(dir + "/draco.glb", dir + "/draco", opt, Log::silent(), report);
+  const PoseManifest ours = read_pose_manifest(dir + "/draco/poses.json");
+  const PoseManifest theirs = read_pose_manifest(dir + "/plain/poses.json");
+  ASSERT_EQ(ours.poses.size(), 3u);
+  EXPECT_EQ(obj_parts(dir + "/draco/" + ours.rest), obj_parts(dir + "/plain/" + theirs.rest));
+  for (size_t k = 0; k < ours.poses.size(); ++k)
+    EXPECT_EQ(obj_parts(dir + "/draco/" + ours.poses[k].file), obj_parts(dir + "/plain/" + theirs.poses[k].file)) << "pose " << k;
+  // Its stream cut short: exit 2 naming the file and the primitive.
+  const size_t view = draco_primitive["extensions"]["KHR_draco_mesh_compression"]["bufferView"].get<size_t>();
+  packed.doc["bufferViews"][view]["byteLength"] = stream.size() / 3;
+  write_file_atomic(dir + "/cut.glb", encode_glb(packed));
+  try {
+    pose_extract_files(dir + "/cut.glb", dir + "/cut", opt, Log::silent(), report);
+    ADD_FAILURE() << "a cut Draco stream was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+    EXPECT_EQ(e.subject(), dir + "/cut.glb");
+    EXPECT_NE(e.message().find("mesh 0's primitive 0's KHR_draco_mesh_compression's data does not decode"), std::string::npos)
+        << e.what();
   }
 }
 

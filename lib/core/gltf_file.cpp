@@ -217,6 +217,15 @@ GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path) {
   return plain_file(std::move(out.doc), &out.bin, path);
 }
 
+void drop_extension(json& doc, const std::string& name) {
+  for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+    if (!doc.contains(list) || !doc[list].is_array()) continue;
+    json& names = doc[list];
+    names.erase(std::remove(names.begin(), names.end(), json(name)), names.end());
+    if (names.empty()) doc.erase(list);
+  }
+}
+
 std::string encode_glb(const GltfFile& file) {
   std::string bin = file.bin;
   while (bin.size() % 4) bin += '\0';

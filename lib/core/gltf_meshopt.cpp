@@ -2,8 +2,6 @@
 
 #include <meshoptimizer.h>
 
-#include <algorithm>
-
 #include "core/error.hpp"
 #include "core/gltf_file.hpp"
 
@@ -87,13 +85,6 @@ std::string decoded(const Compressed& c, const BufferBytes& source, const std::s
   return std::string(out.begin(), out.end());
 }
 
-void drop_from_list(json& doc, const char* list) {
-  if (!doc.contains(list) || !doc[list].is_array()) return;
-  json& names = doc[list];
-  names.erase(std::remove(names.begin(), names.end(), json(kMeshoptCompression)), names.end());
-  if (names.empty()) doc.erase(list);
-}
-
 }  // namespace
 
 size_t decode_meshopt_views(json& doc, std::vector<BufferBytes>& buffers, const std::string& path) {
@@ -116,8 +107,7 @@ size_t decode_meshopt_views(json& doc, std::vector<BufferBytes>& buffers, const 
     if (view["extensions"].empty()) view.erase("extensions");
     ++changed;
   }
-  drop_from_list(doc, "extensionsUsed");
-  drop_from_list(doc, "extensionsRequired");
+  drop_extension(doc, kMeshoptCompression);
   if (changed == 0) return 0;
   doc["buffers"].push_back({{"byteLength", data.size()}});
   buffers.push_back(std::move(data));

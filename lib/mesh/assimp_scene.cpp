@@ -31,10 +31,12 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
   }
   if (file) {
     check_required_extensions(file->doc, path);
-    // Each, whatever the one before finds (no short circuit); the instances first (they read their
-    // accessors as a reader takes them), then the floats, which the others read. Views the file
-    // compressed came out decoded, which assimp cannot do.
+    // Each, whatever the one before finds (no short circuit): Draco's meshes first (into plain
+    // accessors), the instances next (they read their accessors as a reader takes them), then the
+    // floats, which the others read. Views the file compressed came out decoded, which assimp
+    // cannot do.
     size_t changes = file->decoded_views;
+    changes += draco_primitives_decoded(*file, path);
     changes += instances_as_nodes(*file, path);
     changes += float_accessors(*file, path);
     changes += complete_mirrored_channels(*file, path);

@@ -373,13 +373,7 @@ size_t instances_as_nodes(GltfFile& file, const std::string& path) {
     return node.is_object() && node.contains("extensions") && node["extensions"].is_object() &&
            node["extensions"].contains(kInstancing);
   });
-  for (const char* list : {"extensionsUsed", "extensionsRequired"})
-    if (expanded > 0 && !left && doc.contains(list) && doc[list].is_array()) {
-      json kept = json::array();
-      for (const json& name : doc[list])
-        if (name != kInstancing) kept.push_back(name);
-      doc[list] = kept;
-    }
+  if (expanded > 0 && !left) drop_extension(doc, kInstancing);
   return expanded;
 }
 

@@ -2,10 +2,11 @@
 // A glTF asset made ready for assimp (5.2), which reads some valid ones wrong without a word: it
 // copies the bytes of an integer accessor into floats where glTF allows integers for
 // floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
-// out wrong), places a mesh instanced by a node once, turns over a mirrored node that a clip
-// moves, reads STEP keys and cubic splines as linear ones, and ignores the extensions an asset
-// requires. Each function below mends one of those in the document and its binary buffer, which
-// assimp then reads from memory (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp.
+// out wrong), fails on a Draco-compressed mesh with 32-bit indices, places a mesh instanced by a
+// node once, turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as
+// linear ones, and ignores the extensions an asset requires. Each function below mends one of
+// those in the document and its binary buffer, which assimp then reads from memory
+// (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp, Draco's in mesh/gltf_draco.cpp.
 #include <string>
 #include <vector>
 
@@ -19,6 +20,17 @@ namespace spx {
 // textures and lights, which change no geometry. (EXT_meshopt_compression is decoded as the file
 // is read, core/gltf_meshopt, and is no longer listed by then.)
 void check_required_extensions(const json& doc, const std::string& path);
+
+// assimp 5.2 reads the indices of a KHR_draco_mesh_compression primitive as no data where they
+// are 32-bit ("Invalid accessor without data", assimp issue 4789), so a Draco-compressed body of
+// any size failed to load. Each such primitive's stream is decoded here, by the Draco library
+// assimp itself uses, into plain accessors: every attribute the extension names (its values
+// converted to its accessor's component type and count, as the extension says the accessor
+// describes the decoded data) and the triangles into the indices accessor; an accessor another
+// primitive decoded before is copied, not overwritten. The extension leaves each primitive, and
+// the file's lists once none carries it. Returns how many primitives changed. Exit 2 naming
+// `path` where the stream does not decode or the extension names what the file does not have.
+size_t draco_primitives_decoded(GltfFile& file, const std::string& path);
 
 // assimp places a mesh that a node instances by EXT_mesh_gpu_instancing once, at the node, where
 // renderers draw it at every instance (a car's wheels or bolts, as gltfpack -mi writes them). Each
