@@ -158,6 +158,7 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
   std::vector<AddedKeys> added;
   scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset", &added);
   face_out_mirrored(const_cast<aiScene*>(scene_));  // the importer's own scene, ours to change
+  fold_fbx_chains_under_channels(const_cast<aiScene*>(scene_));
 
   std::vector<std::pair<const aiNode*, unsigned>> placed;
   collect_instances(scene_->mRootNode, placed);

@@ -104,4 +104,55 @@ void face_out_mirrored(aiScene* scene) {
   scene->mNumMeshes += unsigned(added.size());
 }
 
+namespace {
+
+// The helper nodes assimp's FBX importer places above `node`, nearest first.
+std::vector<aiNode*> fbx_helpers(aiNode* node) {
+  const std::string prefix = std::string(node->mName.C_Str()) + "_$AssimpFbx$_";
+  std::vector<aiNode*> out;
+  for (aiNode* up = node->mParent; up && std::string(up->mName.C_Str()).rfind(prefix, 0) == 0; up = up->mParent) out.push_back(up);
+  return out;
+}
+
+using Channels = std::map<std::string, std::vector<aiNodeAnim*>>;  // by node name, over every clip
+
+size_t fold_fbx_chains(aiNode* node, const Channels& channels) {
+  size_t folded = 0;
+  const auto own = channels.find(node->mName.C_Str());
+  if (own != channels.end()) {
+    const std::vector<aiNode*> helpers = fbx_helpers(node);
+    const bool helper_animated =
+        std::any_of(helpers.begin(), helpers.end(), [&](const aiNode* h) { return channels.count(h->mName.C_Str()) > 0; });
+    if (!helpers.empty() && !helper_animated) {
+      aiMatrix4x4 chain;
+      for (aiNode* helper : helpers) {
+        // The channel's rotation holds the pre-rotation, the joint's own and the post-rotation
+        // itself where FBX (and the chain's helper) has its inverse, P: each key is mended by P twice.
+        const std::string name = helper->mName.C_Str();
+        if (name.size() >= 13 && name.compare(name.size() - 13, 13, "_PostRotation") == 0) {
+          const aiQuaternion p(aiMatrix3x3(helper->mTransformation));
+          for (aiNodeAnim* ch : own->second)
+            for (unsigned k = 0; k < ch->mNumRotationKeys; ++k) ch->mRotationKeys[k].mValue = ch->mRotationKeys[k].mValue * p * p;
+        }
+        chain = helper->mTransformation * chain;
+        helper->mTransformation = aiMatrix4x4();
+      }
+      node->mTransformation = chain * node->mTransformation;
+      ++folded;
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) folded += fold_fbx_chains(node->mChildren[c], channels);
+  return folded;
+}
+
+}  // namespace
+
+size_t fold_fbx_chains_under_channels(aiScene* scene) {
+  Channels channels;
+  for (unsigned a = 0; a < scene->mNumAnimations; ++a)
+    for (unsigned c = 0; c < scene->mAnimations[a]->mNumChannels; ++c)
+      channels[scene->mAnimations[a]->mChannels[c]->mNodeName.C_Str()].push_back(scene->mAnimations[a]->mChannels[c]);
+  return channels.empty() ? 0 : fold_fbx_chains(scene->mRootNode, channels);
+}
+
 }  // namespace spx

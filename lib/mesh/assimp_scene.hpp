@@ -32,4 +32,14 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
 // left as it is (its skin places it, not its node).
 void face_out_mirrored(aiScene* scene);
 
+// assimp 5.2's FBX importer keeps a joint X's translation, pre-rotation, rotation, post-rotation
+// and scaling as a chain of helper nodes above it ("X_$AssimpFbx$_PreRotation", ...), and yet,
+// where those are all X's transform has, gives a clip's channel for X itself holding X's whole
+// local transform, pre- and post-rotation baked in (assimp issue 5759): played, the chain turned
+// and moved the joint twice (Maya's joint orients and Mixamo's rigs carry pre-rotations on most
+// joints). Where a clip has a channel for X and no helper of X has one, the chain is folded into X:
+// X's transform becomes the chain's product and each helper's the identity, so the still pose is
+// the same and the channel stands where the chain stood. Returns how many chains were folded.
+size_t fold_fbx_chains_under_channels(aiScene* scene);
+
 }  // namespace spx
