@@ -544,22 +544,14 @@ TEST(PoseExtract, FbxAndColladaGiveTheGltfsPoses) {
 // carry them): FBX places it at T * Rpre * R * Rpost^-1, which assimp keeps as helper nodes
 // ("$AssimpFbx$_PreRotation", ...) around the joint. RiggedSimple's FBX with both on its animated
 // child joint gives the poses of its glTF twin, whose joint turns by Rpre * R * Rpost^-1 at rest
-// and at every key (slerp keeps that between keys).
+// and at every key (slerp keeps that between keys). With a rotation pivot Rp too (Maya's pivots;
+// assimp then gives the clip's channels to the helpers), T * Rp * Rpre * R * Rpost^-1 * Rp^-1:
+// the twin's translation keys move by Rp - M Rp, exact at the keys, where the poses are compared.
 TEST(PoseExtract, FbxPreAndPostRotationsPlaceTheJoint) {
   SPX_REQUIRE_SHARED_DATA();
   const std::string dir = test::temp_dir("fbx-turned");
   const std::string simple = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
   ASSERT_EQ(reexport(simple, "fbxa", dir + "/plain.fbx"), dir + "/plain.fbx");
-  std::string text = read_file(dir + "/plain.fbx");
-  const size_t model = text.find("\"Model::nodes[3]\"");
-  ASSERT_NE(model, std::string::npos);
-  const std::string anchor = "P: \"InheritType\", \"enum\", \"\", \"\", 1\n";
-  const size_t at = text.find(anchor, model);
-  ASSERT_NE(at, std::string::npos);
-  text.insert(at + anchor.size(), "\t\t\tP: \"PreRotation\", \"Vector3D\", \"Vector\", \"\", 30, 0, 45\n"
-                                  "\t\t\tP: \"PostRotation\", \"Vector3D\", \"Vector\", \"\", 10, 20, 0\n");
-  write_file_atomic(dir + "/turned.fbx", text);
-
   // FBX's Euler angles in degrees, X first (its XYZ order).
   const auto euler = [](double x, double y, double z) {
     const double r = M_PI / 180;
@@ -567,50 +559,80 @@ TEST(PoseExtract, FbxPreAndPostRotationsPlaceTheJoint) {
                               Eigen::AngleAxisd(x * r, Eigen::Vector3d::UnitX()));
   };
   const Eigen::Quaterniond pre = euler(30, 0, 45), post = euler(10, 20, 0);
-  const auto turned = [&](const std::vector<float>& xyzw) {
-    std::vector<float> out;
-    for (size_t i = 0; i + 3 < xyzw.size(); i += 4) {
-      const Eigen::Quaterniond q = pre * Eigen::Quaterniond(xyzw[i + 3], xyzw[i], xyzw[i + 1], xyzw[i + 2]) * post.inverse();
-      for (double c : {q.x(), q.y(), q.z(), q.w()}) out.push_back(float(c));
-    }
-    return out;
+  const auto turned = [&](const float* xyzw) {
+    return pre * Eigen::Quaterniond(xyzw[3], xyzw[0], xyzw[1], xyzw[2]) * post.inverse();
   };
-  GltfFile twin = read_gltf_file(simple);
-  json& joint = twin.doc["nodes"][3];
-  joint["rotation"] = turned(joint["rotation"].get<std::vector<float>>());
-  json& clip = twin.doc["animations"][0];
-  size_t keyed = 0;
-  for (const json& channel : clip["channels"])
-    if (channel["target"]["node"] == 3 && channel["target"]["path"] == "rotation") {
-      json& sampler = clip["samplers"][channel["sampler"].get<size_t>()];
-      sampler["output"] = append_floats(twin, turned(accessor_floats(twin, sampler["output"].get<size_t>())), "VEC4");
-      ++keyed;
-    }
-  ASSERT_EQ(keyed, 1u);
-  write_file_atomic(dir + "/turned.glb", encode_glb(twin));
+  struct Case {
+    std::string name;
+    Eigen::Vector3d pivot;
+    std::vector<double> times;
+  };
+  for (const Case& c : {Case{"turned", Eigen::Vector3d::Zero(), {0.3, 0.6, 1.0}},
+                        Case{"pivoted", Eigen::Vector3d(0, 1, 0.5), {0.0416666195, 1.041666985}}}) {
+    std::string text = read_file(dir + "/plain.fbx");
+    const size_t model = text.find("\"Model::nodes[3]\"");
+    ASSERT_NE(model, std::string::npos);
+    const std::string anchor = "P: \"InheritType\", \"enum\", \"\", \"\", 1\n";
+    const size_t at = text.find(anchor, model);
+    ASSERT_NE(at, std::string::npos);
+    std::string lines = "\t\t\tP: \"PreRotation\", \"Vector3D\", \"Vector\", \"\", 30, 0, 45\n"
+                        "\t\t\tP: \"PostRotation\", \"Vector3D\", \"Vector\", \"\", 10, 20, 0\n";
+    if (!c.pivot.isZero())
+      lines += "\t\t\tP: \"RotationPivot\", \"Vector3D\", \"Vector\", \"\", " + std::to_string(c.pivot.x()) + ", " +
+               std::to_string(c.pivot.y()) + ", " + std::to_string(c.pivot.z()) + "\n";
+    text.insert(at + anchor.size(), lines);
+    write_file_atomic(dir + "/" + c.name + ".fbx", text);
 
-  PoseExtractOptions opt;
-  opt.animation = "0";
-  opt.times = {0.3, 0.6, 1.0};
-  json report;
-  for (const char* name : {"turned.glb", "turned.fbx"})
-    pose_extract_files(dir + "/" + name, dir + "/" + name + ".poses", opt, Log::silent(), report);
-  pose_extract_files(simple, dir + "/plain.poses", opt, Log::silent(), report);
-  const PoseManifest ours = read_pose_manifest(dir + "/turned.fbx.poses/poses.json");
-  const PoseManifest theirs = read_pose_manifest(dir + "/turned.glb.poses/poses.json");
-  const PoseManifest plain = read_pose_manifest(dir + "/plain.poses/poses.json");
-  ASSERT_EQ(ours.poses.size(), opt.times.size());
-  const LoadedMesh rest = load_mesh(dir + "/turned.glb.poses/" + theirs.rest);
-  const double tol = 1e-5 * rest.mesh.diagonal();
-  EXPECT_LE(max_vertex_distance(rest.mesh, load_pose(dir + "/turned.fbx.poses/" + ours.rest, rest)), tol) << "the rest";
-  double turn = 0;
-  for (size_t k = 0; k < opt.times.size(); ++k) {
-    const TriMesh gltf = load_pose(dir + "/turned.glb.poses/" + theirs.poses[k].file, rest);
-    EXPECT_LE(max_vertex_distance(load_pose(dir + "/turned.fbx.poses/" + ours.poses[k].file, rest), gltf), tol)
-        << "at " << opt.times[k] << " s";
-    turn = std::max(turn, max_vertex_distance(gltf, load_pose(dir + "/plain.poses/" + plain.poses[k].file, rest)));
+    // The twin: the joint's rotation M = Rpre R Rpost^-1, its translation T + Rp - M Rp.
+    GltfFile twin = read_gltf_file(simple);
+    json& clip = twin.doc["animations"][0];
+    std::map<std::string, json*> sampler;  // node 3's, by path
+    for (const json& channel : clip["channels"])
+      if (channel["target"]["node"] == 3) sampler[channel["target"]["path"]] = &clip["samplers"][channel["sampler"].get<size_t>()];
+    ASSERT_EQ(sampler.count("rotation") + sampler.count("translation"), 2u);
+    ASSERT_EQ((*sampler["rotation"])["input"], (*sampler["translation"])["input"]);
+    const std::vector<float> rotations = accessor_floats(twin, (*sampler["rotation"])["output"].get<size_t>());
+    std::vector<float> translations = accessor_floats(twin, (*sampler["translation"])["output"].get<size_t>()), keyed;
+    const auto placed = [&](const float* xyzw, float* xyz) {
+      const Eigen::Quaterniond m = turned(xyzw);
+      const Eigen::Vector3d t = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]) + c.pivot - m * c.pivot;
+      for (int k = 0; k < 3; ++k) xyz[k] = float(t[k]);
+      for (double v : {m.x(), m.y(), m.z(), m.w()}) keyed.push_back(float(v));
+    };
+    for (size_t k = 0; k < rotations.size() / 4; ++k) placed(&rotations[4 * k], &translations[3 * k]);
+    (*sampler["rotation"])["output"] = append_floats(twin, keyed, "VEC4");
+    (*sampler["translation"])["output"] = append_floats(twin, translations, "VEC3");
+    json& joint = twin.doc["nodes"][3];
+    std::vector<float> r = joint["rotation"].get<std::vector<float>>(), t = joint["translation"].get<std::vector<float>>();
+    keyed.clear();
+    placed(r.data(), t.data());
+    joint["rotation"] = keyed;
+    joint["translation"] = t;
+    write_file_atomic(dir + "/" + c.name + ".glb", encode_glb(twin));
+
+    PoseExtractOptions opt;
+    opt.animation = "0";
+    opt.times = c.times;
+    json report;
+    for (const std::string kind : {".glb", ".fbx"})
+      pose_extract_files(dir + "/" + c.name + kind, dir + "/" + c.name + kind + ".poses", opt, Log::silent(), report);
+    pose_extract_files(simple, dir + "/plain.poses", opt, Log::silent(), report);
+    const PoseManifest ours = read_pose_manifest(dir + "/" + c.name + ".fbx.poses/poses.json");
+    const PoseManifest theirs = read_pose_manifest(dir + "/" + c.name + ".glb.poses/poses.json");
+    const PoseManifest plain = read_pose_manifest(dir + "/plain.poses/poses.json");
+    ASSERT_EQ(ours.poses.size(), opt.times.size()) << c.name;
+    const LoadedMesh rest = load_mesh(dir + "/" + c.name + ".glb.poses/" + theirs.rest);
+    const double tol = 1e-5 * rest.mesh.diagonal();
+    EXPECT_LE(max_vertex_distance(rest.mesh, load_pose(dir + "/" + c.name + ".fbx.poses/" + ours.rest, rest)), tol) << c.name;
+    double turn = 0;
+    for (size_t k = 0; k < opt.times.size(); ++k) {
+      const TriMesh gltf = load_pose(dir + "/" + c.name + ".glb.poses/" + theirs.poses[k].file, rest);
+      EXPECT_LE(max_vertex_distance(load_pose(dir + "/" + c.name + ".fbx.poses/" + ours.poses[k].file, rest), gltf), tol)
+          << c.name << " at " << opt.times[k] << " s";
+      turn = std::max(turn, max_vertex_distance(gltf, load_pose(dir + "/plain.poses/" + plain.poses[k].file, rest)));
+    }
+    EXPECT_GT(turn, 0.05 * rest.mesh.diagonal()) << c.name << ": the joint's transform should move the body";
   }
-  EXPECT_GT(turn, 0.05 * rest.mesh.diagonal()) << "the pre- and post-rotations should move the body";
 }
 
 // An FBX blend shape (a Morpher's channel and its Shape, as Maya and Blender write them; here a
