@@ -22,6 +22,7 @@
 #include "core/gltf_file.hpp"
 #include "extract/pose_extract_tool.hpp"
 #include "io/pose_manifest.hpp"
+#include "mesh/gltf_input.hpp"
 #include "mesh/mesh.hpp"
 #include "synthetic/sample_gen_tool.hpp"
 #include "test_util.hpp"
@@ -490,6 +491,28 @@ TEST(PoseExtract, DracoCompressedSkinGivesItsPlainTwinsPoses) {
   EXPECT_EQ(obj_parts(dir + "/draco/" + ours.rest), obj_parts(dir + "/plain/" + theirs.rest));
   for (size_t k = 0; k < ours.poses.size(); ++k)
     EXPECT_EQ(obj_parts(dir + "/draco/" + ours.poses[k].file), obj_parts(dir + "/plain/" + theirs.poses[k].file)) << "pose " << k;
+  // Two primitives naming the same accessors (exporters share placeholder accessors so): each gets
+  // accessors of its own, holding the same data.
+  GltfFile twice = packed;
+  twice.doc["meshes"][0]["primitives"].push_back(twice.doc["meshes"][0]["primitives"][0]);
+  ASSERT_EQ(draco_primitives_decoded(twice, "twice.glb"), 2u);
+  const json& first = twice.doc["meshes"][0]["primitives"][0];
+  const json& second = twice.doc["meshes"][0]["primitives"][1];
+  for (const json* slots : {&first["attributes"], &first}) {
+    for (const char* name : {"POSITION", "JOINTS_0", "WEIGHTS_0", "indices"}) {
+      if (!slots->contains(name)) continue;
+      const size_t a = (*slots)[name].get<size_t>();
+      const size_t b = (slots == &first ? second : second["attributes"])[name].get<size_t>();
+      EXPECT_NE(a, b) << name;
+      EXPECT_EQ(twice.doc["accessors"][a]["count"], twice.doc["accessors"][b]["count"]) << name;
+      EXPECT_TRUE(view_data(twice, twice.doc["accessors"][a]["bufferView"].get<size_t>()) ==
+                  view_data(twice, twice.doc["accessors"][b]["bufferView"].get<size_t>()))
+          << name;
+    }
+  }
+  EXPECT_FALSE(first.contains("extensions"));
+  EXPECT_EQ(twice.doc.value("extensionsRequired", json::array()), json::array());
+
   // Its stream cut short: exit 2 naming the file and the primitive.
   const size_t view = draco_primitive["extensions"]["KHR_draco_mesh_compression"]["bufferView"].get<size_t>();
   packed.doc["bufferViews"][view]["byteLength"] = stream.size() / 3;
