@@ -15,21 +15,22 @@
 namespace spx {
 
 // Exit 3 naming the first extension in `extensionsRequired` that the tools cannot honour. Those
-// they can: KHR_draco_mesh_compression (assimp decodes it), KHR_mesh_quantization
+// they can: KHR_draco_mesh_compression (draco_primitives_decoded), KHR_mesh_quantization
 // (float_accessors), EXT_mesh_gpu_instancing (instances_as_nodes), and those of materials,
 // textures and lights, which change no geometry. (EXT_meshopt_compression is decoded as the file
 // is read, core/gltf_meshopt, and is no longer listed by then.)
 void check_required_extensions(const json& doc, const std::string& path);
 
 // assimp 5.2 reads the indices of a KHR_draco_mesh_compression primitive as no data where they
-// are 32-bit ("Invalid accessor without data", assimp issue 4789), so a Draco-compressed body of
-// any size failed to load. Each such primitive's stream is decoded here, by the Draco library
-// assimp itself uses, into plain accessors: every attribute the extension names (its values
-// converted to its accessor's component type and count, as the extension says the accessor
-// describes the decoded data) and the triangles into the indices accessor; an accessor another
-// primitive decoded before is copied, not overwritten. The extension leaves each primitive, and
-// the file's lists once none carries it. Returns how many primitives changed. Exit 2 naming
-// `path` where the stream does not decode or the extension names what the file does not have.
+// are 32-bit ("Invalid accessor without data", assimp issue 4789), so a Draco-compressed body
+// with them (any over 65 535 vertices) failed to load. Each such primitive's stream is decoded
+// here, by the Draco library assimp itself uses, into plain accessors: every attribute the
+// extension names (its values converted to its accessor's component type and count, as the
+// extension says the accessor describes the decoded data) and the triangles into the indices
+// accessor (one made where the primitive has none); an accessor another primitive decoded before
+// is copied, not overwritten. The extension leaves each primitive, and the file's lists once none
+// carries it. Returns how many primitives changed. Exit 2 naming `path` where the stream does not
+// decode or the extension names what the file does not have.
 size_t draco_primitives_decoded(GltfFile& file, const std::string& path);
 
 // assimp places a mesh that a node instances by EXT_mesh_gpu_instancing once, at the node, where
