@@ -76,17 +76,14 @@ bool uses_extension(const json& doc, const char* name) {
     const json names = doc.value(list, json::array());
     if (names.is_array() && std::find(names.begin(), names.end(), json(name)) != names.end()) return true;
   }
-  for (const json& view : doc["bufferViews"])
-    if (view.contains("extensions") && view["extensions"].is_object() && view["extensions"].contains(name)) return true;
-  return false;
+  const json& views = doc["bufferViews"];
+  return std::any_of(views.begin(), views.end(), [&](const json& view) { return extension_of(view, name) != nullptr; });
 }
 
 // A buffer EXT_meshopt_compression marks as its fallback: the compressed views' data uncompressed,
 // which a reader that decodes them need not load.
 bool meshopt_fallback(const json& buffer) {
-  const json* ext = buffer.contains("extensions") && buffer["extensions"].is_object() && buffer["extensions"].contains(kMeshoptCompression)
-                        ? &buffer["extensions"][kMeshoptCompression]
-                        : nullptr;
+  const json* ext = extension_of(buffer, kMeshoptCompression);
   return ext && ext->is_object() && ext->contains("fallback") && (*ext)["fallback"] == true;
 }
 
@@ -215,6 +212,20 @@ GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path) {
   // The usual GLB, one buffer and nothing compressed, is taken as it is.
   if (out.doc.value("buffers", json::array()).size() <= 1 && !uses_extension(out.doc, kMeshoptCompression)) return out;
   return plain_file(std::move(out.doc), &out.bin, path);
+}
+
+const json* extension_of(const json& object, const char* name) {
+  if (!object.is_object()) return nullptr;
+  const auto extensions = object.find("extensions");
+  if (extensions == object.end() || !extensions->is_object()) return nullptr;
+  const auto ext = extensions->find(name);
+  return ext == extensions->end() ? nullptr : &*ext;
+}
+
+void remove_extension_of(json& object, const char* name) {
+  if (!extension_of(object, name)) return;
+  object["extensions"].erase(name);
+  if (object["extensions"].empty()) object.erase("extensions");
 }
 
 void drop_extension(json& doc, const std::string& name) {

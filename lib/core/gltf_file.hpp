@@ -28,6 +28,11 @@ GltfFile gltf_from_bytes(const std::string& bytes, const std::string& path);
 // naming `path`: "not a glTF 2.0 asset: <of>'s '<key>' is not a whole number 0 or above (<value>)".
 size_t gltf_whole_number(const json& object, const char* key, size_t otherwise, const std::string& path, const char* of);
 
+// `object`'s extension `name` (object.extensions.<name>), or null where it has none.
+const json* extension_of(const json& object, const char* name);
+// Removes `object`'s extension `name`, and its extensions object where that leaves it empty.
+void remove_extension_of(json& object, const char* name);
+
 // Takes `name` out of the document's extensionsUsed and extensionsRequired (a list it leaves empty
 // goes too): what a mend does once nothing in the file carries the extension any more.
 void drop_extension(json& doc, const std::string& name);

@@ -42,8 +42,8 @@ Compressed compressed_view(const json& view, const json& ext, const std::string&
   const auto rule = [&](bool holds, const std::string& what) {
     if (!holds) fail_input(path, at + ": " + what);
   };
-  rule(c.stride > 0 && c.count <= gltf_whole_number(view, "byteLength", 0, path, "a bufferView") / c.stride &&
-           c.count * c.stride == gltf_whole_number(view, "byteLength", 0, path, "a bufferView"),
+  const size_t length = gltf_whole_number(view, "byteLength", 0, path, "a bufferView");
+  rule(c.stride > 0 && c.count <= length / c.stride && c.count * c.stride == length,
        "count times byteStride is not the view's byteLength");
   rule(!view.contains("byteStride") || gltf_whole_number(view, "byteStride", 0, path, "a bufferView") == c.stride,
        "byteStride is not the view's");
@@ -94,17 +94,16 @@ size_t decode_meshopt_views(json& doc, std::vector<BufferBytes>& buffers, const 
   json& views = doc["bufferViews"];
   for (size_t v = 0; v < views.size(); ++v) {
     json& view = views[v];
-    if (!view.contains("extensions") || !view["extensions"].is_object() || !view["extensions"].contains(kMeshoptCompression))
-      continue;
+    const json* ext = extension_of(view, kMeshoptCompression);
+    if (!ext) continue;
     const std::string at = "bufferView " + std::to_string(v) + "'s " + kMeshoptCompression;
-    const Compressed c = compressed_view(view, view["extensions"][kMeshoptCompression], at, path);
+    const Compressed c = compressed_view(view, *ext, at, path);
     if (c.buffer >= buffers.size()) fail_input(path, at + " names a buffer that does not exist");
     while (data.size() % 4) data += '\0';
     view["buffer"] = buffers.size();
     view["byteOffset"] = data.size();
     data += decoded(c, buffers[c.buffer], at, path);
-    view["extensions"].erase(kMeshoptCompression);
-    if (view["extensions"].empty()) view.erase("extensions");
+    remove_extension_of(view, kMeshoptCompression);
     ++changed;
   }
   drop_extension(doc, kMeshoptCompression);

@@ -141,11 +141,9 @@ size_t draco_primitives_decoded(GltfFile& file, const std::string& path) {
     if (!mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
     for (size_t p = 0; p < mesh["primitives"].size(); ++p) {
       json& primitive = mesh["primitives"][p];
-      if (!primitive.is_object() || !primitive.contains("extensions") || !primitive["extensions"].is_object() ||
-          !primitive["extensions"].contains(kDraco))
-        continue;
+      if (!extension_of(primitive, kDraco)) continue;
       const std::string at = "mesh " + std::to_string(m) + "'s primitive " + std::to_string(p) + "'s " + kDraco;
-      const json ext = primitive["extensions"][kDraco];
+      const json ext = *extension_of(primitive, kDraco);  // a copy: the primitive changes below
       if (!ext.is_object() || !ext.contains("attributes") || !ext["attributes"].is_object())
         fail_input(path, at + " has no attributes");
       const std::unique_ptr<draco::PointCloud> stream = decoded_stream(file, ext, at, path);
@@ -168,8 +166,7 @@ size_t draco_primitives_decoded(GltfFile& file, const std::string& path) {
         const size_t type = gltf_whole_number(named_accessor(doc, slot, at, path), "componentType", 0, path, "an accessor");
         fill_accessor(file, slot, triangle_corners(*triangles, int(type), at, path), size_t(triangles->num_faces()) * 3, filled);
       }
-      primitive["extensions"].erase(kDraco);
-      if (primitive["extensions"].empty()) primitive.erase("extensions");
+      remove_extension_of(primitive, kDraco);
       ++changed;
     }
   }

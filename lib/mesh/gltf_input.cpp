@@ -335,10 +335,8 @@ size_t instances_as_nodes(GltfFile& file, const std::string& path) {
   const size_t given = doc["nodes"].size();
   for (size_t n = 0; n < given; ++n) {
     const json node = doc["nodes"][n];  // a copy: nodes are added below
-    if (!node.is_object() || !node.contains("mesh") || node.contains("skin") || !node.contains("extensions") ||
-        !node["extensions"].is_object() || !node["extensions"].contains(kInstancing))
-      continue;
-    const json& instancing = node["extensions"][kInstancing];
+    if (!node.is_object() || !node.contains("mesh") || node.contains("skin") || !extension_of(node, kInstancing)) continue;
+    const json& instancing = *extension_of(node, kInstancing);
     if (!instancing.is_object() || !instancing.contains("attributes") || !instancing["attributes"].is_object())
       fail_input(path, "a node's EXT_mesh_gpu_instancing has no attributes");
     const json& attributes = instancing["attributes"];
@@ -365,14 +363,12 @@ size_t instances_as_nodes(GltfFile& file, const std::string& path) {
     json& placed = doc["nodes"][n];
     placed.erase("mesh");
     placed["children"] = children;
-    placed["extensions"].erase(kInstancing);
+    remove_extension_of(placed, kInstancing);
     ++expanded;
   }
   // Where no node has it any more, nor is it used or required.
-  const bool left = std::any_of(doc["nodes"].begin(), doc["nodes"].end(), [](const json& node) {
-    return node.is_object() && node.contains("extensions") && node["extensions"].is_object() &&
-           node["extensions"].contains(kInstancing);
-  });
+  const bool left = std::any_of(doc["nodes"].begin(), doc["nodes"].end(),
+                                [](const json& node) { return extension_of(node, kInstancing) != nullptr; });
   if (expanded > 0 && !left) drop_extension(doc, kInstancing);
   return expanded;
 }
