@@ -31,10 +31,13 @@ extern "C" void remove_temps_and_end(int sig) {
 }
 
 // Installed on the first write, for the signals whose action is still the default (a host that
-// set its own keeps it).
+// set its own keeps it). A file-size limit (ulimit -f) would end the run by SIGXFSZ mid-write;
+// ignored, the write fails with EFBIG instead and the run ends with its one error line (exit 4).
 void install_temp_cleanup() {
   static std::once_flag once;
   std::call_once(once, [] {
+    struct sigaction xfsz {};
+    if (::sigaction(SIGXFSZ, nullptr, &xfsz) == 0 && xfsz.sa_handler == SIG_DFL) std::signal(SIGXFSZ, SIG_IGN);
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
       struct sigaction now {};
       if (::sigaction(sig, nullptr, &now) != 0 || now.sa_handler != SIG_DFL) continue;
@@ -120,21 +123,6 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
     std::string why = errno_text();
     std::remove(tmp.c_str());
     fail_write(path, "close failed: " + why);
-  }
-  rename_into_place(tmp, path);
-}
-
-void write_via_temp(const std::string& path, const std::function<void(const std::string&)>& write) {
-  const ListedTemp listed(temp_path_for(path));
-  const std::string& tmp = listed.path();
-  try {
-    write(tmp);
-  } catch (const Error&) {
-    std::remove(tmp.c_str());
-    throw;
-  } catch (const std::exception& e) {
-    std::remove(tmp.c_str());
-    fail_write(path, e.what());
   }
   rename_into_place(tmp, path);
 }

@@ -5,7 +5,7 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -43,6 +43,20 @@ void make_uuid_deterministic(std::string& bytes) {
   bytes.replace(kAt, kLen, uuid, kLen);
 }
 
+// The bytes openvdb::io::File::write puts in a file, made in memory: File writes through an
+// ofstream whose errors it never checks, so a full disk left a cut .vdb and no error.
+// write_file_atomic then checks every write (exit 4 naming the file).
+class ArchiveInMemory : public openvdb::io::Archive {
+ public:
+  std::string bytes_of(const openvdb::GridCPtrVec& grids) const {
+    std::ostringstream out(std::ios::binary);
+    Archive::write(out, grids, /*seekable=*/true);  // what File::write calls
+    return out.str();
+  }
+};
+
+std::string vdb_bytes(const openvdb::GridCPtrVec& grids) { return ArchiveInMemory().bytes_of(grids); }
+
 }  // namespace
 
 void write_sdf_vdb(const std::string& path, const DenseField& field,
@@ -56,20 +70,9 @@ void write_sdf_vdb(const std::string& path, const DenseField& field,
   openvdb::tools::copyFromDense(dense, *grid, 0.0f);
   for (const auto& [key, value] : metadata) grid->insertMeta(key, openvdb::StringMetadata(value));
 
-  write_via_temp(path, [&](const std::string& tmp) {
-    {
-      openvdb::io::File file(tmp);
-      file.write({grid});
-      file.close();
-    }
-    std::string bytes = read_file(tmp);
-    make_uuid_deterministic(bytes);
-    std::fstream patch(tmp, std::ios::in | std::ios::out | std::ios::binary);
-    patch.seekp(0);
-    patch.write(bytes.data(), std::streamsize(bytes.size()));
-    patch.close();
-    if (!patch) throw std::runtime_error("cannot finish the .vdb file");
-  });
+  std::string bytes = vdb_bytes({grid});
+  make_uuid_deterministic(bytes);
+  write_file_atomic(path, bytes);
 }
 
 LoadedSdf read_sdf_vdb(const std::string& path) {

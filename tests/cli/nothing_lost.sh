@@ -62,6 +62,37 @@ for sig in INT TERM HUP; do
 done
 check "no signal landed while the file was written (the signals tested nothing)" '[ "$landed" -ge 2 ]'
 
+# A full disk while a tool writes (a file-size limit stands in for one: `ulimit -f`, in KiB):
+# exit 4 with one line naming the output, the previous output byte for byte, no temporary file.
+# (sdf-build's .vdb went through OpenVDB's own file writer, which never checks its stream: a full
+# disk left a cut .vdb and exit 0.)
+d=$out/full-disk && mkdir -p "$d"
+"$bin/sdf-build" "$out/in/rest.obj" -o "$d/rest.vdb" --resolution 48 -q
+"$bin/sphere-pack" "$d/rest.vdb" --mesh "$out/in/rest.obj" -o "$d/rest.spheres.json" -q
+"$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/front.obj" "$out/in/roof.obj" \
+  --spheres "$d/rest.spheres.json" -o "$d/car.proxy.json" -q
+for ext in spx glb ply html; do "$bin/proxy-export" "$d/car.proxy.json" -o "$d/car.$ext" -q; done
+limited() {  # limited KIB OUTPUT TOOL ARGS...: run TOOL under a file-size limit, writing OUTPUT
+  local kib=$1 target=$2 old
+  shift 2
+  old=$(md5sum <"$target")
+  (ulimit -f "$kib" && trap "$xfsz" XFSZ && exec "$@" -o "$target" -q) 2>"$d/err" >/dev/null
+  local rc=$?
+  check "$(basename "$target") past the limit: exit $rc, not 4" '[ "$rc" = 4 ]'
+  check "$(basename "$target") past the limit: not one line naming it: $(cat "$d/err")" \
+    '[ "$(wc -l <"$d/err")" = 1 ] && grep -q "^Error: $target: write failed: File too large$" "$d/err"'
+  check "$(basename "$target") past the limit: the previous output changed" '[ "$(md5sum <"$target")" = "$old" ]'
+  check "$(basename "$target") past the limit: a temporary file left" \
+    '[ -z "$(find "$d" -name ".$(basename "$target").tmp.*")" ]'
+}
+# Past the limit a write fails with EFBIG where SIGXFSZ is ignored, as a full disk's fails with
+# ENOSPC; where it is not (a shell's default), the tools ignore it themselves.
+for xfsz in '' -; do limited 16 "$d/rest.vdb" "$bin/sdf-build" "$out/in/rest.obj" --resolution 48; done
+limited 16 "$d/rest.spheres.json" "$bin/sphere-pack" "$d/rest.vdb" --mesh "$out/in/rest.obj"
+limited 4 "$d/car.proxy.json" "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/front.obj" \
+  "$out/in/roof.obj" --spheres "$d/rest.spheres.json"
+for ext in spx glb ply html; do limited 2 "$d/car.$ext" "$bin/proxy-export" "$d/car.proxy.json"; done
+
 # make -j1 and make -j2 give the same bytes (same output folder, so recorded paths match).
 m="make -s -C $src/samples ASSET=car BIN=$bin OUT=$out/make RES=48"
 $m -j1 >/dev/null 2>&1
