@@ -4,6 +4,7 @@
 int main(int argc, char** argv) {
   spx::Tool tool("pose-extract", "Example poses out of a rigged or morph-target asset: DIR/rest.obj, one OBJ per "
                                  "pose (one welded topology) and DIR/poses.json.");
+  tool.when_out_of_memory("try fewer frames: --select, --every or --frames");
   std::string input, dir;
   spx::PoseExtractOptions opt;
   tool.app.add_option("input", input, "Asset: glTF/GLB, FBX, COLLADA (anything assimp reads)")->required();

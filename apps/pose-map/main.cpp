@@ -6,6 +6,7 @@
 int main(int argc, char** argv) {
   spx::Tool tool("pose-map", "Move and resize the rest spheres into every example pose (S_1..S_e) and give "
                              "each sphere its blend site.");
+  tool.when_out_of_memory("try fewer poses, fewer --samples, or a rest field from a coarser sdf-build --resolution");
   std::string rest, spheres, output;
   std::vector<std::string> poses;
   spx::PoseMapOptions opt;

@@ -5,6 +5,7 @@
 int main(int argc, char** argv) {
   spx::Tool tool("proxy-eval", "Measure a proxy as the paper does: distance from the mesh vertices to the sphere "
                                "union per pose and for blends, coverage of the interior, error colours.");
+  tool.when_out_of_memory("try fewer poses, or with --asset every Nth frame (--every)");
   std::string proxy, rest;
   std::vector<std::string> poses;
   spx::EvalToolOptions opt;

@@ -4,6 +4,7 @@
 int main(int argc, char** argv) {
   spx::Tool tool("sdf-build", "Signed distance field of a mesh with distances through the whole interior "
                               "(negative inside), written as an OpenVDB .vdb file.");
+  tool.when_out_of_memory("try a coarser --resolution");
   std::string input, output;
   spx::SdfOptions opt;
   tool.app.add_option("input", input, "Mesh: OBJ, PLY, STL, OFF, glTF/GLB, FBX")->required();

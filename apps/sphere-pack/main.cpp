@@ -6,6 +6,7 @@ int main(int argc, char** argv) {
   spx::Tool tool("sphere-pack", "Choose the rest-pose spheres S_0 inside a signed distance field: by coverage "
                                 "(the fewest inscribed spheres within a tolerance, or the least error for a "
                                 "budget), or by the paper's greedy packing.");
+  tool.when_out_of_memory("try fewer --samples, or a field from a coarser sdf-build --resolution");
   std::string input, output, mesh, tolerance, method = "cover";
   spx::SpherePackOptions opt;
   tool.app.add_option("input", input, "Signed distance field (.vdb from sdf-build)")->required();

@@ -1,5 +1,6 @@
 #pragma once
 // Failure classes shared by every tool. Each maps to one documented exit code.
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -51,6 +52,13 @@ class OptionError : public Error {
 }
 [[noreturn]] inline void fail_write(const std::string& file, const std::string& msg) {
   throw Error(ExitCode::cannot_write, file, msg);
+}
+
+// A library that catches every exception and keeps only its text (assimp's importer and exporter)
+// turns running out of memory into an error message. Thrown again as what it was, the tool says
+// "out of memory" (exit 3), not that the file is bad.
+inline void rethrow_out_of_memory(const std::string& library_message) {
+  if (library_message == std::bad_alloc().what()) throw std::bad_alloc();
 }
 
 }  // namespace spx

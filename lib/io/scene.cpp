@@ -157,7 +157,10 @@ std::string encode_scene(const std::vector<SceneNode>& nodes, const std::string&
   }
   Assimp::Exporter exporter;
   const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, gltf ? "glb2" : "plyb");
-  if (!blob) fail_write("", std::string("mesh export failed: ") + exporter.GetErrorString());
+  if (!blob) {
+    rethrow_out_of_memory(exporter.GetErrorString());
+    fail_write("", std::string("mesh export failed: ") + exporter.GetErrorString());
+  }
   return std::string(static_cast<const char*>(blob->data), blob->size);
 }
 

@@ -14,6 +14,11 @@
 
 namespace spx {
 
+void fail_reading(const std::string& path, const std::string& what, const std::string& error) {
+  rethrow_out_of_memory(error);
+  fail_input(path, "cannot read " + what + ": " + error);
+}
+
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
                           std::vector<AddedKeys>* added_keys) {
   if (added_keys) added_keys->clear();
@@ -48,7 +53,7 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
       const std::string glb = encode_glb(*file);
       const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
       if (scene && scene->mRootNode) return scene;
-      fail_input(path, "cannot read " + what + ": " + importer.GetErrorString());
+      fail_reading(path, what, importer.GetErrorString());
     }
   }
   const aiScene* scene = importer.ReadFile(path, flags);
@@ -63,7 +68,7 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
       if (scene && scene->mRootNode) return scene;
     }
   }
-  fail_input(path, "cannot read " + what + ": " + error);
+  fail_reading(path, what, error);
 }
 
 namespace {

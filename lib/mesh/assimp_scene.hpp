@@ -25,6 +25,10 @@ namespace spx {
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
                           std::vector<AddedKeys>* added_keys = nullptr);
 
+// assimp's error reading `path` said: spx::Error (exit 2) "cannot read <what>: <error>", or
+// std::bad_alloc where the error is assimp's word for it (the tools then say out of memory).
+[[noreturn]] void fail_reading(const std::string& path, const std::string& what, const std::string& error);
+
 // Each mesh that a node places by a mirroring transform (its global transform's determinant below
 // 0) gets its faces' order reversed, as glTF says and renderers draw it: with its vertices
 // transformed and the order kept, the part would face inward (and be no solid). Where other nodes

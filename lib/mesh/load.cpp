@@ -50,7 +50,7 @@ RawMesh read_raw(const std::string& path) {
   face_out_mirrored(const_cast<aiScene*>(read_scene(importer, path, 0, "mesh")));
   const aiScene* scene =
       importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
-  if (!scene || !scene->mRootNode) fail_input(path, std::string("cannot read mesh: ") + importer.GetErrorString());
+  if (!scene || !scene->mRootNode) fail_reading(path, "mesh", importer.GetErrorString());
 
   RawMesh raw;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {

@@ -3,16 +3,32 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <new>
+#include <system_error>
 
 #include "core/error.hpp"
 
 namespace spx {
 namespace {
+
+// Memory or a thread the system would not give (a memory limit, ulimit -v): std::thread says so
+// by its error code, TBB only in its message's last words, strerror's.
+bool refused_by_the_system(const std::exception& e) {
+  if (const auto* system = dynamic_cast<const std::system_error*>(&e))
+    return system->code() == std::errc::resource_unavailable_try_again || system->code() == std::errc::not_enough_memory;
+  const std::string what = e.what();
+  for (int code : {EAGAIN, ENOMEM}) {
+    const std::string words = std::strerror(code);
+    if (what.size() >= words.size() && what.compare(what.size() - words.size(), words.size(), words) == 0) return true;
+  }
+  return false;
+}
 
 // Large blocks come from the heap and stay there when freed. glibc maps every block past 32 MiB
 // afresh (its largest mmap threshold) and unmaps it when freed; on these virtual machines each
@@ -171,11 +187,19 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   } catch (const Error& e) {
     return fail_run(e.code(), e.what());
   } catch (const std::bad_alloc&) {
-    return fail_run(ExitCode::unsupported, name_ + ": out of memory (try a coarser --resolution)");
+    return fail_out_of_memory("");
   } catch (const std::exception& e) {
+    if (refused_by_the_system(e)) return fail_out_of_memory(e.what());
     // Every expected failure is an spx::Error with its class; anything else is our bug.
     return fail_run(ExitCode::internal, name_ + ": internal error: " + e.what() + " (please report it with the inputs)");
   }
+}
+
+int Tool::fail_out_of_memory(const std::string& what) noexcept {
+  std::string message = name_ + ": out of memory";
+  if (!what.empty()) message += " (" + what + ")";
+  if (!memory_hint_.empty()) message += "; " + memory_hint_;
+  return fail_run(ExitCode::unsupported, message);
 }
 
 CLI::Option* add_cache_limit(CLI::App& app, uint64_t& limit, CLI::Option* cache) {

@@ -38,6 +38,10 @@ class Tool {
   // An option naming a folder the tool creates (with its parents): a --report there is fine.
   void writes_folder(const std::string& flag) { folder_outputs_.push_back(flag); }
 
+  // What makes this tool's run smaller, said after "out of memory" ("try a coarser --resolution"):
+  // each tool names its own options, not another's.
+  void when_out_of_memory(std::string hint) { memory_hint_ = std::move(hint); }
+
   // The flag that sets the library option `option` when it is not "--" + the option with
   // '_' as '-' (proxy-export's "pose" is --ply-pose).
   void name_option(const std::string& option, const std::string& flag) { flags_[option] = flag; }
@@ -57,10 +61,13 @@ class Tool {
   // A failure said: its one "Error: <message>" line, and where --report was given and can be
   // written, its report (status "error", the message, the code). Returns the exit code.
   int fail_run(ExitCode code, const std::string& message) noexcept;
+  // Out of memory said (exit 3): `what` the library's words, where it gave any, then this tool's hint.
+  int fail_out_of_memory(const std::string& what) noexcept;
   std::map<std::string, std::string> flags_;
   std::vector<std::string> file_outputs_, folder_outputs_;
   std::string name_;
   std::string report_path_;
+  std::string memory_hint_;
   int quiet_ = 0;
   int verbose_ = 0;
 };

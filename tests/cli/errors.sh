@@ -367,6 +367,19 @@ before=$(md5sum <"$out/mine.obj")
 "$bin/sdf-build" "$out/mine.obj" -o "$out/z.vdb" --resolution 0 --report "$out/mine.obj" 2>/dev/null
 check "a failed run's report never over an input" [ "$before" = "$(md5sum <"$out/mine.obj")" ]
 
+# Out of memory (an address-space limit stands in for a full machine): exit 3, and what to try
+# names the tool's own options (it said "try a coarser --resolution" from every tool, an option
+# only sdf-build takes). A mesh assimp had no memory to read is no bad file: it was "cannot read
+# mesh: std::bad_alloc", exit 2.
+expect 3 "Error: sdf-build: out of memory; try a coarser --resolution$" "$out/x.vdb" -- \
+  bash -c 'ulimit -v 250000 && exec "$@"' - "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 600
+awk 'BEGIN { for (i = 0; i < 1500000; i++) print "v", i % 1000, int(i / 1000), i % 7;
+             for (i = 1; i < 1500000; i += 3) print "f", i, i + 1, i + 2 }' >"$out/large.obj"
+expect 3 "Error: pose-map: out of memory; try fewer poses, fewer --samples, or a rest field from a coarser sdf-build --resolution$" \
+  "$out/y.json" -- bash -c 'ulimit -v 150000 && exec "$@"' - "$bin/pose-map" --rest "$out/large.obj" \
+  --pose "$out/large.obj" --spheres "$out/s.json" -o "$out/y.json"
+rm -f "$out/large.obj"
+
 # --help and --version succeed on every tool.
 for t in pose-extract sdf-build sphere-pack pose-map proxy-export proxy-eval sample-gen; do
   if "$bin/$t" --help >/dev/null && "$bin/$t" --version | grep -q "(spx) "; then passed=$((passed + 1)); else
