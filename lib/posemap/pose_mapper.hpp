@@ -44,6 +44,10 @@ class PoseMapper {
   // so that an inside-out pose fails at once.
   void check_poses_face_outward() const;
 
+  // The spheres file's spheres fit the rest mesh (spheres_fit.hpp): asked before the tets, so that
+  // another asset's rest mesh, or a pose given as the rest, fails at once and not after Mesh_3.
+  void check_rest_fits_spheres();
+
   // The tets cache (PoseMapOptions::cache_dir) read, before any work: a folder that cannot be
   // made fails at once.
   void read_cached_tets();

@@ -61,18 +61,21 @@ void PoseMapper::check_poses_face_outward() const {
     for (const PoseInput& input : poses_) check_pose_faces_outward(input.mesh, input.source);
 }
 
+void PoseMapper::check_rest_fits_spheres() {
+  queries_.resize(1 + poses_.size());
+  queries_[0] = std::make_unique<MeshQuery>(rest_);
+  check_spheres_fit(*queries_[0], spheres_, rest_source_);
+}
+
 void PoseMapper::build_solids(Log& log) {
   const bool skinned = skin_ != nullptr;  // skinned_ is made beside this
   meshes_.push_back(&rest_);
   for (const PoseInput& input : poses_) meshes_.push_back(&input.mesh);
   // Pose by pose in parallel (each also parallel inside, where its steps allow).
-  queries_.resize(meshes_.size());
   {
-    StageTimer t(log, "pose-queries");
-    tbb::parallel_for(size_t(0), meshes_.size(), [&](size_t i) { queries_[i] = std::make_unique<MeshQuery>(*meshes_[i]); });
+    StageTimer t(log, "pose-queries");  // the rest's is made (check_rest_fits_spheres)
+    tbb::parallel_for(size_t(1), meshes_.size(), [&](size_t i) { queries_[i] = std::make_unique<MeshQuery>(*meshes_[i]); });
   }
-  // Before anything is built at the spheres' voxel size.
-  check_spheres_fit(*queries_[0], spheres_, rest_source_);
   fields_.resize(meshes_.size());
   pose_cache_.resize(opt_.cache_dir.empty() ? 0 : meshes_.size());
   pose_cache_key_.resize(pose_cache_.size());
@@ -257,6 +260,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
   detail::PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
   mapper.check_poses_face_outward();
+  mapper.check_rest_fits_spheres();
   mapper.read_cached_tets();
   // Mesh_3 keeps one core: the poses' solids (their queries and, skinned or open, fields) are
   // built on the other meanwhile.

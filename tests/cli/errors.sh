@@ -116,6 +116,10 @@ for how in --map-given --tolerance=2%; do
 done
 expect 2 "swapped" "$out/sw.json" -- "$bin/pose-map" --rest "$out/in/squash.obj" --pose "$out/in/rest.obj" \
   --spheres "$out/s.json" -o "$out/sw.json"
+# ... said before the tets are made (it came after Mesh_3's whole run, seconds on a large mesh).
+said=$("$bin/pose-map" --rest "$out/in/squash.obj" --pose "$out/in/rest.obj" --spheres "$out/s.json" -o "$out/sw.json" -v 2>&1)
+check "spheres that do not fit the rest said only after the tets: $said" \
+  eval 'printf "%s" "$said" | grep -q "swapped" && ! printf "%s" "$said" | grep -q "tets\|tetrahedralize"'
 
 # Counts and tolerances users mistype.
 expect 1 "max-spheres: must be above 0, not 0" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres 0
