@@ -270,8 +270,44 @@ double max_displacement(const TriMesh& pose, const TriMesh& rest) {
   return d;
 }
 
+// An earlier run's manifest in `dir` and the files it names there that this run will not write
+// (frames no longer kept, the skin of a clip where now morph targets), removed before this run
+// writes any file. Left, the manifest would name files of two runs while the poses are rewritten
+// (a run that failed half-way left it over the new rest, for pose-map to read with the earlier
+// poses), and the files a second set of poses for a glob or a rule to pick up. Only plain names
+// in the folder, as pose-extract writes them, are removed; returns them.
+json clear_earlier_run(const std::string& dir, const std::set<std::string>& planned, Log& log) {
+  const std::string path = dir + "/poses.json";
+  json removed = json::array();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return removed;
+  std::set<std::string> files;
+  try {
+    const PoseManifest earlier = read_pose_manifest(path);
+    files.insert(earlier.rest);
+    for (const ManifestPose& p : earlier.poses) files.insert(p.file);
+    if (!earlier.skin.empty()) files.insert(earlier.skin);
+  } catch (const Error& e) {
+    log.warn(std::string(e.what()) + "; replaced, and any files of an earlier run it named are left");
+  }
+  if (!std::filesystem::remove(path, ec) && ec) fail_write(path, "cannot remove the earlier run's manifest: " + ec.message());
+  for (const std::string& f : files) {
+    const std::filesystem::path name(f);
+    if (planned.count(f) || name.filename() != name || f == "." || f == "..") continue;
+    if (std::filesystem::remove(dir + "/" + f, ec)) removed.push_back(f);
+    else if (ec) fail_write(dir + "/" + f, "cannot remove this file of the earlier run: " + ec.message());
+  }
+  if (removed.empty()) return removed;
+  std::string names;
+  for (size_t i = 0; i < removed.size() && i < 4; ++i) names += (i ? ", " : "") + removed[i].get<std::string>();
+  if (removed.size() > 4) names += ", ...";
+  log.info(dir + ": removed " + counted(removed.size(), "file") + " of the earlier run that this one does not write (" +
+           names + ")");
+  return removed;
+}
+
 // The rest and every pose as OBJ (and a clip's skin), then the manifest last: its presence
-// means every file it names is complete.
+// means every file it names is complete and of this run.
 void write_poses(const Asset& asset, const Body& body, const std::vector<PoseRequest>& requests,
                  const PoseExtractOptions& opt, const std::string& input, const std::string& dir, Log& log,
                  json& report) {
@@ -282,6 +318,10 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
   const TriMesh& rest = body.welded.rest;
   const std::string tag = "spx pose-extract " + std::filesystem::path(input).filename().string();
   PoseManifest manifest;
+  std::set<std::string> planned = {manifest.rest};
+  for (const PoseRequest& r : requests) planned.insert(r.file);
+  if (!opt.animation.empty()) planned.insert("skin.json");
+  const json removed = clear_earlier_run(dir, planned, log);
   write_file_atomic(dir + "/" + manifest.rest, to_obj(rest, tag + " rest (bind pose)"));
   json poses = json::array();
   size_t opened_total = 0;
@@ -305,14 +345,15 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
     if (skin.morph_channels)
       log.warn(input + ": the clip also drives " + std::to_string(skin.morph_channels) +
                " morph channels; the skin written beside the poses does not follow them");
-    manifest.skin = "skin.json";
+    manifest.skin = "skin.json";  // (planned above)
     write_json_atomic(dir + "/" + manifest.skin, skin_to_json(skin));
     report["skin"] = {{"file", manifest.skin}, {"joints", skin.joints.size()}, {"morph_channels", skin.morph_channels}};
   }
   write_json_atomic(dir + "/poses.json", manifest_to_json(manifest));
   report["output"] = {{"folder", dir}, {"manifest", "poses.json"}, {"rest", manifest.rest},
                       {"vertices", rest.vertices.size()}, {"triangles", rest.triangles.size()},
-                      {"welded", asset.vertex_count() - rest.vertices.size()}, {"diagonal", body.diagonal}};
+                      {"welded", asset.vertex_count() - rest.vertices.size()}, {"diagonal", body.diagonal},
+                      {"removed_from_earlier_run", removed}};
   report["poses"] = poses;
   report["opened_seams"] = opened_total;
 }

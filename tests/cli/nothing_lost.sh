@@ -72,9 +72,10 @@ d=$out/full-disk && mkdir -p "$d"
 "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/front.obj" "$out/in/roof.obj" \
   --spheres "$d/rest.spheres.json" -o "$d/car.proxy.json" -q
 for ext in spx glb ply html; do "$bin/proxy-export" "$d/car.proxy.json" -o "$d/car.$ext" -q; done
-limited() {  # limited KIB OUTPUT TOOL ARGS...: run TOOL under a file-size limit, writing OUTPUT
-  local kib=$1 target=$2 old
-  shift 2
+limited() {  # limited KIB XFSZ OUTPUT TOOL ARGS...: run TOOL under a file-size limit, writing OUTPUT,
+  # with SIGXFSZ ignored ('') or at its default (-)
+  local kib=$1 xfsz=$2 target=$3 old
+  shift 3
   old=$(md5sum <"$target")
   (ulimit -f "$kib" && trap "$xfsz" XFSZ && exec "$@" -o "$target" -q) 2>"$d/err" >/dev/null
   local rc=$?
@@ -87,11 +88,34 @@ limited() {  # limited KIB OUTPUT TOOL ARGS...: run TOOL under a file-size limit
 }
 # Past the limit a write fails with EFBIG where SIGXFSZ is ignored, as a full disk's fails with
 # ENOSPC; where it is not (a shell's default), the tools ignore it themselves.
-for xfsz in '' -; do limited 16 "$d/rest.vdb" "$bin/sdf-build" "$out/in/rest.obj" --resolution 48; done
-limited 16 "$d/rest.spheres.json" "$bin/sphere-pack" "$d/rest.vdb" --mesh "$out/in/rest.obj"
-limited 4 "$d/car.proxy.json" "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/front.obj" \
+for xfsz in '' -; do limited 16 "$xfsz" "$d/rest.vdb" "$bin/sdf-build" "$out/in/rest.obj" --resolution 48; done
+limited 16 - "$d/rest.spheres.json" "$bin/sphere-pack" "$d/rest.vdb" --mesh "$out/in/rest.obj"
+limited 4 - "$d/car.proxy.json" "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/front.obj" \
   "$out/in/roof.obj" --spheres "$d/rest.spheres.json"
-for ext in spx glb ply html; do limited 2 "$d/car.$ext" "$bin/proxy-export" "$d/car.proxy.json"; done
+for ext in spx glb ply html; do limited 2 - "$d/car.$ext" "$bin/proxy-export" "$d/car.proxy.json"; done
+
+# pose-extract again into the same folder: the earlier run's files that this one does not write
+# go (they were a second set of poses beside the manifest), and a run that fails half-way leaves no
+# manifest (the earlier one named the earlier poses beside the new rest).
+"$bin/sample-gen" robot -o "$out/in" -q
+d=$out/rerun
+files() { (cd "$d" && ls | tr '\n' ' '); }
+removed() { python3 -c "import json,sys; print(' '.join(json.load(open(sys.argv[1]))['output']['removed_from_earlier_run']))" "$1"; }
+"$bin/pose-extract" "$out/in/car-morph.glb" -o "$d" --morph-targets -q
+"$bin/pose-extract" "$out/in/robot.glb" -o "$d" --animation 0 --select 3 -q --report "$out/rerun.json"
+check "clip after morph targets: the folder holds $(files)" \
+  '[ "$(files)" = "pose-00.obj pose-01.obj pose-02.obj poses.json rest.obj skin.json " ]'
+check "clip after morph targets: the report says $(removed "$out/rerun.json")" \
+  '[ "$(removed "$out/rerun.json")" = "front.obj rear.obj roof.obj side.obj" ]'
+"$bin/pose-extract" "$out/in/robot.glb" -o "$d" --animation 0 --select 2 -q
+check "2 frames after 3: the folder holds $(files)" '[ "$(files)" = "pose-00.obj pose-01.obj poses.json rest.obj skin.json " ]'
+"$bin/pose-extract" "$out/in/car-morph.glb" -o "$d" --morph-targets -q
+check "morph targets after a clip: the folder holds $(files)" \
+  '[ "$(files)" = "front.obj poses.json rear.obj rest.obj roof.obj side.obj " ]'
+(ulimit -f 200 && exec "$bin/pose-extract" "$out/in/robot.glb" -o "$d" --animation 0 --select 3 -q) 2>/dev/null
+rc=$?
+check "a clip's skin past the limit: exit $rc, not 4" '[ "$rc" = 4 ]'
+check "a clip's skin past the limit: a manifest left beside the new rest ($(files))" '[ ! -e "$d/poses.json" ]'
 
 # make -j1 and make -j2 give the same bytes (same output folder, so recorded paths match).
 m="make -s -C $src/samples ASSET=car BIN=$bin OUT=$out/make RES=48"
