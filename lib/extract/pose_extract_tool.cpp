@@ -275,7 +275,7 @@ double max_displacement(const TriMesh& pose, const TriMesh& rest) {
 // writes any file. Left, the manifest would name files of two runs while the poses are rewritten
 // (a run that failed half-way left it over the new rest, for pose-map to read with the earlier
 // poses), and the files a second set of poses for a glob or a rule to pick up. Only plain names
-// in the folder, as pose-extract writes them, are removed; returns them.
+// in the folder are removed; returns them.
 json clear_earlier_run(const std::string& dir, const std::set<std::string>& planned, Log& log) {
   const std::string path = dir + "/poses.json";
   json removed = json::array();
@@ -283,10 +283,16 @@ json clear_earlier_run(const std::string& dir, const std::set<std::string>& plan
   if (!std::filesystem::is_regular_file(path, ec)) return removed;
   std::set<std::string> files;
   try {
+    // The poses pose-extract wrote say where they came from (a hand-written manifest's need not):
+    // only those, and their clip's skin, are removed.
     const PoseManifest earlier = read_pose_manifest(path);
-    files.insert(earlier.rest);
-    for (const ManifestPose& p : earlier.poses) files.insert(p.file);
-    if (!earlier.skin.empty()) files.insert(earlier.skin);
+    bool clip = false;
+    for (const ManifestPose& p : earlier.poses) {
+      const std::string kind = p.source.is_object() ? p.source.value("kind", "") : "";
+      if (kind == "animation" || kind == "morph-target") files.insert(p.file);
+      clip = clip || kind == "animation";
+    }
+    if (clip && !earlier.skin.empty()) files.insert(earlier.skin);
   } catch (const Error& e) {
     log.warn(std::string(e.what()) + "; replaced, and any files of an earlier run it named are left");
   }
