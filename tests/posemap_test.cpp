@@ -1074,9 +1074,34 @@ TEST(PoseMap, PoseCacheFileOffersAsTheField) {
   EXPECT_EQ(again.grown().size(), fresh.grown().size());
 }
 
+// RiggedSimple's clip at `frames` times and its rest's spheres at `resolution` cells: pose_map
+// on them with the options given.
+struct RiggedRun {
+  ExtractedClip clip;
+  SpheresFile file;
+  RiggedRun(const std::string& name, int frames, int resolution) : clip(rigged_simple_frames(name, frames)) {
+    pack_rest(clip.rest.mesh, resolution, {kDefaultTolerancePercent, true}, file);
+  }
+  PoseMapResult operator()(const PoseMapOptions& opt) const {
+    return pose_map(clip.rest.mesh, "rigged", clip.poses, file, opt, Log::silent(), &clip.skin);
+  }
+};
+
+// A cache of pose-map's over three runs: none without it, written by the first run with it,
+// read by the next, which makes nothing again.
+void expect_written_then_read(const PoseMapResult& fresh, const PoseMapResult& writing, const PoseMapResult& reading,
+                              PoseMapSummary::CacheUse PoseMapSummary::*use) {
+  EXPECT_TRUE((fresh.summary.*use).file.empty());
+  EXPECT_FALSE((writing.summary.*use).file.empty());
+  EXPECT_GT((writing.summary.*use).made, 0u);
+  EXPECT_EQ((reading.summary.*use).file, (writing.summary.*use).file);
+  EXPECT_EQ((reading.summary.*use).made, 0u) << "what the cache held was made again";
+  EXPECT_GT((reading.summary.*use).read, 0u);
+}
+
 // The carries' cache asks `make` only for the centres it lacks (each once, by its bits), gives
 // back what was made to the bit after a round trip through its file, and takes a file of
-// another key, or cut short, as empty.
+// another key or kind, or cut short, as empty.
 TEST(PoseMap, CarryCacheAsksOnlyForTheCentresItLacks) {
   const std::string path = test::temp_dir("carry-cache-unit") + "/carry.bin";
   auto choice_of = [](const Eigen::Vector3d& c) {
@@ -1088,15 +1113,19 @@ TEST(PoseMap, CarryCacheAsksOnlyForTheCentresItLacks) {
     return out;
   };
   size_t asked = 0;
-  const CarryCache::Make make = [&](const SphereSet& missing) {
-    asked += missing.size();
-    std::vector<SkinnedMap::Choice> out;
-    for (const Sphere& s : missing) out.push_back(choice_of(s.center));
-    return out;
-  };
   SphereSet first, second;
   for (int k = 0; k < 20; ++k) first.push_back({Eigen::Vector3d(0.1 * k, 0.7 / (k + 1), -0.3 * k), 0});
   for (int k = 10; k < 30; ++k) second.push_back({Eigen::Vector3d(0.1 * k, 0.7 / (k + 1), -0.3 * k), 0});
+  auto choices = [&](CarryCache& cache, const SphereSet& set) {
+    std::vector<CarryCache::Key> keys;
+    for (const Sphere& s : set) keys.push_back(carry_key(s.center));
+    return cache.values(keys, [&](const std::vector<size_t>& missing) {
+      asked += missing.size();
+      std::vector<SkinnedMap::Choice> out;
+      for (size_t m : missing) out.push_back(choice_of(set[m].center));
+      return out;
+    });
+  };
   auto expect_choices = [&](const SphereSet& set, const std::vector<SkinnedMap::Choice>& got) {
     ASSERT_EQ(got.size(), set.size());
     for (size_t n = 0; n < set.size(); ++n) {
@@ -1108,9 +1137,9 @@ TEST(PoseMap, CarryCacheAsksOnlyForTheCentresItLacks) {
     }
   };
   {
-    CarryCache cache(path, "k1");
-    expect_choices(first, cache.choices(first, make));
-    expect_choices(second, cache.choices(second, make));
+    CarryCache cache(path, "carries", "k1");
+    expect_choices(first, choices(cache, first));
+    expect_choices(second, choices(cache, second));
     EXPECT_EQ(asked, 30u) << "a centre the cache held was asked again";
     EXPECT_EQ(cache.read(), 10u);
     EXPECT_EQ(cache.made(), 30u);
@@ -1118,17 +1147,47 @@ TEST(PoseMap, CarryCacheAsksOnlyForTheCentresItLacks) {
   }
   asked = 0;
   {
-    CarryCache cache(path, "k1");
-    expect_choices(second, cache.choices(second, make));
+    CarryCache cache(path, "carries", "k1");
+    expect_choices(second, choices(cache, second));
     EXPECT_EQ(asked, 0u);
   }
-  EXPECT_EQ(CarryCache(path, "k2").choices(first, make).size(), first.size());
+  CarryCache other_key(path, "carries", "k2"), other_kind(path, "held radii", "k1");
+  EXPECT_EQ(choices(other_key, first).size(), first.size());
   EXPECT_EQ(asked, first.size()) << "another key's file was read";
+  choices(other_kind, first);
+  EXPECT_EQ(asked, 2 * first.size()) << "another kind's file was read";
   const std::string whole = read_file(path);
   write_file_atomic(path, whole.substr(0, whole.size() - 1));
   asked = 0;
-  CarryCache(path, "k1").choices(first, make);
+  CarryCache cut(path, "carries", "k1");
+  choices(cut, first);
   EXPECT_EQ(asked, first.size()) << "a file cut short was read";
+}
+
+// A held radius's key is everything ClipRadius::least walks: two inputs that differ in any one
+// joint, weight, bind coordinate or the radius have different keys.
+TEST(PoseMap, HeldRadiusKeyTellsEveryInputApart) {
+  SkinInfluence in;
+  in.joint = {3, 1, 0, 7};
+  in.weight = {0.5f, 0.25f, 0.2f, 0.05f};
+  in.bind = {0.1, -2.0, 3.5};
+  const HeldCache::Key base = held_key(in, 0.75);
+  std::vector<HeldCache::Key> changed;
+  for (int k = 0; k < 4; ++k) {
+    SkinInfluence j = in, w = in;
+    j.joint[size_t(k)] += 1;
+    w.weight[size_t(k)] = std::nextafter(w.weight[size_t(k)], 1.0f);
+    changed.push_back(held_key(j, 0.75));
+    changed.push_back(held_key(w, 0.75));
+  }
+  for (int a = 0; a < 3; ++a) {
+    SkinInfluence b = in;
+    b.bind[a] = std::nextafter(b.bind[a], 10.0);
+    changed.push_back(held_key(b, 0.75));
+  }
+  changed.push_back(held_key(in, std::nextafter(0.75, 1.0)));
+  for (size_t n = 0; n < changed.size(); ++n) EXPECT_NE(changed[n], base) << "input " << n << " left out of the key";
+  EXPECT_EQ(held_key(in, 0.75), base);
 }
 
 // The poses' cache (pose_cache.hpp): each pose's field's depths, voxels and grown candidates
@@ -1138,11 +1197,9 @@ TEST(PoseMap, CarryCacheAsksOnlyForTheCentresItLacks) {
 TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
   SPX_REQUIRE_SHARED_DATA();
   const std::string dir = test::temp_dir("pose-cache") + "/cache";
-  const ExtractedClip clip = rigged_simple_frames("pose-cache-clip", 6);
+  const RiggedRun run("pose-cache-clip", 6, 64);
+  const ExtractedClip& clip = run.clip;
   const TriMesh& rest = clip.rest.mesh;
-  SpheresFile file;
-  pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);
-  auto run = [&](const PoseMapOptions& opt) { return pose_map(rest, "rigged", clip.poses, file, opt, Log::silent(), &clip.skin); };
   PoseMapOptions opt;
   const PoseMapResult fresh = run(opt);
   EXPECT_TRUE(fresh.summary.pose_caches.empty());
@@ -1167,12 +1224,7 @@ TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
   }
   EXPECT_GT(read, 0u) << "no frame's own candidates were cached";
   // The carries: every candidate's choice made and written by the first run, read by the next.
-  EXPECT_TRUE(fresh.summary.carry_cache.file.empty());
-  EXPECT_FALSE(writing.summary.carry_cache.file.empty());
-  EXPECT_GT(writing.summary.carry_cache.made, 0u);
-  EXPECT_EQ(reading.summary.carry_cache.file, writing.summary.carry_cache.file);
-  EXPECT_EQ(reading.summary.carry_cache.made, 0u) << "a choice the cache held was made again";
-  EXPECT_GT(reading.summary.carry_cache.read, 0u);
+  expect_written_then_read(fresh, writing, reading, &PoseMapSummary::carry_cache);
 
   // Another tolerance: the same fields, read; the proxy as without the cache.
   PoseMapOptions finer = opt;
@@ -1232,6 +1284,45 @@ TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
   EXPECT_TRUE(car_reading.summary.pose_caches[0].file.empty()) << "the rest's field is not asked for";
   EXPECT_TRUE(car_reading.summary.carry_cache.file.empty()) << "a body that is not skinned carries nothing";
   EXPECT_GT(asked, 0u) << "no pose was asked for its own candidates";
+}
+
+// With --hold-over-clip, the radii held over the clip kept between runs give the same proxy, bit
+// for bit, as holding them: the second run holds none again; another overshoot allowed is another
+// file; a file cut short is held again and written whole. (Within a run, the written spheres'
+// radii are read: the selection held them.)
+TEST(PoseMap, HeldRadiiCacheMapsAsHoldingThem) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("held-cache") + "/cache";
+  const RiggedRun run("held-cache-clip", 3, 48);
+  const TriMesh& rest = run.clip.rest.mesh;
+  PoseMapOptions opt;
+  opt.hold_over_clip = true;
+  const PoseMapResult fresh = run(opt);
+  ASSERT_GT(fresh.summary.clip_times, 0u);
+  EXPECT_GT(fresh.summary.selection->clip_shrunk, 0u) << "the clip shrank no candidate: the cache is not tried";
+  opt.cache_dir = dir;
+  const PoseMapResult writing = run(opt);
+  const PoseMapResult reading = run(opt);
+  expect_same_proxy(fresh.proxy, writing.proxy);
+  expect_same_proxy(fresh.proxy, reading.proxy);
+  expect_written_then_read(fresh, writing, reading, &PoseMapSummary::held_cache);
+
+  PoseMapOptions looser = opt;
+  looser.clip_overshoot = 0.01 * rest.diagonal();
+  const PoseMapResult other = run(looser);
+  EXPECT_NE(other.summary.held_cache.file, writing.summary.held_cache.file) << "another overshoot, the same file";
+  EXPECT_GT(other.summary.held_cache.made, 0u);
+  PoseMapOptions looser_fresh = looser;
+  looser_fresh.cache_dir.clear();
+  expect_same_proxy(run(looser_fresh).proxy, other.proxy);
+
+  const std::string held_file = writing.summary.held_cache.file;
+  const std::string whole = read_file(held_file);
+  write_file_atomic(held_file, whole.substr(0, whole.size() - 5));
+  const PoseMapResult remade = run(opt);
+  EXPECT_EQ(remade.summary.held_cache.made, writing.summary.held_cache.made) << "a file cut short was read";
+  expect_same_proxy(fresh.proxy, remade.proxy);
+  EXPECT_EQ(read_file(held_file), whole);
 }
 
 TEST(PoseMap, OpenSharedMeshesMeetTheirClaim) {

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/pick.hpp"
 #include "pack/coverage.hpp"
 #include "posemap/joint_selection.hpp"
 
@@ -38,13 +39,6 @@ class JointSelector {
   JointSelection run(const SphereSet& file_candidates);
 
  private:
-  template <class T, class Index>
-  static std::vector<T> pick(const std::vector<T>& all, const std::vector<Index>& which) {
-    std::vector<T> out;
-    out.reserve(which.size());
-    for (Index i : which) out.push_back(all[size_t(i)]);
-    return out;
-  }
   bool is_active(size_t f) const { return std::binary_search(active_.begin(), active_.end(), f); }
   // Frame f's vertices: the first of its samples, and where the error (and the tolerance) is measured.
   size_t vertex_count(size_t f) const { return frames_.frame_surface(f).vertices.size(); }

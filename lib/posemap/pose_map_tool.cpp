@@ -190,7 +190,12 @@ json pose_map_report(const PoseMapResult& result) {
             {"joints", s.joints},
             {"clip", s.clip_times > 0 ? json{{"times", s.clip_times},
                                                {"overshoot", s.clip_overshoot},
-                                               {"spheres_shrunk", s.clip_shrunk}}
+                                               {"spheres_shrunk", s.clip_shrunk},
+                                               {"cache", s.held_cache.file.empty()
+                                                             ? json(nullptr)
+                                                             : json{{"file", s.held_cache.file},
+                                                                    {"radii_read", s.held_cache.read},
+                                                                    {"radii_made", s.held_cache.made}}}}
                                         : json(nullptr)},
             {"between_poses", s.between.times > 0 ? json{{"times", s.between.times},
                                                          {"spheres_out", s.between.spheres_out},

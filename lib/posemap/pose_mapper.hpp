@@ -93,7 +93,7 @@ class PoseMapper {
   // plays (the poses given say nothing of them).
   void check_between_poses(PoseMapSummary& out) const;
 
-  // The poses' and the carries' caches (posemap/pose_cache.hpp, carry_cache.hpp) written where
+  // The poses', the carries' and the held radii's caches (posemap/pose_cache.hpp, carry_cache.hpp) written where
   // this run added to them; a file that cannot be written is a warning (the proxy does not need it).
   void save_caches();
   // Then the cache folder kept under its limit, this run's files (the tets' too) kept.
@@ -147,8 +147,12 @@ class PoseMapper {
   // Skinned: rest centres carried into every pose (SkinnedMap::carry), their choices through
   // the carries' cache where there is one.
   SkinnedMap::Carried carry_skinned(const SphereSet& rest);
-  // What a skinned choice depends on, hashed (carry_cache.hpp).
-  std::string carry_cache_key() const;
+  // Skinned, with a clip: each radius held over it (ClipRadius::least), through the held radii's
+  // cache where there is one.
+  std::vector<double> held_over_clip(const std::vector<SkinInfluence>& influences, const std::vector<double>& radii);
+  // What a skinned choice depends on, hashed (carry_cache.hpp); `held`: and a radius held over
+  // the clip.
+  std::string carry_cache_key(bool held) const;
 
   // Pose i's depths (`skinned`) and own candidates' voxels from the cache, where it holds them
   // (pose_cache.hpp): then no field is built for it.
@@ -194,6 +198,7 @@ class PoseMapper {
   std::vector<PoseCacheUse> pose_cache_;  // per pose, the rest first: its file in the cache folder, if asked
   std::vector<std::string> pose_cache_key_;
   std::unique_ptr<CarryCache> carry_cache_;  // skinned, with a cache folder: made at the first carry
+  std::unique_ptr<HeldCache> held_cache_;    // and held over the clip: made at the first hold
   std::vector<Eigen::Vector3d> rest_centers_;            // for the blend sites
   std::vector<std::array<size_t, 4>> zero_radius_;       // per pose, by cause
   bool grow_ = false;                                    // spheres grown in every pose (joint selection)

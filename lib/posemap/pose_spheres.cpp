@@ -8,6 +8,7 @@
 #include "core/cache_folder.hpp"
 #include "core/format.hpp"
 #include "core/hash.hpp"
+#include "core/pick.hpp"
 #include "core/subject.hpp"
 #include "core/tolerance.hpp"
 #include "mesh/normals.hpp"
@@ -37,7 +38,7 @@ class PoseMapper::Frames : public SelectionFrames {
   }
   bool one_radius() const override { return bool(m_.skinned_); }
   std::vector<double> over_clip(const std::vector<SkinInfluence>& in, const std::vector<double>& r) const override {
-    return m_.clip_ ? m_.clip_->least(in, r, &m_.log_) : r;
+    return m_.clip_ ? m_.held_over_clip(in, r) : r;
   }
   SkinnedMap::Carried carry_skinned(const SphereSet& rest) const override { return m_.carry_skinned(rest); }
   double exact_radius(const Eigen::Vector3d& c, size_t f) const override { return m_.solids_[f].exact_radius(c, false).value; }
@@ -208,24 +209,38 @@ bool PoseMapper::pose_from_cache(size_t i, bool skinned) {
   return true;
 }
 
-std::string PoseMapper::carry_cache_key() const {
+std::string PoseMapper::carry_cache_key(bool held) const {
   uint64_t h = cache_key_start();
   for (const TriMesh* m : meshes_) h = fnv1a_values(fnv1a_values(h, m->vertices), m->triangles);
   h = fnv1a_values(h, skin_to_json(*skin_).dump());
   h = fnv1a_values(fnv1a_values(h, tets_.vertices), tets_.tets);
-  const double numbers[4] = {field_options(true).voxel_size, proxy_.max_radius, open_solid_ ? 1.0 : 0.0,
-                             double(meshes_.size())};
-  return cache_key_text(fnv1a(h, numbers, sizeof numbers));
+  const double numbers[5] = {field_options(true).voxel_size, proxy_.max_radius, open_solid_ ? 1.0 : 0.0,
+                             double(meshes_.size()), held ? opt_.clip_overshoot : -1.0};
+  return cache_key_text(fnv1a(h, numbers, held ? sizeof numbers : sizeof numbers - sizeof numbers[4]));
 }
 
 SkinnedMap::Carried PoseMapper::carry_skinned(const SphereSet& rest) {
   if (opt_.cache_dir.empty()) return skinned_->carry(rest, solids_);
   if (!carry_cache_) {
-    const std::string key = carry_cache_key();
-    carry_cache_ = std::make_unique<CarryCache>(cache_file(opt_.cache_dir, "carry", key, "bin"), key);
+    const std::string key = carry_cache_key(false);
+    carry_cache_ = std::make_unique<CarryCache>(cache_file(opt_.cache_dir, "carry", key, "bin"), "carries", key);
   }
-  const auto make = [&](const SphereSet& missing) { return skinned_->choices(missing, solids_); };
-  return skinned_->carried(rest, carry_cache_->choices(rest, make), solids_.size());
+  std::vector<CarryCache::Key> keys;
+  for (const Sphere& s : rest) keys.push_back(carry_key(s.center));
+  const auto make = [&](const std::vector<size_t>& missing) { return skinned_->choices(pick(rest, missing), solids_); };
+  return skinned_->carried(rest, carry_cache_->values(keys, make), solids_.size());
+}
+
+std::vector<double> PoseMapper::held_over_clip(const std::vector<SkinInfluence>& in, const std::vector<double>& r) {
+  if (opt_.cache_dir.empty()) return clip_->least(in, r, &log_);
+  if (!held_cache_) {
+    const std::string key = carry_cache_key(true);
+    held_cache_ = std::make_unique<HeldCache>(cache_file(opt_.cache_dir, "held", key, "bin"), "held radii", key);
+  }
+  std::vector<HeldCache::Key> keys;
+  for (size_t s = 0; s < in.size(); ++s) keys.push_back(held_key(in[s], r[s]));
+  const auto make = [&](const std::vector<size_t>& missing) { return clip_->least(pick(in, missing), pick(r, missing), &log_); };
+  return held_cache_->values(keys, make);
 }
 
 void PoseMapper::save_caches() {
@@ -234,6 +249,13 @@ void PoseMapper::save_caches() {
       carry_cache_->save();
     } catch (const Error& e) {  // the proxy does not need it
       log_.warn(std::string(e.what()) + ": the carries are not cached");
+    }
+  }
+  if (held_cache_) {
+    try {
+      held_cache_->save();
+    } catch (const Error& e) {
+      log_.warn(std::string(e.what()) + ": the radii held over the clip are not cached");
     }
   }
   size_t unwritten = 0;
@@ -265,6 +287,7 @@ void PoseMapper::trim_cache(PoseMapSummary& out) {
   if (opt_.cache_dir.empty()) return;
   std::vector<std::string> in_use{tet_cache_file_};
   if (carry_cache_) in_use.push_back(carry_cache_->file());
+  if (held_cache_) in_use.push_back(held_cache_->file());
   for (const PoseCacheUse& use : pose_cache_)
     if (!use.file.empty()) in_use.push_back(use.file);
   out.cache_folder = keep_cache_under(opt_.cache_dir, opt_.cache_limit, in_use, log_);

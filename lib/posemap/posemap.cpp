@@ -157,7 +157,7 @@ void PoseMapper::hold_over_clip(size_t first, size_t n, std::vector<std::vector<
   const std::vector<SkinInfluence> influences(influences_.begin() + long(first), influences_.end());
   std::vector<double> radii(n);
   for (size_t s = 0; s < n; ++s) radii[s] = proxy_.poses[0].spheres[first + s].radius;
-  const std::vector<double> held = clip_->least(influences, radii, &log_);
+  const std::vector<double> held = held_over_clip(influences, radii);
   for (size_t s = 0; s < n; ++s) {
     if (!(held[s] < radii[s])) continue;
     ++clip_shrunk_;
@@ -234,6 +234,7 @@ void PoseMapper::summarize(PoseMapSummary& out) const {
   out.tets_from_cache = cached_tets_.has_value();
   out.pose_caches = pose_cache_;
   if (carry_cache_) out.carry_cache = {carry_cache_->file(), carry_cache_->read(), carry_cache_->made()};
+  if (held_cache_) out.held_cache = {held_cache_->file(), held_cache_->read(), held_cache_->made()};
   out.tet_vertices = tets_.vertices.size();
   out.tetrahedra = tets_.tets.size();
   out.boundary_faces = tets_.boundary_faces.size();

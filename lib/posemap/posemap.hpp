@@ -116,11 +116,12 @@ struct PoseMapSummary {
   std::vector<std::pair<size_t, size_t>> walls;
   std::vector<PoseCacheUse> pose_caches;  // per pose, the rest first (empty without --cache)
   // pose-map --cache, skinned: the carries' file (posemap/carry_cache.hpp; empty: none), the
-  // candidates' choices read from it and made in this run.
-  struct CarryCacheUse {
+  // candidates' choices read from it and made in this run; with --hold-over-clip, the held
+  // radii's likewise.
+  struct CacheUse {
     std::string file;
     size_t read = 0, made = 0;
-  } carry_cache;
+  } carry_cache, held_cache;
   std::optional<CacheTrim> cache_folder;  // with a cache folder: it after this run's files were written
   std::optional<JointSelection> selection;  // when selected jointly
   double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
