@@ -28,9 +28,9 @@ int main(int argc, char** argv) {
                                    "Use this tet mesh of the rest shape (MEDIT .mesh) instead of meshing");
   auto* cache = tool.app.add_option("--cache", opt.cache_dir,
                       "Keep what no tolerance or budget changes (the rest's tets; each pose's field's depths, "
-                      "medial voxels and the candidates grown at them; a skinned body's carries) in this folder "
-                      "between runs: a later run on the same rest, poses, --tet-size and tools reads them instead "
-                      "of making them (the same proxy)")
+                      "medial voxels and the candidates grown at them; a skinned body's carries and radii held over "
+                      "the clip) in this folder between runs: a later run on the same rest, poses, --tet-size and "
+                      "tools reads them instead of making them (the same proxy)")
       ->excludes(tets);
   tool.writes_folder("--cache");
   spx::add_cache_limit(tool.app, opt.cache_limit, cache);
