@@ -270,39 +270,62 @@ double max_displacement(const TriMesh& pose, const TriMesh& rest) {
   return d;
 }
 
-// An earlier run's manifest in `dir` and the files it names there that this run will not write
-// (frames no longer kept, the skin of a clip where now morph targets), removed before this run
-// writes any file. Left, the manifest would name files of two runs while the poses are rewritten
-// (a run that failed half-way left it over the new rest, for pose-map to read with the earlier
-// poses), and the files a second set of poses for a glob or a rule to pick up. Only plain names
-// in the folder are removed; returns them.
-json clear_earlier_run(const std::string& dir, const std::set<std::string>& planned, Log& log) {
-  const std::string path = dir + "/poses.json";
-  json removed = json::array();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return removed;
+// The list of files a run is writing, beside its poses until its manifest is written: a run that
+// failed half-way left no manifest, and this names its files for the next run to remove.
+constexpr const char* kWritingList = ".pose-extract-writing.json";
+
+// The files an earlier run wrote in `dir`: those its manifest names (the poses whose entry says
+// where in an asset they came from, as pose-extract writes them, and their clip's skin: a
+// hand-written manifest's files are not pose-extract's), or, where it failed half-way, its list.
+std::set<std::string> files_of_earlier_run(const std::string& dir, Log& log) {
   std::set<std::string> files;
-  try {
-    // The poses pose-extract wrote say where they came from (a hand-written manifest's need not):
-    // only those, and their clip's skin, are removed.
-    const PoseManifest earlier = read_pose_manifest(path);
-    bool clip = false;
-    for (const ManifestPose& p : earlier.poses) {
-      const std::string kind = p.source.is_object() ? p.source.value("kind", "") : "";
-      if (kind == "animation" || kind == "morph-target") files.insert(p.file);
-      clip = clip || kind == "animation";
+  std::error_code ec;
+  const std::string manifest = dir + "/poses.json", list = dir + "/" + kWritingList;
+  if (std::filesystem::is_regular_file(manifest, ec)) {
+    try {
+      const PoseManifest earlier = read_pose_manifest(manifest);
+      bool clip = false;
+      for (const ManifestPose& p : earlier.poses) {
+        const std::string kind = p.source.is_object() ? p.source.value("kind", "") : "";
+        if (kind == "animation" || kind == "morph-target") files.insert(p.file);
+        clip = clip || kind == "animation";
+      }
+      if (clip && !earlier.skin.empty()) files.insert(earlier.skin);
+    } catch (const Error& e) {
+      log.warn(std::string(e.what()) + "; replaced, and any files of an earlier run it named are left");
     }
-    if (clip && !earlier.skin.empty()) files.insert(earlier.skin);
-  } catch (const Error& e) {
-    log.warn(std::string(e.what()) + "; replaced, and any files of an earlier run it named are left");
   }
-  if (!std::filesystem::remove(path, ec) && ec) fail_write(path, "cannot remove the earlier run's manifest: " + ec.message());
+  if (std::filesystem::is_regular_file(list, ec)) {
+    try {
+      const json named = read_json_file(list);
+      for (const json& f : named.is_array() ? named : json::array())
+        if (f.is_string()) files.insert(f.get<std::string>());
+    } catch (const Error&) {  // not a list a run wrote: what it named stays
+    }
+  }
+  return files;
+}
+
+// An earlier run's manifest in `dir` and its files that this run will not write (frames no
+// longer kept, the skin of a clip where now morph targets), removed before this run writes any
+// file, and this run's list written. Left, the manifest would name files of two runs while the
+// poses are rewritten (a run that failed half-way left it over the new rest, for pose-map to read
+// with the earlier poses), and the files a second set of poses for a glob or a rule to pick up.
+// Only plain names in the folder are removed; returns them.
+json clear_earlier_run(const std::string& dir, const std::set<std::string>& planned, Log& log) {
+  const std::set<std::string> files = files_of_earlier_run(dir, log);
+  const std::string manifest = dir + "/poses.json";
+  std::error_code ec;
+  if (!std::filesystem::remove(manifest, ec) && ec)
+    fail_write(manifest, "cannot remove the earlier run's manifest: " + ec.message());
+  json removed = json::array();
   for (const std::string& f : files) {
     const std::filesystem::path name(f);
     if (planned.count(f) || name.filename() != name || f == "." || f == "..") continue;
     if (std::filesystem::remove(dir + "/" + f, ec)) removed.push_back(f);
     else if (ec) fail_write(dir + "/" + f, "cannot remove this file of the earlier run: " + ec.message());
   }
+  write_json_atomic(dir + "/" + kWritingList, json(planned));
   if (removed.empty()) return removed;
   std::string names;
   for (size_t i = 0; i < removed.size() && i < 4; ++i) names += (i ? ", " : "") + removed[i].get<std::string>();
@@ -356,6 +379,7 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
     report["skin"] = {{"file", manifest.skin}, {"joints", skin.joints.size()}, {"morph_channels", skin.morph_channels}};
   }
   write_json_atomic(dir + "/poses.json", manifest_to_json(manifest));
+  std::filesystem::remove(dir + "/" + kWritingList, ec);  // the manifest names them now
   report["output"] = {{"folder", dir}, {"manifest", "poses.json"}, {"rest", manifest.rest},
                       {"vertices", rest.vertices.size()}, {"triangles", rest.triangles.size()},
                       {"welded", asset.vertex_count() - rest.vertices.size()}, {"diagonal", body.diagonal},

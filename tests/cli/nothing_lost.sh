@@ -116,6 +116,11 @@ check "morph targets after a clip: the folder holds $(files)" \
 rc=$?
 check "a clip's skin past the limit: exit $rc, not 4" '[ "$rc" = 4 ]'
 check "a clip's skin past the limit: a manifest left beside the new rest ($(files))" '[ ! -e "$d/poses.json" ]'
+# The run after it removes the failed run's files it does not write too (their list was beside them).
+"$bin/pose-extract" "$out/in/robot.glb" -o "$d" --animation 0 --select 2 -q
+check "2 frames after a failed 3: the folder holds $(files)" \
+  '[ "$(files)" = "pose-00.obj pose-01.obj poses.json rest.obj skin.json " ]'
+check "a run's list of its files left after its manifest" '[ -z "$(find "$d" -name ".*" -type f)" ]'
 
 # make -j1 and make -j2 give the same bytes (same output folder, so recorded paths match).
 m="make -s -C $src/samples ASSET=car BIN=$bin OUT=$out/make RES=48"
