@@ -93,8 +93,9 @@ class PoseMapper {
   // plays (the poses given say nothing of them).
   void check_between_poses(PoseMapSummary& out) const;
 
-  // The poses', the carries' and the held radii's caches (posemap/pose_cache.hpp, carry_cache.hpp) written where
-  // this run added to them; a file that cannot be written is a warning (the proxy does not need it).
+  // The poses', the carries' and the held radii's caches (posemap/pose_cache.hpp, carry_cache.hpp)
+  // written where this run added to them; a file that cannot be written is a warning (the proxy
+  // does not need it).
   void save_caches();
   // Then the cache folder kept under its limit, this run's files (the tets' too) kept.
   void trim_cache(PoseMapSummary& out);
