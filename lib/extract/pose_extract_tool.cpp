@@ -347,9 +347,10 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
   const TriMesh& rest = body.welded.rest;
   const std::string tag = "spx pose-extract " + std::filesystem::path(input).filename().string();
   PoseManifest manifest;
+  if (!opt.animation.empty()) manifest.skin = "skin.json";
   std::set<std::string> planned = {manifest.rest};
   for (const PoseRequest& r : requests) planned.insert(r.file);
-  if (!opt.animation.empty()) planned.insert("skin.json");
+  if (!manifest.skin.empty()) planned.insert(manifest.skin);
   const json removed = clear_earlier_run(dir, planned, log);
   write_file_atomic(dir + "/" + manifest.rest, to_obj(rest, tag + " rest (bind pose)"));
   json poses = json::array();
@@ -374,7 +375,6 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
     if (skin.morph_channels)
       log.warn(input + ": the clip also drives " + std::to_string(skin.morph_channels) +
                " morph channels; the skin written beside the poses does not follow them");
-    manifest.skin = "skin.json";  // (planned above)
     write_json_atomic(dir + "/" + manifest.skin, skin_to_json(skin));
     report["skin"] = {{"file", manifest.skin}, {"joints", skin.joints.size()}, {"morph_channels", skin.morph_channels}};
   }

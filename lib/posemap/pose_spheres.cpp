@@ -214,9 +214,11 @@ std::string PoseMapper::carry_cache_key(bool held) const {
   for (const TriMesh* m : meshes_) h = fnv1a_values(fnv1a_values(h, m->vertices), m->triangles);
   h = fnv1a_values(h, skin_to_json(*skin_).dump());
   h = fnv1a_values(fnv1a_values(h, tets_.vertices), tets_.tets);
-  const double numbers[5] = {field_options(true).voxel_size, proxy_.max_radius, open_solid_ ? 1.0 : 0.0,
-                             double(meshes_.size()), held ? opt_.clip_overshoot : -1.0};
-  return cache_key_text(fnv1a(h, numbers, held ? sizeof numbers : sizeof numbers - sizeof numbers[4]));
+  const double numbers[4] = {field_options(true).voxel_size, proxy_.max_radius, open_solid_ ? 1.0 : 0.0,
+                             double(meshes_.size())};
+  h = fnv1a(h, numbers, sizeof numbers);
+  if (held) h = fnv1a(h, &opt_.clip_overshoot, sizeof opt_.clip_overshoot);
+  return cache_key_text(h);
 }
 
 SkinnedMap::Carried PoseMapper::carry_skinned(const SphereSet& rest) {
