@@ -2,7 +2,8 @@
 """The README and the measurement logs still say what the project has.
 
 Checks that README.md keeps its top-level sections (an edit that drops the rest of the file
-fails here, not in a reader's hands); that every relative link in it names a file that exists;
+fails here, not in a reader's hands); that every relative link in it names a file that exists,
+and every link within it (`#anchor`, its contents list) a heading it has;
 and that every test the README and docs/notes/*.md cite (`Suite.Name`, where Suite is a test
 suite of tests/*.cpp) is a test, or the start of one's name (the docs shorten long names with
 "...").
@@ -18,6 +19,12 @@ SECTIONS = ["The two commands", "The tools", "Speed and accuracy", "Robustness",
 TEST = re.compile(r"\bTEST(?:_F|_P)?\(\s*(\w+)\s*,\s*(\w+)\s*\)")
 CITED = re.compile(r"\b([A-Z]\w+)\.([A-Z]\w+)\b")
 LINK = re.compile(r"\]\(([^)#\s]+)")
+ANCHOR = re.compile(r"\]\(#([^)\s]+)\)")
+
+
+def anchor_of(heading):
+    """The anchor GitHub gives a heading: lowercase, punctuation dropped, spaces to hyphens."""
+    return re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
 
 
 def tests_of(root):
@@ -39,6 +46,10 @@ def breaches(root):
     for target in LINK.findall(readme):
         if "://" not in target and not os.path.exists(os.path.join(root, target)):
             out.append(f"README.md: link to {target}, which does not exist")
+    anchors = {anchor_of(h) for h in re.findall(r"^#{1,6} (.*)$", readme, re.M)}
+    for target in ANCHOR.findall(readme):
+        if target not in anchors:
+            out.append(f"README.md: link to #{target}, which no heading is")
     tests = tests_of(root)
     suites = {t.split(".")[0] for t in tests}
     docs = [os.path.join(root, "README.md")] + sorted(glob.glob(os.path.join(root, "docs", "notes", "*.md")))
