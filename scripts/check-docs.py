@@ -46,7 +46,8 @@ def breaches(root):
     for target in LINK.findall(readme):
         if "://" not in target and not os.path.exists(os.path.join(root, target)):
             out.append(f"README.md: link to {target}, which does not exist")
-    anchors = {anchor_of(h) for h in re.findall(r"^#{1,6} (.*)$", readme, re.M)}
+    prose = re.sub(r"^```.*?^```", "", readme, flags=re.M | re.S)  # a code block's "# ..." is no heading
+    anchors = {anchor_of(h) for h in re.findall(r"^#{1,6} (.*)$", prose, re.M)}
     for target in ANCHOR.findall(readme):
         if target not in anchors:
             out.append(f"README.md: link to #{target}, which no heading is")
