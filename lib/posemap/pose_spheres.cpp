@@ -245,21 +245,23 @@ std::vector<double> PoseMapper::held_over_clip(const std::vector<SkinInfluence>&
   return held_cache_->values(keys, make);
 }
 
+namespace {
+// A BitsCache's file written where this run added to it; one that cannot be written is a warning
+// naming `what` it holds (the proxy does not need it).
+template <class Cache>
+void save_or_warn(const std::unique_ptr<Cache>& cache, const char* what, Log& log) {
+  if (!cache) return;
+  try {
+    cache->save();
+  } catch (const Error& e) {
+    log.warn(std::string(e.what()) + ": " + what + " are not cached");
+  }
+}
+}  // namespace
+
 void PoseMapper::save_caches() {
-  if (carry_cache_) {
-    try {
-      carry_cache_->save();
-    } catch (const Error& e) {  // the proxy does not need it
-      log_.warn(std::string(e.what()) + ": the carries are not cached");
-    }
-  }
-  if (held_cache_) {
-    try {
-      held_cache_->save();
-    } catch (const Error& e) {
-      log_.warn(std::string(e.what()) + ": the radii held over the clip are not cached");
-    }
-  }
+  save_or_warn(carry_cache_, "the carries", log_);
+  save_or_warn(held_cache_, "the radii held over the clip", log_);
   size_t unwritten = 0;
   std::string first_failure;
   for (size_t i = 0; i < pose_cache_.size(); ++i) {
