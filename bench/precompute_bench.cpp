@@ -223,7 +223,7 @@ struct Plan {
   std::vector<size_t> frames = {4, 8, 16, 32, 48, 100};
   std::vector<int> splits = {1, 2};  // the armadillo split at its midpoints this many times
   std::vector<int> pose_splits = {3};  // the elephant's poses and its walk's frames split so, for pose-map
-  bool chains = true, routes = true, sweep_only = false, sweep_cached = true;
+  bool chains = true, routes = true, batch = true, sweep_only = false, sweep_cached = true;
 };
 
 void run(const Plan& plan, const Log& log);
@@ -255,6 +255,7 @@ int main(int argc, char** argv) {
   CLI::Option* splits = split_counts("--splits", plan.splits, "sphere-pack on the armadillo", "1 2");
   CLI::Option* pose_splits = split_counts("--pose-splits", plan.pose_splits,
                                                 "pose-map on the elephant and its 4 poses, and on 4 frames of its rigged walk", "3");
+  app.add_flag("!--no-batch", plan.batch, "Without the batch (the routes' meshes twice each, two chains at a time)");
   app.add_flag("--sweep-only", plan.sweep_only, "Only the frame sweep (no routes, SDF cases or chains)");
   app.add_flag("!--no-sweep-cache", plan.sweep_cached,
                "The frame sweep without its runs from a --cache written before (the routes keep theirs)");
@@ -275,23 +276,28 @@ namespace {
 // The default route against the paper's on the chain meshes, then pose-map over more and more
 // frames of two clips: the elephant's walk (--select N) and RiggedSimple's 2 s clip sampled
 // evenly (--times).
+// The routes' two bodies: the elephant and its 4 poses, and the car sample (generated).
+std::vector<bench::BatchChain> route_bodies(const Plan& plan, const std::string& tools) {
+  bench::BatchChain elephant{"elephant", plan.data + "/elephant/rest.obj", {}};
+  for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"})
+    elephant.poses.push_back(plan.data + "/elephant/" + p + ".obj");
+  bench::run_tool(tools, {"sample-gen", "car", "-o", plan.work + "/car-in", "-q"});
+  bench::BatchChain car{"car", plan.work + "/car-in/rest.obj", {}};
+  for (const std::string& name : make_car().pose_names) car.poses.push_back(plan.work + "/car-in/" + name + ".obj");
+  return {elephant, car};
+}
+
 json route_cases(const Plan& plan, const std::string& tools, const Log& log) {
-  const std::string& data = plan.data;
   json routes = json::array();
-  {
-    std::vector<std::string> poses;
-    for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"}) poses.push_back(data + "/elephant/" + p + ".obj");
-    routes.push_back(
-        bench::route_case(tools, "elephant", data + "/elephant/rest.obj", poses, plan.work, plan.repeats, log));
-  }
-  {
-    bench::run_tool(tools, {"sample-gen", "car", "-o", plan.work + "/car-in", "-q"});
-    std::vector<std::string> poses;
-    for (const std::string& name : make_car().pose_names) poses.push_back(plan.work + "/car-in/" + name + ".obj");
-    routes.push_back(
-        bench::route_case(tools, "car", plan.work + "/car-in/rest.obj", poses, plan.work, plan.repeats, log));
-  }
+  for (const bench::BatchChain& body : route_bodies(plan, tools))
+    routes.push_back(bench::route_case(tools, body.name, body.rest, body.poses, plan.work, plan.repeats, log));
   return routes;
+}
+
+// A farm's batch: each route body twice, in turn (elephant, car, elephant, car).
+json batch_cases(const Plan& plan, const std::string& tools, const Log& log) {
+  const std::vector<bench::BatchChain> bodies = route_bodies(plan, tools);
+  return bench::batch_case(tools, {bodies[0], bodies[1], bodies[0], bodies[1]}, plan.work, plan.repeats, log);
 }
 
 json frame_sweeps(const Plan& plan, const std::string& tools, const Log& log) {
@@ -345,6 +351,7 @@ void run(const Plan& plan, const Log& log) {
   if (plan.routes || plan.sweep_only) {
     const std::string tools = bench::tools_dir_beside_this_program();
     if (!plan.sweep_only) result["routes"] = route_cases(plan, tools, log);
+    if (!plan.sweep_only && plan.batch) result["batch"] = batch_cases(plan, tools, log);
     result["frame_sweeps"] = frame_sweeps(plan, tools, log);
     if (!plan.sweep_only) result["dense"] = dense_cases(plan, tools, log);
     if (!plan.sweep_only) result["dense_poses"] = dense_pose_cases(plan, tools, log);

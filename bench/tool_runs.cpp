@@ -7,11 +7,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <exception>
 #include <fstream>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 #include "core/atomic_file.hpp"
 #include "mesh/mesh.hpp"
@@ -387,6 +391,90 @@ json dense_skinned_case(const std::string& tools, const std::string& name, const
   }
   return map_dense_both_ways(tools, label, dir, {"--manifest", dir + "/poses.json"}, poses, triangles, vertices,
                              repeats, log);
+}
+
+namespace {
+
+// The default route on one chain in `dir`, every tool given `extra` (its --threads): the most
+// memory one of its processes took.
+double run_default_route(const std::string& tools, const BatchChain& chain, const std::string& dir,
+                         const std::vector<std::string>& extra) {
+  fs::create_directories(dir);
+  std::vector<std::string> sdf{"sdf-build", chain.rest, "-o", dir + "/rest.vdb", "-q"};
+  std::vector<std::string> pack{"sphere-pack", dir + "/rest.vdb", "--mesh", chain.rest, "-o", dir + "/rest.spheres.json", "-q"};
+  std::vector<std::string> map{"pose-map", "--rest", chain.rest, "--spheres", dir + "/rest.spheres.json",
+                               "-o", dir + "/body.proxy.json", "-q"};
+  for (const std::string& p : chain.poses) map.insert(map.end(), {"--pose", p});
+  double peak = 0;
+  for (std::vector<std::string>* argv : {&sdf, &pack, &map}) {
+    argv->insert(argv->end(), extra.begin(), extra.end());
+    peak = std::max(peak, run_tool(tools, *argv).peak_gib);
+  }
+  return peak;
+}
+
+}  // namespace
+
+json batch_case(const std::string& tools, const std::vector<BatchChain>& chains, const std::string& work, int repeats,
+                const Log& log) {
+  struct Way {
+    std::string name;
+    size_t at_once;
+    std::vector<std::string> extra;
+    std::vector<double> seconds;
+    double peak = 0;
+  };
+  std::vector<Way> ways = {{"one_at_a_time", 1, {}, {}},
+                           {"two_at_a_time_one_thread_each", 2, {"--threads", "1"}, {}},
+                           {"two_at_a_time_every_core_each", 2, {}, {}}};
+  std::vector<std::string> proxies(chains.size());  // the first way's, which every way must write
+  for (int r = 0; r < repeats; ++r)
+    for (Way& way : ways) {
+      // Each worker takes the next chain until none is left; a chain keeps its folder whatever
+      // the way, so that the paths its files record are the same.
+      std::atomic<size_t> next{0};
+      std::mutex lock;
+      std::exception_ptr failed;
+      auto work_through = [&] {
+        try {
+          for (size_t k = next++; k < chains.size(); k = next++) {
+            const double peak = run_default_route(tools, chains[k], work + "/batch/" + std::to_string(k) + "-" +
+                                                  chains[k].name, way.extra);
+            std::lock_guard<std::mutex> held(lock);
+            way.peak = std::max(way.peak, peak);
+          }
+        } catch (...) {
+          std::lock_guard<std::mutex> held(lock);
+          failed = std::current_exception();
+        }
+      };
+      const auto start = std::chrono::steady_clock::now();
+      std::vector<std::thread> workers;
+      for (size_t w = 0; w < way.at_once; ++w) workers.emplace_back(work_through);
+      for (std::thread& w : workers) w.join();
+      way.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      if (failed) std::rethrow_exception(failed);
+      for (size_t k = 0; k < chains.size(); ++k) {
+        const std::string proxy = work + "/batch/" + std::to_string(k) + "-" + chains[k].name + "/body.proxy.json";
+        const std::string bytes = read_file(proxy);
+        if (proxies[k].empty()) proxies[k] = bytes;
+        if (bytes != proxies[k]) throw std::runtime_error(proxy + ": " + way.name + " wrote another proxy than the first way");
+      }
+    }
+  json out = {{"chains", json::array()}, {"ways", json::array()}};
+  for (const BatchChain& c : chains) out["chains"].push_back(c.name);
+  for (const Way& way : ways) {
+    std::vector<double> ratios;
+    for (int r = 0; r < repeats; ++r) ratios.push_back(way.seconds[size_t(r)] / ways[0].seconds[size_t(r)]);
+    out["ways"].push_back({{"way", way.name}, {"at_once", way.at_once}, {"threads_each", way.extra.empty() ? 0 : 1},
+                           {"seconds", median(way.seconds)}, {"runs_s", way.seconds}, {"over_first", median(ratios)},
+                           {"peak_gib", way.peak}});
+  }
+  const json& w = out["ways"];
+  say(log, "batch of %zu default routes: one at a time %.2f s; two at a time on one thread each %.2f s (%.2fx), on every "
+      "core each %.2f s (%.2fx)", chains.size(), w[0]["seconds"].get<double>(), w[1]["seconds"].get<double>(),
+      w[1]["over_first"].get<double>(), w[2]["seconds"].get<double>(), w[2]["over_first"].get<double>());
+  return out;
 }
 
 }  // namespace spx::bench

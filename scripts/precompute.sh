@@ -40,6 +40,15 @@ if r.get("routes"):
                 q["sdf_s"], q["pack_s"], q["pose_map_s"], q["total_s"], q["spheres"], x["default_over_paper"],
                 c["sdf_s"], c["pack_s"], c["pose_map_s"], c["total_s"], x["cached_over_paper"], p["peak_gib"], q["peak_gib"]))
             f.write("%d %.4f %.4f \"%s\"\n" % (x["triangles"], p["total_s"], q["total_s"], x["mesh"]))
+b = r.get("batch")
+if b:
+    print("\nA batch of %d default routes (%s), the ways in turn:\n" % (len(b["chains"]), ", ".join(b["chains"])))
+    print("| way | batch time | against one at a time | most memory of one process |")
+    print("|---|---|---|---|")
+    said = {"one_at_a_time": "one at a time, every core", "two_at_a_time_one_thread_each": "two at a time, --threads 1 each",
+            "two_at_a_time_every_core_each": "two at a time, every core each"}
+    for w in b["ways"]:
+        print("| %s | %.2f s | %.2fx | %.2f GiB |" % (said.get(w["way"], w["way"]), w["seconds"], w["over_first"], w["peak_gib"]))
 for s in r.get("frame_sweeps", []):
     print("\n%s (%d triangles): pose-map at the defaults\n" % (s["clip"], s["triangles"]))
     cached = all("cached_s" in row for row in s["rows"])

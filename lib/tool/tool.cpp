@@ -1,6 +1,7 @@
 #include "tool/tool.hpp"
 
 #include <malloc.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 #include <new>
+#include <optional>
 #include <system_error>
 
 #include "core/error.hpp"
@@ -62,6 +64,9 @@ Tool::Tool(std::string name, const std::string& description)
   app.add_option("--report", report_path_, "Write a machine-readable JSON report to this file");
   app.add_flag("-q,--quiet", quiet_, "Print errors only");
   app.add_flag("-v,--verbose", verbose_, "Print stage timings and details");
+  app.add_option("--threads", threads_,
+                 "Use at most this many threads (default: every core); the outputs are the same whatever the count")
+      ->check(kPositive);
 }
 
 std::vector<const CLI::Option*> Tool::given(const std::vector<std::string>& flags) const {
@@ -129,6 +134,7 @@ std::string Tool::flag_for(const std::string& option) const {
 
 void Tool::add_common_fields(json& r) const {
   r["generator"] = name_ + " (spx) " + version_string();
+  r["threads"] = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
   r["warnings"] = log.warnings();
   json t = json::object();
   for (const auto& [stage, seconds] : log.timings()) t[stage] = seconds;
@@ -168,6 +174,10 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   }
   log.set_verbosity(quiet_ > 0 ? -1 : verbose_);
   keep_large_blocks_on_the_heap();
+  // A batch that runs several tools at once (make -j) gives each a share of the cores. Every
+  // parallel step's result is independent of how many threads ran it, so the outputs are too.
+  std::optional<tbb::global_control> thread_limit;
+  if (threads_ > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, threads_);
 
   try {
     check_outputs_apart();

@@ -70,6 +70,7 @@ class Tool {
   std::string memory_hint_;
   int quiet_ = 0;
   int verbose_ = 0;
+  size_t threads_ = 0;  // --threads: 0 is every core
 };
 
 // CLI11's PositiveNumber and NonNegativeNumber with messages a person reads ("must be above 0,

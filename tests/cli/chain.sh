@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# End-to-end: the four tools on one asset, twice, with byte-identical outputs, schema-valid
-# JSON, a loadable .spx, and figures that make sense.
+# End-to-end: the four tools on one asset, twice (on every core, then with --threads 1), with
+# byte-identical outputs, schema-valid JSON, a loadable .spx, and figures that make sense.
 # usage: chain.sh BUILD_DIR SCHEMA_DIR OUT_DIR ASSET [REST POSE...]
 #   ASSET "car"/"barrel" generates the sample; otherwise REST and POSEs are mesh files.
 set -euo pipefail
@@ -20,30 +20,37 @@ fi
 pose_args=()
 for p in $poses; do pose_args+=(--pose "$p"); done
 
-run_chain() {  # $1: output folder
+run_chain() {  # $1: output folder, then options every tool is given
   local o=$1
+  shift
   mkdir -p "$o"
-  "$bin/sdf-build" "$rest" -o "$o/rest.vdb" --resolution 96 -q --report "$o/sdf.report.json"
-  "$bin/sphere-pack" "$o/rest.vdb" --mesh "$rest" -o "$o/rest.spheres.json" -q --report "$o/pack.report.json"
+  "$bin/sdf-build" "$rest" -o "$o/rest.vdb" --resolution 96 -q --report "$o/sdf.report.json" "$@"
+  "$bin/sphere-pack" "$o/rest.vdb" --mesh "$rest" -o "$o/rest.spheres.json" -q --report "$o/pack.report.json" "$@"
   "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$o/rest.spheres.json" -o "$o/asset.proxy.json" -q \
-    --report "$o/posemap.report.json"
+    --report "$o/posemap.report.json" "$@"
   "$bin/proxy-eval" "$o/asset.proxy.json" --rest "$rest" "${pose_args[@]}" --blends 4 --colors "$o/errors.glb" -q \
-    --report "$o/eval.report.json"
+    --report "$o/eval.report.json" "$@"
   for ext in spx json glb ply; do
-    "$bin/proxy-export" "$o/asset.proxy.json" -o "$o/proxy.$ext" -q --report "$o/export-$ext.report.json"
+    "$bin/proxy-export" "$o/asset.proxy.json" -o "$o/proxy.$ext" -q --report "$o/export-$ext.report.json" "$@"
   done
 }
-# Twice into the same folder (outputs name their inputs' paths): the bytes must not change.
-run_chain "$out/a"
+# Twice into the same folder (outputs name their inputs' paths), the second time on one thread:
+# the bytes must not change, whatever the threads.
+run_chain "$out/a" --threads 1
 mv "$out/a" "$out/b"
 run_chain "$out/a"
 
 fail=0
 for f in rest.vdb rest.spheres.json asset.proxy.json proxy.spx proxy.json proxy.glb proxy.ply errors.glb; do
   if ! cmp -s "$out/a/$f" "$out/b/$f"; then
-    echo "FAIL: $f differs between two identical runs"
+    echo "FAIL: $f differs between a run on one thread and one on every core"
     fail=1
   fi
+done
+# Each report says the threads it could use.
+for r in sdf pack posemap eval export-spx; do
+  t=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['threads'])" "$out/b/$r.report.json")
+  [ "$t" = 1 ] || { echo "FAIL: $r.report.json of the run with --threads 1 says threads $t"; fail=1; }
 done
 [ -s "$out/a/proxy.spx" ] || { echo "FAIL: no .spx"; fail=1; }
 

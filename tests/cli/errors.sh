@@ -124,6 +124,7 @@ check "spheres that do not fit the rest said only after the tets: $said" \
 # Counts and tolerances users mistype.
 expect 1 "max-spheres: must be above 0, not 0" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres 0
 expect 1 "max-spheres: must be above 0, not -5" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres -5
+expect 1 "threads: must be above 0, not 0" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --threads 0
 expect 1 "fill-max: must be above 0, not 0" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" \
   --spheres "$out/s.json" -o "$out/n.json" --fill-gaps --fill-max 0
 expect 1 "tet-size: must be above 0, not -1" "$out/n.json" -- "$bin/pose-map" --rest "$out/in/rest.obj" \

@@ -87,6 +87,10 @@ PY
   "$bin/pose-map" --manifest "$r/poses/poses.json" --spheres "$r/rest.spheres.json" -o "$r/held.proxy.json" \
     --hold-over-clip -q --report "$r/held.report.json"
   check "held over the clip: report schema" v pose-map-report.schema.json "$r/held.report.json"
+  # The skinned selection and the clip's radii on one thread: the same proxy, byte for byte.
+  "$bin/pose-map" --manifest "$r/poses/poses.json" --spheres "$r/rest.spheres.json" -o "$r/held-1.proxy.json" \
+    --hold-over-clip --threads 1 -q
+  check "held over the clip: --threads 1 wrote another proxy" cmp -s "$r/held.proxy.json" "$r/held-1.proxy.json"
   "$bin/proxy-eval" "$r/held.proxy.json" --manifest "$r/poses/poses.json" --asset "$rig" --animation 0 -q \
     --report "$r/held-motion.json"
   check "held over the clip: no sphere out at any time of the clip" /usr/bin/python3 - "$r/held-motion.json" "$r/held.report.json" <<'PY'

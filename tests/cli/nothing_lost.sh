@@ -122,13 +122,16 @@ check "2 frames after a failed 3: the folder holds $(files)" \
   '[ "$(files)" = "pose-00.obj pose-01.obj poses.json rest.obj skin.json " ]'
 check "a run's list of its files left after its manifest" '[ -z "$(find "$d" -name ".*" -type f)" ]'
 
-# make -j1 and make -j2 give the same bytes (same output folder, so recorded paths match).
+# make -j1 with each tool on one thread (THREADS=1) and make -j2 on every core give the same
+# bytes (same output folder, so recorded paths match).
 m="make -s -C $src/samples ASSET=car BIN=$bin OUT=$out/make RES=48"
-$m -j1 >/dev/null 2>&1
+$m -j1 THREADS=1 >/dev/null 2>&1
+check "make THREADS=1: the tools ran on one thread" \
+  '[ "$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[\"threads\"])" "$out/make/car/posemap.report.json")" = 1 ]'
 mv "$out/make" "$out/make-j1"
 $m -j2 >/dev/null 2>&1
 for f in rest.vdb rest.spheres.json car.proxy.json car.spx car.json car.glb car.ply; do
-  check "make -j2 differs from -j1 in $f" 'cmp -s "$out/make-j1/car/$f" "$out/make/car/$f"'
+  check "make -j2 differs from -j1 THREADS=1 in $f" 'cmp -s "$out/make-j1/car/$f" "$out/make/car/$f"'
 done
 # A failed step stops make and leaves no output for make to trust.
 touch "$out/make/car/.meshes"  # the sample is up to date ...
