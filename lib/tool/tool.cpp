@@ -2,6 +2,7 @@
 
 #include <malloc.h>
 #include <tbb/global_control.h>
+#include <tbb/info.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -134,7 +135,9 @@ std::string Tool::flag_for(const std::string& option) const {
 
 void Tool::add_common_fields(json& r) const {
   r["generator"] = name_ + " (spx) " + version_string();
-  r["threads"] = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  // What the run could use: --threads caps the cores in view (as TBB sees them: the affinity mask).
+  r["threads"] = std::min(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+                          size_t(tbb::info::default_concurrency()));
   r["warnings"] = log.warnings();
   json t = json::object();
   for (const auto& [stage, seconds] : log.timings()) t[stage] = seconds;
