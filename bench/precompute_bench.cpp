@@ -273,33 +273,28 @@ int main(int argc, char** argv) {
 
 namespace {
 
-// The default route against the paper's on the chain meshes, then pose-map over more and more
-// frames of two clips: the elephant's walk (--select N) and RiggedSimple's 2 s clip sampled
-// evenly (--times).
 // The routes' two bodies: the elephant and its 4 poses, and the car sample (generated).
-std::vector<bench::BatchChain> route_bodies(const Plan& plan, const std::string& tools) {
-  bench::BatchChain elephant{"elephant", plan.data + "/elephant/rest.obj", {}};
+std::vector<bench::RouteBody> route_bodies(const Plan& plan, const std::string& tools) {
+  bench::RouteBody elephant{"elephant", plan.data + "/elephant/rest.obj", {}};
   for (const char* p : {"pose-050", "pose-150", "pose-300", "pose-456"})
     elephant.poses.push_back(plan.data + "/elephant/" + p + ".obj");
   bench::run_tool(tools, {"sample-gen", "car", "-o", plan.work + "/car-in", "-q"});
-  bench::BatchChain car{"car", plan.work + "/car-in/rest.obj", {}};
+  bench::RouteBody car{"car", plan.work + "/car-in/rest.obj", {}};
   for (const std::string& name : make_car().pose_names) car.poses.push_back(plan.work + "/car-in/" + name + ".obj");
   return {elephant, car};
 }
 
-json route_cases(const Plan& plan, const std::string& tools, const Log& log) {
+// The default route against the paper's on each body.
+json route_cases(const Plan& plan, const std::vector<bench::RouteBody>& bodies, const std::string& tools,
+                 const Log& log) {
   json routes = json::array();
-  for (const bench::BatchChain& body : route_bodies(plan, tools))
+  for (const bench::RouteBody& body : bodies)
     routes.push_back(bench::route_case(tools, body.name, body.rest, body.poses, plan.work, plan.repeats, log));
   return routes;
 }
 
-// A farm's batch: each route body twice, in turn (elephant, car, elephant, car).
-json batch_cases(const Plan& plan, const std::string& tools, const Log& log) {
-  const std::vector<bench::BatchChain> bodies = route_bodies(plan, tools);
-  return bench::batch_case(tools, {bodies[0], bodies[1], bodies[0], bodies[1]}, plan.work, plan.repeats, log);
-}
-
+// pose-map over more and more frames of two clips: the elephant's walk (--select N) and
+// RiggedSimple's 2 s clip sampled evenly (--times).
 json frame_sweeps(const Plan& plan, const std::string& tools, const Log& log) {
   json sweeps = json::array();
   if (plan.frames.empty()) return sweeps;
@@ -350,8 +345,13 @@ void run(const Plan& plan, const Log& log) {
   // spawn, which the in-process cases below raise.
   if (plan.routes || plan.sweep_only) {
     const std::string tools = bench::tools_dir_beside_this_program();
-    if (!plan.sweep_only) result["routes"] = route_cases(plan, tools, log);
-    if (!plan.sweep_only && plan.batch) result["batch"] = batch_cases(plan, tools, log);
+    if (!plan.sweep_only) {
+      const std::vector<bench::RouteBody> bodies = route_bodies(plan, tools);
+      result["routes"] = route_cases(plan, bodies, tools, log);
+      // A farm's batch: each body twice, in turn (elephant, car, elephant, car).
+      if (plan.batch)
+        result["batch"] = bench::batch_case(tools, {bodies[0], bodies[1], bodies[0], bodies[1]}, plan.work, plan.repeats, log);
+    }
     result["frame_sweeps"] = frame_sweeps(plan, tools, log);
     if (!plan.sweep_only) result["dense"] = dense_cases(plan, tools, log);
     if (!plan.sweep_only) result["dense_poses"] = dense_pose_cases(plan, tools, log);

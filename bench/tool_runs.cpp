@@ -397,7 +397,7 @@ namespace {
 
 // The default route on one chain in `dir`, every tool given `extra` (its --threads): the most
 // memory one of its processes took.
-double run_default_route(const std::string& tools, const BatchChain& chain, const std::string& dir,
+double run_default_route(const std::string& tools, const RouteBody& chain, const std::string& dir,
                          const std::vector<std::string>& extra) {
   fs::create_directories(dir);
   std::vector<std::string> sdf{"sdf-build", chain.rest, "-o", dir + "/rest.vdb", "-q"};
@@ -415,7 +415,7 @@ double run_default_route(const std::string& tools, const BatchChain& chain, cons
 
 }  // namespace
 
-json batch_case(const std::string& tools, const std::vector<BatchChain>& chains, const std::string& work, int repeats,
+json batch_case(const std::string& tools, const std::vector<RouteBody>& chains, const std::string& work, int repeats,
                 const Log& log) {
   struct Way {
     std::string name;
@@ -462,7 +462,7 @@ json batch_case(const std::string& tools, const std::vector<BatchChain>& chains,
       }
     }
   json out = {{"chains", json::array()}, {"ways", json::array()}};
-  for (const BatchChain& c : chains) out["chains"].push_back(c.name);
+  for (const RouteBody& c : chains) out["chains"].push_back(c.name);
   for (const Way& way : ways) {
     std::vector<double> ratios;
     for (int r = 0; r < repeats; ++r) ratios.push_back(way.seconds[size_t(r)] / ways[0].seconds[size_t(r)]);

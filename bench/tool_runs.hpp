@@ -87,8 +87,8 @@ nlohmann::json dense_skinned_case(const std::string& tools, const std::string& n
                                   const std::vector<std::string>& extract, int split, const std::string& work,
                                   int repeats, const Log& log);
 
-// One body's default route for a batch: its rest mesh and poses (files).
-struct BatchChain {
+// A body for the routes and the batch: its rest mesh and poses (files).
+struct RouteBody {
   std::string name, rest;
   std::vector<std::string> poses;
 };
@@ -98,7 +98,7 @@ struct BatchChain {
 // with --threads 1 each; two at a time on every core each (make -j2 without --threads). Per way:
 // the batch's median time, the median of its per-repeat ratios to the first way's, and the most
 // memory one process took. Throws unless every way writes the first way's proxies byte for byte.
-nlohmann::json batch_case(const std::string& tools, const std::vector<BatchChain>& chains, const std::string& work,
+nlohmann::json batch_case(const std::string& tools, const std::vector<RouteBody>& chains, const std::string& work,
                           int repeats, const Log& log);
 
 }  // namespace spx::bench
