@@ -135,7 +135,7 @@ std::string Tool::flag_for(const std::string& option) const {
 
 void Tool::add_common_fields(json& r) const {
   r["generator"] = name_ + " (spx) " + version_string();
-  // What the run could use: --threads caps the cores in view (as TBB sees them: the affinity mask).
+  // What the run could use: the cores in view (as TBB sees them: the affinity mask), capped by --threads.
   r["threads"] = std::min(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
                           size_t(tbb::info::default_concurrency()));
   r["warnings"] = log.warnings();
@@ -179,8 +179,11 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   keep_large_blocks_on_the_heap();
   // A batch that runs several tools at once (make -j) gives each a share of the cores. Every
   // parallel step's result is independent of how many threads ran it, so the outputs are too.
+  // More than the cores in view is every core (TBB would size its tables by a huge count).
   std::optional<tbb::global_control> thread_limit;
-  if (threads_ > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, threads_);
+  if (threads_ > 0)
+    thread_limit.emplace(tbb::global_control::max_allowed_parallelism,
+                         std::min(threads_, size_t(tbb::info::default_concurrency())));
 
   try {
     check_outputs_apart();

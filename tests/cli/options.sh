@@ -29,6 +29,13 @@ check "--memory-limit 0.00001 did not refuse (exit 3)" '[ "$code" = 3 ] && grep 
 "$bin/sdf-build" "$rest" -o "$out/m.vdb" --resolution 64 --memory-limit 1 -q
 check "--memory-limit 1 refused a small grid" '[ -s "$out/m.vdb" ]'
 
+# --threads: a cap above the cores is every core (not a table sized by it), 1 is one.
+"$bin/sdf-build" "$rest" -o "$out/t.vdb" --resolution 32 --threads 99999999999999 -q --report "$out/t.json"
+check "--threads past the cores failed or said more threads than cores" \
+  '[ -s "$out/t.vdb" ] && [ "$(field "$out/t.json" "r[\"threads\"]")" = "$(nproc)" ]'
+"$bin/sdf-build" "$rest" -o "$out/t.vdb" --resolution 32 --threads 1 -q --report "$out/t.json"
+check "--threads 1 not said in the report" '[ "$(field "$out/t.json" "r[\"threads\"]")" = 1 ]'
+
 # sphere-pack: --grid-centers keeps the greedy method's centers on voxel centers
 "$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/s.json" -q --report "$out/s.report.json" --method greedy
 "$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/g.json" --grid-centers -q --report "$out/g.report.json" \
