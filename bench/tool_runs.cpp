@@ -428,18 +428,18 @@ json batch_case(const std::string& tools, const std::vector<RouteBody>& chains, 
                            {"two_at_a_time_one_thread_each", 2, {"--threads", "1"}, {}},
                            {"two_at_a_time_every_core_each", 2, {}, {}}};
   std::vector<std::string> proxies(chains.size());  // the first way's, which every way must write
+  // A chain keeps its folder whatever the way, so that the paths its files record are the same.
+  const auto folder = [&](size_t k) { return work + "/batch/" + std::to_string(k) + "-" + chains[k].name; };
   for (int r = 0; r < repeats; ++r)
     for (Way& way : ways) {
-      // Each worker takes the next chain until none is left; a chain keeps its folder whatever
-      // the way, so that the paths its files record are the same.
+      // Each worker takes the next chain until none is left.
       std::atomic<size_t> next{0};
       std::mutex lock;
       std::exception_ptr failed;
       auto work_through = [&] {
         try {
           for (size_t k = next++; k < chains.size(); k = next++) {
-            const double peak = run_default_route(tools, chains[k], work + "/batch/" + std::to_string(k) + "-" +
-                                                  chains[k].name, way.extra);
+            const double peak = run_default_route(tools, chains[k], folder(k), way.extra);
             std::lock_guard<std::mutex> held(lock);
             way.peak = std::max(way.peak, peak);
           }
@@ -455,7 +455,7 @@ json batch_case(const std::string& tools, const std::vector<RouteBody>& chains, 
       way.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       if (failed) std::rethrow_exception(failed);
       for (size_t k = 0; k < chains.size(); ++k) {
-        const std::string proxy = work + "/batch/" + std::to_string(k) + "-" + chains[k].name + "/body.proxy.json";
+        const std::string proxy = folder(k) + "/body.proxy.json";
         const std::string bytes = read_file(proxy);
         if (proxies[k].empty()) proxies[k] = bytes;
         if (bytes != proxies[k]) throw std::runtime_error(proxy + ": " + way.name + " wrote another proxy than the first way");

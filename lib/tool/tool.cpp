@@ -136,8 +136,7 @@ std::string Tool::flag_for(const std::string& option) const {
 void Tool::add_common_fields(json& r) const {
   r["generator"] = name_ + " (spx) " + version_string();
   // What the run could use: the cores in view (as TBB sees them: the affinity mask), capped by --threads.
-  r["threads"] = std::min(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
-                          size_t(tbb::info::default_concurrency()));
+  r["threads"] = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
   r["warnings"] = log.warnings();
   json t = json::object();
   for (const auto& [stage, seconds] : log.timings()) t[stage] = seconds;
