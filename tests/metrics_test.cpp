@@ -44,6 +44,16 @@ TEST(PoseLines, ALongClipShowsTheRestAndItsWorstPoses) {
   }
 }
 
+TEST(PoseLines, NameColumnIsTheLongestName) {
+  struct Named {
+    std::string name;
+  };
+  EXPECT_EQ(pose_name_width(std::vector<Named>{{"rest"}, {"pose-1"}}), 12);
+  // A clip's times differ in width: every line's figures start after the longest.
+  EXPECT_EQ(pose_name_width(std::vector<Named>{{"rest"}, {"walk@5s"}, {"walk@4.63333s"}}), 13);
+  EXPECT_EQ(pose_name_width(std::vector<Named>{}), 12);
+}
+
 TEST(UnionError, OneSphereInACubeIsTheCornerDistance) {
   // Cube [-1,1]^3 (its 8 corners are the vertices), unit sphere at the center: every vertex is
   // sqrt(3) from the center, so sqrt(3) - 1 from the sphere.

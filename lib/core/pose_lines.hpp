@@ -18,6 +18,15 @@ struct PoseLine {
 constexpr size_t kAllPoseLines = 12;  // more poses than this print the worst kWorstPoseLines
 constexpr size_t kWorstPoseLines = 5;
 
+// The width of the name column over `poses` (anything with a `name`), at least 12: padded to the
+// longest so that the figures after them line up (a clip's times differ in width).
+template <class Poses>
+int pose_name_width(const Poses& poses) {
+  size_t width = 12;
+  for (const auto& pose : poses) width = pose.name.size() > width ? pose.name.size() : width;
+  return static_cast<int>(width);
+}
+
 // Which of `lines` are printed (indices, ascending): all of them when there are at most
 // kAllPoseLines or `every`; else the first and the kWorstPoseLines worst of the others (ties: the
 // earlier pose).

@@ -96,16 +96,17 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
   }
   const json measured = proxy_eval_report(proxy, r);
   char line[256];
+  const int name_width = pose_name_width(r.poses);
   std::vector<PoseLine> lines;
   for (size_t i = 0; i < r.poses.size(); ++i) {
     const Measurement& m = r.pose_measurements[i];
-    std::snprintf(line, sizeof line, "%-12s median %.4g p95 %.4g max %.4g coverage %.3f", r.poses[i].name.c_str(),
+    std::snprintf(line, sizeof line, "%-*s median %.4g p95 %.4g max %.4g coverage %.3f", name_width, r.poses[i].name.c_str(),
                   m.error.abs.median, m.error.abs.p95, m.error.abs.max, m.coverage);
     lines.push_back({line, m.error.abs.max});
   }
   print_pose_lines(lines, log, "");
   if (measured["blends"].contains("max")) {
-    std::snprintf(line, sizeof line, "%-12s median %.4g max %.4g over %d blends", "blends",
+    std::snprintf(line, sizeof line, "%-*s median %.4g max %.4g over %d blends", name_width, "blends",
                   measured["blends"]["median"].get<double>(), measured["blends"]["max"].get<double>(), opt.eval.blends);
     log.info(line);
   }

@@ -256,6 +256,7 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   std::snprintf(line, sizeof line, "%s: %zu spheres x %zu poses, %zu blend sites", output.c_str(),
                 result.proxy.sphere_count(), result.proxy.poses.size(), result.proxy.sites.size());
   log.info(line);
+  const int name_width = pose_name_width(result.proxy.poses);
   std::vector<PoseLine> lines;
   for (size_t i = 0; i < result.proxy.poses.size(); ++i) {
     const ProxyPose& pose = result.proxy.poses[i];
@@ -266,7 +267,7 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
                        std::numeric_limits<double>::infinity()});
       continue;
     }
-    std::snprintf(line, sizeof line, "%-12s error median %.4g max %.4g, %zu centres outside", pose.name.c_str(),
+    std::snprintf(line, sizeof line, "%-*s error median %.4g max %.4g, %zu centres outside", name_width, pose.name.c_str(),
                   result.summary.errors[i].median, result.summary.errors[i].max, pose.outside.size());
     lines.push_back({line, result.summary.errors[i].max});
   }
