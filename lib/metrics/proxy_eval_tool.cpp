@@ -143,6 +143,10 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
       meshes = load_pose_meshes(rest_path, pose_paths, proxy, proxy_path, log, opt.motion.manifest);
     }
     evaluate_examples(proxy, proxy_path, meshes, opt, log, report);
+    // Blends of a clip's frames are no motion of it: a skinned proxy's figures are its clip's.
+    if (!proxy.skin.joints.empty() && opt.motion.asset.empty())
+      log.info("a host plays this proxy by its skin, not by blends of its poses: --asset (the rigged asset) "
+               "and --animation measure it over the clip as the host skins it");
   }
   if (!opt.motion.asset.empty()) {
     StageTimer t(log, "motion");

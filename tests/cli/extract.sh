@@ -26,8 +26,10 @@ for f in rest.obj front.obj roof.obj poses.json; do
   check "$f differs between two runs" cmp -s "$out/car-morph/poses/$f" "$out/again/$f"
 done
 # proxy-eval reads the same manifest.
-"$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --manifest "$out/car-morph/poses/poses.json" -q \
-  --report "$out/eval.json"
+"$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --manifest "$out/car-morph/poses/poses.json" \
+  --report "$out/eval.json" > "$out/eval.log" 2>&1
+check "proxy-eval: a proxy without a skin is played by its blends, and no line says otherwise" \
+  bash -c '! grep -q "by its skin" "$1"' _ "$out/eval.log"
 check "proxy-eval --manifest: the rest and 4 poses" \
   /usr/bin/python3 -c "import json,sys; sys.exit(len(json.load(open(sys.argv[1]))['poses']) != 5)" "$out/eval.json"
 
@@ -59,6 +61,10 @@ PY
   check "skinned clip: proxy-eval --manifest finds the proxy's pose names, no warning" /usr/bin/python3 -c \
     "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(any('matched by order' in w for w in r['warnings']))" \
     "$out/rigged/eval.json"
+
+  "$bin/proxy-eval" "$out/rigged/rigged.proxy.json" --manifest "$out/rigged/poses/poses.json" > "$out/rigged/eval.log" 2>&1
+  check "skinned clip: proxy-eval without --asset names it (blends of a clip's frames are no motion of it)" \
+    grep -q "plays this proxy by its skin.*--asset" "$out/rigged/eval.log"
 
   # The whole clip as a host plays it (proxy-eval --asset): each frame and half-way between.
   # At the 2 frames the chain saw, no sphere pokes out and the best-fit blend is that example's
