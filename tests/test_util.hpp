@@ -86,27 +86,12 @@ inline TriMesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
 
 // UV sphere, closed and outward.
 inline TriMesh uv_sphere(double radius, int rings = 24, int sectors = 48) {
-  TriMesh m;
-  m.vertices.emplace_back(0, 0, -radius);
+  std::vector<std::pair<double, double>> profile;  // (r, z), one ring per latitude
   for (int r = 1; r < rings; ++r) {
     const double phi = M_PI * r / rings - M_PI / 2;
-    for (int s = 0; s < sectors; ++s) {
-      const double th = 2 * M_PI * s / sectors;
-      m.vertices.emplace_back(radius * std::cos(phi) * std::cos(th), radius * std::cos(phi) * std::sin(th),
-                              radius * std::sin(phi));
-    }
+    profile.emplace_back(radius * std::cos(phi), radius * std::sin(phi));
   }
-  m.vertices.emplace_back(0, 0, radius);
-  auto at = [&](int r, int s) { return 1 + (r - 1) * sectors + (s % sectors); };
-  const int top = int(m.vertices.size()) - 1;
-  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(0, at(1, s + 1), at(1, s));
-  for (int r = 1; r + 1 < rings; ++r)
-    for (int s = 0; s < sectors; ++s) {
-      m.triangles.emplace_back(at(r, s), at(r, s + 1), at(r + 1, s + 1));
-      m.triangles.emplace_back(at(r, s), at(r + 1, s + 1), at(r + 1, s));
-    }
-  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(top, at(rings - 1, s), at(rings - 1, s + 1));
-  return m;
+  return lathe(profile, -radius, radius, sectors);
 }
 
 }  // namespace spx::test

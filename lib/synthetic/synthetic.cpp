@@ -167,6 +167,27 @@ SampleAsset make_car() {
   return car;
 }
 
+TriMesh lathe(const std::vector<std::pair<double, double>>& profile, double bottom, double top, int sectors) {
+  TriMesh m;
+  m.vertices.emplace_back(0, 0, bottom);
+  for (const auto& [r, z] : profile)
+    for (int s = 0; s < sectors; ++s) {
+      const double a = 2 * M_PI * s / sectors;
+      m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), z);
+    }
+  m.vertices.emplace_back(0, 0, top);
+  const int rings = int(profile.size()), top_pole = int(m.vertices.size()) - 1;
+  auto at = [&](int ring, int s) { return 1 + ring * sectors + (s % sectors); };
+  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(0, at(0, s + 1), at(0, s));
+  for (int ring = 0; ring + 1 < rings; ++ring)
+    for (int s = 0; s < sectors; ++s) {
+      m.triangles.emplace_back(at(ring, s), at(ring, s + 1), at(ring + 1, s + 1));
+      m.triangles.emplace_back(at(ring, s), at(ring + 1, s + 1), at(ring + 1, s));
+    }
+  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(top_pole, at(rings - 1, s), at(rings - 1, s + 1));
+  return m;
+}
+
 SampleAsset make_barrel() {
   SampleAsset barrel;
   barrel.name = "barrel";
@@ -185,23 +206,7 @@ SampleAsset make_barrel() {
   profile.emplace_back(0.98 * radius, height - 0.005);
   for (double f : {0.9, 0.66, 0.33}) profile.emplace_back(f * radius, height);
 
-  TriMesh& m = barrel.rest;
-  m.vertices.emplace_back(0, 0, 0);  // bottom pole
-  for (const auto& [r, z] : profile)
-    for (int s = 0; s < sectors; ++s) {
-      const double a = 2 * M_PI * s / sectors;
-      m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), z);
-    }
-  m.vertices.emplace_back(0, 0, height);  // top pole
-  const int rings = int(profile.size()), top = int(m.vertices.size()) - 1;
-  auto at = [&](int ring, int s) { return 1 + ring * sectors + (s % sectors); };
-  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(0, at(0, s + 1), at(0, s));
-  for (int ring = 0; ring + 1 < rings; ++ring)
-    for (int s = 0; s < sectors; ++s) {
-      m.triangles.emplace_back(at(ring, s), at(ring, s + 1), at(ring + 1, s + 1));
-      m.triangles.emplace_back(at(ring, s), at(ring + 1, s + 1), at(ring + 1, s));
-    }
-  for (int s = 0; s < sectors; ++s) m.triangles.emplace_back(top, at(rings - 1, s), at(rings - 1, s + 1));
+  barrel.rest = lathe(profile, 0, height, sectors);
 
   barrel.pose_names = {"dent", "squash", "top"};
   barrel.deform = [](size_t pose, const Eigen::Vector3d& p) -> Eigen::Vector3d {

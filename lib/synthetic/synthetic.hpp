@@ -3,6 +3,7 @@
 // deformations, so the true map f from rest to each pose is known everywhere (tests use it).
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/gltf_morph.hpp"
@@ -20,6 +21,10 @@ struct SampleAsset {
 
   TriMesh pose(size_t index) const;
 };
+
+// A closed surface of revolution about z, outward: a pole at (0, 0, bottom), a ring of `sectors`
+// vertices at each (r, z) of `profile` (from the bottom up), a pole at (0, 0, top).
+TriMesh lathe(const std::vector<std::pair<double, double>>& profile, double bottom, double top, int sectors);
 
 // A car-like body, 5.25 m long (x forward, z up, ground at z = 0), about 1500 triangles;
 // poses: front, rear, side, roof crumples.
