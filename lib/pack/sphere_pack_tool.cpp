@@ -431,9 +431,12 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));
 
-  char line[256];
-  std::snprintf(line, sizeof line, "%s: %zu spheres, radii %.4g..%.4g (%s)", output.c_str(), spheres.size(),
-                stats.smallest, stats.largest, stats.stop_reason.c_str());
+  // The cover's reasons are what limited it (the report's limited_by), some with words in parentheses.
+  const std::string& why = stats.stop_reason;
+  const std::string said = opt.method == PackMethod::cover && why.rfind("met ", 0) != 0 ? "limited by " + why : why;
+  char line[512];
+  std::snprintf(line, sizeof line, "%s: %zu spheres, radii %.4g..%.4g; %s", output.c_str(), spheres.size(),
+                stats.smallest, stats.largest, said.c_str());
   log.info(line);
   report["input"] = input;
   report["output"] = output;

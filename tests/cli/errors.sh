@@ -48,8 +48,10 @@ for method in cover greedy; do
 done
 
 # --tolerance and --max-spheres combine: the tighter wins, and the report says which.
-"$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 0.5% --max-spheres 5 -o "$out/t.json" -q \
-  --report "$out/t.report.json"
+"$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 0.5% --max-spheres 5 -o "$out/t.json" \
+  --report "$out/t.report.json" 2> "$out/t.log"
+if grep -q "t.json: 5 spheres, radii .*; limited by max_spheres (tighter than the tolerance)$" "$out/t.log"; then
+  passed=$((passed + 1)); else echo "FAIL: sphere-pack's last line does not say what limited it"; cat "$out/t.log"; fail=$((fail + 1)); fi
 if /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['sphere_count']==5 and 'max_spheres' in r['tolerance']['limited_by'] else 1)" "$out/t.report.json"; then
   passed=$((passed + 1)); else echo "FAIL: --max-spheres did not win over --tolerance"; fail=$((fail + 1)); fi
 "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance 3% --max-spheres 500 -o "$out/t.json" -q \
