@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   tool.writes_folder("--cache");
   spx::add_cache_limit(tool.app, opt.cache_limit, cache);
   bool grid_centers = false;
-  tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centers on voxel centers (the paper's plain greedy)");
+  tool.app.add_flag("--grid-centers", grid_centers, "Greedy: keep centres on voxel centres (the paper's plain greedy)");
   return tool.run(argc, argv, [&] {
     // An option of the other method would be ignored: said, not dropped.
     for (const CLI::Option* cover_only : {samples, seed, polish, every, cache})

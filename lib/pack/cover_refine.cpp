@@ -335,7 +335,7 @@ size_t refine_jointly(const std::vector<std::vector<Eigen::Vector3d>>& samples, 
     // Tolerance mode: the total, no sample leaving delta.
     const size_t moves = state.move_rounds(step, step / 4, delta, [](double e) { return e; });
     log.progress(kRefining, levels, levels);
-    log.detail("refined centers: " + std::to_string(moves) + " moves");
+    log.detail("refined centres: " + std::to_string(moves) + " moves");
     return moves;
   }
   // The max, down to an eighth of the step.
@@ -351,7 +351,7 @@ size_t refine_jointly(const std::vector<std::vector<Eigen::Vector3d>>& samples, 
       [&](const auto& cost) { return state.move_rounds(step, step / 8, ceiling, cost); },
       [&] { return state.median_and_max().first; });
   log.progress(kRefining, levels, levels);
-  log.detail("refined centers: " + std::to_string(for_max) + " moves for the max, " + std::to_string(for_total) +
+  log.detail("refined centres: " + std::to_string(for_max) + " moves for the max, " + std::to_string(for_total) +
              " for the total, " + std::to_string(for_median) + " for the median");
   return for_max + for_total + for_median;
 }

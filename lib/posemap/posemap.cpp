@@ -7,6 +7,7 @@
 
 #include "core/cache_folder.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "posemap/gap_filling.hpp"
 #include "posemap/pose_mapper.hpp"
 #include "posemap/spheres_fit.hpp"
@@ -215,15 +216,18 @@ void PoseMapper::check_between_poses(PoseMapSummary& out) const {
 void PoseMapper::summarize(PoseMapSummary& out) const {
   for (size_t i = 0; i < proxy_.poses.size(); ++i) {
     const auto& [outside, holes, other, elsewhere] = zero_radius_[i];
+    const auto get = [](size_t n) { return n == 1 ? " gets" : " get"; };
     if (outside > 0)
-      log_.warn(proxy_.poses[i].source + ": " + std::to_string(outside) +
-                " sphere centers land outside this pose; those spheres get radius 0 in it");
+      log_.warn(proxy_.poses[i].source + ": " + counted(outside, "sphere centre") + (outside == 1 ? " lands" : " land") +
+                " outside this pose; " + (outside == 1 ? "that sphere" : "those spheres") + get(outside) +
+                " radius 0 in it");
     if (holes + other > 0)
-      log_.warn(proxy_.poses[i].source + ": " + std::to_string(holes + other) + " spheres get radius 0 in this pose (" +
-                std::to_string(holes) + " bounded by its holes, " + std::to_string(other) + " on its surface)");
+      log_.warn(proxy_.poses[i].source + ": " + counted(holes + other, "sphere") + get(holes + other) +
+                " radius 0 in this pose (" + std::to_string(holes) + " bounded by its holes, " +
+                std::to_string(other) + " on its surface)");
     if (elsewhere > 0)
-      log_.warn(proxy_.poses[i].source + ": " + std::to_string(elsewhere) +
-                " skinned spheres get radius 0 here because they have it in another pose");
+      log_.warn(proxy_.poses[i].source + ": " + counted(elsewhere, "skinned sphere") + get(elsewhere) +
+                " radius 0 here because " + (elsewhere == 1 ? "it has" : "they have") + " it in another pose");
   }
   out.zero_radius = zero_radius_;
   out.errors = pose_errors();
