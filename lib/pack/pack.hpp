@@ -28,6 +28,9 @@ struct PackOptions {
 struct PackStats {
   std::string radius_source;  // "mesh" (exact distance) or "field"
   std::string stop_reason;
+  // stop_reason names a limit ("max_spheres", "the field's resolution ..."), not an event or the
+  // tolerance met: the tools' last line says "limited by" before it.
+  bool stop_is_limit = false;
   double min_radius = 0, max_radius = 0;  // the limits in force
   double smallest = 0, largest = 0;       // radii produced
   size_t interior_voxels = 0, centers_rejected = 0, centers_refined = 0;

@@ -109,6 +109,7 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
     if (opt.pack.max_spheres > 0 && opt.pack.max_spheres < keep) {
       keep = opt.pack.max_spheres;
       limit = "max_spheres (tighter than the tolerance)";
+      packed.stats.stop_is_limit = true;
     }
     packed.spheres.resize(keep);
     packed.stats.stop_reason = limit;  // the prefix, not the packing that made the sequence, decides
@@ -312,6 +313,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const std::string limit = limit_wording(limited_by);
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
+  stats.stop_is_limit = limited_by != Limit::tolerance && limited_by != Limit::default_tolerance;
   stats.min_radius = opt.pack.min_radius;
   stats.max_radius = opt.pack.max_radius;
   report["cover"] = {{"method", "inscribed candidates at near-medial voxels grown to the largest inscribed sphere "
@@ -431,9 +433,7 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));
 
-  // The cover's reasons are what limited it (the report's limited_by), some with words in parentheses.
-  const std::string& why = stats.stop_reason;
-  const std::string said = opt.method == PackMethod::cover && why.rfind("met ", 0) != 0 ? "limited by " + why : why;
+  const std::string said = (stats.stop_is_limit ? "limited by " : "") + stats.stop_reason;
   char line[512];
   std::snprintf(line, sizeof line, "%s: %zu spheres, radii %.4g..%.4g; %s", output.c_str(), spheres.size(),
                 stats.smallest, stats.largest, said.c_str());
