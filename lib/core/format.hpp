@@ -1,6 +1,7 @@
 #pragma once
 // Numbers in messages: %g, so 1.5e-05 and 0.0417 read as written, never "0.000000"; counts
-// with their nouns.
+// with their nouns. Lines that hold a path or a name are built as strings, not in a fixed buffer,
+// so that a long path is never cut off.
 #include <cstdio>
 #include <string>
 
@@ -14,5 +15,10 @@ inline std::string num(double v) {
 
 // "1 pose", "3 poses": a count and its noun, which takes an s unless the count is one.
 inline std::string counted(size_t n, const std::string& noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); }
+
+// `text` padded with spaces to `width` characters (a column of names); longer text is kept whole.
+inline std::string padded(const std::string& text, size_t width) {
+  return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
+}
 
 }  // namespace spx

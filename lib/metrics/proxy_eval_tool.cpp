@@ -100,15 +100,15 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
   std::vector<PoseLine> lines;
   for (size_t i = 0; i < r.poses.size(); ++i) {
     const Measurement& m = r.pose_measurements[i];
-    std::snprintf(line, sizeof line, "%-*s median %.4g p95 %.4g max %.4g coverage %.3f", name_width, r.poses[i].name.c_str(),
-                  m.error.abs.median, m.error.abs.p95, m.error.abs.max, m.coverage);
-    lines.push_back({line, m.error.abs.max});
+    std::snprintf(line, sizeof line, " median %.4g p95 %.4g max %.4g coverage %.3f", m.error.abs.median, m.error.abs.p95,
+                  m.error.abs.max, m.coverage);
+    lines.push_back({padded(r.poses[i].name, name_width) + line, m.error.abs.max});
   }
   print_pose_lines(lines, log, "");
   if (measured["blends"].contains("max")) {
-    std::snprintf(line, sizeof line, "%-*s median %.4g max %.4g over %d blends", name_width, "blends",
-                  measured["blends"]["median"].get<double>(), measured["blends"]["max"].get<double>(), opt.eval.blends);
-    log.info(line);
+    std::snprintf(line, sizeof line, " median %.4g max %.4g over %d blends", measured["blends"]["median"].get<double>(),
+                  measured["blends"]["max"].get<double>(), opt.eval.blends);
+    log.info(padded("blends", name_width) + line);
   }
   if (!opt.colors.empty()) {
     StageTimer t(log, "colors");

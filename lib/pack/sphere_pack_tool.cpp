@@ -434,10 +434,8 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   write_json_atomic(output, spheres_to_json(file));
 
   const std::string said = (stats.stop_is_limit ? "limited by " : "") + stats.stop_reason;
-  char line[512];
-  std::snprintf(line, sizeof line, "%s: %zu spheres, radii %.4g..%.4g; %s", output.c_str(), spheres.size(),
-                stats.smallest, stats.largest, said.c_str());
-  log.info(line);
+  log.info(output + ": " + counted(spheres.size(), "sphere") + ", radii " + num(stats.smallest) + ".." + num(stats.largest) +
+           "; " + said);
   report["input"] = input;
   report["output"] = output;
   report["method"] = opt.method == PackMethod::cover ? "cover" : "greedy";

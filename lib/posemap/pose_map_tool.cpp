@@ -252,10 +252,8 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   });
   write_json_atomic(output, proxy_to_json(result.proxy));
 
-  char line[256];
-  std::snprintf(line, sizeof line, "%s: %zu spheres x %zu poses, %zu blend sites", output.c_str(),
-                result.proxy.sphere_count(), result.proxy.poses.size(), result.proxy.sites.size());
-  log.info(line);
+  log.info(output + ": " + counted(result.proxy.sphere_count(), "sphere") + " x " +
+           counted(result.proxy.poses.size(), "pose") + ", " + counted(result.proxy.sites.size(), "blend site"));
   const int name_width = pose_name_width(result.proxy.poses);
   std::vector<PoseLine> lines;
   for (size_t i = 0; i < result.proxy.poses.size(); ++i) {
@@ -267,9 +265,9 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
                        std::numeric_limits<double>::infinity()});
       continue;
     }
-    std::snprintf(line, sizeof line, "%-*s error median %.4g max %.4g, %zu centres outside", name_width, pose.name.c_str(),
-                  result.summary.errors[i].median, result.summary.errors[i].max, pose.outside.size());
-    lines.push_back({line, result.summary.errors[i].max});
+    lines.push_back({padded(pose.name, name_width) + " error median " + num(result.summary.errors[i].median) + " max " +
+                         num(result.summary.errors[i].max) + ", " + counted(pose.outside.size(), "centre") + " outside",
+                     result.summary.errors[i].max});
   }
   print_pose_lines(lines, log, "  ");
   report.update(pose_map_report(result));

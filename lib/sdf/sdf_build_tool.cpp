@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/version.hpp"
 #include "core/subject.hpp"
 #include "io/vdb_io.hpp"
@@ -44,10 +45,9 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
                    {"spx_generator", std::string("sdf-build (spx) ") + version_string()}});
   }
   const GridShape& s = sdf.field.shape;
-  char line[256];
-  std::snprintf(line, sizeof line, "%s: %zu triangles -> %dx%dx%d voxels of %.4g, %zu inside", output.c_str(),
-                loaded.mesh.triangles.size(), s.dims.x(), s.dims.y(), s.dims.z(), s.voxel_size, sdf.stats.interior_voxels);
-  log.info(line);
+  log.info(output + ": " + counted(loaded.mesh.triangles.size(), "triangle") + " -> " + std::to_string(s.dims.x()) + "x" +
+           std::to_string(s.dims.y()) + "x" + std::to_string(s.dims.z()) + " voxels of " + num(s.voxel_size) + ", " +
+           std::to_string(sdf.stats.interior_voxels) + " inside");
 
   report["input"] = input;
   report["output"] = output;

@@ -229,5 +229,21 @@ check "--rest/--pose: no pose meshes in the GLB" '[ "$(py "
 import json,sys
 a=json.loads(sys.argv[1]); c=json.loads(sys.argv[2]); print(c[\"vertices\"] > a[\"vertices\"])" "$s1" "$s3")" = True ]'
 
+# A deep output folder (a farm's paths run long) and a long pose name: each tool's summary line
+# keeps its end, where the counts and what limited the run are.
+deep=$out/$(printf 'd%.0s' {1..120})/$(printf 'e%.0s' {1..120})
+mkdir -p "$deep"
+long_name=$(printf 'p%.0s' {1..250})  # with .obj, the longest name a file can have
+cp "${poses[0]}" "$deep/$long_name.obj"
+"$bin/sdf-build" "$rest" -o "$deep/rest.vdb" --resolution 32 2>"$out/deep.log"
+"$bin/sphere-pack" "$deep/rest.vdb" -o "$deep/s.json" --max-spheres 1 2>>"$out/deep.log"
+"$bin/pose-map" --rest "$rest" --pose "$deep/$long_name.obj" --spheres "$deep/s.json" -o "$deep/p.json" 2>>"$out/deep.log"
+"$bin/proxy-eval" "$deep/p.json" --rest "$rest" --pose "$deep/$long_name.obj" 2>>"$out/deep.log"
+check "a deep output path cut sdf-build's line short" "grep -q '^sdf-build: $deep/rest.vdb: [0-9]* triangles -> .* inside\$' '$out/deep.log'"
+check "a deep output path cut sphere-pack's line short" "grep -q '^sphere-pack: $deep/s.json: 1 sphere, radii .*; limited by max_spheres\$' '$out/deep.log'"
+check "a deep output path cut pose-map's line short" "grep -q '^pose-map: $deep/p.json: 1 sphere x 2 poses, 1 blend site\$' '$out/deep.log'"
+check "a long pose name cut pose-map's pose line short" "grep -q '^pose-map:   $long_name error median .*, [0-9]* centres\\? outside\$' '$out/deep.log'"
+check "a long pose name cut proxy-eval's pose line short" "grep -q '^proxy-eval: $long_name median .* coverage [0-9.]*\$' '$out/deep.log'"
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]
