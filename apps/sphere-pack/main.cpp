@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   tool.writes_file("--output");
   tool.app.add_option("--mesh", mesh, "The mesh the field was built from: exact radii, and the error is measured "
                                       "at its vertices (needed by the cover method and --tolerance; default: the mesh "
-                                      "sdf-build recorded in the field, while it is there)");
+                                      "sdf-build recorded in the field, seen from the field's folder or as given to "
+                                      "sdf-build, while it is there)");
   tool.app.add_option("--method", method, "cover (default): inscribed spheres chosen by a set cover of the surface; "
                                           "greedy: the paper's packing (deepest first)")
       ->check(CLI::IsMember({"cover", "greedy"}));

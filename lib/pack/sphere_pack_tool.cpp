@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -373,12 +374,24 @@ std::string mesh_for_field(const std::string& given, const LoadedSdf& sdf, const
   const auto recorded = sdf.metadata.find("spx_source_mesh");
   if (recorded == sdf.metadata.end())
     fail_option("mesh", why + ", and " + input + " does not record the mesh it was built from; pass it with --mesh");
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(recorded->second, ec))
-    fail_option("mesh", why + "; " + input + " was built from " + recorded->second +
-                            ", which is not there from this folder; pass it with --mesh");
-  log.info("using the mesh " + input + " was built from: " + recorded->second + " (--mesh not given)");
-  return recorded->second;
+  // Where the field lies, the mesh as sdf-build saw it from there: it holds from any working
+  // folder and when both are moved together. Then the path as given to sdf-build (fields written
+  // before the first was recorded, or a mesh left where it was when the field moved).
+  std::vector<std::string> tried;
+  const auto from_field = sdf.metadata.find("spx_source_mesh_from_field");
+  if (from_field != sdf.metadata.end() && !from_field->second.empty()) {
+    const std::filesystem::path beside = std::filesystem::path(input).parent_path() / from_field->second;
+    tried.push_back(beside.lexically_normal().generic_string());
+  }
+  if (tried.empty() || tried.front() != recorded->second) tried.push_back(recorded->second);
+  for (const std::string& path : tried) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) continue;
+    log.info("using the mesh " + input + " was built from: " + path + " (--mesh not given)");
+    return path;
+  }
+  fail_option("mesh", why + "; " + input + " was built from " + recorded->second + ", which is not there from this folder" +
+                          (tried.size() > 1 ? " nor from the field's (" + tried.front() + ")" : "") + "; pass it with --mesh");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "sdf/sdf_build_tool.hpp"
 
 #include <cstdio>
+#include <filesystem>
 
 #include "core/error.hpp"
 #include "core/format.hpp"
@@ -9,6 +10,21 @@
 #include "io/vdb_io.hpp"
 
 namespace spx {
+
+namespace {
+
+// `mesh` as seen from the folder of `field` (a path that still holds when the two are moved
+// together or read from another working folder), or "" where there is none (another drive).
+std::string path_from_field(const std::string& mesh, const std::string& field) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path folder = fs::absolute(fs::path(field), ec).parent_path();
+  if (ec) return "";
+  const fs::path rel = fs::relative(fs::absolute(fs::path(mesh), ec), folder, ec);
+  return ec ? "" : rel.generic_string();
+}
+
+}  // namespace
 
 void sdf_build_files(const std::string& input, const std::string& output, const SdfOptions& options, Log& log, json& report) {
   LoadedMesh loaded;
@@ -39,6 +55,7 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
     StageTimer t(log, "write");
     write_sdf_vdb(output, sdf.field,
                   {{"spx_source_mesh", input},
+                   {"spx_source_mesh_from_field", path_from_field(input, output)},
                    {"spx_source_bounds", box},
                    {"spx_open_solid", sdf.stats.bounded_by_holes ? "yes" : "no"},
                    {"spx_sign_method", sdf.stats.sign_method},

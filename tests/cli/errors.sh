@@ -69,6 +69,20 @@ cp "$out/in/rest.obj" "$out/gone.obj"
 rm "$out/gone.obj"
 expect 1 "mesh: is needed by the cover method .*gone.vdb was built from .*gone.obj, which is not there from this folder; pass it with --mesh" \
   "$out/u.json" -- "$bin/sphere-pack" "$out/gone.vdb" -o "$out/u.json"
+# The field records its mesh as seen from its own folder too: sphere-pack finds it from any working
+# folder, and after the two are moved together.
+mkdir -p "$out/away/meshes" "$out/away/fields"
+cp "$out/in/rest.obj" "$out/away/meshes/body.obj"
+(cd "$out/away/meshes" && "$bin/sdf-build" body.obj -o ../fields/body.vdb --resolution 32 -q)
+if (cd / && "$bin/sphere-pack" "$out/away/fields/body.vdb" -o "$out/away/s.json" --max-spheres 4 -q) &&
+  /usr/bin/python3 -c "import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))['source']['mesh'].endswith('away/meshes/body.obj') else 1)" "$out/away/s.json"; then
+  passed=$((passed + 1)); else echo "FAIL: sphere-pack from another folder did not find the field's mesh beside the field"; fail=$((fail + 1)); fi
+mv "$out/away" "$out/moved"
+if (cd "$out/moved/fields" && "$bin/sphere-pack" body.vdb -o s.json --max-spheres 4 -q) && [ -s "$out/moved/fields/s.json" ]; then
+  passed=$((passed + 1)); else echo "FAIL: sphere-pack did not find the field's mesh after both were moved together"; fail=$((fail + 1)); fi
+rm "$out/moved/meshes/body.obj"
+expect 1 "moved/fields/body.vdb was built from body.obj, which is not there from this folder nor from the field's (.*moved/meshes/body.obj); pass it with --mesh" \
+  "$out/u.json" -- "$bin/sphere-pack" "$out/moved/fields/body.vdb" -o "$out/u.json"
 expect 1 "mesh: is needed by --tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/gone.vdb" --method greedy --tolerance 1% -o "$out/u.json"
 expect 1 "tolerance" "$out/u.json" -- "$bin/sphere-pack" "$out/rest.vdb" --mesh "$out/in/rest.obj" --tolerance abc -o "$out/u.json"
 
