@@ -1,7 +1,6 @@
 #include "posemap/pose_map_tool.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <limits>
 #include <set>
 #include <stdexcept>
