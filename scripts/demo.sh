@@ -11,6 +11,7 @@ assets=("$@")
 [ ${#assets[@]} -gt 0 ] || assets=(car barrel car-morph)
 m="make -s -C $root/samples BIN=$root/build/release/apps OUT=$root/build/samples"
 for asset in "${assets[@]}"; do
+  started=$(date +%s)
   case $asset in
     *-morph)  # sample-gen's glTF with the poses as morph targets, through pose-extract
       base=${asset%-morph}
@@ -18,5 +19,5 @@ for asset in "${assets[@]}"; do
       $m NAME="$asset" ASSET_FILE="$root/build/samples/$base/$asset.glb" EXTRACT_FLAGS=--morph-targets PAGE_FLAGS="--up z" ;;
     *) $m ASSET="$asset" ;;
   esac
-  python3 "$root/scripts/summary.py" "$root/build/samples/$asset"
+  python3 "$root/scripts/summary.py" "$root/build/samples/$asset" --ran-since "$started"
 done

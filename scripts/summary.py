@@ -1,9 +1,14 @@
 #!/usr/bin/env python3
-"""Short report of one chain run from the tools' --report files: spheres, errors, times."""
+"""Short report of one chain run from the tools' --report files: spheres, errors, times.
+
+usage: summary.py FOLDER [--ran-since EPOCH_SECONDS]
+With --ran-since (when make was started), a chain whose outputs were already up to date (no
+report written since) says that its times are those of the earlier run that wrote them.
+"""
 import json
 import os
 import sys
-
+import time
 
 
 def diagonal(obj_path):
@@ -17,7 +22,7 @@ def diagonal(obj_path):
     return sum((b - a) ** 2 for a, b in zip(lo, hi)) ** 0.5
 
 
-def main(folder):
+def main(folder, ran_since=None):
     def load(name):
         with open(os.path.join(folder, name)) as f:
             return json.load(f)
@@ -35,16 +40,32 @@ def main(folder):
     for p in pose["poses"]:
         e = p["error"]
         print(f"{p['name']:>12}  {e['median']:10.4f}  {e['max']:8.4f}  {len(p['outside'])}")
-    times = [("sdf-build", sdf), ("sphere-pack", pack), ("pose-map", pose)] + [(n[7:-12], load(n)) for n in exports]
+    steps = [("sdf-build", "sdf"), ("sphere-pack", "pack"), ("pose-map", "posemap")] + [(n[7:-12], n[:-12]) for n in exports]
     if os.path.exists(os.path.join(folder, "extract.report.json")):
-        ex = load("extract.report.json")
-        targets = ", ".join(p["name"] for p in ex["poses"])
+        targets = ", ".join(p["name"] for p in load("extract.report.json")["poses"])
         print(f"poses from the asset by pose-extract: {targets}")
-        times.insert(0, ("pose-extract", ex))
-    print("time: " + ", ".join(f"{name} {r['timings_s']['total']:.2f} s" for name, r in times)
-          + f"; total {sum(r['timings_s']['total'] for _, r in times):.2f} s")
+        steps.insert(0, ("pose-extract", "extract"))
+    times = [(name, load(f"{stem}.report.json")["timings_s"]["total"],
+              os.path.getmtime(os.path.join(folder, f"{stem}.report.json"))) for name, stem in steps]
+    # make reruns only what changed: a step whose report is older than this run did not run now.
+    earlier = [t for t in times if ran_since is not None and t[2] < ran_since]
+    when, mark = "time", set()
+    if earlier:
+        stamp = time.strftime("%Y-%m-%d %H:%M", time.localtime(max(t[2] for t in earlier)))
+        if len(earlier) == len(times):
+            when = f"time (nothing ran, every output was up to date: the times of the run at {stamp}; make -B runs it all)"
+        else:
+            when, mark = f"time (* up to date, not run now: the time of the run at {stamp})", {t[0] for t in earlier}
+    print(f"{when}: " + ", ".join(f"{name}{'*' if name in mark else ''} {seconds:.2f} s" for name, seconds, _ in times)
+          + f"; total {sum(t[1] for t in times):.2f} s")
     print(f"outputs: {folder}")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    args = sys.argv[1:]
+    since = None
+    if len(args) == 3 and args[1] == "--ran-since":
+        since = float(args[2])
+    elif len(args) != 1:
+        sys.exit(__doc__.split("\n\n")[1])
+    main(args[0], since)

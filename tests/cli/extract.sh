@@ -11,11 +11,17 @@ v() { /usr/bin/python3 "$src/tests/cli/validate_json.py" "$src/schemas" "$@" >/d
 
 "$bin/sample-gen" car -o "$out/in" -q
 m="make -s -C $src/samples BIN=$bin OUT=$out RES=48"
+started=$(date +%s)
 $m NAME=car-morph ASSET_FILE="$out/in/car-morph.glb" EXTRACT_FLAGS=--morph-targets
 check "morph-target asset: no .spx" test -s "$out/car-morph/car-morph.spx"
 check "morph-target asset: poses.json schema" v poses.schema.json "$out/car-morph/poses/poses.json"
 check "morph-target asset: report schema" v pose-extract-report.schema.json "$out/car-morph/extract.report.json"
 check "make would rerun an up-to-date chain" $m NAME=car-morph ASSET_FILE="$out/in/car-morph.glb" -q
+# The demo's summary: the times of this run, and, where nothing ran since, says whose times they are.
+summary_says() { /usr/bin/python3 "$src/scripts/summary.py" "$out/car-morph" --ran-since "$1" | grep -q "$2"; }
+check "summary: a chain that ran is not called up to date" summary_says "$started" "^time: pose-extract"
+check "summary: an up-to-date chain's times are not called this run's" \
+  summary_says "$(( $(date +%s) + 1 ))" "^time (nothing ran, every output was up to date"
 # The poses are the sample's OBJ poses, number for number.
 for p in rest front rear side roof; do
   check "$p.obj differs from the sample's" cmp -s <(grep -v '^#' "$out/in/$p.obj") <(grep -v '^#' "$out/car-morph/poses/$p.obj")
