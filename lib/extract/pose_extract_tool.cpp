@@ -222,8 +222,8 @@ std::vector<PoseRequest> select_frames(const Asset& asset, const Body& body, con
     log.info("--select " + std::to_string(k) + ": the clip has only " + std::to_string(requests.size()) +
              " frames; all are kept");
   log.info("kept " + std::to_string(keep.size()) + " of " + std::to_string(requests.size()) +
-           " frames; every frame is within " + format_seconds(100 * spread / body.diagonal) +
-           "% of the diagonal (RMS) of the rest or a kept frame");
+           " frames; every frame is within " + num(100 * spread / body.diagonal) +
+           " % of the diagonal (RMS) of the rest or a kept frame");
   std::vector<PoseRequest> kept;
   for (size_t i = 0; i < keep.size(); ++i) {
     kept.push_back(requests[keep[i]]);

@@ -114,8 +114,9 @@ void log_summary(const json& s, const char* runtime, const char* group, Log& log
   if (s["frames"].get<size_t>() == 0) return;
   const json& p = s["percent_of_diagonal"];
   char line[320];
-  std::snprintf(line, sizeof line, "%-15s %-15s %4zu frames: max error median %.3f%% worst %.3f%%, overshoot %.3f%%, %zu with centres outside",
-                runtime, group, s["frames"].get<size_t>(), p["max_error_median"].get<double>(),
+  const size_t frames = s["frames"].get<size_t>();
+  std::snprintf(line, sizeof line, "%-15s %-15s %4zu %-7s max error median %.3f%% worst %.3f%%, overshoot %.3f%%, %zu with centres outside",
+                runtime, group, frames, frames == 1 ? "frame:" : "frames:", p["max_error_median"].get<double>(),
                 p["max_error_worst"].get<double>(), p["overshoot_worst"].get<double>(),
                 s["frames_with_centers_outside"].get<size_t>());
   log.info(line);
