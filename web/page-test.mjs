@@ -34,6 +34,14 @@ const state = () => page.evaluate(() => window.spxPage.state());
 const shot = (suffix) => page.screenshot({ path: resolve(outDir, `${name}${suffix}.png`) });
 const samples = [];
 
+// Opened in a smaller window first: the body's box is in view beside the panel (330 px).
+await page.setViewportSize({ width: 1000, height: 640 });
+await page.goto(pathToFileURL(resolve(pagePath)).href);
+await page.waitForSelector('body[data-spx-ready="1"]', { timeout: 60000 });
+const corners = await page.evaluate(() => window.spxPage.cornersOnPage());
+check(corners.every(([x, y]) => x >= 330 && x <= 1000 && y >= 0 && y <= 640),
+  `the body's box is in view beside the panel (${corners.map((c) => c.map(Math.round).join(',')).join(' ')})`);
+await page.setViewportSize({ width: 1280, height: 760 });
 await page.goto(pathToFileURL(resolve(pagePath)).href);
 await page.waitForSelector('body[data-spx-ready="1"]', { timeout: 60000 });
 const first = await dataset();

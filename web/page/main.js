@@ -31,6 +31,8 @@ function el(tag, attrs = {}, ...children) {
 
 const pct = (x) => `${x.toFixed(3)} %`;
 const short = (x) => Number(x.toPrecision(3)).toString();
+// "1 pose", "3 poses": a count and its noun.
+const counted = (n, noun) => `${n} ${noun}${n === 1 ? '' : 's'}`;
 
 // A round colour scale above `x` (1, 2 or 5 times a power of ten).
 function roundUp(x) {
@@ -128,10 +130,10 @@ class Page {
     const m = this.m, zero = M.zeroRadius(this.xyzr), b = document.body.dataset, s = this.stats;
     const joints = m.skin ? m.skin.joints.length : 0;
     this.readout.replaceChildren(
-      el('div', {}, `${m.n} spheres${zero ? ` (${zero} of radius 0, hidden)` : ''} · ${m.poses} poses · ${joints} joints`),
+      el('div', {}, `${counted(m.n, 'sphere')}${zero ? ` (${zero} of radius 0, hidden)` : ''} · ${counted(m.poses, 'pose')}${joints ? ` · ${counted(joints, 'joint')}` : ''}`),
       el('div', {}, s ? `error median ${pct(s.median)} · max ${pct(s.max)} of the diagonal` : 'no body given: proxy-export --rest/--pose, --manifest or --asset adds it'),
-      el('div', {}, s ? `${s.spheresOut} spheres poke out${s.spheresOut ? ` (deepest ${pct(s.overshoot)})` : ''}` : ''),
-      el('div', {}, m.body ? `body ${m.body.size.map(short).join(' × ')} (diagonal ${short(m.body.diagonal)}), grid ${short(this.view.gridStep)}` : ''),
+      el('div', {}, s ? `${s.spheresOut === 1 ? '1 sphere pokes' : `${s.spheresOut} spheres poke`} out${s.spheresOut ? ` (deepest ${pct(s.overshoot)})` : ''}` : ''),
+      el('div', {}, m.body ? `body ${m.body.size.map(short).join(' × ')} (diagonal ${short(m.body.diagonal)}), grid squares ${short(this.view.gridStep)} wide` : ''),
     );
     Object.assign(b, {
       spheres: m.n, poses: m.poses, joints, zeroRadius: zero,
@@ -286,11 +288,18 @@ class Page {
 
 const data = JSON.parse(document.getElementById('spx-data').textContent);
 const page = new Page(data);
-// For scripts: what is shown, and where the body's centre shows on the page (to click it).
+// For scripts: what is shown, where the body's centre shows on the page (to click it), and
+// where its box's corners show.
 window.spxPage = {
   state: () => page.state(),
   centreOnPage: () => {
     const b = page.bounds();
     return page.view.toClient(b.min.clone().add(b.max).multiplyScalar(0.5).toArray());
+  },
+  cornersOnPage: () => {
+    const b = page.bounds(), corners = [];
+    for (let k = 0; k < 8; ++k)
+      corners.push(page.view.toClient([(k & 1 ? b.max : b.min).x, (k & 2 ? b.max : b.min).y, (k & 4 ? b.max : b.min).z]));
+    return corners;
   },
 };

@@ -8,6 +8,27 @@ import {
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 const SPHERE = new Color(0x2f9e8f), POKING = new Color(0x3050ff);
+const FOV = 40; // vertical, degrees
+
+// The panel's width on the left (330 px), where the window leaves room for it.
+const panelWidth = (w) => (w > 700 ? 330 : 0);
+
+// How far along `side` (a unit vector) from the box's centre the camera must stand for every
+// corner of the box to fall in the part of a w x h view the panel leaves free, with a margin. A
+// corner v (from the centre) lies at depth d - v.side, and is in view while its offsets across
+// the view stay under that depth times the half-angles' tangents.
+export function fitDistance(bounds, side, up, w, h) {
+  const tanV = 0.9 * Math.tan((FOV * Math.PI) / 360), tanH = (tanV * Math.max(w - panelWidth(w), 1)) / Math.max(h, 1);
+  const forward = side.clone().negate(), right = forward.clone().cross(up).normalize();
+  const across = right.clone().cross(forward);
+  const centre = bounds.min.clone().add(bounds.max).multiplyScalar(0.5);
+  let d = 0;
+  for (let k = 0; k < 8; ++k) {
+    const v = new Vector3(k & 1 ? bounds.max.x : bounds.min.x, k & 2 ? bounds.max.y : bounds.min.y, k & 4 ? bounds.max.z : bounds.min.z).sub(centre);
+    d = Math.max(d, v.dot(side) + Math.abs(v.dot(right)) / tanH, v.dot(side) + Math.abs(v.dot(across)) / tanV);
+  }
+  return d;
+}
 
 // White (on the union) to red (`scale` away); blue where the union pokes out.
 export function errorColor(d, scale, out, i) {
@@ -33,10 +54,10 @@ export class View {
     const up = model.up === 'z' ? new Vector3(0, 0, 1) : new Vector3(0, 1, 0);
     const centre = bounds.min.clone().add(bounds.max).multiplyScalar(0.5);
     const diag = bounds.max.distanceTo(bounds.min) || 1;
-    this.camera = new PerspectiveCamera(40, 1, diag / 1000, diag * 100);
+    this.camera = new PerspectiveCamera(FOV, 1, diag / 1000, diag * 100);
     this.camera.up.copy(up);
-    const side = model.up === 'z' ? new Vector3(1.1, -1.4, 0.7) : new Vector3(1.1, 0.7, 1.4);
-    this.camera.position.copy(centre).addScaledVector(side.normalize(), 1.3 * diag);
+    const side = (model.up === 'z' ? new Vector3(1.1, -1.4, 0.7) : new Vector3(1.1, 0.7, 1.4)).normalize();
+    this.camera.position.copy(centre).addScaledVector(side, fitDistance(bounds, side, up, window.innerWidth, window.innerHeight));
     sun.position.copy(this.camera.position).addScaledVector(up, diag);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.target.copy(centre);
@@ -134,7 +155,7 @@ export class View {
     const w = window.innerWidth, h = window.innerHeight;
     this.renderer.setSize(w, h);
     // The body centred in what the panel (330 px on the left) leaves free.
-    const panel = w > 700 ? 330 : 0;
+    const panel = panelWidth(w);
     this.camera.setViewOffset(w + panel, h, 0, 0, w, h);
     this.camera.aspect = (w + panel) / h;
     this.camera.updateProjectionMatrix();
