@@ -108,7 +108,8 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
   if (measured["blends"].contains("max")) {
     std::snprintf(line, sizeof line, " median %.4g max %.4g over %d blends", measured["blends"]["median"].get<double>(),
                   measured["blends"]["max"].get<double>(), opt.eval.blends);
-    log.info(padded("blends", name_width) + line);
+    // A skinned proxy's blends of its poses are no motion a host plays: said beside the figure.
+    log.info(padded("blends", name_width) + line + (proxy.skin.joints.empty() ? "" : " (a host skins this proxy instead)"));
   }
   if (!opt.colors.empty()) {
     StageTimer t(log, "colors");

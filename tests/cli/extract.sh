@@ -35,7 +35,7 @@ done
 "$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --manifest "$out/car-morph/poses/poses.json" \
   --report "$out/eval.json" > "$out/eval.log" 2>&1
 check "proxy-eval: a proxy without a skin is played by its blends, and no line says otherwise" \
-  bash -c '! grep -q "by its skin" "$1"' _ "$out/eval.log"
+  bash -c '! grep -q "by its skin\|host skins" "$1"' _ "$out/eval.log"
 check "proxy-eval --manifest: the rest and 4 poses" \
   /usr/bin/python3 -c "import json,sys; sys.exit(len(json.load(open(sys.argv[1]))['poses']) != 5)" "$out/eval.json"
 
@@ -71,6 +71,8 @@ PY
   "$bin/proxy-eval" "$out/rigged/rigged.proxy.json" --manifest "$out/rigged/poses/poses.json" > "$out/rigged/eval.log" 2>&1
   check "skinned clip: proxy-eval without --asset names it (blends of a clip's frames are no motion of it)" \
     grep -q "plays this proxy by its skin.*--asset" "$out/rigged/eval.log"
+  check "skinned clip: proxy-eval's blends line says a host skins the proxy instead" \
+    grep -q "blends .* over .* blends (a host skins this proxy instead)" "$out/rigged/eval.log"
 
   # The whole clip as a host plays it (proxy-eval --asset): each frame and half-way between.
   # At the 2 frames the chain saw, no sphere pokes out and the best-fit blend is that example's
