@@ -3,7 +3,7 @@
 // play/pause and a scrubber for a skinned one. The readout and <body data-*> say what is shown.
 import { Box3, Triangle, Vector3 } from 'three';
 import * as M from './model.js';
-import { View, errorColor } from './view.js';
+import { View, boxCorners, errorColor } from './view.js';
 
 const CSS = `
 html,body{margin:0;height:100%;overflow:hidden;background:#20242b;font:13px/1.45 system-ui,sans-serif;color:#e8eaed}
@@ -296,10 +296,5 @@ window.spxPage = {
     const b = page.bounds();
     return page.view.toClient(b.min.clone().add(b.max).multiplyScalar(0.5).toArray());
   },
-  cornersOnPage: () => {
-    const b = page.bounds(), corners = [];
-    for (let k = 0; k < 8; ++k)
-      corners.push(page.view.toClient([(k & 1 ? b.max : b.min).x, (k & 2 ? b.max : b.min).y, (k & 4 ? b.max : b.min).z]));
-    return corners;
-  },
+  cornersOnPage: () => boxCorners(page.bounds()).map((c) => page.view.toClient(c.toArray())),
 };

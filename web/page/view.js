@@ -23,11 +23,19 @@ export function fitDistance(bounds, side, up, w, h) {
   const across = right.clone().cross(forward);
   const centre = bounds.min.clone().add(bounds.max).multiplyScalar(0.5);
   let d = 0;
-  for (let k = 0; k < 8; ++k) {
-    const v = new Vector3(k & 1 ? bounds.max.x : bounds.min.x, k & 2 ? bounds.max.y : bounds.min.y, k & 4 ? bounds.max.z : bounds.min.z).sub(centre);
+  for (const corner of boxCorners(bounds)) {
+    const v = corner.sub(centre);
     d = Math.max(d, v.dot(side) + Math.abs(v.dot(right)) / tanH, v.dot(side) + Math.abs(v.dot(across)) / tanV);
   }
   return d;
+}
+
+// The 8 corners of a Box3.
+export function boxCorners(box) {
+  const corners = [];
+  for (let k = 0; k < 8; ++k)
+    corners.push(new Vector3((k & 1 ? box.max : box.min).x, (k & 2 ? box.max : box.min).y, (k & 4 ? box.max : box.min).z));
+  return corners;
 }
 
 // White (on the union) to red (`scale` away); blue where the union pokes out.
