@@ -122,7 +122,7 @@ for line in open(sys.argv[1]):
     out.write('v %g %g %g\n' % tuple(100 * float(x) for x in w[1:4]) if w and w[0] == 'v' else line)
 " "$out/in/dent.obj" "$out/dent-cm.obj"
 said=$("$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/dent-cm.obj" --spheres "$out/s.json" -o "$out/cm.json" 2>&1)
-if printf '%s' "$said" | grep -q "dent-cm.obj: its size is .*another unit"; then passed=$((passed + 1)); else
+if grep -q "dent-cm.obj: its size is .*another unit" <<<"$said"; then passed=$((passed + 1)); else
   echo "FAIL: no unit-scale warning"; fail=$((fail + 1)); fi
 # Swapped rest and pose: the rest spheres do not fit the "rest" mesh.
 # A pose that is inside out (mirrored): named, for the map as given and for the selection; an open
@@ -137,7 +137,7 @@ expect 2 "swapped" "$out/sw.json" -- "$bin/pose-map" --rest "$out/in/squash.obj"
 # ... said before the tets are made (it came after Mesh_3's whole run, seconds on a large mesh).
 said=$("$bin/pose-map" --rest "$out/in/squash.obj" --pose "$out/in/rest.obj" --spheres "$out/s.json" -o "$out/sw.json" -v 2>&1)
 check "spheres that do not fit the rest said only after the tets: $said" \
-  eval 'printf "%s" "$said" | grep -q "swapped" && ! printf "%s" "$said" | grep -q "tets\|tetrahedralize"'
+  eval 'grep -q "swapped" <<<"$said" && ! grep -q "tets\|tetrahedralize" <<<"$said"'
 
 # Counts and tolerances users mistype.
 expect 1 "max-spheres: must be above 0, not 0" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" --max-spheres 0
@@ -292,7 +292,7 @@ json.dump(p, open(out + '/long.proxy.json', 'w'))
 expect 3 "pm/long.json: has 257 poses (the rest and 256 examples); a .spx holds at most 256" "$out/long.json" -- \
   "$bin/pose-map" --manifest "$out/pm/long.json" --spheres "$out/s.json" -o "$out/long.json"
 expect 3 "long.proxy.json: has 257 poses .*: map fewer poses" "" -- "$bin/proxy-eval" "$out/long.proxy.json" --manifest "$out/pm/long.json"
-if "$1/samples/runtime-demo" --help | grep -q "usage: runtime-demo"; then passed=$((passed + 1)); else
+if said=$("$1/samples/runtime-demo" --help) && grep -q "usage: runtime-demo" <<<"$said"; then passed=$((passed + 1)); else
   echo "FAIL: runtime-demo --help"; fail=$((fail + 1)); fi
 
 # pose-extract: what the asset lacks, and clip/mesh/frame choices it does not have. No manifest.
@@ -412,7 +412,7 @@ fi
 
 # --help and --version succeed on every tool.
 for t in pose-extract sdf-build sphere-pack pose-map proxy-export proxy-eval sample-gen; do
-  if "$bin/$t" --help >/dev/null && "$bin/$t" --version | grep -q "(spx) "; then passed=$((passed + 1)); else
+  if "$bin/$t" --help >/dev/null && said=$("$bin/$t" --version) && grep -q "(spx) " <<<"$said"; then passed=$((passed + 1)); else
     echo "FAIL: $t --help/--version"; fail=$((fail + 1)); fi
 done
 # A bad .spx gives the demo's status line and a non-zero exit.

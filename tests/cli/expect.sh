@@ -17,15 +17,15 @@ expect() {
   err=$("$@" 2>&1 >/dev/null)
   local got=$?
   local lines
-  lines=$(printf '%s' "$err" | grep -c '^Error:')
-  if [ "$got" != "$code" ] || ! printf '%s' "$err" | grep -q -- "$pattern" || [ "$lines" != 1 ] ||
+  lines=$(grep -c '^Error:' <<<"$err")
+  if [ "$got" != "$code" ] || ! grep -q -- "$pattern" <<<"$err" || [ "$lines" != 1 ] ||
      { [ -n "$output" ] && [ -e "$output" ]; }; then
     echo "FAIL: $* -> exit $got (want $code), stderr: $err"
     fail=$((fail + 1))
   else
     passed=$((passed + 1))
   fi
-  if ls -a "$out" | grep -q '\.tmp\.'; then echo "FAIL: temp file left by $*"; fail=$((fail + 1)); fi
+  if grep -q '\.tmp\.' <<<"$(ls -a "$out")"; then echo "FAIL: temp file left by $*"; fail=$((fail + 1)); fi
 }
 
 # check MESSAGE COMMAND...: the command succeeds (a script may define its own check first).

@@ -18,7 +18,8 @@ check "morph-target asset: poses.json schema" v poses.schema.json "$out/car-morp
 check "morph-target asset: report schema" v pose-extract-report.schema.json "$out/car-morph/extract.report.json"
 check "make would rerun an up-to-date chain" $m NAME=car-morph ASSET_FILE="$out/in/car-morph.glb" -q
 # The demo's summary: the times of this run, and, where nothing ran since, says whose times they are.
-summary_says() { /usr/bin/python3 "$src/scripts/summary.py" "$out/car-morph" --ran-since "$1" | grep -q "$2"; }
+# Read whole, then matched: grep -q would close the pipe while summary.py still prints (a broken pipe).
+summary_says() { local said; said=$(/usr/bin/python3 "$src/scripts/summary.py" "$out/car-morph" --ran-since "$1") && grep -q "$2" <<<"$said"; }
 check "summary: a chain that ran is not called up to date" summary_says "$started" "^time: pose-extract"
 check "summary: an up-to-date chain's times are not called this run's" \
   summary_says "$(( $(date +%s) + 1 ))" "^time (nothing ran, every output was up to date"

@@ -64,7 +64,7 @@ check "sphere-pack --cache: the spheres differ from a run without it" 'cmp -s "$
 said=$("$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/many.json" --max-spheres 100000 --polish 0 \
   --report "$out/many.report.json" 2>&1)
 check "--max-spheres 100000: the spheres used not said" \
-  'printf "%s" "$said" | grep -q "of the 100000 spheres asked: no other candidate lowered any sample" &&
+  'grep -q "of the 100000 spheres asked: no other candidate lowered any sample" <<<"$said" &&
    [ "$(field "$out/many.json" "len(r[\"spheres\"])")" -lt 100000 ]'
 check "--max-spheres 100000: the report says max_spheres decided" \
   '[ "$(field "$out/many.report.json" "r[\"cover\"][\"limited_by\"].startswith(\"the candidates\")")" = True ]'
