@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <iomanip>
@@ -1911,8 +1912,16 @@ TEST(PoseMap, SpheresPokingOutBetweenThePosesAreCounted) {
   const TriMesh& rest = clip.rest.mesh;
   SpheresFile file;
   pack_rest(rest, 64, {kDefaultTolerancePercent, true}, file);
-  const PoseMapResult r = pose_map(rest, "bend", clip.poses, file, {}, Log::silent(), &clip.skin);
+  Log log("pose-map", -1);
+  const PoseMapResult r = pose_map(rest, "bend", clip.poses, file, {}, log, &clip.skin);
   const ClipOvershoot& between = r.summary.between;
+  // The warning names what holds them, and how far that lets them out (not "inside").
+  EXPECT_EQ(std::count_if(log.warnings().begin(), log.warnings().end(),
+                          [](const std::string& w) {
+                            return w.find("poke out of the body") != std::string::npos &&
+                                   w.find("--hold-over-clip holds them within 0.25 % of the diagonal") != std::string::npos;
+                          }),
+            1);
   ASSERT_EQ(between.times, clip.skin.clip.times.size());
   const ClipRadius meshes(clip.skin, rest, 1e30);
   std::vector<TriMesh> mesh;

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/format.hpp"
+#include "core/tolerance.hpp"
 #include "mesh/near_boundary.hpp"
 
 namespace spx {
@@ -322,7 +323,8 @@ ClipOvershoot check_over_clip(const SkinFile& skin, const TriMesh& rest, double 
              " spheres poke out of the body at some of the clip's " + std::to_string(out.times) + " times (by up to " +
              num(out.worst) + ", " + num(100 * out.worst / rest.diagonal()) + " % of the diagonal; " +
              counted(out.centres_outside, "centre") + (out.centres_outside == 1 ? " leaves" : " leave") +
-             " it): --hold-over-clip keeps them inside");
+             " it): --hold-over-clip holds them within " + num(kDefaultClipOvershootPercent) +
+             " % of the diagonal (--clip-overshoot)");
   return out;
 }
 
