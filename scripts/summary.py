@@ -7,6 +7,7 @@ report written since) says that its times are those of the earlier run that wrot
 """
 import json
 import os
+import signal
 import sys
 import time
 
@@ -62,6 +63,8 @@ def main(folder, ran_since=None):
 
 
 if __name__ == "__main__":
+    # Piped into `head` or `grep -q`, stop quietly as the tools do, not with a traceback.
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     args = sys.argv[1:]
     since = None
     if len(args) == 3 and args[1] == "--ran-since":
