@@ -1952,6 +1952,19 @@ TEST(PoseMap, SpheresPokingOutBetweenThePosesAreCounted) {
   EXPECT_NEAR(between.worst, worst, 1e-9 * rest.diagonal());
 }
 
+// The warning over the clip reads as a sentence whatever its counts: no "0 centres leave it"
+// where none does (the walk's 6 frames said so), the verb agreeing with one sphere.
+TEST(PoseMap, BetweenPosesWarningSaysOnlyWhatHappened) {
+  const std::string none = between_poses_warning({1315, 98, 0, 12.51}, 134, 185.8);
+  EXPECT_EQ(none, "between the poses given, 98 of 134 spheres poke out of the body at some of the clip's 1315 times "
+                  "(by up to 12.51, 6.733 % of the diagonal): --hold-over-clip holds them within 0.25 % of the "
+                  "diagonal (--clip-overshoot)");
+  const std::string one = between_poses_warning({17, 1, 1, 2}, 5, 100);
+  EXPECT_NE(one.find("1 of 5 spheres pokes out"), std::string::npos) << one;
+  EXPECT_NE(one.find("(by up to 2, 2 % of the diagonal; 1 centre leaves it)"), std::string::npos) << one;
+  EXPECT_NE(between_poses_warning({17, 3, 2, 2}, 5, 100).find("; 2 centres leave it)"), std::string::npos);
+}
+
 // Rest vertex v's 4 heaviest joints (no bind point yet).
 SkinInfluence vertex_influence(const SkinFile& skin, size_t v) {
   Eigen::VectorXd w = Eigen::VectorXd::Zero(Eigen::Index(skin.joints.size()));

@@ -319,13 +319,19 @@ ClipOvershoot check_over_clip(const SkinFile& skin, const TriMesh& rest, double 
   }
   // Counted past rounding; said past a thousandth of the diagonal, or where a centre leaves the body.
   if (out.centres_outside > 0 || out.worst > 1e-3 * rest.diagonal())
-    log.warn("between the poses given, " + std::to_string(out.spheres_out) + " of " + std::to_string(radii.size()) +
-             " spheres poke out of the body at some of the clip's " + std::to_string(out.times) + " times (by up to " +
-             num(out.worst) + ", " + num(100 * out.worst / rest.diagonal()) + " % of the diagonal; " +
-             counted(out.centres_outside, "centre") + (out.centres_outside == 1 ? " leaves" : " leave") +
-             " it): --hold-over-clip holds them within " + num(kDefaultClipOvershootPercent) +
-             " % of the diagonal (--clip-overshoot)");
+    log.warn(between_poses_warning(out, radii.size(), rest.diagonal()));
   return out;
+}
+
+std::string between_poses_warning(const ClipOvershoot& out, size_t sphere_count, double diagonal) {
+  const std::string centres = out.centres_outside == 0 ? ""
+                              : "; " + counted(out.centres_outside, "centre") +
+                                    (out.centres_outside == 1 ? " leaves" : " leave") + " it";
+  return "between the poses given, " + std::to_string(out.spheres_out) + " of " + std::to_string(sphere_count) +
+         " spheres " + (out.spheres_out == 1 ? "pokes" : "poke") + " out of the body at some of the clip's " + std::to_string(out.times) + " times (by up to " +
+         num(out.worst) + ", " + num(100 * out.worst / diagonal) + " % of the diagonal" + centres +
+         "): --hold-over-clip holds them within " + num(kDefaultClipOvershootPercent) +
+         " % of the diagonal (--clip-overshoot)";
 }
 
 }  // namespace spx

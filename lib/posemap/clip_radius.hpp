@@ -4,6 +4,7 @@
 // (skin.json's clip), each sphere's radius there (exact distance, 0 where its centre is outside),
 // the least kept. Between poses another part can sweep through a sphere's place (a leg passing a
 // leg): a radius that holds only at the poses then pokes out between them.
+#include <string>
 #include <vector>
 
 #include "core/log.hpp"
@@ -91,5 +92,9 @@ class ClipRadius {
 // out by more than a thousandth of the diagonal or a centre leaves the body.
 ClipOvershoot check_over_clip(const SkinFile& skin, const TriMesh& rest, double max_radius, const SphereSet& spheres,
                               const std::vector<SkinInfluence>& influences, Log& log);
+
+// That warning's text, for `out` on a rest of diagonal `diagonal`: how many poke out and how far,
+// how many centres leave the body where any does, and what holds them.
+std::string between_poses_warning(const ClipOvershoot& out, size_t sphere_count, double diagonal);
 
 }  // namespace spx
