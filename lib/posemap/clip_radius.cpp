@@ -328,7 +328,8 @@ std::string between_poses_warning(const ClipOvershoot& out, size_t sphere_count,
                               : "; " + counted(out.centres_outside, "centre") +
                                     (out.centres_outside == 1 ? " leaves" : " leave") + " it";
   return "between the poses given, " + std::to_string(out.spheres_out) + " of " + std::to_string(sphere_count) +
-         " spheres " + (out.spheres_out == 1 ? "pokes" : "poke") + " out of the body at some of the clip's " + std::to_string(out.times) + " times (by up to " +
+         " spheres " + (out.spheres_out == 1 ? "pokes" : "poke") + " out of the body at some of the clip's " +
+         std::to_string(out.times) + " times (by up to " +
          num(out.worst) + ", " + num(100 * out.worst / diagonal) + " % of the diagonal" + centres +
          "): --hold-over-clip holds them within " + num(kDefaultClipOvershootPercent) +
          " % of the diagonal (--clip-overshoot)";
