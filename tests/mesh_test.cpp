@@ -535,6 +535,23 @@ TEST(MeshLoad, BadFilesGiveClassifiedErrors) {
   EXPECT_EQ(code_of(dir + "/garbage.obj"), ExitCode::bad_input);
   write_file_atomic(dir + "/nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
   EXPECT_EQ(code_of(dir + "/nan.obj"), ExitCode::bad_input);
+  // The message names the vertex by where it is: assimp's index is not the file's (it gave
+  // "vertex 5" of a file with 4), and 1e300 is finite in the file but not as the float read.
+  auto message_of = [](const std::string& path) {
+    try {
+      load_mesh(path);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1e300\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  write_file_atomic(dir + "/huge.obj", tetra);
+  EXPECT_NE(message_of(dir + "/huge.obj").find("huge.obj: a vertex at (0, 0, inf) is not a finite number (read as a "
+                                               "32-bit float: NaN, infinite or past 3.4e38)"),
+            std::string::npos)
+      << message_of(dir + "/huge.obj");
+  EXPECT_NE(message_of(dir + "/nan.obj").find("a vertex at (nan, 1, 0)"), std::string::npos) << message_of(dir + "/nan.obj");
 }
 
 TEST(Defects, OpenFlippedAndNonManifold) {

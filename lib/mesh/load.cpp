@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
+#include "core/format.hpp"
 #include "core/hash.hpp"
 #include "core/side_by_side.hpp"
 #include "mesh/assimp_scene.hpp"
@@ -60,8 +61,11 @@ RawMesh read_raw(const std::string& path) {
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
       const aiVector3D& p = mesh->mVertices[v];
       Eigen::Vector3d q(p.x, p.y, p.z);
+      // assimp reads 32-bit floats and may split a file's vertex by its faces, so its index
+      // would not be the file's: the position names it.
       if (!q.allFinite())
-        fail_input(path, "vertex " + std::to_string(raw.positions.size()) + " has a non-finite coordinate");
+        fail_input(path, "a vertex at (" + num(q.x()) + ", " + num(q.y()) + ", " + num(q.z()) +
+                             ") is not a finite number (read as a 32-bit float: NaN, infinite or past 3.4e38)");
       raw.positions.push_back(q);
     }
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
