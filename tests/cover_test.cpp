@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <random>
 
@@ -103,6 +104,40 @@ TEST(Cover, GreedyAndLowerBoundAgainstBruteForce) {
   }
   EXPECT_GT(exact, 200u) << "greedy with redundancy removal should usually be optimal on tiny cases";
   EXPECT_GE(lagrangian_total, combinatorial_total);
+}
+
+// The bound's reduced costs, four rows side by side, against one row at a time: the same bits
+// for every range of rows (fewer than four, rows of every length, empty ones, a long one among
+// short ones), so that the bound and the report do not move.
+TEST(Cover, ReducedCostsSideBySideAreEachRowsOwnSum) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> weight(0.0, 0.3);
+  for (int trial = 0; trial < 40; ++trial) {
+    const size_t samples = 50 + rng() % 200, candidates = 1 + rng() % 40;
+    std::vector<std::vector<uint32_t>> rows(candidates);
+    for (auto& r : rows) {
+      const size_t length = rng() % 7 == 0 ? 0 : rng() % 5 == 0 ? 100 + rng() % 400 : rng() % 30;
+      for (size_t k = 0; k < length; ++k) r.push_back(uint32_t(rng() % samples));
+    }
+    const Coverage c = coverage_of(rows, samples);
+    std::vector<double> u(samples);
+    for (double& w : u) w = weight(rng);
+    for (size_t first = 0; first < candidates; ++first)
+      for (size_t end = first; end <= candidates; ++end) {
+        std::vector<double> reduced(candidates, -7.0);
+        detail::reduced_costs(c, u.data(), first, end, reduced.data());
+        for (size_t k = 0; k < candidates; ++k) {
+          double plain = -7.0;  // rows outside the range untouched
+          if (k >= first && k < end) {
+            plain = 1;
+            for (uint32_t s : rows[k]) plain -= u[s];
+          }
+          ASSERT_EQ(std::memcmp(&reduced[k], &plain, sizeof plain), 0)
+              << "trial " << trial << ", rows " << first << ".." << end << ", row " << k << ": " << reduced[k]
+              << " against " << plain;
+        }
+      }
+  }
 }
 
 // Greedy as written down: every candidate's gain summed afresh at every step (the weights of

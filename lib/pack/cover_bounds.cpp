@@ -3,12 +3,15 @@
 #include "pack/set_cover.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 namespace spx {
 namespace {
@@ -21,6 +24,64 @@ constexpr int kStallSteps = 15;
 constexpr double kPolyakTarget = 1.05;
 
 }  // namespace
+
+// One row's sum is a chain of dependent subtractions, each waiting for the one before, so four
+// rows are summed side by side (a lane that ends takes the next row).
+void detail::reduced_costs(const Coverage& cov, const double* u, size_t first, size_t end, double* reduced) {
+  constexpr int kLanes = 4;
+  const uint32_t* pairs = cov.samples.data();
+  std::array<const uint32_t*, kLanes> at{}, stop{};
+  std::array<double, kLanes> r{};
+  std::array<size_t, kLanes> row{};
+  size_t next = first;
+  auto take = [&](int k) {
+    row[k] = next;
+    at[k] = pairs + cov.start[next];
+    stop[k] = pairs + cov.start[next + 1];
+    r[k] = 1;
+    ++next;
+  };
+  if (end - first < size_t(kLanes)) {
+    for (size_t c = first; c < end; ++c) {
+      double sum = 1;
+      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) sum -= u[pairs[n]];
+      reduced[c] = sum;
+    }
+    return;
+  }
+  for (int k = 0; k < kLanes; ++k) take(k);
+  while (true) {
+    // As many steps as the shortest lane has left, on all four; then the lanes that ended.
+    size_t steps = size_t(stop[0] - at[0]);
+    for (int k = 1; k < kLanes; ++k) steps = std::min(steps, size_t(stop[k] - at[k]));
+    double r0 = r[0], r1 = r[1], r2 = r[2], r3 = r[3];
+    const uint32_t *a0 = at[0], *a1 = at[1], *a2 = at[2], *a3 = at[3];
+    for (size_t n = 0; n < steps; ++n) {
+      r0 -= u[a0[n]];
+      r1 -= u[a1[n]];
+      r2 -= u[a2[n]];
+      r3 -= u[a3[n]];
+    }
+    r = {r0, r1, r2, r3};
+    for (int k = 0; k < kLanes; ++k) at[k] += steps;
+    bool rows_left = true;
+    for (int k = 0; k < kLanes && rows_left; ++k) {
+      if (at[k] != stop[k]) continue;
+      reduced[row[k]] = r[k];
+      rows_left = next < end;
+      if (rows_left) take(k);
+      else row[k] = SIZE_MAX;
+    }
+    if (!rows_left) break;
+  }
+  // No rows left to take: the lanes still open finish one at a time.
+  for (int k = 0; k < kLanes; ++k) {
+    if (row[k] == SIZE_MAX) continue;
+    double sum = r[k];
+    for (const uint32_t* p = at[k]; p != stop[k]; ++p) sum -= u[*p];
+    reduced[row[k]] = sum;
+  }
+}
 
 // The larger of the two lower bounds. On a reduced problem too: the reduction keeps the optimum
 // of the problem and of its LP relaxation, so its bounds hold for the original.
@@ -70,6 +131,7 @@ size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
     }
   // Subgradient steps by Polyak's rule toward the best cover known (`upper`).
   std::vector<int> hits(samples, 0);
+  tbb::enumerable_thread_specific<std::vector<int>> local_hits([&] { return std::vector<int>(samples, 0); });
   std::vector<double> reduced(candidates);
   double best = 0, lambda = 2.0;
   int since_better = 0;
@@ -77,19 +139,20 @@ size_t lagrangian_bound(const Coverage& cov, size_t upper, int steps) {
     double value = 0;
     for (size_t s = 0; s < samples; ++s) value += u[s];
     std::fill(hits.begin(), hits.end(), 0);
-    // Each candidate's reduced cost (on both cores: every pair is read), then summed in order.
+    // Each candidate's reduced cost, and how often those of negative cost cover each sample, on
+    // both cores: a block's rows are counted while they are still in the cache, into its
+    // thread's own counts, added up after (integers: the same whatever the threads).
     tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates, 256), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t c = range.begin(); c != range.end(); ++c) {
-        double r = 1;
-        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) r -= u[cov.samples[n]];
-        reduced[c] = r;
-      }
+      detail::reduced_costs(cov, u.data(), range.begin(), range.end(), reduced.data());
+      std::vector<int>& own = local_hits.local();
+      for (size_t c = range.begin(); c != range.end(); ++c)
+        if (reduced[c] < 0)
+          for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) ++own[cov.samples[n]];
     });
+    for (std::vector<int>& own : local_hits)
+      for (size_t s = 0; s < samples; ++s) hits[s] += std::exchange(own[s], 0);
     for (size_t c = 0; c < candidates; ++c)
-      if (reduced[c] < 0) {  // an empty row's is 1
-        value += reduced[c];
-        for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) ++hits[cov.samples[n]];
-      }
+      if (reduced[c] < 0) value += reduced[c];  // in order; an empty row's is 1
     if (value > best + 1e-9) {
       best = value;
       since_better = 0;

@@ -125,6 +125,13 @@ size_t cover_lower_bound(const Coverage& coverage);
 // cover_lower_bound.
 size_t lagrangian_bound(const Coverage& coverage, size_t upper, int steps = 200);
 
+namespace detail {
+// The Lagrangian bound's inner step: for candidates first..end, 1 minus the multipliers `u` of
+// the samples in its row, subtracted in the row's order, into `reduced` (indexed by candidate).
+// Several rows are summed side by side; the bits are those of one row at a time.
+void reduced_costs(const Coverage& coverage, const double* u, size_t first, size_t end, double* reduced);
+}  // namespace detail
+
 // The larger of cover_lower_bound and lagrangian_bound (its steps capped on dense problems).
 size_t lower_bound_of(const Coverage& coverage, size_t upper);
 
