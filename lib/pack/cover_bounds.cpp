@@ -34,6 +34,11 @@ void detail::reduced_costs(const Coverage& cov, const double* u, size_t first, s
   std::array<double, kLanes> r{};
   std::array<size_t, kLanes> row{};
   size_t next = first;
+  // A row's rest subtracted one entry at a time, in its order.
+  auto finish = [&](double sum, const uint32_t* p, const uint32_t* stop_at) {
+    for (; p != stop_at; ++p) sum -= u[*p];
+    return sum;
+  };
   auto take = [&](int k) {
     row[k] = next;
     at[k] = pairs + cov.start[next];
@@ -42,11 +47,7 @@ void detail::reduced_costs(const Coverage& cov, const double* u, size_t first, s
     ++next;
   };
   if (end - first < size_t(kLanes)) {
-    for (size_t c = first; c < end; ++c) {
-      double sum = 1;
-      for (uint32_t n = cov.start[c]; n < cov.start[c + 1]; ++n) sum -= u[pairs[n]];
-      reduced[c] = sum;
-    }
+    for (size_t c = first; c < end; ++c) reduced[c] = finish(1, pairs + cov.start[c], pairs + cov.start[c + 1]);
     return;
   }
   for (int k = 0; k < kLanes; ++k) take(k);
@@ -75,12 +76,8 @@ void detail::reduced_costs(const Coverage& cov, const double* u, size_t first, s
     if (!rows_left) break;
   }
   // No rows left to take: the lanes still open finish one at a time.
-  for (int k = 0; k < kLanes; ++k) {
-    if (row[k] == SIZE_MAX) continue;
-    double sum = r[k];
-    for (const uint32_t* p = at[k]; p != stop[k]; ++p) sum -= u[*p];
-    reduced[row[k]] = sum;
-  }
+  for (int k = 0; k < kLanes; ++k)
+    if (row[k] != SIZE_MAX) reduced[row[k]] = finish(r[k], at[k], stop[k]);
 }
 
 // The larger of the two lower bounds. On a reduced problem too: the reduction keeps the optimum
