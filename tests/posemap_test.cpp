@@ -47,6 +47,13 @@
 namespace spx {
 namespace {
 
+// A sample asset's poses as pose-map takes them, each named as the asset names it.
+std::vector<PoseInput> sample_poses(const SampleAsset& asset) {
+  std::vector<PoseInput> out;
+  for (size_t i = 0; i < asset.pose_names.size(); ++i) out.push_back({asset.pose_names[i], asset.pose_names[i], asset.pose(i)});
+  return out;
+}
+
 Eigen::Affine3d some_affine() {
   Eigen::Affine3d a = Eigen::Affine3d::Identity();
   a.translate(Eigen::Vector3d(1.5, -2.0, 0.25));
@@ -90,8 +97,7 @@ TEST(PoseMap, AffinePosesOfSharedMeshes) {
 TEST(PoseMap, AnalyticSampleMapsClosely) {
   const SampleAsset car = make_car();
   const SpheresFile spheres = test::pack_file(car.rest, 64);
-  std::vector<PoseInput> poses;
-  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  const std::vector<PoseInput> poses = sample_poses(car);
   const PoseMapResult r = pose_map(car.rest, "rest", poses, spheres, {});
   const double diag = car.rest.diagonal();
   for (size_t i = 0; i < poses.size(); ++i) {
@@ -375,8 +381,7 @@ namespace {
 TEST(PoseMap, FillGapsBringsPosesWithinTheTarget) {
   const SampleAsset car = make_car();
   SpheresFile spheres = test::pack_file(car.rest, 64);
-  std::vector<PoseInput> poses;
-  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  const std::vector<PoseInput> poses = sample_poses(car);
   PoseMapOptions opt;
   opt.fill_gaps = true;
   opt.fill_tolerance = 0.015 * car.rest.diagonal();
@@ -696,8 +701,7 @@ void expect_joint_selection(const TriMesh& rest, const std::vector<PoseInput>& p
 
 TEST(PoseMap, JointSelectionOnTheCarSample) {
   const SampleAsset car = make_car();
-  std::vector<PoseInput> poses;
-  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  const std::vector<PoseInput> poses = sample_poses(car);
   expect_joint_selection(car.rest, poses, "car");
 }
 
@@ -707,8 +711,7 @@ TEST(PoseMap, JointSelectionOnTheCarSample) {
 // reports, and its spheres are inside every pose.
 TEST(PoseMap, PolishLowersTheWorstPosesMax) {
   const SampleAsset car = make_car();
-  std::vector<PoseInput> poses;
-  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  const std::vector<PoseInput> poses = sample_poses(car);
   SpheresFile file;
   pack_rest(car.rest, 96, {2, true}, file);
   auto worst_max = [&](const PoseMapResult& r) {
@@ -1262,8 +1265,7 @@ TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
   const SampleAsset car = make_car();
   SpheresFile car_spheres;
   pack_rest(car.rest, 64, {kDefaultTolerancePercent, true}, car_spheres);
-  std::vector<PoseInput> poses;
-  for (size_t i = 0; i < car.pose_names.size(); ++i) poses.push_back({car.pose_names[i], car.pose_names[i], car.pose(i)});
+  const std::vector<PoseInput> poses = sample_poses(car);
   PoseMapOptions car_opt;
   car_opt.tets.size = car.rest.diagonal() / 12;
   car_opt.tolerance = 0.01 * car.rest.diagonal();  // fine enough that some pose needs its own
@@ -1285,6 +1287,33 @@ TEST(PoseMap, PoseCacheMapsAsBuildingTheFields) {
   EXPECT_TRUE(car_reading.summary.pose_caches[0].file.empty()) << "the rest's field is not asked for";
   EXPECT_TRUE(car_reading.summary.carry_cache.file.empty()) << "a body that is not skinned carries nothing";
   EXPECT_GT(asked, 0u) << "no pose was asked for its own candidates";
+}
+
+// Not skinned, the first round's poses list their own candidates while Mesh_3 keeps the other
+// core: the same lists as when first asked, so the same proxy as a run that lists none ahead (a
+// cache folder's, which lists each when asked; the same proxy as without the cache:
+// PoseCacheMapsAsBuildingTheFields).
+TEST(PoseMap, OwnCandidatesListedBesideTheTetsMapAsListedWhenAsked) {
+  const SampleAsset car = make_car();
+  SpheresFile file;
+  pack_rest(car.rest, 64, {kDefaultTolerancePercent, true}, file);
+  const std::vector<PoseInput> poses = sample_poses(car);
+  PoseMapOptions opt;
+  opt.tolerance = 0.01 * car.rest.diagonal();  // fine enough that the poses need their own
+  Log ahead_log;
+  const PoseMapResult ahead = pose_map(car.rest, "car", poses, file, opt, ahead_log);
+  const auto& timings = ahead_log.timings();
+  EXPECT_TRUE(std::any_of(timings.begin(), timings.end(), [](const auto& t) { return t.first == "own-candidates-beside-tets"; }))
+      << "no pose listed its own candidates beside the tets";
+  ASSERT_TRUE(ahead.summary.selection.has_value());
+  EXPECT_GT(ahead.summary.selection->from_frames, 0u) << "no pose's own candidates were offered";
+  opt.cache_dir = test::temp_dir("beside-tets") + "/cache";
+  Log asked_log;
+  const PoseMapResult asked = pose_map(car.rest, "car", poses, file, opt, asked_log);
+  const auto& asked_timings = asked_log.timings();
+  EXPECT_TRUE(std::none_of(asked_timings.begin(), asked_timings.end(),
+                           [](const auto& t) { return t.first == "own-candidates-beside-tets"; }));
+  expect_same_proxy(ahead.proxy, asked.proxy);
 }
 
 // With --hold-over-clip, the radii held over the clip kept between runs give the same proxy, bit

@@ -147,5 +147,7 @@ UnionGaps frame_gaps(const SelectionFrames& frames, const std::vector<std::vecto
 // The first round's frames: the rest, then up to `count` poses, each the farthest (largest
 // vertex displacement) from those already taken; ascending.
 std::vector<size_t> spanning_frames(const SelectionFrames& frames, size_t count);
+// The same over the frames' meshes (the rest first), before any map is made.
+std::vector<size_t> spanning_frames(const std::vector<const TriMesh*>& meshes, size_t count);
 
 }  // namespace spx

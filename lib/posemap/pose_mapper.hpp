@@ -5,6 +5,7 @@
 // pose's own candidates, maps them back to the rest and shows the poses to the joint selection.
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -63,6 +64,10 @@ class PoseMapper {
   // also ends across the holes, where there are no triangles), the pose's own field at the
   // spheres' voxel size. One rule then sets every radius. Needs the poses alone, not the tets.
   void build_solids(Log& log);
+  // Not skinned, under the joint selection: the own candidates of the poses its first round
+  // selects on, listed while Mesh_3 keeps the other core (the same lists as when first asked),
+  // up to the first pose that would start after the tets are done.
+  void list_pose_candidates_beside_tets(Log& log);
 
   // The joint selection runs (rather than the file's spheres mapped as given).
   bool selects_jointly() const;
@@ -164,6 +169,8 @@ class PoseMapper {
   // Pose i's own inscribed candidates that come within `reach` of any of `points` (samples of
   // that pose no mapped candidate reaches) and were not offered before, in pose coordinates.
   SphereSet pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach);
+  // Pose i's own candidates, listed from the cache or its field when first asked.
+  CandidatesOnDemand& pose_inscribed(size_t i);
 
   // Through the inverse map (barycentric in pose i's deformed tets); those that land outside
   // the rest are counted in `lost`. Without `radii` (skinned candidates, whose carry finds each
@@ -179,6 +186,7 @@ class PoseMapper {
   ProxyModel& proxy_;
   Log& log_;
   TetMesh tets_;
+  std::atomic<bool> tets_done_{false};  // list_pose_candidates_beside_tets starts no pose after it
   std::string tet_cache_key_, tet_cache_file_;  // what the tets cache is asked for, and where
   std::optional<TetMesh> cached_tets_;  // the cache's, where it held this rest's
   std::unique_ptr<HarmonicMap> f_;

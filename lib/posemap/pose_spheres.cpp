@@ -1,6 +1,7 @@
 // PoseMapper's spheres in the poses: carried and grown there, offered by a pose's own field and
 // mapped back to the rest; and the poses as the joint selection sees them.
 #include <algorithm>
+#include <optional>
 #include <tuple>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -297,12 +298,29 @@ void PoseMapper::trim_cache(PoseMapSummary& out) {
   out.cache_folder = keep_cache_under(opt_.cache_dir, opt_.cache_limit, in_use, log_);
 }
 
-SphereSet PoseMapper::pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
+CandidatesOnDemand& PoseMapper::pose_inscribed(size_t i) {
   if (!pose_inscribed_[i] && !pose_from_cache(i + 1, false)) {
     pose_inscribed_[i] = std::make_unique<CandidatesOnDemand>(pose_field(i + 1, true), candidate_options(pose_pack_options()));
     release_field(i + 1);
   }
-  return pose_inscribed_[i]->offer_near(points, reach, *queries_[i + 1]);
+  return *pose_inscribed_[i];
+}
+
+SphereSet PoseMapper::pose_candidates_near(size_t i, const std::vector<Eigen::Vector3d>& points, double reach) {
+  return pose_inscribed(i).offer_near(points, reach, *queries_[i + 1]);
+}
+
+void PoseMapper::list_pose_candidates_beside_tets(Log& log) {
+  // Skinned: listed with its fields; mapped as given: never asked. With a cache folder the poses
+  // asked are what the cache (and the report) records, whatever the tets' pace: none ahead.
+  if (!grow_ || !opt_.cache_dir.empty()) return;
+  std::optional<StageTimer> t;  // recorded where some pose was listed ahead
+  for (size_t f : spanning_frames(meshes_, JointSelectionOptions().first_frames)) {
+    if (tets_done_) return;
+    if (f == 0) continue;
+    if (!t) t.emplace(log, "own-candidates-beside-tets");
+    pose_inscribed(f - 1);
+  }
 }
 
 SphereSet PoseMapper::map_back_to_rest(size_t i, const SphereSet& in_pose, size_t* lost, bool radii) const {

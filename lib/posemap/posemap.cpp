@@ -27,6 +27,10 @@ void PoseMapper::read_cached_tets() {
 
 void PoseMapper::make_tets() {
   StageTimer t(log_, "tetrahedralize");
+  struct Done {
+    std::atomic<bool>& done;
+    ~Done() { done = true; }
+  } done{tets_done_};
   if (!opt_.tet_file.empty()) {
     tets_ = read_medit_tets(opt_.tet_file);
   } else if (cached_tets_) {
@@ -270,7 +274,11 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   // Mesh_3 keeps one core: the poses' solids (their queries and, skinned or open, fields) are
   // built on the other meanwhile.
   Log beside = log.fork();
-  tbb::parallel_invoke([&] { mapper.make_tets(); mapper.solve_map(); }, [&] { mapper.build_solids(beside); });
+  tbb::parallel_invoke([&] { mapper.make_tets(); mapper.solve_map(); },
+                       [&] {
+                         mapper.build_solids(beside);
+                         mapper.list_pose_candidates_beside_tets(beside);
+                       });
   log.join(beside);
   const bool joint = mapper.selects_jointly();
   if (joint && spheres.candidates.empty())

@@ -47,7 +47,13 @@ UnionGaps frame_gaps(const SelectionFrames& frames, const std::vector<std::vecto
 }
 
 std::vector<size_t> spanning_frames(const SelectionFrames& frames, size_t count) {
-  const size_t n = frames.frame_count();
+  std::vector<const TriMesh*> meshes(frames.frame_count());
+  for (size_t f = 0; f < meshes.size(); ++f) meshes[f] = &frames.frame_mesh(f);
+  return spanning_frames(meshes, count);
+}
+
+std::vector<size_t> spanning_frames(const std::vector<const TriMesh*>& meshes, size_t count) {
+  const size_t n = meshes.size();
   std::vector<size_t> taken{0};
   if (n <= count + 1) {
     taken.resize(n);
@@ -55,12 +61,11 @@ std::vector<size_t> spanning_frames(const SelectionFrames& frames, size_t count)
     return taken;
   }
   std::vector<double> apart(n);
-  for (size_t f = 0; f < n; ++f) apart[f] = largest_displacement(frames.frame_mesh(f), frames.frame_mesh(0));
+  for (size_t f = 0; f < n; ++f) apart[f] = largest_displacement(*meshes[f], *meshes[0]);
   while (taken.size() < count + 1) {
     const size_t next = size_t(std::max_element(apart.begin(), apart.end()) - apart.begin());
     taken.push_back(next);
-    for (size_t f = 0; f < n; ++f)
-      apart[f] = std::min(apart[f], largest_displacement(frames.frame_mesh(f), frames.frame_mesh(next)));
+    for (size_t f = 0; f < n; ++f) apart[f] = std::min(apart[f], largest_displacement(*meshes[f], *meshes[next]));
   }
   std::sort(taken.begin(), taken.end());
   return taken;
