@@ -1316,6 +1316,32 @@ TEST(PoseMap, OwnCandidatesListedBesideTheTetsMapAsListedWhenAsked) {
   expect_same_proxy(ahead.proxy, asked.proxy);
 }
 
+// Listing a pose's own candidates ahead fails no run the selection would not fail: a pose flat
+// at the spheres' voxel size has no field, and at a tolerance so loose that the file's candidates
+// reach every sample it is never asked for its own.
+TEST(PoseMap, APoseWithNoFieldFailsOnlyWhereItsOwnCandidatesAreAsked) {
+  const SampleAsset car = make_car();
+  SpheresFile file;
+  pack_rest(car.rest, 64, {kDefaultTolerancePercent, true}, file);
+  std::vector<PoseInput> poses = sample_poses(car);
+  TriMesh flat = car.rest;
+  const double mid = flat.bounds().center().z();
+  for (auto& v : flat.vertices) v.z() = mid + 1e-6 * (v.z() - mid);
+  poses.insert(poses.begin(), {"flat", "flat.obj", flat});
+  PoseMapOptions opt;
+  opt.tolerance = 0.5 * car.rest.diagonal();
+  const PoseMapResult loose = pose_map(car.rest, "car", poses, file, opt);
+  ASSERT_TRUE(loose.summary.selection.has_value());
+  EXPECT_EQ(loose.summary.selection->from_frames, 0u);
+  opt.tolerance = 0.01 * car.rest.diagonal();  // now it is asked: its error, naming it
+  try {
+    pose_map(car.rest, "car", poses, file, opt);
+    ADD_FAILURE() << "the flat pose's own candidates were asked, and it has no field";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("flat.obj: encloses no volume"), std::string::npos) << e.what();
+  }
+}
+
 // With --hold-over-clip, the radii held over the clip kept between runs give the same proxy, bit
 // for bit, as holding them: the second run holds none again; another overshoot allowed is another
 // file; a file cut short is held again and written whole. (Within a run, the written spheres'

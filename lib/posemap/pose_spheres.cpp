@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/cache_folder.hpp"
+#include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/hash.hpp"
 #include "core/pick.hpp"
@@ -319,7 +320,13 @@ void PoseMapper::list_pose_candidates_beside_tets(Log& log) {
     if (tets_done_) return;
     if (f == 0) continue;
     if (!t) t.emplace(log, "own-candidates-beside-tets");
-    pose_inscribed(f - 1);
+    try {
+      pose_inscribed(f - 1);
+    } catch (const Error&) {
+      // A pose whose field fails (flat at this voxel size, say) fails the run only if the
+      // selection asks it: it is asked again then, and its error named there.
+      release_field(f);
+    }
   }
 }
 
