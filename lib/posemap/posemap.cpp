@@ -27,7 +27,7 @@ void PoseMapper::read_cached_tets() {
 
 void PoseMapper::make_tets() {
   StageTimer t(log_, "tetrahedralize");
-  struct Done {
+  struct Done {  // set however the tets end, a failure too: the listing beside them stops
     std::atomic<bool>& done;
     ~Done() { done = true; }
   } done{tets_done_};
