@@ -1218,6 +1218,16 @@ TEST(MeshQuery, FilteredAndHintedSearchesGiveCgalsOwnResultToTheBit) {
       const auto& f = mesh.triangles[size_t(hinted.triangle)];
       EXPECT_LT((closest_point_on_triangle(c.point, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) - c.point).norm(),
                 1e-12 * box.sizes().norm());
+      // As a growing ball asks (grow_inscribed): from its touching point along its normal, a
+      // little past where it fits and well past, hinted with that point, as CGAL's own traits
+      // answer with the same hint. Near the planes of the triangles around the touching point:
+      // where the leaf test tells triangles apart by their planes.
+      if (!query.inside(p) || !(c.distance > 0)) continue;
+      for (double past : {1.0, 1.07, 1.3, 2.0}) {
+        const Eigen::Vector3d q = c.point + past * (p - c.point);
+        const K::Point_3 at(q.x(), q.y(), q.z()), hint(c.point.x(), c.point.y(), c.point.z());
+        EXPECT_EQ(query.distance(q, c.point), std::sqrt(stock.squared_distance(at, hint))) << "point " << i << " at " << past;
+      }
     }
   }
 }
