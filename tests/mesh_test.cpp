@@ -644,6 +644,10 @@ void check_deforming_query(const TriMesh& rest, int points, unsigned seed, bool 
       EXPECT_TRUE(std::isinf(s.signed_distance_within(p, 0.5 * brute)));
       EXPECT_TRUE(s.nearer_than(p, 1.01 * brute + 1e-12 * diag));
       EXPECT_FALSE(s.nearer_than(p, 0.99 * brute));
+      // And a billionth either side of the distance, whatever rules a triangle out first (its
+      // box, its plane): only the closest point decides that near.
+      EXPECT_TRUE(s.nearer_than(p, brute * (1 + 1e-9) + 1e-13 * diag)) << "shape " << kind << " point " << i;
+      EXPECT_FALSE(s.nearer_than(p, brute * (1 - 1e-9))) << "shape " << kind << " point " << i;
       const double w = winding_number_exact(shape, p);
       if (brute < 1e-6 * diag || std::abs(w - std::round(w)) > 0.05) continue;
       ++checked_sides;
