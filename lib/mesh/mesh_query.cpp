@@ -50,23 +50,23 @@ LeafTriangle leaf_triangle(const Triangle& t) {
 
 // Whether triangle t is farther from q than sqrt(far2) by more than a margin far above each
 // computation's rounding: by its box or its plane alone (beyond_box_or_plane), or else also by its
-// closest point (surely_farther); in squares, no square root on a leaf. The margin is a
-// billionth of the coordinates' and the edges' sizes, and of the distance itself:
-// (far + m)^2 <= far2 (1 + e) + m^2 (1 + 1/e), e = 1e-6.
-double margined(const Eigen::Vector3d& q, const LeafTriangle& leaf, double far2) {
-  const double m = 1e-9 * (q.lpNorm<Eigen::Infinity>() + leaf.size);
+// closest point (surely_farther); in squares, no square root on a leaf. The margins scale with
+// `scale`, the query's largest coordinate plus the triangle's size (leaf_scale): a billionth of
+// it, and of the distance itself: (far + m)^2 <= far2 (1 + e) + m^2 (1 + 1/e), e = 1e-6.
+double leaf_scale(const Eigen::Vector3d& q, const LeafTriangle& leaf) { return q.lpNorm<Eigen::Infinity>() + leaf.size; }
+double margined(double far2, double scale) {
+  const double m = 1e-9 * scale;
   return far2 * ((1 + 3e-9) * (1 + 1e-6)) + m * m * (1 + 1e6);
 }
-bool beyond_box_or_plane(const Eigen::Vector3d& q, const LeafTriangle& leaf, double limit) {
+bool beyond_box_or_plane(const Eigen::Vector3d& q, const LeafTriangle& leaf, double limit, double scale) {
   const double box2 = ((leaf.lo - q).cwiseMax(q - leaf.hi)).cwiseMax(0.0).squaredNorm();
   if (box2 > limit) return true;
-  const double plane = leaf.normal.dot(q) - leaf.offset;
-  const double slack = leaf.plane_error * (q.lpNorm<Eigen::Infinity>() + leaf.size);
+  const double plane = leaf.normal.dot(q) - leaf.offset, slack = leaf.plane_error * scale;
   return plane * plane > limit * (1 + 1e-6) + slack * slack * (1 + 1e6);
 }
 bool surely_farther(const Eigen::Vector3d& q, const Triangle& t, const LeafTriangle& leaf, double far2) {
-  const double limit = margined(q, leaf, far2);
-  if (beyond_box_or_plane(q, leaf, limit)) return true;
+  const double scale = leaf_scale(q, leaf), limit = margined(far2, scale);
+  if (beyond_box_or_plane(q, leaf, limit, scale)) return true;
   return (closest_point_on_triangle(q, corner(t, 0), corner(t, 1), corner(t, 2)) - q).squaredNorm() > limit;
 }
 
@@ -140,7 +140,9 @@ class ApartSearch {
     const Triangle& t = *primitive.id();
     // Told by box or plane first: only a triangle within the margin of the nearest so far may
     // be nearer by the closed form below.
-    if (beyond_box_or_plane(p_, leaves_[&t - first_], margined(p_, leaves_[&t - first_], best2_))) return;
+    const LeafTriangle& leaf = leaves_[&t - first_];
+    const double scale = leaf_scale(p_, leaf);
+    if (beyond_box_or_plane(p_, leaf, margined(best2_, scale), scale)) return;
     const Eigen::Vector3d a = corner(t, 0), b = corner(t, 1), c = corner(t, 2);
     if (has_corner(corners_, a, b, c)) return;
     const Eigen::Vector3d q = closest_point_on_triangle(p_, a, b, c);
