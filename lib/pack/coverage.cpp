@@ -280,12 +280,14 @@ void CoverageCache::check(const std::vector<std::vector<Eigen::Vector3d>>& sampl
   std::vector<std::vector<uint32_t>> rows(kBlock);
   for (uint32_t first = from; first < candidates; first += kBlock) {
     const uint32_t end = std::min(candidates, first + kBlock);
-    tbb::parallel_for(tbb::blocked_range<size_t>(first, end, 16), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t c = r.begin(); c != r.end(); ++c)
-        for (size_t g = 0; g < part.size(); ++g)
+    // Part by part, so that one part's grid and its candidates' spheres are read together; each
+    // row still lists its samples part by part.
+    for (size_t g = 0; g < part.size(); ++g)
+      tbb::parallel_for(tbb::blocked_range<size_t>(first, end, 64), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t c = r.begin(); c != r.end(); ++c)
           for_each_covered(grids[g], points[g], sphere(part[g], c), delta_,
                            [&](uint32_t n, double) { rows[c - first].push_back(which[g][n]); });
-    });
+      });
     // Candidates in ascending order: each column stays sorted.
     for (uint32_t c = first; c < end; ++c) {
       for (uint32_t n : rows[c - first]) column[n]->covering.push_back(c);
