@@ -100,26 +100,25 @@ double depth_bound_in(const GridShape& g, const Eigen::Vector3d& c, Depth&& dept
   const Eigen::Vector3d at = c / g.voxel_size - g.origin.cast<double>();
   const Eigen::Vector3i lo = at.array().floor().cast<int>();
   double best = 0;
+  // A voxel no deeper than the best so far cannot beat it, whatever its offset: no square root.
+  auto offer = [&](int corner, double d) {
+    if (!(d > best)) return;
+    const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+    best = std::max(best, d - (g.world(v.x(), v.y(), v.z()) - c).norm());
+  };
   if ((lo.array() >= 0).all() && (lo.array() + 1 < g.dims.array()).all()) {
-    // All 8 inside (the usual case): their depths read first, side by side, then each offset
-    // asked only of a voxel deeper than the best so far.
+    // All 8 inside (the usual case): their depths read first, side by side.
     const size_t sz = 1, sy = size_t(g.dims.z()), sx = sy * size_t(g.dims.y());
     const size_t base = g.index(lo.x(), lo.y(), lo.z());
     const double d[8] = {depth(base), depth(base + sx), depth(base + sy), depth(base + sx + sy),
                          depth(base + sz), depth(base + sx + sz), depth(base + sy + sz), depth(base + sx + sy + sz)};
-    for (int corner = 0; corner < 8; ++corner)
-      if (d[corner] > best) {
-        const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
-        best = std::max(best, d[corner] - (g.world(v.x(), v.y(), v.z()) - c).norm());
-      }
+    for (int corner = 0; corner < 8; ++corner) offer(corner, d[corner]);
     return best;
   }
   for (int corner = 0; corner < 8; ++corner) {
     const Eigen::Vector3i v = lo + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
     if ((v.array() < 0).any() || (v.array() >= g.dims.array()).any()) continue;
-    // A voxel no deeper than the best so far cannot beat it, whatever its offset: no square root.
-    const double d = depth(g.index(v.x(), v.y(), v.z()));
-    if (d > best) best = std::max(best, d - (g.world(v.x(), v.y(), v.z()) - c).norm());
+    offer(corner, depth(g.index(v.x(), v.y(), v.z())));
   }
   return best;
 }
