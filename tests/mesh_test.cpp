@@ -2,11 +2,13 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
+#include <assimp/postprocess.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -20,6 +22,7 @@
 #include "core/error.hpp"
 #include "core/gltf_file.hpp"
 #include "core/side_by_side.hpp"
+#include "mesh/assimp_scene.hpp"
 #include "mesh/components.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/deforming_query.hpp"
@@ -552,6 +555,51 @@ TEST(MeshLoad, BadFilesGiveClassifiedErrors) {
             std::string::npos)
       << message_of(dir + "/huge.obj");
   EXPECT_NE(message_of(dir + "/nan.obj").find("a vertex at (nan, 1, 0)"), std::string::npos) << message_of(dir + "/nan.obj");
+}
+
+// assimp keeps the faces of a file cut short with no corners (its triangulation then aborted the
+// process) and a PLY face's index past the vertices (read past their end), and its PLY reader
+// never returned on a header cut short: each is one error.
+TEST(MeshLoad, FacesWithoutCornersOrPastTheVerticesAreErrors) {
+  const std::string dir = test::temp_dir("bad-faces");
+  const std::string tetra = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  write_file_atomic(dir + "/cut.off", "OFF\n4 4 0\n" + tetra + "3 0 2 1\n");
+  write_file_atomic(dir + "/bare.off", "OFF\n4 4 0\n");
+  write_file_atomic(dir + "/past.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 4\nproperty list uchar int vertex_indices\nend_header\n" +
+                        tetra + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 7\n");
+  write_file_atomic(dir + "/head.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n");
+  auto error_of = [](const std::function<void()>& read) {
+    try {
+      read();
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  for (const unsigned flags : {0u, unsigned(aiProcess_Triangulate)}) {  // as sdf-build and as pose-extract read
+    auto read = [&](const std::string& name) {
+      return error_of([&] {
+        Assimp::Importer importer;
+        read_scene(importer, dir + "/" + name, flags, "mesh");
+      });
+    };
+    EXPECT_NE(read("cut.off").find("cut.off: face 2 has no corners"), std::string::npos) << read("cut.off");
+    EXPECT_NE(read("bare.off").find("bare.off: face 1 has no corners"), std::string::npos) << read("bare.off");
+    EXPECT_NE(read("past.ply").find("past.ply: face 4 names vertex 7 (counted from 0), past its 4 vertices"),
+              std::string::npos)
+        << read("past.ply");
+    EXPECT_NE(read("head.ply").find("head.ply: its PLY header does not end (no end_header line"), std::string::npos)
+        << read("head.ply");
+  }
+  EXPECT_NE(error_of([&] { load_mesh(dir + "/past.ply"); }).find("past.ply: face 4 names vertex 7"), std::string::npos);
+  // The same files whole read as they did.
+  write_file_atomic(dir + "/whole.off", "OFF\n4 4 0\n" + tetra + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const LoadedMesh whole = load_mesh(dir + "/whole.off");
+  EXPECT_EQ(whole.mesh.triangles.size(), 4u);
+  EXPECT_TRUE(find_defects(whole.mesh).watertight());
 }
 
 TEST(Defects, OpenFlippedAndNonManifold) {

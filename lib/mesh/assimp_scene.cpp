@@ -3,6 +3,7 @@
 #include <assimp/SceneCombiner.h>
 
 #include <algorithm>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <vector>
@@ -19,11 +20,27 @@ void fail_reading(const std::string& path, const std::string& what, const std::s
   fail_input(path, "cannot read " + what + ": " + error);
 }
 
-const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
-                          std::vector<AddedKeys>* added_keys) {
+namespace {
+
+// assimp 5.2's PLY reader never returns on a header that does not end (no "end_header" line: a
+// file cut short within its header), so such a file is refused before assimp is given it.
+void check_ply_header_ends(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t start = line.find_first_not_of(" \t");
+    if (start != std::string::npos && line.compare(start, 10, "end_header") == 0) return;
+  }
+  fail_input(path, "its PLY header does not end (no end_header line: a file cut short?)");
+}
+
+// The file as assimp reads it, before any post-processing.
+const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& path, const std::string& what,
+                                std::vector<AddedKeys>* added_keys) {
   if (added_keys) added_keys->clear();
   const std::string ext = lower_extension(path);
   const bool gltf = ext == ".gltf" || ext == ".glb";
+  if (ext == ".ply") check_ply_header_ends(path);
   // A glTF is parsed once: mended for assimp where it needs it, and asked why where assimp fails.
   std::optional<GltfFile> file;
   std::optional<Error> not_gltf;  // the container's fault, told only where assimp fails too
@@ -51,12 +68,12 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
     if (added_keys) *added_keys = std::move(added);
     if (changes > 0) {
       const std::string glb = encode_glb(*file);
-      const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
+      const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), 0, "glb");
       if (scene && scene->mRootNode) return scene;
       fail_reading(path, what, importer.GetErrorString());
     }
   }
-  const aiScene* scene = importer.ReadFile(path, flags);
+  const aiScene* scene = importer.ReadFile(path, 0);
   if (scene && scene->mRootNode) return scene;
   const std::string error = importer.GetErrorString();
   if (not_gltf) throw *not_gltf;  // says what is wrong with the container
@@ -64,11 +81,45 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
     if (file->doc.value("meshes", json::array()).empty()) fail_input(path, "contains no mesh");
     if (ext == ".gltf") {
       const std::string glb = encode_glb(*file);
-      scene = importer.ReadFileFromMemory(glb.data(), glb.size(), flags, "glb");
+      scene = importer.ReadFileFromMemory(glb.data(), glb.size(), 0, "glb");
       if (scene && scene->mRootNode) return scene;
     }
   }
   fail_reading(path, what, error);
+}
+
+// assimp's readers are lenient where a file is cut short or names a vertex it does not have: an
+// OFF that ends early leaves faces with no corners (assimp's triangulation then aborts the whole
+// process), and a PLY keeps a face whose index is past its vertices. Either is one error line.
+void check_faces(const aiScene* scene, const std::string& path) {
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    const std::string mesh_name = scene->mNumMeshes > 1 ? " of mesh " + std::to_string(m + 1) : "";
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      const std::string name = "face " + std::to_string(f + 1) + mesh_name;
+      if (face.mNumIndices == 0 || !face.mIndices)
+        fail_input(path, name + " has no corners (a file cut short, or a face without its vertices)");
+      for (unsigned k = 0; k < face.mNumIndices; ++k)
+        if (face.mIndices[k] >= mesh->mNumVertices)
+          fail_input(path, name + " names vertex " + std::to_string(face.mIndices[k]) + " (counted from 0), past its " +
+                               std::to_string(mesh->mNumVertices) + " vertices");
+    }
+  }
+}
+
+}  // namespace
+
+const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
+                          std::vector<AddedKeys>* added_keys) {
+  // Read without flags and post-processed after: what reading with them does, in the same order,
+  // with the faces checked before any step trusts them.
+  const aiScene* scene = read_unprocessed(importer, path, what, added_keys);
+  check_faces(scene, path);
+  if (!flags) return scene;
+  scene = importer.ApplyPostProcessing(flags);
+  if (!scene || !scene->mRootNode) fail_reading(path, what, importer.GetErrorString());
+  return scene;
 }
 
 namespace {

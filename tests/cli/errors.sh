@@ -19,6 +19,16 @@ echo "v 0 0 0" >"$out/mesh.abc"
 expect 3 "mesh.abc: unknown mesh format" "$out/x.vdb" -- "$bin/sdf-build" "$out/mesh.abc" -o "$out/x.vdb"
 printf 'garbage\n\001\002\n' >"$out/garbage.obj"
 expect 2 "garbage.obj" "$out/x.vdb" -- "$bin/sdf-build" "$out/garbage.obj" -o "$out/x.vdb"
+# An OFF cut short after its vertices (assimp's triangulation aborted the tool on its faces with
+# no corners), and a PLY face naming a vertex past its 4 (read past the vertices' end).
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n' >"$out/cut.off"
+expect 2 "cut.off: face 2 has no corners" "$out/x.vdb" -- "$bin/sdf-build" "$out/cut.off" -o "$out/x.vdb"
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 7\n' >"$out/past.ply"
+expect 2 "past.ply: face 4 names vertex 7 (counted from 0), past its 4 vertices" "$out/x.vdb" -- "$bin/sdf-build" "$out/past.ply" -o "$out/x.vdb"
+expect 2 "cut.off: face 2 has no corners" "$out/cut" -- "$bin/pose-extract" "$out/cut.off" -o "$out/cut"
+# A PLY cut short within its header: assimp's reader never returned.
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty fl' >"$out/head.ply"
+expect 2 "head.ply: its PLY header does not end" "$out/x.vdb" -- timeout 60 "$bin/sdf-build" "$out/head.ply" -o "$out/x.vdb"
 expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 0
 expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution abc
 expect 3 "GiB" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 20000
