@@ -570,6 +570,10 @@ TEST(MeshLoad, FacesWithoutCornersOrPastTheVerticesAreErrors) {
                     "element face 4\nproperty list uchar int vertex_indices\nend_header\n" +
                         tetra + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 7\n");
   write_file_atomic(dir + "/head.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n");
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                             "end_header";
+  write_file_atomic(dir + "/run-on.ply", header + "-1\n" + tetra);  // its end run into the data
+  write_file_atomic(dir + "/crlf.ply", header + " \r\n" + tetra);   // ends, with a space and CR LF
   auto error_of = [](const std::function<void()>& read) {
     try {
       read();
@@ -593,6 +597,8 @@ TEST(MeshLoad, FacesWithoutCornersOrPastTheVerticesAreErrors) {
         << read("past.ply");
     EXPECT_NE(read("head.ply").find("head.ply: its PLY header does not end (no end_header line"), std::string::npos)
         << read("head.ply");
+    EXPECT_NE(read("run-on.ply").find("run-on.ply: its PLY header does not end"), std::string::npos) << read("run-on.ply");
+    EXPECT_EQ(read("crlf.ply").find("does not end"), std::string::npos) << read("crlf.ply");
   }
   EXPECT_NE(error_of([&] { load_mesh(dir + "/past.ply"); }).find("past.ply: face 4 names vertex 7"), std::string::npos);
   // The same files whole read as they did.

@@ -3,6 +3,7 @@
 #include <assimp/SceneCombiner.h>
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -23,13 +24,17 @@ void fail_reading(const std::string& path, const std::string& what, const std::s
 namespace {
 
 // assimp 5.2's PLY reader never returns on a header that does not end (no "end_header" line: a
-// file cut short within its header), so such a file is refused before assimp is given it.
+// file cut short within its header, or its last line run into the data), so such a file is
+// refused before assimp is given it. The word ends as assimp's reader takes it: at a space or the
+// line's end.
 void check_ply_header_ends(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   while (std::getline(in, line)) {
     const size_t start = line.find_first_not_of(" \t");
-    if (start != std::string::npos && line.compare(start, 10, "end_header") == 0) return;
+    if (start == std::string::npos || line.compare(start, 10, "end_header") != 0) continue;
+    const size_t after = start + 10;
+    if (after == line.size() || std::isspace(static_cast<unsigned char>(line[after]))) return;
   }
   fail_input(path, "its PLY header does not end (no end_header line: a file cut short?)");
 }
