@@ -1,0 +1,150 @@
+#!/usr/bin/python3
+"""sdf-build on mutated copies of mesh files: each run must end in success or in one error line.
+
+The libFuzzer targets (scripts/fuzz.sh) reach the project's own readers in process; this reaches
+what assimp makes of a damaged file and what the tools then do with it, the way a user meets it:
+a download cut short, a byte flipped, a number run into the next. Seeds: the car sample (OBJ and
+its morph-target GLB, made by sample-gen), the knight (OFF) and a binary PLY from the shared data,
+and ASCII PLY and both STLs written from the knight. Each run mutates one seed (bytes changed,
+inserted, deleted or copied, a number swapped for an extreme one, the file cut short), writes it
+and runs `sdf-build IN -o OUT --resolution 32 --threads 1 -q` under a time limit.
+
+A run passes when it exits 0 with the field written, or exits 1-3 with exactly one `Error:` line
+and no field. Anything else (a signal, an abort, a hang, a half-written field, several lines) is
+kept as OUT_DIR/failed-RUN.EXT and listed; the script then exits 1.
+
+usage: mutate-meshes.py BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]
+"""
+import argparse
+import os
+import random
+import shutil
+import struct
+import subprocess
+import sys
+
+EXTREMES = [b"0", b"-1", b"2147483648", b"4294967295", b"1e39", b"nan", b"inf", b"99999999999"]
+TOKENS = [b"-", b"e", b"9", b".", b" ", b"\n", b"/", b"f ", b"v ", b"3 "]
+
+
+def read_off(path):
+    words = open(path).read().split()
+    nv, nf = int(words[1]), int(words[2])
+    at = 4
+    verts = [tuple(map(float, words[at + 3 * k:at + 3 * k + 3])) for k in range(nv)]
+    at += 3 * nv
+    faces = []
+    for _ in range(nf):
+        n = int(words[at])
+        faces.append(tuple(map(int, words[at + 1:at + 1 + n])))
+        at += 1 + n
+    return verts, faces
+
+
+def ply_ascii(verts, faces):
+    head = ("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (len(verts), len(faces)))
+    body = "".join("%g %g %g\n" % v for v in verts) + "".join("3 %d %d %d\n" % f for f in faces)
+    return (head + body).encode()
+
+
+def stl_binary(verts, faces):
+    out = bytearray(80) + struct.pack("<I", len(faces))
+    for f in faces:
+        out += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *verts[v]) for v in f) + b"\0\0"
+    return bytes(out)
+
+
+def stl_ascii(verts, faces):
+    facets = "".join("facet normal 0 0 0\nouter loop\n" + "".join("vertex %g %g %g\n" % verts[v] for v in f) +
+                     "endloop\nendfacet\n" for f in faces)
+    return ("solid knight\n" + facets + "endsolid knight\n").encode()
+
+
+def seeds(build, data, out):
+    subprocess.run([build + "/apps/sample-gen", "car", "-o", out + "/seeds", "-q"], check=True)
+    verts, faces = read_off(data + "/static/decimated-knight.off")
+    return [("obj", open(out + "/seeds/rest.obj", "rb").read()),
+            ("glb", open(out + "/seeds/car-morph.glb", "rb").read()),
+            ("off", open(data + "/static/decimated-knight.off", "rb").read()),
+            ("ply", open(data + "/broken/cube_with_fold.ply", "rb").read()),
+            ("ply", ply_ascii(verts, faces)),
+            ("stl", stl_binary(verts, faces)),
+            ("stl", stl_ascii(verts, faces))]
+
+
+def mutate(data, rng):
+    b = bytearray(data)
+    for _ in range(rng.randint(1, 8)):
+        at = rng.randrange(len(b)) if b else 0
+        kind = rng.random()
+        if kind < 0.3 and b:
+            b[at] = rng.randrange(256)
+        elif kind < 0.45:
+            b[at:at] = rng.choice(TOKENS + EXTREMES)
+        elif kind < 0.6 and b:
+            del b[at:at + rng.randint(1, 50)]
+        elif kind < 0.75 and b:
+            src = rng.randrange(len(b))
+            b[at:at] = b[src:src + rng.randint(1, 200)]
+        elif kind < 0.85:
+            space = b.find(b" ", at)
+            if space >= 0:
+                b[space + 1:space + 1] = rng.choice(EXTREMES) + b" "
+        else:
+            del b[rng.randrange(len(b) + 1):]  # cut short
+    return bytes(b)
+
+
+def run_once(tool, path, field, timeout):
+    """None where the run ended as it should, else what was wrong."""
+    try:
+        r = subprocess.run([tool, path, "-o", field, "--resolution", "32", "--threads", "1", "-q"],
+                           capture_output=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return "no end within %g s" % timeout
+    err = [line for line in r.stderr.decode(errors="replace").splitlines() if line.strip()]
+    written = os.path.exists(field)
+    if r.returncode == 0:
+        return None if written and not err else "exit 0 with %s" % ("lines: " + " | ".join(err) if err else "no field")
+    if r.returncode not in (1, 2, 3):
+        return "exit %d: %s" % (r.returncode, " | ".join(err)[-300:])
+    if len(err) != 1 or not err[0].startswith("Error: "):
+        return "exit %d with %d lines: %s" % (r.returncode, len(err), " | ".join(err)[-300:])
+    return "exit %d but a field written" % r.returncode if written else None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("build")
+    ap.add_argument("data")
+    ap.add_argument("out")
+    ap.add_argument("--runs", type=int, default=200)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--timeout", type=float, default=60)
+    a = ap.parse_args()
+    build, out = os.path.abspath(a.build), os.path.abspath(a.out)
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    pool = seeds(build, a.data, out)
+    rng = random.Random(a.seed)
+    failed = []
+    for run in range(a.runs):
+        ext, data = rng.choice(pool)
+        path, field = "%s/in.%s" % (out, ext), out + "/in.vdb"
+        with open(path, "wb") as f:
+            f.write(mutate(data, rng))
+        if os.path.exists(field):
+            os.remove(field)
+        wrong = run_once(build + "/apps/sdf-build", path, field, a.timeout)
+        if wrong:
+            kept = "%s/failed-%d.%s" % (out, run, ext)
+            shutil.copy(path, kept)
+            failed.append(kept)
+            print("FAIL %s: %s" % (kept, wrong), flush=True)
+    print("mutate-meshes: %d runs, %d passed, %d failed" % (a.runs, a.runs - len(failed), len(failed)))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
