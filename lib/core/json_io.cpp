@@ -24,7 +24,9 @@ void throw_malformed(const std::string& path, const char* what, const char* deta
   fail_input(path, std::string("malformed ") + what + ": " + detail);
 }
 
-std::string dump_json(const json& j) { return j.dump(1) + "\n"; }
+// A file name need not be UTF-8 (a Latin-1 name from an old archive): its bytes that are not
+// become U+FFFD in the document, which JSON requires, instead of failing the run.
+std::string dump_json(const json& j) { return j.dump(1, ' ', false, json::error_handler_t::replace) + "\n"; }
 
 void write_json_atomic(const std::string& path, const json& j) { write_file_atomic(path, dump_json(j)); }
 

@@ -20,7 +20,8 @@ auto read_json_document(const std::string& path, const char* what, Parse&& parse
   }
 }
 
-// Deterministic text (keys sorted by nlohmann's std::map, shortest round-trip doubles).
+// Deterministic text (keys sorted by nlohmann's std::map, shortest round-trip doubles); bytes of a
+// string that are not UTF-8 (a file name's) written as U+FFFD.
 std::string dump_json(const json& j);
 void write_json_atomic(const std::string& path, const json& j);
 

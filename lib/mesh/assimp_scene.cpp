@@ -16,9 +16,26 @@
 
 namespace spx {
 
+namespace {
+
+// Some of assimp's errors quote the rest of the file (an ASCII STL's number that does not parse:
+// 140 000 characters on one line); the line keeps the error's start and end, cut between whole
+// UTF-8 characters.
+std::string shortened(const std::string& error) {
+  const size_t head = 160, tail = 120;
+  if (error.size() <= head + tail + 40) return error;
+  auto starts_char = [&](size_t i) { return (static_cast<unsigned char>(error[i]) & 0xC0) != 0x80; };
+  size_t end = head, start = error.size() - tail;
+  while (end > 0 && !starts_char(end)) --end;
+  while (start < error.size() && !starts_char(start)) ++start;
+  return error.substr(0, end) + " [... " + std::to_string(start - end) + " characters ...] " + error.substr(start);
+}
+
+}  // namespace
+
 void fail_reading(const std::string& path, const std::string& what, const std::string& error) {
   rethrow_out_of_memory(error);
-  fail_input(path, "cannot read " + what + ": " + error);
+  fail_input(path, "cannot read " + what + ": " + shortened(error));
 }
 
 namespace {

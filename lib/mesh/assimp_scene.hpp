@@ -28,7 +28,8 @@ namespace spx {
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
                           std::vector<AddedKeys>* added_keys = nullptr);
 
-// assimp's error reading `path` said: spx::Error (exit 2) "cannot read <what>: <error>", or
+// assimp's error reading `path` said: spx::Error (exit 2) "cannot read <what>: <error>" (an error
+// past 320 characters keeps its first 160 and last 120, saying how many it leaves out), or
 // std::bad_alloc where the error is assimp's word for it (the tools then say out of memory).
 [[noreturn]] void fail_reading(const std::string& path, const std::string& what, const std::string& error);
 

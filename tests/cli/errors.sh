@@ -26,6 +26,14 @@ expect 2 "cut.off: face 2 has no corners" "$out/x.vdb" -- "$bin/sdf-build" "$out
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 7\n' >"$out/past.ply"
 expect 2 "past.ply: face 4 names vertex 7 (counted from 0), past its 4 vertices" "$out/x.vdb" -- "$bin/sdf-build" "$out/past.ply" -o "$out/x.vdb"
 expect 2 "cut.off: face 2 has no corners" "$out/cut" -- "$bin/pose-extract" "$out/cut.off" -o "$out/cut"
+# assimp's error on an ASCII STL's number quotes the rest of the file: the line keeps its start
+# and its end (it was 258 000 characters long here).
+awk 'BEGIN { print "solid s"; f = "facet normal 0 0 0\nouter loop\nvertex %s\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
+             printf f, "0 0 q"; for (i = 0; i < 3000; i++) printf f, "0 0 0"; print "endsolid s" }' >"$out/long.stl"
+expect 2 "long.stl: cannot read mesh: Cannot parse string \"q.* \[\.\.\. [0-9]* characters \.\.\.\] .* as a real number" "$out/x.vdb" -- \
+  "$bin/sdf-build" "$out/long.stl" -o "$out/x.vdb"
+said=$("$bin/sdf-build" "$out/long.stl" -o "$out/x.vdb" 2>&1)
+check "a long error line shortened (${#said} characters)" [ "${#said}" -lt 400 ]
 # A PLY cut short within its header: assimp's reader never returned.
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty fl' >"$out/head.ply"
 expect 2 "head.ply: its PLY header does not end" "$out/x.vdb" -- timeout 60 "$bin/sdf-build" "$out/head.ply" -o "$out/x.vdb"
@@ -396,6 +404,20 @@ sys.exit(0 if r['status']=='error' and r['exit_code']==int(sys.argv[2]) and r['e
   check "a failed run's report validates ($args)" /usr/bin/python3 "$(dirname "$0")/validate_json.py" \
     "$(dirname "$0")/../../schemas" failed-report.schema.json "$out/run.report.json"
 done
+# A file name that is not UTF-8 (a Latin-1 name from an old archive): the chain runs and its
+# reports say the byte as U+FFFD. Writing the report was an internal error (exit 5) after the
+# field was written, and a failed run's report was not written at all.
+latin=$out/$'caf\xe9'
+cp "$out/in/rest.obj" "$latin.obj"
+"$bin/sdf-build" "$latin.obj" -o "$latin.vdb" --resolution 32 -q --report "$out/latin-sdf.json" &&
+  "$bin/sphere-pack" "$latin.vdb" -o "$latin.spheres.json" --method greedy -q --report "$out/latin-pack.json"
+check "a file name that is not UTF-8 (exit $?)" /usr/bin/python3 -c "import json,sys
+for f in sys.argv[1:]: assert 'caf\ufffd' in json.dumps(json.load(open(f)), ensure_ascii=False), f" \
+  "$out/latin-sdf.json" "$out/latin-pack.json" "$latin.spheres.json"
+expect 2 "-gone.obj: cannot open: no such file" "" -- "$bin/sdf-build" "$latin-gone.obj" -o "$out/x.vdb" --report "$out/latin-gone.json"
+check "a failed run's report on a file name that is not UTF-8" /usr/bin/python3 -c "import json,sys
+r = json.load(open(sys.argv[1])); sys.exit(0 if r['status'] == 'error' and 'caf\ufffd-gone.obj' in r['error'] else 1)" \
+  "$out/latin-gone.json"
 # ... but never one that names an input.
 before=$(md5sum <"$out/mine.obj")
 "$bin/sdf-build" "$out/mine.obj" -o "$out/z.vdb" --resolution 0 --report "$out/mine.obj" 2>/dev/null
