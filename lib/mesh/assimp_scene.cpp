@@ -31,15 +31,6 @@ std::string shortened(const std::string& error) {
   return error.substr(0, end) + " [... " + std::to_string(start - end) + " characters ...] " + error.substr(start);
 }
 
-}  // namespace
-
-void fail_reading(const std::string& path, const std::string& what, const std::string& error) {
-  rethrow_out_of_memory(error);
-  fail_input(path, "cannot read " + what + ": " + shortened(error));
-}
-
-namespace {
-
 // assimp 5.2's PLY reader never returns on a header that does not end (no "end_header" line: a
 // file cut short within its header, or its last line run into the data), so such a file is
 // refused before assimp is given it. The word ends as assimp's reader takes it: at a space or the
@@ -116,21 +107,27 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
 void check_faces(const aiScene* scene, const std::string& path) {
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[m];
-    const std::string mesh_name = scene->mNumMeshes > 1 ? " of mesh " + std::to_string(m + 1) : "";
+    auto name = [&](unsigned f) {
+      return "face " + std::to_string(f + 1) + (scene->mNumMeshes > 1 ? " of mesh " + std::to_string(m + 1) : "");
+    };
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
-      const std::string name = "face " + std::to_string(f + 1) + mesh_name;
       if (face.mNumIndices == 0 || !face.mIndices)
-        fail_input(path, name + " has no corners (a file cut short, or a face without its vertices)");
+        fail_input(path, name(f) + " has no corners (a file cut short, or a face without its vertices)");
       for (unsigned k = 0; k < face.mNumIndices; ++k)
         if (face.mIndices[k] >= mesh->mNumVertices)
-          fail_input(path, name + " names vertex " + std::to_string(face.mIndices[k]) + " (counted from 0), past its " +
+          fail_input(path, name(f) + " names vertex " + std::to_string(face.mIndices[k]) + " (counted from 0), past its " +
                                std::to_string(mesh->mNumVertices) + " vertices");
     }
   }
 }
 
 }  // namespace
+
+void fail_reading(const std::string& path, const std::string& what, const std::string& error) {
+  rethrow_out_of_memory(error);
+  fail_input(path, "cannot read " + what + ": " + shortened(error));
+}
 
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
                           std::vector<AddedKeys>* added_keys) {
