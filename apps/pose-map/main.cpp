@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
       ->excludes(tets);
   tool.writes_folder("--cache");
   spx::add_cache_limit(tool.app, opt.cache_limit, cache);
-  tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)");
+  tool.app.add_option("--max-radius", opt.max_radius, "Largest radius in the poses (default: the spheres file's)")
+      ->check(spx::kPositive);
   auto* fill = tool.app.add_flag("--fill-gaps", opt.fill_gaps,
                                  "Pack what each pose's mapped spheres leave uncovered and map the new spheres back "
                                  "to rest");
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
                       "--tolerance, else the rest pose's max error)")
       ->needs(fill);
   tool.app.add_option("--fill-min-radius", opt.fill_min_radius, "Smallest gap-filling sphere (default: 3/4 voxel)")
+      ->check(spx::kPositive)
       ->needs(fill);
   std::string tolerance;
   auto* tolerance_opt =

@@ -12,7 +12,8 @@ int main(int argc, char** argv) {
   tool.writes_file("--output");
   auto* res = tool.app.add_option("--resolution", opt.resolution, "Voxels along the longest side of the bounding box")
                   ->capture_default_str();
-  auto* vs = tool.app.add_option("--voxel-size", opt.voxel_size, "Voxel size in mesh units (instead of --resolution)");
+  auto* vs = tool.app.add_option("--voxel-size", opt.voxel_size, "Voxel size in mesh units (instead of --resolution)")
+                 ->check(spx::kPositive);
   res->excludes(vs);
   tool.app.add_option("--band", opt.band, "Exterior narrow band in voxels")->capture_default_str();
   tool.app.add_option("--memory-limit", opt.memory_limit_gib, "Refuse grids needing more memory than this (GiB)")

@@ -25,8 +25,9 @@ int main(int argc, char** argv) {
   auto* budget = tool.app.add_option("--max-spheres", opt.pack.max_spheres,
                                      "At most N spheres; the cover method picks the N with the least max error")
                      ->check(spx::kPositive);
-  tool.app.add_option("--min-radius", opt.pack.min_radius, "No sphere smaller (greedy default: 1.5 voxels)");
-  tool.app.add_option("--max-radius", opt.pack.max_radius, "No sphere larger (default unlimited)");
+  tool.app.add_option("--min-radius", opt.pack.min_radius, "No sphere smaller (greedy default: 1.5 voxels)")
+      ->check(spx::kPositive);
+  tool.app.add_option("--max-radius", opt.pack.max_radius, "No sphere larger (default unlimited)")->check(spx::kPositive);
   auto* samples = tool.app.add_option("--samples", opt.area_samples, "Cover: surface samples besides every vertex")
                       ->capture_default_str()
                       ->check(CLI::Range(size_t(0), size_t(1000000)));

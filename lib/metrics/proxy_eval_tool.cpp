@@ -123,6 +123,16 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
   report.update(measured);
 }
 
+// What the options ask of the proxy, told before the examples are measured, not after.
+void check_options_against(const ProxyModel& proxy, const EvalToolOptions& opt) {
+  const int poses = int(proxy.poses.size());
+  if (!opt.colors.empty() && lower_extension(opt.colors) == ".ply" && opt.color_pose >= poses)
+    fail_option("pose", "no pose " + std::to_string(opt.color_pose) + " (there are poses 0.." +
+                            std::to_string(poses - 1) + ")");
+  if (!opt.motion.asset.empty() && proxy.skin.empty())
+    fail_option("asset", "the proxy has no skin: --asset measures a rigged body's proxy over a clip");
+}
+
 }  // namespace
 
 void proxy_eval_files(const std::string& proxy_path, const std::string& rest_path, const std::vector<std::string>& pose_paths,
@@ -137,6 +147,7 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
     fail_option("rest", "give the examples (--rest/--pose or --manifest), a clip (--asset), or both");
   const ProxyModel proxy = read_proxy_file(proxy_path);
   check_spx_pose_count(proxy.poses.size(), proxy_path);  // measured as a host loads it, before the work
+  check_options_against(proxy, opt);
   std::vector<TriMesh> meshes;
   if (!rest_path.empty()) {
     {

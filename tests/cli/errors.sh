@@ -238,6 +238,19 @@ expect 1 "color-scale requires --colors" "" -- ev --color-scale 0.1
 expect 1 "color-scale: must be above 0, not -1" "$out/n.ply" -- ev --colors "$out/n.ply" --color-scale -1
 expect 1 "color-pose: is for a .ply" "$out/n.glb" -- ev --colors "$out/n.glb" --color-pose 1
 expect 1 "memory-limit: must be above 0, not 0" "$out/n.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/n.vdb" --memory-limit 0
+# A zero where the library reads zero as "the default" was taken silently as the default.
+expect 1 "voxel-size: must be above 0, not 0" "$out/n.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/n.vdb" --voxel-size 0
+expect 1 "min-radius: must be above 0, not 0" "$out/y.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/y.json" \
+  --method greedy --min-radius 0
+pm0() { "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/y.json" "$@"; }
+expect 1 "max-radius: must be above 0, not 0" "$out/y.json" -- pm0 --max-radius 0
+expect 1 "fill-min-radius: must be above 0, not 0" "$out/y.json" -- pm0 --fill-gaps --fill-min-radius 0
+# What proxy-eval's options ask of the proxy is told before the examples are measured.
+expect 1 "color-pose: no pose 5 (there are poses 0..1)" "$out/n.ply" -- ev --colors "$out/n.ply" --color-pose 5
+check "proxy-eval measured the examples before telling --color-pose is past the poses" \
+  bash -c '! "$@" 2>&1 | grep -q median' _ "$bin/proxy-eval" "$out/ok.proxy.json" --rest "$out/in/rest.obj" \
+  --pose "$out/in/dent.obj" --colors "$out/n.ply" --color-pose 5
+expect 1 "asset: the proxy has no skin" "" -- ev --asset "$out/in/rest.obj"
 # More poses than the runtime reads: the count, the limit and what to do about it.
 python3 -c "
 import json, sys
