@@ -608,6 +608,54 @@ TEST(MeshLoad, FacesWithoutCornersOrPastTheVerticesAreErrors) {
   EXPECT_TRUE(find_defects(whole.mesh).watertight());
 }
 
+// assimp's OFF reader drops a face of more than 9 corners and takes an index past the vertices (or
+// a corner it cannot read) as another vertex, saying so only in its log: each is an error naming
+// the face. What it reads whole (comments, blank lines, colours, a face of 9 corners) still reads.
+TEST(MeshLoad, OffFacesTheReaderWouldDropOrMoveAreErrors) {
+  const std::string dir = test::temp_dir("off-faces");
+  const std::string tetra = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string three = "3 0 2 1\n3 0 1 3\n3 0 3 2\n";
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"OFF\n4 4 0\n" + tetra + three + "3 1 2 9\n", "face 4 names vertex 9 (counted from 0), past its 4 vertices"},
+      {"OFF\n4 4 0\n" + tetra + three + "3 1 2 -1\n", "face 4 names vertex '-1', not a vertex index"},
+      {"OFF\n4 4 0\n" + tetra + three + "3 1 2 3.5\n", "face 4 names vertex '3.5', not a vertex index"},
+      {"OFF\n4 4 0\n" + tetra + three + "3 1 2\n", "face 4 has 3 corners but names 2 vertices"},
+      {"OFF\n4 4 0\n" + tetra + "10 0 1 2 3 0 1 2 3 0 1\n" + three, "face 1 has 10 corners; the OFF reader keeps"},
+      {"OFF\n4 4 0\n" + tetra + three.substr(0, 8) + "# the sides\n" + three.substr(8) + "3 1 2 3\n",
+       "face 4 would be dropped: the OFF reader counts a line among the faces that holds none ('# the sides') as one "
+       "of the header's 4; remove it"},
+      {"OFF\n4 4 0\n# the corners\n" + tetra + three + "3 1 2 3\n", "vertex 1 ('# the corners') is not a vertex"},
+  };
+  for (size_t k = 0; k < bad.size(); ++k) {
+    const std::string path = dir + "/bad" + std::to_string(k) + ".off";
+    write_file_atomic(path, bad[k].first);
+    std::string error = "no error";
+    try {
+      load_mesh(path);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input);
+      error = e.what();
+    }
+    EXPECT_NE(error.find(path + ": " + bad[k].second), std::string::npos) << error;
+  }
+  // A pyramid on a base of one face of 9 corners, with what the format allows around it: comments,
+  // blank lines, colours after a face's corners, a line of no corners.
+  std::string ring, sides, base = "9";
+  for (int i = 0; i < 9; ++i) {
+    const double a = 2 * M_PI * i / 9;
+    ring += std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
+    sides += "3 " + std::to_string(i) + " " + std::to_string((i + 1) % 9) + " 9 0.5 0.5 0.5\n";
+    base += " " + std::to_string(8 - i);
+  }
+  // The line of no corners is one of the header's 11 faces, as the format counts it.
+  write_file_atomic(dir + "/good.off", "# a comment\nOFF # after the keyword\n# before the counts\n10 11 0\n\n" + ring +
+                                           "0 0 1\n\n" + sides + "0\n" + base + "\n");
+  const LoadedMesh pyramid = load_mesh(dir + "/good.off");
+  EXPECT_EQ(pyramid.mesh.vertices.size(), 10u);
+  EXPECT_EQ(pyramid.mesh.triangles.size(), 9u + 7u);
+  EXPECT_TRUE(find_defects(pyramid.mesh).watertight());
+}
+
 TEST(Defects, OpenFlippedAndNonManifold) {
   TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
   TriMesh open = box;
