@@ -20,6 +20,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/gltf_file.hpp"
 #include "core/side_by_side.hpp"
 #include "mesh/assimp_scene.hpp"
@@ -625,6 +626,9 @@ TEST(MeshLoad, OffFacesTheReaderWouldDropOrMoveAreErrors) {
        "face 4 would be dropped: the OFF reader counts a line among the faces that holds none ('# the sides') as one "
        "of the header's 4; remove it"},
       {"OFF\n4 4 0\n# the corners\n" + tetra + three + "3 1 2 3\n", "vertex 1 ('# the corners') is not a vertex"},
+      // A vertical tab, which the reader does not skip (the corner after it read as vertex 0), shown
+      // as '?' to keep the error on one line.
+      {"OFF\n4 4 0\n" + tetra + three + "3 1 2\v3\n", "face 4 names vertex '2?3', not a vertex index"},
   };
   for (size_t k = 0; k < bad.size(); ++k) {
     const std::string path = dir + "/bad" + std::to_string(k) + ".off";
@@ -654,6 +658,95 @@ TEST(MeshLoad, OffFacesTheReaderWouldDropOrMoveAreErrors) {
   EXPECT_EQ(pyramid.mesh.vertices.size(), 10u);
   EXPECT_EQ(pyramid.mesh.triangles.size(), 9u + 7u);
   EXPECT_TRUE(find_defects(pyramid.mesh).watertight());
+}
+
+// assimp's PLY reader reads on where the data ends early (an ASCII file's next line as the
+// missing one, a binary file's bytes past its end) and reads a line of too few values, or a word
+// that is not a number, with zeros. Every cut of a cube's binary file (either byte order), and each
+// damaged ASCII line, is an error naming the element; the whole files, with colours and a list of
+// floats beside the indices, read as the cube.
+TEST(MeshLoad, PlyDataCutShortOrDamagedIsAnError) {
+  const std::string dir = test::temp_dir("ply-data");
+  const TriMesh cube = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  auto header = [&](const std::string& format) {
+    return "ply\nformat " + format + " 1.0\ncomment a cube\nelement vertex " + std::to_string(cube.vertices.size()) +
+           "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nelement face " +
+           std::to_string(cube.triangles.size()) +
+           "\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n";
+  };
+  auto error_of = [](const std::string& path) {
+    try {
+      load_mesh(path);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  auto reads_as_cube = [&](const std::string& path) {
+    const LoadedMesh m = load_mesh(path);
+    EXPECT_EQ(m.mesh.vertices, cube.vertices) << path;
+    EXPECT_EQ(m.mesh.triangles, cube.triangles) << path;
+  };
+  for (const bool little : {true, false}) {
+    std::string body;
+    auto put = [&](const void* value, size_t size) {
+      const char* bytes = static_cast<const char*>(value);
+      for (size_t b = 0; b < size; ++b) body += bytes[little ? b : size - 1 - b];
+    };
+    for (const auto& v : cube.vertices) {
+      for (int a = 0; a < 3; ++a) {
+        const float x = float(v[a]);
+        put(&x, 4);
+      }
+      body += char(200);
+    }
+    for (const auto& t : cube.triangles) {
+      body += char(3);
+      for (int a = 0; a < 3; ++a) put(&t[a], 4);
+      body += char(2);
+      for (const float uv : {0.25f, 0.75f}) put(&uv, 4);
+    }
+    const std::string head = header(little ? "binary_little_endian" : "binary_big_endian");
+    write_file_atomic(dir + "/whole.ply", head + body);
+    reads_as_cube(dir + "/whole.ply");
+    for (size_t keep = 0; keep < body.size(); ++keep) {
+      write_file_atomic(dir + "/cut.ply", head + body.substr(0, keep));
+      const std::string error = error_of(dir + "/cut.ply");
+      ASSERT_NE(error.find("cut.ply: its data ends within "), std::string::npos) << keep << " bytes: " << error;
+    }
+  }
+  std::vector<std::string> lines;
+  for (const auto& v : cube.vertices) lines.push_back(num(v.x()) + " " + num(v.y()) + " " + num(v.z()) + " 200");
+  for (const auto& t : cube.triangles)
+    lines.push_back("3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + " 2 0.25 +0.75");
+  auto ascii = [&](const std::vector<std::string>& data) {
+    std::string text = header("ascii");
+    for (const auto& line : data) text += line + "\r\n";
+    write_file_atomic(dir + "/text.ply", text);
+    return dir + "/text.ply";
+  };
+  reads_as_cube(ascii(lines));
+  const size_t face = cube.vertices.size() + 4, last = lines.size() - 1;  // face 5, and the last face
+  std::vector<std::string> damaged = lines;
+  damaged.pop_back();
+  EXPECT_NE(error_of(ascii(damaged)).find("text.ply: its data ends before face 12 of 12 (a file cut short?)"),
+            std::string::npos);
+  damaged = lines;
+  damaged[face] = "3 0 1 2 2 0.25";
+  EXPECT_NE(error_of(ascii(damaged)).find("text.ply: line 25 (face 5 of 12, '3 0 1 2 2 0.25') holds 6 values, fewer "
+                                          "than its header asks for"),
+            std::string::npos)
+      << error_of(ascii(damaged));
+  damaged = lines;
+  damaged[last] = "3 0 x 2 2 0.25 0.75";
+  EXPECT_NE(error_of(ascii(damaged)).find("(face 12 of 12, '3 0 x 2 2 0.25 0.75'): 'x' is not a whole number"),
+            std::string::npos);
+  damaged = lines;
+  damaged[1] = "1 0 0,5 200";
+  EXPECT_NE(error_of(ascii(damaged)).find("line 14 (vertex 2 of 8, '1 0 0,5 200'): '0,5' is not a number"),
+            std::string::npos)
+      << error_of(ascii(damaged));
 }
 
 TEST(Defects, OpenFlippedAndNonManifold) {

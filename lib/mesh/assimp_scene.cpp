@@ -3,16 +3,14 @@
 #include <assimp/SceneCombiner.h>
 
 #include <algorithm>
-#include <cctype>
-#include <fstream>
 #include <map>
 #include <optional>
-#include <string_view>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 #include "core/gltf_file.hpp"
+#include "mesh/file_checks.hpp"
 #include "mesh/gltf_input.hpp"
 
 namespace spx {
@@ -32,162 +30,13 @@ std::string shortened(const std::string& error) {
   return error.substr(0, end) + " [... " + std::to_string(start - end) + " characters ...] " + error.substr(start);
 }
 
-// assimp 5.2's PLY reader never returns on a header that does not end (no "end_header" line: a
-// file cut short within its header, or its last line run into the data), so such a file is
-// refused before assimp is given it. The word ends as assimp's reader takes it: at a space or the
-// line's end.
-void check_ply_header_ends(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  while (std::getline(in, line)) {
-    const size_t start = line.find_first_not_of(" \t");
-    if (start == std::string::npos || line.compare(start, 10, "end_header") != 0) continue;
-    const size_t after = start + 10;
-    if (after == line.size() || std::isspace(static_cast<unsigned char>(line[after]))) return;
-  }
-  fail_input(path, "its PLY header does not end (no end_header line: a file cut short?)");
-}
-
-// An ASCII OFF read as assimp 5.2's reader reads it: the header's tokens (comment lines skipped),
-// then one line a vertex and one line a face, blank lines skipped. That reader drops a face of
-// more than 9 corners and takes an index past the vertices as the last vertex, and says so only
-// in its log: a polygon lost, or a triangle in the wrong place. Either is one error line here.
-// Where the file is not plainly that (a binary OFF, a header it cannot read), assimp decides.
-class OffScan {
- public:
-  explicit OffScan(const std::string& path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    text_.resize(size_t(std::max<std::streamoff>(in.tellg(), 0)));
-    in.seekg(0);
-    in.read(text_.data(), std::streamsize(text_.size()));
-    text_.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
-  }
-
-  void check(const std::string& path) {
-    next_token();
-    const size_t keyword = text_.find_first_not_of("STCN4n", at_);
-    if (keyword == std::string::npos || text_.compare(keyword, 3, "OFF") != 0) return;
-    const bool dimension = text_.find('n', at_) < keyword;
-    at_ = keyword + 3;
-    if (text_.compare(at_, 7, " BINARY") == 0) return;
-    unsigned long counts[4];  // the dimension where the header names one, vertices, faces, edges
-    for (int k = dimension ? 0 : 1; k < 4; ++k)
-      if (!read_count(counts[k])) return;
-    const unsigned long vertices = counts[1], faces = counts[2];
-    for (unsigned long v = 0; v < vertices; ++v) {
-      if (!next_line()) return;
-      const std::string word(next_word());
-      char* end = nullptr;
-      std::strtod(word.c_str(), &end);
-      if (end == word.c_str())
-        fail_input(path, "vertex " + std::to_string(v + 1) + " ('" + this_line() + "') is not a vertex: the OFF reader "
-                         "takes each line after the counts as one; remove it");
-    }
-    // The reader drops a line of no face (no corners: a "0", or a comment) from the faces it keeps
-    // but reads the next line in its place: each such line costs the file its last face.
-    unsigned long slot = 0, kept = faces;
-    std::string first_empty;
-    while (slot < faces && next_line()) {
-      const std::string line = this_line();
-      if (!check_face(path, slot, vertices)) {
-        --kept;
-        if (first_empty.empty()) first_empty = line;
-        continue;
-      }
-      if (slot >= kept) {
-        const unsigned long empty = faces - kept;
-        fail_input(path, "face " + std::to_string(slot + 1) + " would be dropped: the OFF reader counts " +
-                             (empty == 1 ? "a line among the faces that holds none ('" + first_empty + "')"
-                                         : std::to_string(empty) + " lines among the faces that hold none (the first: '" +
-                                               first_empty + "')") +
-                             " as one of the header's " + std::to_string(faces) + "; remove " +
-                             (empty == 1 ? "it" : "them"));
-      }
-      ++slot;
-    }
-  }
-
- private:
-  bool at_line_end() const { return text_[at_] == '\n' || text_[at_] == '\r'; }
-  void skip_line() {
-    while (at_ < text_.size() && !at_line_end()) ++at_;
-  }
-  void next_token() {
-    while (at_ < text_.size() && (std::isspace(static_cast<unsigned char>(text_[at_])) || text_[at_] == '#')) {
-      if (text_[at_] == '#') skip_line();
-      else ++at_;
-    }
-  }
-  bool read_count(unsigned long& count) {
-    next_token();
-    const char* start = text_.c_str() + at_;
-    if (!std::isdigit(static_cast<unsigned char>(*start))) return false;
-    char* end = nullptr;
-    count = std::strtoul(start, &end, 10);
-    at_ += size_t(end - start);
-    return true;
-  }
-  // The next line that is not blank, as [begin_, at_); its words are read from line_ on.
-  bool next_line() {
-    while (at_ < text_.size() && at_line_end()) ++at_;
-    if (at_ >= text_.size()) return false;
-    begin_ = line_ = at_;
-    skip_line();
-    return true;
-  }
-  std::string this_line() const {
-    const size_t shown = std::min<size_t>(at_ - begin_, 60);
-    return text_.substr(begin_, shown) + (shown < at_ - begin_ ? "..." : "");
-  }
-  // The next word of the line [line_, at_), advancing line_; empty at the line's end.
-  std::string_view next_word() {
-    while (line_ < at_ && (text_[line_] == ' ' || text_[line_] == '\t')) ++line_;
-    const size_t start = line_;
-    while (line_ < at_ && text_[line_] != ' ' && text_[line_] != '\t') ++line_;
-    return std::string_view(text_).substr(start, line_ - start);
-  }
-  // The word as a whole number from 0, or -1 where it is not one.
-  static long long whole_number(std::string_view word) {
-    if (word.empty() || word.size() > 18) return -1;
-    long long value = 0;
-    for (char c : word) {
-      if (c < '0' || c > '9') return -1;
-      value = value * 10 + (c - '0');
-    }
-    return value;
-  }
-  // False where the line holds no face (no corners, or no count).
-  bool check_face(const std::string& path, unsigned long f, unsigned long vertices) {
-    const long long corners = whole_number(next_word());
-    if (corners <= 0) return false;
-    auto fail = [&](const std::string& what) { fail_input(path, "face " + std::to_string(f + 1) + " " + what); };
-    if (corners > 9)
-      fail("has " + std::to_string(corners) + " corners; the OFF reader keeps faces of at most 9 and would drop it: "
-           "save the mesh as OBJ or PLY, or split its larger faces");
-    for (long long k = 0; k < corners; ++k) {
-      const std::string_view word = next_word();
-      const long long index = whole_number(word);
-      if (word.empty())
-        fail("has " + std::to_string(corners) + " corners but names " + std::to_string(k) + " vertices");
-      if (index < 0) fail("names vertex '" + std::string(word) + "', not a vertex index (a whole number from 0)");
-      if (static_cast<unsigned long long>(index) >= vertices)
-        fail("names vertex " + std::string(word) + " (counted from 0), past its " + std::to_string(vertices) + " vertices");
-    }
-    return true;
-  }
-
-  std::string text_;
-  size_t at_ = 0, begin_ = 0, line_ = 0;
-};
-
 // The file as assimp reads it, before any post-processing.
 const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& path, const std::string& what,
                                 std::vector<AddedKeys>* added_keys) {
   if (added_keys) added_keys->clear();
   const std::string ext = lower_extension(path);
   const bool gltf = ext == ".gltf" || ext == ".glb";
-  if (ext == ".ply") check_ply_header_ends(path);
-  if (ext == ".off") OffScan(path).check(path);
+  check_before_assimp(path);
   // A glTF is parsed once: mended for assimp where it needs it, and asked why where assimp fails.
   std::optional<GltfFile> file;
   std::optional<Error> not_gltf;  // the container's fault, told only where assimp fails too

@@ -22,9 +22,10 @@ namespace spx {
 // percent-encoded, "My%20Body.bin", which assimp opens as written) is read again from memory as
 // the GLB that reader makes of it. Otherwise throws spx::Error naming `path` (exit 2): "cannot read
 // <what>: <assimp's error>"; and so where a face has no corners or names a vertex past its mesh's,
-// which assimp keeps (a file cut short; its triangulation would abort the process), and where a
-// PLY's header has no end (assimp's reader would never return). The file is read without flags
-// and then post-processed with them, as ReadFile does. The scene is the importer's.
+// which assimp keeps (a file cut short; its triangulation would abort the process), and where an
+// OFF or PLY holds what assimp's reader would read wrong or never finish (mesh/file_checks.hpp).
+// The file is read without flags and then post-processed with them, as ReadFile does. The scene
+// is the importer's.
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
                           std::vector<AddedKeys>* added_keys = nullptr);
 

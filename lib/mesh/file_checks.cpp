@@ -1,0 +1,348 @@
+#include "mesh/file_checks.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string_view>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/file_kind.hpp"
+
+namespace spx {
+
+namespace {
+
+// A file's bytes with a cursor, read as assimp's text readers read: line by line, blank lines
+// skipped, words split at spaces and tabs.
+class TextScan {
+ public:
+  explicit TextScan(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    text_.resize(size_t(std::max<std::streamoff>(in.tellg(), 0)));
+    in.seekg(0);
+    in.read(text_.data(), std::streamsize(text_.size()));
+    text_.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  }
+
+ protected:
+  [[noreturn]] void fail(const std::string& what) const { fail_input(path_, what); }
+  bool at_line_end() const { return text_[at_] == '\n' || text_[at_] == '\r'; }
+  void skip_line() {
+    while (at_ < text_.size() && !at_line_end()) ++at_;
+  }
+  // The next line that is not blank, as [begin_, at_); its words are read from word_ on.
+  bool next_line() {
+    while (at_ < text_.size() && at_line_end()) {
+      if (text_[at_] == '\n') ++line_number_;
+      ++at_;
+    }
+    if (at_ >= text_.size()) return false;
+    begin_ = word_ = at_;
+    skip_line();
+    return true;
+  }
+  std::string_view next_word() {
+    while (word_ < at_ && (text_[word_] == ' ' || text_[word_] == '\t')) ++word_;
+    const size_t start = word_;
+    while (word_ < at_ && text_[word_] != ' ' && text_[word_] != '\t') ++word_;
+    return std::string_view(text_).substr(start, word_ - start);
+  }
+  // Words quoted in an error, on its one line: a control character (a vertical tab, a form feed)
+  // shown as '?'.
+  static std::string quoted(std::string_view words) {
+    std::string out(words);
+    for (char& c : out)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    return out;
+  }
+  // The line, as a person reads it in an error.
+  std::string this_line() const {
+    const size_t shown = std::min<size_t>(at_ - begin_, 60);
+    return quoted(std::string_view(text_).substr(begin_, shown)) + (shown < at_ - begin_ ? "..." : "");
+  }
+  // The word as a whole number from 0, or -1 where it is not one.
+  static long long whole_number(std::string_view word) {
+    if (word.empty() || word.size() > 18) return -1;
+    long long value = 0;
+    for (char c : word) {
+      if (c < '0' || c > '9') return -1;
+      value = value * 10 + (c - '0');
+    }
+    return value;
+  }
+
+  std::string path_, text_;
+  size_t at_ = 0, begin_ = 0, word_ = 0, line_number_ = 1;
+};
+
+// An ASCII OFF read as the OFF reader reads it: the header's tokens (comment lines skipped), then
+// one line a vertex and one line a face, blank lines skipped. That reader drops a face of more
+// than 9 corners and takes an index past the vertices as the last vertex (a corner missing or not
+// a number as vertex 0); a line of no corners among the faces it counts as one, so the last face
+// is dropped; a comment among the vertices it reads as a vertex. Where the file is not plainly an
+// OFF of 3 coordinates (a binary OFF, a header it cannot read), assimp decides.
+class OffScan : TextScan {
+ public:
+  using TextScan::TextScan;
+
+  void check() {
+    next_token();
+    const size_t keyword = text_.find_first_not_of("STCN4n", at_);
+    if (keyword == std::string::npos || text_.compare(keyword, 3, "OFF") != 0) return;
+    const bool dimension = text_.find('n', at_) < keyword;
+    at_ = keyword + 3;
+    if (text_.compare(at_, 7, " BINARY") == 0) return;
+    unsigned long counts[4];  // the dimension where the header names one, vertices, faces, edges
+    for (int k = dimension ? 0 : 1; k < 4; ++k)
+      if (!read_count(counts[k])) return;
+    const unsigned long vertices = counts[1], faces = counts[2];
+    for (unsigned long v = 0; v < vertices; ++v) {
+      if (!next_line()) return;
+      const std::string word(next_word());
+      char* end = nullptr;
+      std::strtod(word.c_str(), &end);
+      if (end == word.c_str())
+        fail("vertex " + std::to_string(v + 1) + " ('" + this_line() + "') is not a vertex: the OFF reader takes each "
+             "line after the counts as one; remove it");
+    }
+    // The reader drops a line of no face (no corners: a "0", or a comment) from the faces it keeps
+    // but reads the next line in its place: each such line costs the file its last face.
+    unsigned long slot = 0, kept = faces;
+    std::string first_empty;
+    while (slot < faces && next_line()) {
+      const std::string line = this_line();
+      if (!check_face(slot, vertices)) {
+        --kept;
+        if (first_empty.empty()) first_empty = line;
+        continue;
+      }
+      if (slot >= kept) {
+        const unsigned long empty = faces - kept;
+        fail("face " + std::to_string(slot + 1) + " would be dropped: the OFF reader counts " +
+             (empty == 1 ? "a line among the faces that holds none ('" + first_empty + "')"
+                         : std::to_string(empty) + " lines among the faces that hold none (the first: '" + first_empty +
+                               "')") +
+             " as one of the header's " + std::to_string(faces) + "; remove " + (empty == 1 ? "it" : "them"));
+      }
+      ++slot;
+    }
+  }
+
+ private:
+  void next_token() {
+    while (at_ < text_.size() && (std::isspace(static_cast<unsigned char>(text_[at_])) || text_[at_] == '#')) {
+      if (text_[at_] == '#') skip_line();
+      else ++at_;
+    }
+  }
+  bool read_count(unsigned long& count) {
+    next_token();
+    const char* start = text_.c_str() + at_;
+    if (!std::isdigit(static_cast<unsigned char>(*start))) return false;
+    char* end = nullptr;
+    count = std::strtoul(start, &end, 10);
+    at_ += size_t(end - start);
+    return true;
+  }
+  // False where the line holds no face (no corners, or no count).
+  bool check_face(unsigned long f, unsigned long vertices) {
+    const long long corners = whole_number(next_word());
+    if (corners <= 0) return false;
+    const std::string face = "face " + std::to_string(f + 1) + " ";
+    if (corners > 9)
+      fail(face + "has " + std::to_string(corners) + " corners; the OFF reader keeps faces of at most 9 and would drop "
+           "it: save the mesh as OBJ or PLY, or split its larger faces");
+    for (long long k = 0; k < corners; ++k) {
+      const std::string_view word = next_word();
+      const long long index = whole_number(word);
+      if (word.empty()) fail(face + "has " + std::to_string(corners) + " corners but names " + std::to_string(k) + " vertices");
+      if (index < 0) fail(face + "names vertex '" + quoted(word) + "', not a vertex index (a whole number from 0)");
+      if (static_cast<unsigned long long>(index) >= vertices)
+        fail(face + "names vertex " + std::string(word) + " (counted from 0), past its " + std::to_string(vertices) +
+             " vertices");
+    }
+    return true;
+  }
+};
+
+// A PLY's header, and its data walked element by element as the header lays it out. The PLY
+// reader never returns on a header that does not end (no "end_header" line: a file cut short
+// within its header, or its last line run into the data). Past the header it reads on where the
+// data ends early: an ASCII file's next line, or its last line again, as the missing ones; a
+// binary file's bytes past its end (indices of 168430090, or coordinates of 1e-33). An ASCII
+// line with fewer values than its properties ask it reads with zeros, and a word that is not a
+// number as 0.
+class PlyScan : TextScan {
+ public:
+  using TextScan::TextScan;
+
+  void check() {
+    if (!read_header()) return;
+    if (format_ == "ascii") {
+      for (const Element& e : elements_)
+        for (unsigned long k = 0; k < e.count; ++k) check_ascii_line(e, k);
+    } else if (format_ == "binary_little_endian" || format_ == "binary_big_endian") {
+      walk_binary();
+    }
+  }
+
+ private:
+  struct Property {
+    int size = 0, count_size = 0;  // count_size > 0: a list, its count of count_size bytes
+    bool whole = false;            // an integer type
+  };
+  struct Element {
+    std::string name;
+    unsigned long count = 0;
+    std::vector<Property> properties;
+  };
+
+  static int type_size(const std::string& type, bool& whole) {
+    static const char* const names[][3] = {{"char", "int8", "1"},     {"uchar", "uint8", "1"},   {"short", "int16", "2"},
+                                           {"ushort", "uint16", "2"}, {"int", "int32", "4"},     {"uint", "uint32", "4"},
+                                           {"float", "float32", "4"}, {"double", "float64", "8"}};
+    for (const auto& n : names)
+      if (type == n[0] || type == n[1]) {
+        whole = type.find("float") == std::string::npos && type != "double";
+        return n[2][0] - '0';
+      }
+    return 0;
+  }
+
+  // False where the data cannot be followed (a header of words this does not know); throws where
+  // the header does not end.
+  bool read_header() {
+    bool known = true;
+    while (next_line()) {
+      const std::string_view key = next_word();
+      if (key == "end_header") {
+        if (at_ < text_.size() && text_[at_] == '\r') ++at_;
+        if (at_ < text_.size() && text_[at_] == '\n') ++at_, ++line_number_;
+        data_ = at_;
+        return known && !format_.empty();
+      }
+      if (key == "format") {
+        format_ = next_word();
+      } else if (key == "element") {
+        const std::string name(next_word());
+        const long long count = whole_number(next_word());
+        elements_.push_back({name, count < 0 ? 0 : static_cast<unsigned long>(count), {}});
+        known = known && count >= 0;
+      } else if (key == "property" && !elements_.empty()) {
+        known = known && read_property(elements_.back().properties);
+      } else if (key != "ply" && key != "comment" && key != "obj_info") {
+        known = false;
+      }
+    }
+    fail("its PLY header does not end (no end_header line: a file cut short?)");
+  }
+  bool read_property(std::vector<Property>& properties) {
+    Property p;
+    bool whole = false;
+    std::string type(next_word());
+    if (type == "list") {
+      p.count_size = type_size(std::string(next_word()), whole);
+      if (!whole) return false;
+      type = next_word();
+    }
+    p.size = type_size(type, p.whole);
+    properties.push_back(p);
+    return p.size > 0;
+  }
+
+  std::string instance(const Element& e, unsigned long k) const {
+    return e.name + " " + std::to_string(k + 1) + " of " + std::to_string(e.count);
+  }
+
+  void check_ascii_line(const Element& e, unsigned long k) {
+    if (!next_line()) fail("its data ends before " + instance(e, k) + " (a file cut short?)");
+    auto where = [&] { return "line " + std::to_string(line_number_) + " (" + instance(e, k) + ", '" + this_line() + "')"; };
+    size_t values = 0;
+    // A number; where `whole` (a list's count, a list of indices), a whole number.
+    auto value = [&](bool whole) {
+      std::string_view word = next_word();
+      if (word.empty())
+        fail(where() + " holds " + std::to_string(values) + " values, fewer than its header asks for: a file cut "
+             "short, or a line broken?");
+      ++values;
+      if (word[0] == '+') word.remove_prefix(1);
+      long long integer = 0;
+      double real = 0;
+      const char* end = word.data() + word.size();
+      const std::from_chars_result read =
+          whole ? std::from_chars(word.data(), end, integer) : std::from_chars(word.data(), end, real);
+      if (read.ec != std::errc() || read.ptr != end)
+        fail(where() + ": '" + quoted(word) + "' is not " + (whole ? "a whole number" : "a number"));
+      return integer;
+    };
+    for (const Property& p : e.properties) {
+      if (p.count_size == 0) {
+        value(false);
+        continue;
+      }
+      const long long n = value(true);
+      if (n < 0) fail(where() + ": a list of " + std::to_string(n) + " values");
+      for (long long i = 0; i < n; ++i) value(p.whole);
+    }
+  }
+
+  unsigned long read_count(size_t at, int size) const {
+    unsigned long value = 0;
+    for (int b = 0; b < size; ++b) {
+      const int shift = 8 * (format_ == "binary_little_endian" ? b : size - 1 - b);
+      value |= static_cast<unsigned long>(static_cast<unsigned char>(text_[at + size_t(b)])) << shift;
+    }
+    return value;
+  }
+  void walk_binary() {
+    size_t at = data_;
+    auto need = [&](size_t bytes, const Element& e, unsigned long k) {
+      if (bytes > text_.size() - std::min(at, text_.size())) fail("its data ends within " + instance(e, k) + " (a file cut short?)");
+    };
+    for (const Element& e : elements_) {
+      size_t fixed = 0;
+      bool lists = false;
+      for (const Property& p : e.properties) {
+        fixed += p.count_size ? 0 : size_t(p.size);
+        lists = lists || p.count_size > 0;
+      }
+      if (!lists) {  // one step for the whole element
+        const size_t fit = fixed ? (text_.size() - std::min(at, text_.size())) / fixed : e.count;
+        if (fit < e.count) fail("its data ends within " + instance(e, fit) + " (a file cut short?)");
+        at += fixed * e.count;
+        continue;
+      }
+      for (unsigned long k = 0; k < e.count; ++k)
+        for (const Property& p : e.properties) {
+          if (p.count_size == 0) {
+            need(size_t(p.size), e, k);
+            at += size_t(p.size);
+            continue;
+          }
+          need(size_t(p.count_size), e, k);
+          const size_t items = read_count(at, p.count_size);
+          at += size_t(p.count_size);
+          need(items * size_t(p.size), e, k);
+          at += items * size_t(p.size);
+        }
+    }
+  }
+
+  std::string format_;
+  std::vector<Element> elements_;
+  size_t data_ = 0;
+};
+
+}  // namespace
+
+void check_before_assimp(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".off") OffScan(path).check();
+  if (ext == ".ply") PlyScan(path).check();
+}
+
+}  // namespace spx
