@@ -11,8 +11,8 @@ build=$(cd "${2:-$root/build/release}" && pwd)
 cxx=$(command -v clang++-14 || command -v clang++ || true)
 [ -n "$cxx" ] || { echo "fuzz: clang++ not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 1; }
 out=$build/fuzz
-rm -rf "$out/corpus-spx" "$out/corpus-json" "$out/corpus-gltf" "$out/seeds"
-mkdir -p "$out/corpus-spx" "$out/corpus-json" "$out/corpus-gltf"
+rm -rf "$out/corpus-spx" "$out/corpus-json" "$out/corpus-gltf" "$out/corpus-mesh" "$out/seeds"
+mkdir -p "$out/corpus-spx" "$out/corpus-json" "$out/corpus-gltf" "$out/corpus-mesh"
 flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
   -I"$root/lib" -I"$root/lib/runtime" -I/usr/include/eigen3 -DSPX_VERSION='"fuzz"')
 "$cxx" "${flags[@]}" "$root/tests/fuzz/spx_reader.cpp" -o "$out/spx_reader"
@@ -21,6 +21,8 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
   -o "$out/json_readers"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/gltf_meshopt.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
   "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -lmeshoptimizer -o "$out/gltf_container"
+"$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/core/file_kind.cpp" \
+  -o "$out/mesh_text"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
 seeds=$out/seeds/car
@@ -48,15 +50,40 @@ doc = json.loads(b[20:20 + n])
 doc['buffers'][0]['uri'] = 'data:application/octet-stream;base64,' + base64.b64encode(b[20 + n + 8:]).decode()
 json.dump(doc, open(sys.argv[2], 'w'))
 " "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/barrel.gltf"
+# Meshes: the barrel's rest mesh as an OFF, an ASCII PLY and a binary PLY (with a list of floats).
+python3 -c "
+import struct, sys
+v, f = [], []
+for line in open(sys.argv[1]):
+    w = line.split()
+    if w and w[0] == 'v': v.append([float(x) for x in w[1:4]])
+    if w and w[0] == 'f': f.append([int(x.split('/')[0]) - 1 for x in w[1:]])
+out = sys.argv[2]
+with open(out + '/barrel.off', 'w') as o:
+    o.write('OFF\\n# the barrel\\n%d %d 0\\n' % (len(v), len(f)))
+    o.writelines('%g %g %g\\n' % tuple(p) for p in v)
+    o.writelines('%d %s\\n' % (len(t), ' '.join(map(str, t))) for t in f)
+head = ('ply\\nformat %s 1.0\\nelement vertex %d\\nproperty float x\\nproperty float y\\nproperty float z\\n'
+        'element face %d\\nproperty list uchar int vertex_indices\\nproperty list uchar float uv\\nend_header\\n')
+with open(out + '/barrel.ply', 'w') as o:
+    o.write(head % ('ascii', len(v), len(f)))
+    o.writelines('%g %g %g\\n' % tuple(p) for p in v)
+    o.writelines('%d %s 2 0.5 0.5\\n' % (len(t), ' '.join(map(str, t))) for t in f)
+with open(out + '/barrel-binary.ply', 'wb') as o:
+    o.write((head % ('binary_little_endian', len(v), len(f))).encode())
+    o.write(b''.join(struct.pack('<3f', *p) for p in v))
+    o.write(b''.join(struct.pack('<B%diB2f' % len(t), len(t), *t, 2, 0.5, 0.5) for t in f))
+" "$out/seeds/barrel/rest.obj" "$out/corpus-mesh"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"
 cp "$root"/tests/fuzz/regressions/gltf/* "$out/corpus-gltf/"
 cd "$out"
 status=0
-for target in spx_reader json_readers gltf_container; do
+for target in spx_reader json_readers gltf_container mesh_text; do
   corpus=corpus-spx
   [ $target = json_readers ] && corpus=corpus-json
   [ $target = gltf_container ] && corpus=corpus-gltf
+  [ $target = mesh_text ] && corpus=corpus-mesh
   echo "fuzz: $target for ${seconds}s" >&2
   if ! "./$target" "$corpus" -max_total_time="$seconds" -max_len=200000 -print_final_stats=1 >"$target.log" 2>&1; then
     status=1
@@ -64,5 +91,5 @@ for target in spx_reader json_readers gltf_container; do
   fi
   grep -E "stat::number_of_executed_units|stat::new_units_added" "$target.log" | sed "s/^/$target: /"
 done
-if [ $status = 0 ]; then echo "3 passed, 0 failed"; else echo "0 passed, 1 failed"; fi
+if [ $status = 0 ]; then echo "4 passed, 0 failed"; else echo "0 passed, 1 failed"; fi
 exit $status

@@ -20,13 +20,7 @@ namespace {
 // skipped, words split at spaces and tabs.
 class TextScan {
  public:
-  explicit TextScan(const std::string& path) : path_(path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    text_.resize(size_t(std::max<std::streamoff>(in.tellg(), 0)));
-    in.seekg(0);
-    in.read(text_.data(), std::streamsize(text_.size()));
-    text_.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
-  }
+  TextScan(const std::string& path, const std::string& text) : path_(path), text_(text) {}
 
  protected:
   [[noreturn]] void fail(const std::string& what) const { fail_input(path_, what); }
@@ -75,7 +69,8 @@ class TextScan {
     return value;
   }
 
-  std::string path_, text_;
+  const std::string& path_;
+  const std::string& text_;
   size_t at_ = 0, begin_ = 0, word_ = 0, line_number_ = 1;
 };
 
@@ -339,10 +334,21 @@ class PlyScan : TextScan {
 
 }  // namespace
 
+void check_mesh_text(const std::string& path, const std::string& text) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".off") OffScan(path, text).check();
+  if (ext == ".ply") PlyScan(path, text).check();
+}
+
 void check_before_assimp(const std::string& path) {
   const std::string ext = lower_extension(path);
-  if (ext == ".off") OffScan(path).check();
-  if (ext == ".ply") PlyScan(path).check();
+  if (ext != ".off" && ext != ".ply") return;
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  std::string text(size_t(std::max<std::streamoff>(in.tellg(), 0)), '\0');
+  in.seekg(0);
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  check_mesh_text(path, text);
 }
 
 }  // namespace spx

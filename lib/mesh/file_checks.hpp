@@ -11,4 +11,7 @@ namespace spx {
 
 void check_before_assimp(const std::string& path);
 
+// The same on a file's bytes, the format told by `path`'s extension (what a fuzzer drives).
+void check_mesh_text(const std::string& path, const std::string& text);
+
 }  // namespace spx
