@@ -77,6 +77,7 @@ with open(out + '/barrel-binary.ply', 'wb') as o:
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"
 cp "$root"/tests/fuzz/regressions/gltf/* "$out/corpus-gltf/"
+cp "$root"/tests/fuzz/regressions/mesh/* "$out/corpus-mesh/"
 cd "$out"
 status=0
 for target in spx_reader json_readers gltf_container mesh_text; do

@@ -250,7 +250,7 @@ class PlyScan : TextScan {
   }
 
   std::string instance(const Element& e, unsigned long k) const {
-    return e.name + " " + std::to_string(k + 1) + " of " + std::to_string(e.count);
+    return quoted(e.name) + " " + std::to_string(k + 1) + " of " + std::to_string(e.count);
   }
 
   void check_ascii_line(const Element& e, unsigned long k) {
