@@ -199,12 +199,16 @@ std::string encode_preview(const ProxyModel& proxy, const std::string& ext, int 
   return encode_scene(nodes, ext);
 }
 
+void check_pose_number(int pose, size_t count) {
+  if (pose < 0 || size_t(pose) >= count)
+    fail_option("pose", "no pose " + std::to_string(pose) + " (there are poses 0.." + std::to_string(count - 1) + ")");
+}
+
 std::string encode_error_scene(const std::vector<PoseError>& evals, const std::string& ext, int pose, double scale,
                                double step) {
   std::vector<SceneNode> nodes;
   const bool gltf = ext == ".glb";
-  if (!gltf && (pose < 0 || pose >= int(evals.size())))
-    fail_option("pose", "no pose " + std::to_string(pose) + " (there are poses 0.." + std::to_string(evals.size() - 1) + ")");
+  if (!gltf) check_pose_number(pose, evals.size());
   for (size_t k = 0; k < evals.size(); ++k) {
     if (!gltf && int(k) != pose) continue;
     const PoseError& e = evals[k];

@@ -28,6 +28,9 @@ std::vector<Eigen::Vector3f> error_colors(const std::vector<double>& signed_erro
 // `step` apart along x; pose number `pose` alone for .ply.
 std::string encode_error_scene(const std::vector<PoseError>& poses, const std::string& extension, int pose,
                                double scale, double step);
+// Pose number `pose` among `count` poses, or spx::Error (exit 1, the option "pose"): "no pose 9
+// (there are poses 0..2)". What encode_error_scene asks of its .ply pose, askable before the work.
+void check_pose_number(int pose, size_t count);
 
 std::string encode_preview(const ProxyModel& proxy, const std::string& extension, int pose, bool spread);
 

@@ -4,7 +4,6 @@
 #include <cctype>
 #include <charconv>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <string_view>
 #include <vector>
@@ -109,10 +108,9 @@ class OffScan : TextScan {
     unsigned long slot = 0, kept = faces;
     std::string first_empty;
     while (slot < faces && next_line()) {
-      const std::string line = this_line();
       if (!check_face(slot, vertices)) {
         --kept;
-        if (first_empty.empty()) first_empty = line;
+        if (first_empty.empty()) first_empty = this_line();
         continue;
       }
       if (slot >= kept) {
@@ -147,17 +145,18 @@ class OffScan : TextScan {
   bool check_face(unsigned long f, unsigned long vertices) {
     const long long corners = whole_number(next_word());
     if (corners <= 0) return false;
-    const std::string face = "face " + std::to_string(f + 1) + " ";
+    auto face = [&] { return "face " + std::to_string(f + 1) + " "; };  // built only for an error
     if (corners > 9)
-      fail(face + "has " + std::to_string(corners) + " corners; the OFF reader keeps faces of at most 9 and would drop "
-           "it: save the mesh as OBJ or PLY, or split its larger faces");
+      fail(face() + "has " + std::to_string(corners) + " corners; the OFF reader keeps faces of at most 9 and would "
+           "drop it: save the mesh as OBJ or PLY, or split its larger faces");
     for (long long k = 0; k < corners; ++k) {
       const std::string_view word = next_word();
       const long long index = whole_number(word);
-      if (word.empty()) fail(face + "has " + std::to_string(corners) + " corners but names " + std::to_string(k) + " vertices");
-      if (index < 0) fail(face + "names vertex '" + quoted(word) + "', not a vertex index (a whole number from 0)");
+      if (word.empty())
+        fail(face() + "has " + std::to_string(corners) + " corners but names " + std::to_string(k) + " vertices");
+      if (index < 0) fail(face() + "names vertex '" + quoted(word) + "', not a vertex index (a whole number from 0)");
       if (static_cast<unsigned long long>(index) >= vertices)
-        fail(face + "names vertex " + std::string(word) + " (counted from 0), past its " + std::to_string(vertices) +
+        fail(face() + "names vertex " + std::string(word) + " (counted from 0), past its " + std::to_string(vertices) +
              " vertices");
     }
     return true;
@@ -252,6 +251,9 @@ class PlyScan : TextScan {
   std::string instance(const Element& e, unsigned long k) const {
     return quoted(e.name) + " " + std::to_string(k + 1) + " of " + std::to_string(e.count);
   }
+  [[noreturn]] void ends_within(const Element& e, unsigned long k) const {
+    fail("its data ends within " + instance(e, k) + " (a file cut short?)");
+  }
 
   void check_ascii_line(const Element& e, unsigned long k) {
     if (!next_line()) fail("its data ends before " + instance(e, k) + " (a file cut short?)");
@@ -296,7 +298,7 @@ class PlyScan : TextScan {
   void walk_binary() {
     size_t at = data_;
     auto need = [&](size_t bytes, const Element& e, unsigned long k) {
-      if (bytes > text_.size() - std::min(at, text_.size())) fail("its data ends within " + instance(e, k) + " (a file cut short?)");
+      if (bytes > text_.size() - std::min(at, text_.size())) ends_within(e, k);
     };
     for (const Element& e : elements_) {
       size_t fixed = 0;
@@ -307,7 +309,7 @@ class PlyScan : TextScan {
       }
       if (!lists) {  // one step for the whole element
         const size_t fit = fixed ? (text_.size() - std::min(at, text_.size())) / fixed : e.count;
-        if (fit < e.count) fail("its data ends within " + instance(e, fit) + " (a file cut short?)");
+        if (fit < e.count) ends_within(e, fit);
         at += fixed * e.count;
         continue;
       }

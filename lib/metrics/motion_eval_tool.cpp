@@ -124,10 +124,14 @@ void log_summary(const json& s, const char* runtime, const char* group, Log& log
 
 }  // namespace
 
-json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& examples, const MotionToolOptions& opt,
-                         Log& log) {
+void check_has_skin(const ProxyModel& proxy) {
   if (proxy.skin.empty())
     fail_option("asset", "the proxy has no skin: --asset measures a rigged body's proxy over a clip");
+}
+
+json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& examples, const MotionToolOptions& opt,
+                         Log& log) {
+  check_has_skin(proxy);
   const Asset asset(opt.asset, opt.mesh);
   const size_t clip = asset.find_clip(opt.animation);
   const WeldedBody body = weld_body(asset);

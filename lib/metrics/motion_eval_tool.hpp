@@ -24,7 +24,10 @@ struct MotionToolOptions {
   Tolerance tolerance;         // the target the errors are compared with (ratios in the report)
 };
 
-// Measures `proxy` over the clip; `examples` (rest first, on the asset's welded vertices, or
+// A proxy a clip can be measured on, or spx::Error (exit 1, the option "asset"): it has a skin.
+void check_has_skin(const ProxyModel& proxy);
+
+// Measures `proxy` over the clip (checked by check_has_skin first); `examples` (rest first, on the asset's welded vertices, or
 // empty) give the best-fit blend beside it. Returns the report's "motion" object.
 json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& examples, const MotionToolOptions& options,
                          Log& log);

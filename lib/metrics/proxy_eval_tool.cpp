@@ -125,12 +125,9 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
 
 // What the options ask of the proxy, told before the examples are measured, not after.
 void check_options_against(const ProxyModel& proxy, const EvalToolOptions& opt) {
-  const int poses = int(proxy.poses.size());
-  if (!opt.colors.empty() && lower_extension(opt.colors) == ".ply" && opt.color_pose >= poses)
-    fail_option("pose", "no pose " + std::to_string(opt.color_pose) + " (there are poses 0.." +
-                            std::to_string(poses - 1) + ")");
-  if (!opt.motion.asset.empty() && proxy.skin.empty())
-    fail_option("asset", "the proxy has no skin: --asset measures a rigged body's proxy over a clip");
+  if (!opt.colors.empty() && lower_extension(opt.colors) == ".ply")
+    check_pose_number(std::max(opt.color_pose, 0), proxy.poses.size());
+  if (!opt.motion.asset.empty()) check_has_skin(proxy);
 }
 
 }  // namespace
