@@ -749,6 +749,72 @@ TEST(MeshLoad, PlyDataCutShortOrDamagedIsAnError) {
       << error_of(ascii(damaged));
 }
 
+// assimp's OBJ reader skips a vertex line it cannot count (two numbers, seven, ".5"), and every
+// vertex after it then stands in for the one before; it reads "0x1" as 0 and "04" or "+5" as two
+// corners, and skips an indented line, a first line behind a byte order mark, a line a '\' joins
+// onto a comment, and a face of two corners, all without an error. The cube below keeps a vertex
+// no face uses, so a dropped vertex names no vertex past the end either: each case read as some
+// other mesh before. Each is now an error naming the line; what the format allows reads as the cube.
+TEST(MeshLoad, ObjLinesTheReaderWouldDropOrMisreadAreErrors) {
+  const std::string dir = test::temp_dir("obj-lines");
+  const std::vector<std::string> base = {"v 0 0 0", "v 1 0 0", "v 1 1 0", "v 0 1 0", "v 0 0 1", "v 1 0 1",
+                                         "v 1 1 1", "v 0 1 1", "v 5 5 5", "f 1 4 3", "f 1 3 2", "f 5 6 7",
+                                         "f 5 7 8", "f 1 2 6", "f 1 6 5", "f 2 3 7", "f 2 7 6", "f 3 4 8",
+                                         "f 3 8 7", "f 4 1 5", "f 4 5 8"};
+  auto text_of = [&](size_t line, const std::string& as, const std::string& end = "\n") {
+    std::string text;
+    for (size_t k = 0; k < base.size(); ++k) text += (k == line ? as : base[k]) + end;
+    return text;
+  };
+  auto load = [&](const std::string& text) {
+    write_file_atomic(dir + "/cube.obj", text);
+    return load_mesh(dir + "/cube.obj");
+  };
+  const std::vector<std::tuple<size_t, std::string, std::string>> bad = {
+      {2, "v 1 1", "line 3 ('v 1 1'): a vertex of 2 numbers; the OBJ reader reads 3 (x y z), 4 (x y z w) or 6"},
+      {2, "v 1 1 0 1 1 1 1", "line 3 ('v 1 1 0 1 1 1 1'): a vertex of 7 numbers"},
+      {2, "v .5 1 0", "line 3 ('v .5 1 0'): the OBJ reader does not take '.5' for a number"},
+      {2, "v 1 1 0x1", "line 3 ('v 1 1 0x1'): '0x1' is not a number (the OBJ reader would read only its start)"},
+      {2, " v 1 1 0", "line 3 (' v 1 1 0'): the line is indented"},
+      {2, "v1 1 0", "line 3 ('v1 1 0'): no blank after 'v'; the OBJ reader would drop this vertex: write 'v 1 1 0'"},
+      {1, "v 1 0 0\n# from C:\\", "line 3 ('# from C:\\'): it ends in '\\', which joins the next line to it"},
+      {19, "f 4 1", "line 20 ('f 4 1'): a face of 2 corners; the OBJ reader keeps faces of 3 or more"},
+      {19, "f 04 1 5", "line 20 ('f 04 1 5'): corner '04' is not an index the OBJ reader reads right"},
+      {19, "f 4 1 +5", "line 20 ('f 4 1 +5'): corner '+5' is not an index"},
+      {19, "f 4/1 1/0 5", "line 20 ('f 4/1 1/0 5'): corner '1/0': '0': OBJ counts from 1"},
+      {19, "f 4 1 99", "line 20 ('f 4 1 99'): corner '99' names vertex 99, past the file's 9 vertices"},
+  };
+  for (const auto& [line, as, error] : bad) {
+    std::string what = "no error";
+    try {
+      load(text_of(line, as));
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input);
+      what = e.what();
+    }
+    EXPECT_NE(what.find("cube.obj: " + error), std::string::npos) << as << ": " << what;
+  }
+  std::string what = "no error";
+  try {
+    load("\xEF\xBB\xBF" + text_of(99, ""));
+  } catch (const Error& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("cube.obj: line 1 ('v 0 0 0'): the file opens with a UTF-8 byte order mark"), std::string::npos)
+      << what;
+  const LoadedMesh cube = load(text_of(99, ""));
+  ASSERT_EQ(cube.mesh.vertices.size(), 8u);  // the unused vertex is not kept
+  for (const std::string& good :
+       {text_of(99, "", "\r\n"), text_of(2, "v 1 1 \\\n0"), text_of(2, "v 1 1 \\\r\n0"), text_of(2, "v 1 1 0 # a corner"),
+        text_of(2, "v 1 1 0#c"), text_of(2, "v 1 1 0 0.5 0.5 0.5"), text_of(2, "v 1 1 0 1"), text_of(2, "v 1,0 1 +0"),
+        text_of(2, "v\t1\t1\t0"), text_of(19, "f 4/1/1 1//1 5/1/"), text_of(19, "f -6 -9 -5"), text_of(19, "f 4 1 5 /"),
+        "\xEF\xBB\xBF# a cube\n" + text_of(99, ""), text_of(8, "v 5 5 5\nvt 0 0\nvn 0 0 1\n# a comment \\\nl 1 2")}) {
+    const LoadedMesh m = load(good);
+    EXPECT_EQ(m.mesh.vertices, cube.mesh.vertices) << good;
+    EXPECT_EQ(m.mesh.triangles, cube.mesh.triangles) << good;
+  }
+}
+
 TEST(Defects, OpenFlippedAndNonManifold) {
   TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
   TriMesh open = box;

@@ -23,7 +23,7 @@ namespace spx {
 // the GLB that reader makes of it. Otherwise throws spx::Error naming `path` (exit 2): "cannot read
 // <what>: <assimp's error>"; and so where a face has no corners or names a vertex past its mesh's,
 // which assimp keeps (a file cut short; its triangulation would abort the process), and where an
-// OFF or PLY holds what assimp's reader would read wrong or never finish (mesh/file_checks.hpp).
+// OFF, PLY or OBJ holds what assimp's reader would read wrong or never finish (mesh/file_checks.hpp).
 // The file is read without flags and then post-processed with them, as ReadFile does. The scene
 // is the importer's.
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
+#include "mesh/obj_check.hpp"
 
 namespace spx {
 
@@ -340,11 +341,12 @@ void check_mesh_text(const std::string& path, const std::string& text) {
   const std::string ext = lower_extension(path);
   if (ext == ".off") OffScan(path, text).check();
   if (ext == ".ply") PlyScan(path, text).check();
+  if (ext == ".obj") check_obj_text(path, text);
 }
 
 void check_before_assimp(const std::string& path) {
   const std::string ext = lower_extension(path);
-  if (ext != ".off" && ext != ".ply") return;
+  if (ext != ".off" && ext != ".ply" && ext != ".obj") return;
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   std::string text(size_t(std::max<std::streamoff>(in.tellg(), 0)), '\0');
   in.seekg(0);
