@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
+#include "core/format.hpp"
 #include "mesh/obj_check.hpp"
 
 namespace spx {
@@ -45,19 +46,8 @@ class TextScan {
     while (word_ < at_ && text_[word_] != ' ' && text_[word_] != '\t') ++word_;
     return std::string_view(text_).substr(start, word_ - start);
   }
-  // Words quoted in an error, on its one line: a control character (a vertical tab, a form feed)
-  // shown as '?'.
-  static std::string quoted(std::string_view words) {
-    std::string out(words);
-    for (char& c : out)
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-    return out;
-  }
   // The line, as a person reads it in an error.
-  std::string this_line() const {
-    const size_t shown = std::min<size_t>(at_ - begin_, 60);
-    return quoted(std::string_view(text_).substr(begin_, shown)) + (shown < at_ - begin_ ? "..." : "");
-  }
+  std::string this_line() const { return one_line(std::string_view(text_).substr(begin_, at_ - begin_), 60); }
   // The word as a whole number from 0, or -1 where it is not one.
   static long long whole_number(std::string_view word) {
     if (word.empty() || word.size() > 18) return -1;
@@ -155,7 +145,7 @@ class OffScan : TextScan {
       const long long index = whole_number(word);
       if (word.empty())
         fail(face() + "has " + std::to_string(corners) + " corners but names " + std::to_string(k) + " vertices");
-      if (index < 0) fail(face() + "names vertex '" + quoted(word) + "', not a vertex index (a whole number from 0)");
+      if (index < 0) fail(face() + "names vertex '" + one_line(word) + "', not a vertex index (a whole number from 0)");
       if (static_cast<unsigned long long>(index) >= vertices)
         fail(face() + "names vertex " + std::string(word) + " (counted from 0), past its " + std::to_string(vertices) +
              " vertices");
@@ -250,7 +240,7 @@ class PlyScan : TextScan {
   }
 
   std::string instance(const Element& e, unsigned long k) const {
-    return quoted(e.name) + " " + std::to_string(k + 1) + " of " + std::to_string(e.count);
+    return one_line(e.name) + " " + std::to_string(k + 1) + " of " + std::to_string(e.count);
   }
   [[noreturn]] void ends_within(const Element& e, unsigned long k) const {
     fail("its data ends within " + instance(e, k) + " (a file cut short?)");
@@ -274,7 +264,7 @@ class PlyScan : TextScan {
       const std::from_chars_result read =
           whole ? std::from_chars(word.data(), end, integer) : std::from_chars(word.data(), end, real);
       if (read.ec != std::errc() || read.ptr != end)
-        fail(where() + ": '" + quoted(word) + "' is not " + (whole ? "a whole number" : "a number"));
+        fail(where() + ": '" + one_line(word) + "' is not " + (whole ? "a whole number" : "a number"));
       return integer;
     };
     for (const Property& p : e.properties) {

@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 
 namespace spx {
 
@@ -27,17 +28,9 @@ bool equal_ci(std::string_view word, std::string_view lower) {
   return true;
 }
 
-// Words quoted in an error, on its one line: a control character shown as '?'.
-std::string quoted(std::string_view words, size_t most = 60) {
-  std::string out(words.substr(0, most));
-  for (char& c : out)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  return words.size() > most ? out + "..." : out;
-}
-
 // A word the reader counts as a number: it starts with a digit or a sign, or is a NaN or an
 // infinity. ".5" is not one.
-bool counted(std::string_view word) {
+bool counted_as_number(std::string_view word) {
   return is_digit(word[0]) || word[0] == '-' || word[0] == '+' || equal_ci(word.substr(0, 3), "nan") ||
          equal_ci(word.substr(0, 3), "inf");
 }
@@ -107,7 +100,7 @@ class ObjScan {
           (is_digit(keyword[1]) || keyword[1] == '-' || keyword[1] == '+' || keyword[1] == '.'))
         fail(std::string("no blank after '") + keyword[0] + "'; the OBJ reader would " +
              (keyword[0] == 'v' ? "drop this vertex" : "drop this face's first corner") + ": write '" + keyword[0] +
-             " " + quoted(line_.substr(1)) + "'");
+             " " + one_line(line_.substr(1)) + "'");
       if (!vertex && line_[0] != 'f' && joins_) {
         line_ = physical_line(begin_);
         fail("it ends in '\\', which joins the next line to it, and the OBJ reader would read the vertex or face "
@@ -126,7 +119,7 @@ class ObjScan {
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
-    fail_input(path_, "line " + std::to_string(line_number_) + " ('" + quoted(line_) + "'): " + what);
+    fail_input(path_, "line " + std::to_string(line_number_) + " ('" + one_line(line_, 60) + "'): " + what);
   }
 
   // The next logical line into line_ (a view of the text, or joined_ where a '\' joined lines).
@@ -199,16 +192,16 @@ class ObjScan {
     size_t numbers = 0;
     for_each_word(words, [&](std::string_view word) {
       const bool number = whole_number(word);
-      if (number && !counted(word))
-        fail("the OBJ reader does not take '" + quoted(word) + "' for a number (only a word that starts with a digit "
-             "or a sign), and would misread this vertex: write '0" + quoted(word) + "'");
+      if (number && !counted_as_number(word))
+        fail("the OBJ reader does not take '" + one_line(word) + "' for a number (only a word that starts with a digit "
+             "or a sign), and would misread this vertex: write '0" + one_line(word) + "'");
       if (!number)
-        fail("'" + quoted(word) + "' is not a number" +
-             (counted(word) ? " (the OBJ reader would read only its start)" : ""));
+        fail("'" + one_line(word) + "' is not a number" +
+             (counted_as_number(word) ? " (the OBJ reader would read only its start)" : ""));
       ++numbers;
     });
     if (numbers != 3 && numbers != 4 && numbers != 6)
-      fail("a vertex of " + std::to_string(numbers) + (numbers == 1 ? " number" : " numbers") +
+      fail("a vertex of " + counted(numbers, "number") +
            "; the OBJ reader reads 3 (x y z), 4 (x y z w) or 6 (x y z and a colour), and would drop it, every vertex "
            "after it taking the place of the one before");
     ++vertices_;
@@ -224,11 +217,12 @@ class ObjScan {
         size_t end = start;
         while (end < word.size() && word[end] != '/') ++end;
         const std::string_view index = word.substr(start, end - start);
-        if (part > 2 || (part == 0 && index.empty())) fail("'" + quoted(word) + "' is not a corner (v, v/vt, v/vt/vn or v//vn)");
+        if (part > 2 || (part == 0 && index.empty()))
+          fail("'" + one_line(word) + "' is not a corner (v, v/vt, v/vt/vn or v//vn)");
         if (!index.empty()) {
           const long long value = corner_index(index);
           if (value == 0)
-            fail("corner '" + quoted(word) + "'" + (index == word ? "" : ": '" + quoted(index) + "'") +
+            fail("corner '" + one_line(word) + "'" + (index == word ? "" : ": '" + one_line(index) + "'") +
                  (index == "0" ? std::string(": OBJ counts from 1")
                                : " is not an index the OBJ reader reads right (a whole number from 1 with no leading "
                                  "zero or plus sign, or negative to count back)"));
@@ -237,12 +231,13 @@ class ObjScan {
         start = end + 1;
       }
       if (vertex < 0 && static_cast<unsigned long long>(-vertex) > vertices_)
-        fail("corner '" + quoted(word) + "' counts back past the " + std::to_string(vertices_) + " vertices before it");
+        fail("corner '" + one_line(word) + "' counts back past the " + std::to_string(vertices_) +
+             " vertices before it");
       if (vertex > highest_.index) highest_ = {vertex, line_number_, begin_, std::string(word)};
       ++corners;
     });
     if (corners < 3)
-      fail("a face of " + std::to_string(corners) + (corners == 1 ? " corner" : " corners") +
+      fail("a face of " + counted(corners, "corner") +
            "; the OBJ reader keeps faces of 3 or more and would drop it (a line is 'l')");
   }
 
