@@ -775,6 +775,7 @@ TEST(MeshLoad, ObjLinesTheReaderWouldDropOrMisreadAreErrors) {
       {2, "v 1 1 0 1 1 1 1", "line 3 ('v 1 1 0 1 1 1 1'): a vertex of 7 numbers"},
       {2, "v .5 1 0", "line 3 ('v .5 1 0'): the OBJ reader does not take '.5' for a number"},
       {2, "v 1 1 0x1", "line 3 ('v 1 1 0x1'): '0x1' is not a number (the OBJ reader would read only its start)"},
+      {2, "v 1 1 -1.#IND00", "line 3 ('v 1 1 -1.#IND00'): '-1.#IND00' is not a number"},
       {2, " v 1 1 0", "line 3 (' v 1 1 0'): the line is indented"},
       {2, "v1 1 0", "line 3 ('v1 1 0'): no blank after 'v'; the OBJ reader would drop this vertex: write 'v 1 1 0'"},
       {1, "v 1 0 0\n# from C:\\", "line 3 ('# from C:\\'): it ends in '\\', which joins the next line to it"},

@@ -179,9 +179,9 @@ class ObjScan {
       while (i < words.size() && is_blank(words[i])) ++i;
       if (i >= words.size() || words[i] == '#') return;
       const size_t start = i;
-      size_t end = 0;  // a '#' within the word ends it
+      size_t end = 0;  // a '#' within the word ends it, but for MSVC's "1.#QNAN0" (NaN), "-1.#INF00"
       while (i < words.size() && !is_blank(words[i])) {
-        if (words[i] == '#' && end == 0) end = i;
+        if (words[i] == '#' && end == 0 && words[i - 1] != '.') end = i;
         ++i;
       }
       fn(words.substr(start, (end ? end : i) - start));
