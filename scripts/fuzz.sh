@@ -50,8 +50,8 @@ doc = json.loads(b[20:20 + n])
 doc['buffers'][0]['uri'] = 'data:application/octet-stream;base64,' + base64.b64encode(b[20 + n + 8:]).decode()
 json.dump(doc, open(sys.argv[2], 'w'))
 " "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/barrel.gltf"
-# Meshes: the barrel's rest mesh as its OBJ, an OFF, an ASCII PLY and a binary PLY (with a list
-# of floats).
+# Meshes: the barrel's rest mesh as its OBJ, an OFF, an ASCII PLY, a binary PLY (with a list of
+# floats) and a binary STL.
 cp "$out/seeds/barrel/rest.obj" "$out/corpus-mesh/barrel.obj"
 python3 -c "
 import struct, sys
@@ -75,6 +75,10 @@ with open(out + '/barrel-binary.ply', 'wb') as o:
     o.write((head % ('binary_little_endian', len(v), len(f))).encode())
     o.write(b''.join(struct.pack('<3f', *p) for p in v))
     o.write(b''.join(struct.pack('<B%diB2f' % len(t), len(t), *t, 2, 0.5, 0.5) for t in f))
+tris = [(t[0], t[k], t[k + 1]) for t in f for k in range(1, len(t) - 1)]
+with open(out + '/barrel.stl', 'wb') as o:
+    o.write(b'solid barrel'.ljust(80, b'\\0') + struct.pack('<I', len(tris)))
+    o.write(b''.join(struct.pack('<12fH', 0, 0, 0, *v[a], *v[b], *v[c], 0) for a, b, c in tris))
 " "$out/seeds/barrel/rest.obj" "$out/corpus-mesh"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"

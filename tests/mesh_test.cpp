@@ -816,6 +816,52 @@ TEST(MeshLoad, ObjLinesTheReaderWouldDropOrMisreadAreErrors) {
   }
 }
 
+// assimp reads an STL as binary only at exactly 84 bytes plus 50 a triangle of its count: one cut
+// short, or with bytes after its triangles, failed with "Failed to determine STL storage
+// representation", or where its header opens with "solid" (as many exporters write it) was read
+// as text and found no mesh. Every cut of a binary cube, and the cube with bytes after it, is an
+// error naming the size it should have.
+TEST(MeshLoad, BinaryStlOfAnotherSizeThanItsCountIsNamed) {
+  const std::string dir = test::temp_dir("stl-size");
+  const TriMesh cube = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  std::string bytes = "solid cube, binary";
+  bytes.resize(80, '\0');
+  auto put = [&](const void* value, size_t size) { bytes.append(static_cast<const char*>(value), size); };
+  const uint32_t count = uint32_t(cube.triangles.size());
+  put(&count, 4);
+  for (const auto& t : cube.triangles) {
+    bytes.append(12, '\0');
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) {
+        const float x = float(cube.vertices[size_t(t[k])][a]);
+        put(&x, 4);
+      }
+    bytes.append(2, '\0');
+  }
+  auto error_of = [&](const std::string& text) {
+    write_file_atomic(dir + "/cube.stl", text);
+    try {
+      load_mesh(dir + "/cube.stl");
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input);
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error_of(bytes), "no error");
+  for (size_t keep = 19; keep < bytes.size(); ++keep) {  // from the first NUL on: binary
+    const std::string error = error_of(bytes.substr(0, keep));
+    const std::string expected = keep < 84 ? "cube.stl: a binary STL holds at least 84 bytes"
+                                           : "cube.stl: a binary STL whose header counts 12 triangles is 684 bytes, "
+                                             "and this one ends at " + std::to_string(keep) + ", within triangle " +
+                                                 std::to_string((keep - 84) / 50 + 1) + " (a file cut short?)";
+    ASSERT_NE(error.find(expected), std::string::npos) << keep << ": " << error;
+  }
+  EXPECT_NE(error_of(bytes + std::string(50, '\0')).find("cube.stl: a binary STL whose header counts 12 triangles is "
+                                                         "684 bytes, and this one has 50 bytes more"),
+            std::string::npos);
+}
+
 TEST(Defects, OpenFlippedAndNonManifold) {
   TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
   TriMesh open = box;
