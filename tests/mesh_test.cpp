@@ -860,6 +860,17 @@ TEST(MeshLoad, BinaryStlOfAnotherSizeThanItsCountIsNamed) {
   EXPECT_NE(error_of(bytes + std::string(50, '\0')).find("cube.stl: a binary STL whose header counts 12 triangles is "
                                                          "684 bytes, and this one has 50 bytes more"),
             std::string::npos);
+  // An ASCII STL padded with NULs after its end, which the reader reads, is no binary one.
+  std::string text = "solid cube\n";
+  for (const auto& t : cube.triangles) {
+    text += "facet normal 0 0 0\nouter loop\n";
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& v = cube.vertices[size_t(t[k])];
+      text += "vertex " + num(v.x()) + " " + num(v.y()) + " " + num(v.z()) + "\n";
+    }
+    text += "endloop\nendfacet\n";
+  }
+  EXPECT_EQ(error_of(text + "endsolid cube\n" + std::string(16, '\0')), "no error");
 }
 
 TEST(Defects, OpenFlippedAndNonManifold) {

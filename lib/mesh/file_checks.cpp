@@ -325,16 +325,16 @@ class PlyScan : TextScan {
   size_t data_ = 0;
 };
 
-// The bytes an STL check reads: enough to tell binary from text.
-constexpr size_t kStlHead = 1 << 16;
+// The bytes an STL check reads: its header and its count.
+constexpr size_t kStlHead = 84;
 
-// A binary STL (its bytes hold a NUL, which no ASCII STL does) is 84 bytes, then 50 a triangle of
-// the count at byte 80. The STL reader takes a file as binary only at exactly that size, so one
+// A binary STL (a NUL within its first 84 bytes, as its count's high byte or its header's padding,
+// where no ASCII STL holds one) is 84 bytes, then 50 a triangle of the count at byte 80. The STL reader takes a file as binary only at exactly that size, so one
 // cut short, or with bytes after its triangles, failed with "Failed to determine STL storage
 // representation", or, where its header opens with "solid" as many exporters write it, was read
-// as text and found no mesh. `head` is the file's first bytes (up to kStlHead), `size` its size.
+// as text and found no mesh. `head` is the file's first bytes (kStlHead, or fewer), `size` its size.
 void check_stl(const std::string& path, const std::string& head, size_t size) {
-  if (head.find('\0') == std::string::npos) return;
+  if (head.find('\0') >= kStlHead) return;
   if (size < 84)
     fail_input(path, "a binary STL holds at least 84 bytes (its header and triangle count), and this one has " +
                          std::to_string(size) + " (a file cut short?)");
