@@ -72,8 +72,9 @@ long long corner_index(std::string_view part) {
   return back ? -value : value;
 }
 
-// The file line by line as the reader splits it: a '\' is dropped, and one directly before a line
-// end joins the next line on (without a blank).
+// An OBJ walked line by line as the reader splits it (a '\' is dropped, and one directly before a
+// line end joins the next line on, without a blank), its vertex and face lines read as it reads
+// them.
 class ObjScan {
  public:
   ObjScan(const std::string& path, const std::string& text) : path_(path), text_(text) {}
@@ -88,36 +89,42 @@ class ObjScan {
       if (indent == line_.size()) continue;
       for (after = indent; after < line_.size() && !is_blank(line_[after]);) ++after;
       const std::string_view keyword = line_.substr(indent, after - indent);
-      const bool vertex = keyword == "v", face = keyword == "f" || keyword == "fo";
-      if (indent > 0 && (vertex || face))
-        fail(std::string("the line is indented; the OBJ reader skips a line that does not start with its keyword and "
-                         "would drop this ") + (vertex ? "vertex (every vertex after it taking the place of the one "
-                                                         "before)" : "face") + ": remove the blanks before it");
-      if (first && bom && (vertex || face))
-        fail("the file opens with a UTF-8 byte order mark, which the OBJ reader takes as part of this line, and it "
-             "would drop the line: save the file without one");
-      if (keyword.size() > 1 && (keyword[0] == 'v' || keyword[0] == 'f') &&
-          (is_digit(keyword[1]) || keyword[1] == '-' || keyword[1] == '+' || keyword[1] == '.'))
-        fail(std::string("no blank after '") + keyword[0] + "'; the OBJ reader would " +
-             (keyword[0] == 'v' ? "drop this vertex" : "drop this face's first corner") + ": write '" + keyword[0] +
-             " " + one_line(line_.substr(1)) + "'");
-      if (!vertex && line_[0] != 'f' && joins_) {
-        line_ = physical_line(begin_);
-        fail("it ends in '\\', which joins the next line to it, and the OBJ reader would read the vertex or face "
-             "there as part of this line and drop it: remove the '\\'");
-      }
-      if (vertex) check_vertex(line_.substr(indent + 1));
+      check_opening(keyword, indent, first && bom);
+      if (keyword == "v") check_vertex(line_.substr(indent + 1));
       else if (line_[0] == 'f') check_face(line_.substr(indent + keyword.size()));
     }
     if (static_cast<unsigned long long>(highest_.index) > vertices_) {
       line_number_ = highest_.line;
       line_ = physical_line(highest_.begin);
-      fail("corner '" + highest_.word + "' names vertex " + std::to_string(highest_.index) + ", past the file's " +
-           std::to_string(vertices_) + " vertices");
+      fail("corner '" + one_line(highest_.word) + "' names vertex " + std::to_string(highest_.index) +
+           ", past the file's " + std::to_string(vertices_) + " vertices");
     }
   }
 
  private:
+  // How the line opens: its first word `keyword`, after `indent` blanks; `after_bom`: the file's
+  // first line, behind a byte order mark.
+  void check_opening(std::string_view keyword, size_t indent, bool after_bom) {
+    const bool vertex = keyword == "v", face = keyword == "f" || keyword == "fo";
+    if (indent > 0 && (vertex || face))
+      fail(std::string("the line is indented; the OBJ reader skips a line that does not start with its keyword and "
+                       "would drop this ") + (vertex ? "vertex (every vertex after it taking the place of the one "
+                                                       "before)" : "face") + ": remove the blanks before it");
+    if (after_bom && (vertex || face))
+      fail("the file opens with a UTF-8 byte order mark, which the OBJ reader takes as part of this line, and it "
+           "would drop the line: save the file without one");
+    if (keyword.size() > 1 && (keyword[0] == 'v' || keyword[0] == 'f') &&
+        (is_digit(keyword[1]) || keyword[1] == '-' || keyword[1] == '+' || keyword[1] == '.'))
+      fail(std::string("no blank after '") + keyword[0] + "'; the OBJ reader would " +
+           (keyword[0] == 'v' ? "drop this vertex" : "drop this face's first corner") + ": write '" + keyword[0] +
+           " " + one_line(line_.substr(1)) + "'");
+    if (!vertex && line_[0] != 'f' && joins_) {
+      line_ = physical_line(begin_);
+      fail("it ends in '\\', which joins the next line to it, and the OBJ reader would read the vertex or face "
+           "there as part of this line and drop it: remove the '\\'");
+    }
+  }
+
   [[noreturn]] void fail(const std::string& what) const {
     fail_input(path_, "line " + std::to_string(line_number_) + " ('" + one_line(line_, 60) + "'): " + what);
   }
