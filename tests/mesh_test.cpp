@@ -558,6 +558,17 @@ TEST(MeshLoad, BadFilesGiveClassifiedErrors) {
   EXPECT_NE(message_of(dir + "/nan.obj").find("a vertex at (nan, 1, 0)"), std::string::npos) << message_of(dir + "/nan.obj");
 }
 
+// The error load_mesh gives `path` (checked to be bad input's), or "no error".
+std::string load_error(const std::string& path) {
+  try {
+    load_mesh(path);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+    return e.what();
+  }
+  return "no error";
+}
+
 // assimp keeps the faces of a file cut short with no corners (its triangulation then aborted the
 // process) and a PLY face's index past the vertices (read past their end), and its PLY reader
 // never returned on a header cut short: each is one error.
@@ -633,13 +644,7 @@ TEST(MeshLoad, OffFacesTheReaderWouldDropOrMoveAreErrors) {
   for (size_t k = 0; k < bad.size(); ++k) {
     const std::string path = dir + "/bad" + std::to_string(k) + ".off";
     write_file_atomic(path, bad[k].first);
-    std::string error = "no error";
-    try {
-      load_mesh(path);
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), ExitCode::bad_input);
-      error = e.what();
-    }
+    const std::string error = load_error(path);
     EXPECT_NE(error.find(path + ": " + bad[k].second), std::string::npos) << error;
   }
   // A pyramid on a base of one face of 9 corners, with what the format allows around it: comments,
@@ -674,15 +679,7 @@ TEST(MeshLoad, PlyDataCutShortOrDamagedIsAnError) {
            std::to_string(cube.triangles.size()) +
            "\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n";
   };
-  auto error_of = [](const std::string& path) {
-    try {
-      load_mesh(path);
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  const auto error_of = load_error;
   auto reads_as_cube = [&](const std::string& path) {
     const LoadedMesh m = load_mesh(path);
     EXPECT_EQ(m.mesh.vertices, cube.vertices) << path;
@@ -785,22 +782,15 @@ TEST(MeshLoad, ObjLinesTheReaderWouldDropOrMisreadAreErrors) {
       {19, "f 4/1 1/0 5", "line 20 ('f 4/1 1/0 5'): corner '1/0': '0': OBJ counts from 1"},
       {19, "f 4 1 99", "line 20 ('f 4 1 99'): corner '99' names vertex 99, past the file's 9 vertices"},
   };
+  auto error_of = [&](const std::string& text) {
+    write_file_atomic(dir + "/cube.obj", text);
+    return load_error(dir + "/cube.obj");
+  };
   for (const auto& [line, as, error] : bad) {
-    std::string what = "no error";
-    try {
-      load(text_of(line, as));
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), ExitCode::bad_input);
-      what = e.what();
-    }
+    const std::string what = error_of(text_of(line, as));
     EXPECT_NE(what.find("cube.obj: " + error), std::string::npos) << as << ": " << what;
   }
-  std::string what = "no error";
-  try {
-    load("\xEF\xBB\xBF" + text_of(99, ""));
-  } catch (const Error& e) {
-    what = e.what();
-  }
+  const std::string what = error_of("\xEF\xBB\xBF" + text_of(99, ""));
   EXPECT_NE(what.find("cube.obj: line 1 ('v 0 0 0'): the file opens with a UTF-8 byte order mark"), std::string::npos)
       << what;
   const LoadedMesh cube = load(text_of(99, ""));
@@ -840,13 +830,7 @@ TEST(MeshLoad, BinaryStlOfAnotherSizeThanItsCountIsNamed) {
   }
   auto error_of = [&](const std::string& text) {
     write_file_atomic(dir + "/cube.stl", text);
-    try {
-      load_mesh(dir + "/cube.stl");
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), ExitCode::bad_input);
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return load_error(dir + "/cube.stl");
   };
   EXPECT_EQ(error_of(bytes), "no error");
   for (size_t keep = 19; keep < bytes.size(); ++keep) {  // from the first NUL on: binary

@@ -325,45 +325,53 @@ class PlyScan : TextScan {
   size_t data_ = 0;
 };
 
-// The bytes an STL check reads: its header and its count.
+// A binary STL's header and triangle count: the bytes its check reads.
 constexpr size_t kStlHead = 84;
 
-// A binary STL (a NUL within its first 84 bytes, as its count's high byte or its header's padding,
-// where no ASCII STL holds one) is 84 bytes, then 50 a triangle of the count at byte 80. The STL reader takes a file as binary only at exactly that size, so one
-// cut short, or with bytes after its triangles, failed with "Failed to determine STL storage
-// representation", or, where its header opens with "solid" as many exporters write it, was read
-// as text and found no mesh. `head` is the file's first bytes (kStlHead, or fewer), `size` its size.
-void check_stl(const std::string& path, const std::string& head, size_t size) {
-  if (head.find('\0') >= kStlHead) return;
-  if (size < 84)
+// A binary STL (a NUL within its first 84 bytes, as its count's high byte or its header's
+// padding, where no ASCII STL holds one) is 84 bytes, then 50 a triangle of the count at byte 80.
+// The STL reader takes a file as binary only at exactly that size, so one cut short, or with bytes
+// after its triangles, failed with "Failed to determine STL storage representation", or, where
+// its header opens with "solid" as many exporters write it, was read as text and found no mesh.
+// `head` is the file's first bytes (kStlHead of them, or all where fewer), `size` its size.
+void check_stl(const std::string& path, std::string_view head, size_t size) {
+  head = head.substr(0, kStlHead);
+  if (head.find('\0') == std::string_view::npos) return;
+  if (size < kStlHead)
     fail_input(path, "a binary STL holds at least 84 bytes (its header and triangle count), and this one has " +
                          std::to_string(size) + " (a file cut short?)");
   const auto byte = [&](size_t i) { return static_cast<unsigned long long>(static_cast<unsigned char>(head[i])); };
   const unsigned long long count = byte(80) | byte(81) << 8 | byte(82) << 16 | byte(83) << 24;
-  const unsigned long long whole = 84 + 50 * count;
+  const unsigned long long whole = kStlHead + 50 * count;
   if (size == whole) return;
   const std::string is = "a binary STL whose header counts " + counted(size_t(count), "triangle") + " is " +
                          std::to_string(whole) + " bytes, and this one ";
   if (size < whole)
     fail_input(path, is + "ends at " + std::to_string(size) + ", within triangle " +
-                         std::to_string((size - 84) / 50 + 1) + " (a file cut short?)");
+                         std::to_string((size - kStlHead) / 50 + 1) + " (a file cut short?)");
   fail_input(path, is + "has " + std::to_string(size - whole) + " bytes more (another file's bytes after it, or a "
                         "wrong count?)");
+}
+
+bool is_checked(const std::string& ext) { return ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".stl"; }
+
+// `text`: the file's bytes (a binary STL's head alone will do), `size`: the file's size.
+void check_text(const std::string& path, const std::string& ext, const std::string& text, size_t size) {
+  if (ext == ".off") OffScan(path, text).check();
+  if (ext == ".ply") PlyScan(path, text).check();
+  if (ext == ".obj") check_obj_text(path, text);
+  if (ext == ".stl") check_stl(path, text, size);
 }
 
 }  // namespace
 
 void check_mesh_text(const std::string& path, const std::string& text) {
-  const std::string ext = lower_extension(path);
-  if (ext == ".off") OffScan(path, text).check();
-  if (ext == ".ply") PlyScan(path, text).check();
-  if (ext == ".obj") check_obj_text(path, text);
-  if (ext == ".stl") check_stl(path, text.substr(0, kStlHead), text.size());
+  check_text(path, lower_extension(path), text, text.size());
 }
 
 void check_before_assimp(const std::string& path) {
   const std::string ext = lower_extension(path);
-  if (ext != ".off" && ext != ".ply" && ext != ".obj" && ext != ".stl") return;
+  if (!is_checked(ext)) return;
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   const size_t size = size_t(std::max<std::streamoff>(in.tellg(), 0));
   // A binary STL's triangles need not be read: its head tells its kind and the size it must have.
@@ -371,8 +379,7 @@ void check_before_assimp(const std::string& path) {
   in.seekg(0);
   in.read(text.data(), std::streamsize(text.size()));
   text.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
-  if (ext == ".stl") check_stl(path, text, size);
-  else check_mesh_text(path, text);
+  check_text(path, ext, text, size);
 }
 
 }  // namespace spx

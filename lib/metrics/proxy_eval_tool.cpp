@@ -85,6 +85,9 @@ json proxy_eval_report(const ProxyModel& proxy, const EvalResult& r) {
 
 namespace {
 
+// The pose a .ply of error colours shows: --color-pose, or the rest where it is not given.
+int pose_drawn(const EvalToolOptions& opt) { return std::max(opt.color_pose, 0); }
+
 // The proxy at its examples and blends between them, with error colours on request.
 void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, const std::vector<TriMesh>& meshes,
                        const EvalToolOptions& opt, Log& log, json& report) {
@@ -117,7 +120,8 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
     if (!(scale > 0))
       for (const Measurement& m : r.pose_measurements) scale = std::max(scale, m.error.abs.max);
     std::vector<PoseError> shown = r.poses;
-    write_file_atomic(opt.colors, encode_error_scene(shown, ext, std::max(opt.color_pose, 0), scale, 1.25 * meshes[0].bounds().sizes().x()));
+    write_file_atomic(opt.colors,
+                      encode_error_scene(shown, ext, pose_drawn(opt), scale, 1.25 * meshes[0].bounds().sizes().x()));
     report["colors"] = {{"file", opt.colors}, {"scale", scale}};
   }
   report.update(measured);
@@ -126,7 +130,7 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
 // What the options ask of the proxy, told before the examples are measured, not after.
 void check_options_against(const ProxyModel& proxy, const EvalToolOptions& opt) {
   if (!opt.colors.empty() && lower_extension(opt.colors) == ".ply")
-    check_pose_number(std::max(opt.color_pose, 0), proxy.poses.size());
+    check_pose_number(pose_drawn(opt), proxy.poses.size());
   if (!opt.motion.asset.empty()) check_has_skin(proxy);
 }
 
