@@ -19,7 +19,7 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 "$cxx" "${flags[@]}" "$root/tests/fuzz/json_readers.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" "$root/lib/core/atomic_file.cpp" \
   "$root/lib/io/spheres_file.cpp" "$root/lib/io/proxy_file.cpp" "$root/lib/io/skin_file.cpp" "$root/lib/core/version.cpp" \
   -o "$out/json_readers"
-"$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/gltf_meshopt.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
+"$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/gltf_meshopt.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_check.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
   "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -lmeshoptimizer -o "$out/gltf_container"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/core/file_kind.cpp" \
   -o "$out/mesh_text"

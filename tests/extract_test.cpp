@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <random>
 #include <tuple>
@@ -1009,6 +1010,124 @@ TEST(PoseExtract, MissingPartsAreClearErrors) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ExitCode::bad_input);
     EXPECT_NE(std::string(e.what()).find("has no animation clips"), std::string::npos) << e.what();
+  }
+}
+
+// The bytes of element `i` of `file`'s accessor `index` (its view's stride, or packed `width`).
+char* element_bytes(GltfFile& file, size_t index, size_t i, size_t width) {
+  const json& accessor = file.doc["accessors"][index];
+  const json& view = file.doc["bufferViews"][accessor["bufferView"].get<size_t>()];
+  const size_t begin = view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0));
+  return file.bin.data() + begin + i * view.value("byteStride", width);
+}
+
+// A skin may leave out its inverseBindMatrices: glTF reads them as identities. assimp 5.2 crashed
+// on such a file (a segmentation fault, from pose-extract and from sdf-build alike). RiggedSimple
+// with its matrices made identities, given, and the same file without them give the same poses,
+// byte for byte.
+TEST(PoseExtract, SkinWithoutBindMatricesReadsAsIdentities) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("extract-no-bind-matrices");
+  GltfFile given = read_gltf_file(test::shared_data() + "/rigged-simple/RiggedSimple.glb");
+  const size_t matrices = given.doc["skins"][0]["inverseBindMatrices"].get<size_t>();
+  for (size_t j = 0; j < given.doc["skins"][0]["joints"].size(); ++j)
+    for (int k = 0; k < 16; ++k) {
+      const float v = k % 5 == 0 ? 1.0f : 0.0f;
+      std::memcpy(element_bytes(given, matrices, j, 64) + 4 * k, &v, 4);
+    }
+  GltfFile left_out = given;
+  left_out.doc["skins"][0].erase("inverseBindMatrices");
+  write_file_atomic(dir + "/given.glb", encode_glb(given));
+  write_file_atomic(dir + "/left-out.glb", encode_glb(left_out));
+  PoseExtractOptions clip;
+  clip.animation = "0";
+  json report;
+  for (const char* name : {"given", "left-out"})
+    pose_extract_files(dir + "/" + name + ".glb", dir + "/" + name, clip, Log::silent(), report);
+  size_t poses = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir + "/given")) {
+    if (entry.path().extension() != ".obj") continue;
+    const std::string name = entry.path().filename().string();
+    // The first line names the file it came from.
+    auto body = [](std::string text) { return text.substr(text.find('\n')); };
+    EXPECT_EQ(body(read_file(entry.path().string())), body(read_file(dir + "/left-out/" + name))) << name;
+    ++poses;
+  }
+  EXPECT_GE(poses, 3u);
+  EXPECT_EQ(read_file(dir + "/given/skin.json"), read_file(dir + "/left-out/skin.json"));
+  EXPECT_NO_THROW(load_mesh(dir + "/left-out.glb"));
+}
+
+// glTF files that break a rule of the spec, each one rule: assimp 5.2 read most of them as
+// another body without a word (a skin's matrices read past their accessor as numbers like 7e31,
+// a node with two parents moved twice, a skin past the list dropped and the body left rigid, a
+// clip's missing values or backward times read as other keys) and crashed on a skin without
+// joints. Each is now one error line naming the member, exit 2, with no poses written; the file
+// unbroken still reads.
+TEST(PoseExtract, GltfRulesBrokenAreNamedErrors) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("extract-gltf-rules");
+  const GltfFile good = read_gltf_file(test::shared_data() + "/rigged-simple/RiggedSimple.glb");
+  const auto poke_float = [](GltfFile& f, size_t accessor, size_t i, float v) {
+    std::memcpy(element_bytes(f, accessor, i, 4), &v, 4);
+  };
+  struct Case {
+    const char* said;
+    std::function<void(GltfFile&)> broken;
+  };
+  const std::vector<Case> cases{
+      {"skins[0] has no joints", [](GltfFile& f) { f.doc["skins"][0].erase("joints"); }},
+      {"skins[0] has no joints", [](GltfFile& f) { f.doc["skins"][0]["joints"] = json::array(); }},
+      {"skins[0].joints lists node 2 twice", [](GltfFile& f) { f.doc["skins"][0]["joints"] = {2, 2}; }},
+      {"skins[0].joints[1] is 9, not one of the file's 5 nodes", [](GltfFile& f) { f.doc["skins"][0]["joints"][1] = 9; }},
+      {"skins[0].inverseBindMatrices (accessor 13) holds 1 matrix for 2 joints",
+       [](GltfFile& f) { f.doc["accessors"][13]["count"] = 1; }},
+      {"skins[0].inverseBindMatrices (accessor 13) is not MAT4 floats",
+       [](GltfFile& f) { f.doc["accessors"][13]["type"] = "VEC4"; }},
+      {"nodes[1].skin is 1, and the file has 1 skin", [](GltfFile& f) { f.doc["nodes"][1]["skin"] = 1; }},
+      {"nodes[2] is a child of both nodes[1] and nodes[4]", [](GltfFile& f) { f.doc["nodes"][1]["children"] = {2}; }},
+      {"nodes[2] is its own ancestor",  // 2 -> 3 -> 4 -> 2, no other parent
+       [](GltfFile& f) {
+         f.doc["nodes"][0]["children"] = {1};
+         f.doc["nodes"][3]["children"] = {4};
+       }},
+      {"vertex 0 of meshes[0].primitives[0] is weighted to joint 7 (JOINTS_0), past skins[0]'s 2 joints",
+       [](GltfFile& f) {
+         const uint16_t seven = 7;
+         std::memcpy(element_bytes(f, 1, 0, 8), &seven, 2);
+         const float one = 1;
+         std::memcpy(element_bytes(f, 4, 0, 16), &one, 4);
+       }},
+      {"animations[0].channels[4].sampler is 6, and its clip has 6 samplers",
+       [](GltfFile& f) { f.doc["animations"][0]["channels"][4]["sampler"] = 6; }},
+      {"animations[0].samplers[1]: 2 values (accessor 7) for 3 key times (accessor 5), where 3 are due",
+       [](GltfFile& f) { f.doc["accessors"][7]["count"] = 2; }},
+      {"animations[0].samplers[1].output (accessor 6) is VEC3; a channel moving rotation takes VEC4",
+       [](GltfFile& f) { f.doc["animations"][0]["samplers"][1]["output"] = 6; }},
+      {"animations[0].samplers[3]: key time 2 (0.5 s) comes before key time 1",
+       [poke_float](GltfFile& f) { poke_float(f, 9, 2, 0.5f); }},
+      {"animations[0].samplers[3]: key time 1 is not a finite number",
+       [poke_float](GltfFile& f) { poke_float(f, 9, 1, std::nanf("")); }},
+  };
+  PoseExtractOptions clip;
+  clip.animation = "0";
+  json report;
+  write_file_atomic(dir + "/good.glb", encode_glb(good));
+  EXPECT_NO_THROW(pose_extract_files(dir + "/good.glb", dir + "/good", clip, Log::silent(), report));
+  for (size_t c = 0; c < cases.size(); ++c) {
+    GltfFile broken = good;
+    cases[c].broken(broken);
+    const std::string glb = dir + "/broken-" + std::to_string(c) + ".glb", out = dir + "/out-" + std::to_string(c);
+    write_file_atomic(glb, encode_glb(broken));
+    try {
+      pose_extract_files(glb, out, clip, Log::silent(), report);
+      ADD_FAILURE() << "read without an error: " << cases[c].said;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+      EXPECT_NE(e.message().find(cases[c].said), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(glb), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(out + "/poses.json")) << cases[c].said;
   }
 }
 

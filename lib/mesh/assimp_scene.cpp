@@ -11,6 +11,7 @@
 #include "core/file_kind.hpp"
 #include "core/gltf_file.hpp"
 #include "mesh/file_checks.hpp"
+#include "mesh/gltf_check.hpp"
 #include "mesh/gltf_input.hpp"
 
 namespace spx {
@@ -49,6 +50,7 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
   }
   if (file) {
     check_required_extensions(file->doc, path);
+    check_gltf_rules(*file, path);
     // Each, whatever the one before finds (no short circuit): Draco's meshes first (into plain
     // accessors), the instances next (they read their accessors as a reader takes them), then the
     // floats, which the others read. Views the file compressed came out decoded, which assimp
@@ -56,6 +58,7 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
     size_t changes = file->decoded_views;
     changes += draco_primitives_decoded(*file, path);
     changes += instances_as_nodes(*file, path);
+    changes += skins_given_bind_matrices(*file);
     changes += float_accessors(*file, path);
     changes += complete_mirrored_channels(*file, path);
     changes += step_samplers_as_held_keys(*file, path);

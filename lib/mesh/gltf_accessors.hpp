@@ -23,8 +23,8 @@ size_t components(const json& accessor);
 // put in place). Exit 2 naming `path` where the accessor or its view is out of range.
 std::vector<double> accessor_values(const GltfFile& file, const json& accessor, const std::string& path);
 
-// Appends `values` as a float accessor of `type` in a view of its own (with min and max where it
-// is a SCALAR, as a clip's times must have); returns its index.
+// Appends `values` as a float accessor of `type` (an attribute's, a clip's, or MAT4) in a view of
+// its own (with min and max where it is a SCALAR, as a clip's times must have); returns its index.
 size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, const std::string& type);
 
 }  // namespace spx::detail

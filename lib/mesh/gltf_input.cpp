@@ -249,7 +249,7 @@ std::vector<double> accessor_values(const GltfFile& file, const json& accessor, 
 
 size_t add_float_accessor(GltfFile& file, const std::vector<double>& values, const std::string& type) {
   json accessor = {{"bufferView", append_float_view(file, values)}, {"componentType", kFloat}, {"type", type}};
-  accessor["count"] = values.size() / components(accessor);
+  accessor["count"] = values.size() / (type == "MAT4" ? 16 : components(accessor));
   if (type == "SCALAR" && !values.empty()) {
     accessor["min"] = json::array({double(float(*std::min_element(values.begin(), values.end())))});
     accessor["max"] = json::array({double(float(*std::max_element(values.begin(), values.end())))});

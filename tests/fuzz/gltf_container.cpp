@@ -1,9 +1,11 @@
 // libFuzzer target: the glTF container reader (GLB chunks, a .gltf's JSON and its data: buffers,
-// views compressed by EXT_meshopt_compression decoded) on arbitrary bytes, then what is done to it before assimp reads it (the extensions it requires,
-// its instanced meshes made nodes, its integer accessors rewritten as floats, its mirrored nodes'
-// channels completed, its STEP keys held, its cubic splines made linear). Bad input must end in
-// spx::Error, never a crash or another exception; what it lets through is an object whose views
-// all point into its one buffer, and whose rewritten accessors are floats in views inside it.
+// views compressed by EXT_meshopt_compression decoded) on arbitrary bytes, then what is done to it
+// before assimp reads it (the extensions it requires, the spec's rules on skins, the node tree and
+// clips, its instanced meshes made nodes, its skins given identity matrices, its integer accessors
+// rewritten as floats, its mirrored nodes' channels completed, its STEP keys held, its cubic
+// splines made linear). Bad input must end in spx::Error, never a crash or another exception;
+// what it lets through is an object whose views all point into its one buffer, whose rewritten
+// accessors are floats in views inside it, and whose skins each have a matrix per joint.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
@@ -11,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/gltf_file.hpp"
+#include "mesh/gltf_check.hpp"
 #include "mesh/gltf_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -25,9 +28,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     spx::encode_glb(file);
     spx::check_required_extensions(file.doc, "fuzz.gltf");
+    spx::check_gltf_rules(file, "fuzz.gltf");
     spx::GltfFile floats = file;
     const size_t nodes = floats.doc.contains("nodes") && floats.doc["nodes"].is_array() ? floats.doc["nodes"].size() : 0;
     if (spx::instances_as_nodes(floats, "fuzz.gltf") > 0 && floats.doc["nodes"].size() < nodes) std::abort();
+    spx::skins_given_bind_matrices(floats);
+    for (const auto& skin : floats.doc.value("skins", spx::json::array())) {  // every skin's matrices given, one per joint
+      const auto& matrices = floats.doc["accessors"][skin["inverseBindMatrices"].get<size_t>()];
+      if (matrices["type"] != "MAT4" || matrices["count"].get<size_t>() < skin["joints"].size()) std::abort();
+    }
     const size_t views = floats.doc["bufferViews"].size();
     const size_t changed = spx::float_accessors(floats, "fuzz.gltf");
     if (floats.doc["bufferViews"].size() != views + changed) std::abort();
