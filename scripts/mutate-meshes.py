@@ -15,13 +15,11 @@ kept as OUT_DIR/failed-RUN.EXT and listed; the script then exits 1.
 
 usage: mutate-meshes.py BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]
 """
-import argparse
-import os
-import random
-import shutil
 import struct
 import subprocess
 import sys
+
+import mutation_runs
 
 EXTREMES = [b"0", b"-1", b"2147483648", b"4294967295", b"1e39", b"nan", b"inf", b"99999999999"]
 TOKENS = [b"-", b"e", b"9", b".", b" ", b"\n", b"/", b"f ", b"v ", b"3 "]
@@ -96,54 +94,18 @@ def mutate(data, rng):
     return bytes(b)
 
 
-def run_once(tool, path, field, timeout):
-    """None where the run ended as it should, else what was wrong."""
-    try:
-        r = subprocess.run([tool, path, "-o", field, "--resolution", "32", "--threads", "1", "-q"],
-                           capture_output=True, timeout=timeout)
-    except subprocess.TimeoutExpired:
-        return "no end within %g s" % timeout
-    err = [line for line in r.stderr.decode(errors="replace").splitlines() if line.strip()]
-    written = os.path.exists(field)
-    if r.returncode == 0:
-        return None if written and not err else "exit 0 with %s" % ("lines: " + " | ".join(err) if err else "no field")
-    if r.returncode not in (1, 2, 3):
-        return "exit %d: %s" % (r.returncode, " | ".join(err)[-300:])
-    if len(err) != 1 or not err[0].startswith("Error: "):
-        return "exit %d with %d lines: %s" % (r.returncode, len(err), " | ".join(err)[-300:])
-    return "exit %d but a field written" % r.returncode if written else None
-
-
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("build")
-    ap.add_argument("data")
-    ap.add_argument("out")
-    ap.add_argument("--runs", type=int, default=200)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=60)
-    a = ap.parse_args()
-    build, out = os.path.abspath(a.build), os.path.abspath(a.out)
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(out)
-    pool = seeds(build, a.data, out)
-    rng = random.Random(a.seed)
-    failed = []
-    for run in range(a.runs):
+    a = mutation_runs.arguments(__doc__)
+    pool = seeds(a.build, a.data, a.out)
+
+    def next_input(rng):
         ext, data = rng.choice(pool)
-        path, field = "%s/in.%s" % (out, ext), out + "/in.vdb"
-        with open(path, "wb") as f:
-            f.write(mutate(data, rng))
-        if os.path.exists(field):
-            os.remove(field)
-        wrong = run_once(build + "/apps/sdf-build", path, field, a.timeout)
-        if wrong:
-            kept = "%s/failed-%d.%s" % (out, run, ext)
-            shutil.copy(path, kept)
-            failed.append(kept)
-            print("FAIL %s: %s" % (kept, wrong), flush=True)
-    print("mutate-meshes: %d runs, %d passed, %d failed" % (a.runs, a.runs - len(failed), len(failed)))
-    return 1 if failed else 0
+        return ext, mutate(data, rng), ""
+
+    field = a.out + "/in.vdb"
+    command = lambda path: ([a.build + "/apps/sdf-build", path, "-o", field, "--resolution", "32", "--threads", "1",
+                             "-q"], field)
+    return mutation_runs.run_all("mutate-meshes", a, next_input, command)
 
 
 if __name__ == "__main__":

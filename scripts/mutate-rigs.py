@@ -20,15 +20,13 @@ kept as OUT_DIR/failed-RUN.glb and listed; the script then exits 1.
 
 usage: mutate-rigs.py BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]
 """
-import argparse
 import copy
 import json
-import os
-import random
-import shutil
 import struct
 import subprocess
 import sys
+
+import mutation_runs
 
 COMPONENTS = {5120: ("b", 1), 5121: ("B", 1), 5122: ("h", 2), 5123: ("H", 2), 5125: ("I", 4), 5126: ("f", 4)}
 WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
@@ -150,61 +148,29 @@ def mutate(doc, data, rng):
     return [s for s in said if s]
 
 
-def run_once(tool, path, out, args, timeout):
-    """None where the run ended as it should, else what was wrong."""
-    shutil.rmtree(out, ignore_errors=True)
-    try:
-        r = subprocess.run([tool, path, "-o", out, "-q", "--threads", "1"] + args, capture_output=True,
-                           timeout=timeout)
-    except subprocess.TimeoutExpired:
-        return "no end within %g s" % timeout
-    err = [line for line in r.stderr.decode(errors="replace").splitlines() if line.strip()]
-    written = os.path.exists(out + "/poses.json")
-    if r.returncode == 0:
-        return None if written and not err else "exit 0 with %s" % ("lines: " + " | ".join(err) if err else "no poses")
-    if r.returncode not in (1, 2, 3):
-        return "exit %d: %s" % (r.returncode, " | ".join(err)[-300:])
-    if len(err) != 1 or not err[0].startswith("Error: "):
-        return "exit %d with %d lines: %s" % (r.returncode, len(err), " | ".join(err)[-300:])
-    return "exit %d but poses.json written" % r.returncode if written else None
-
-
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("build")
-    ap.add_argument("data")
-    ap.add_argument("out")
-    ap.add_argument("--runs", type=int, default=200)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=60)
-    a = ap.parse_args()
-    build, out = os.path.abspath(a.build), os.path.abspath(a.out)
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(out)
+    a = mutation_runs.arguments(__doc__)
     for sample in ("robot", "car"):
-        subprocess.run([build + "/apps/sample-gen", sample, "-o", out + "/seeds/" + sample, "-q"], check=True)
+        subprocess.run([a.build + "/apps/sample-gen", sample, "-o", a.out + "/seeds/" + sample, "-q"], check=True)
     clip = ["--animation", "0", "--select", "2"]
     seeds = [(read_glb(a.data + "/rigged-simple/RiggedSimple.glb"), clip),
              (read_glb(a.data + "/elephant/elephant-rigged.glb"), clip),
-             (read_glb(out + "/seeds/robot/robot.glb"), clip),
-             (read_glb(out + "/seeds/car/car-morph.glb"), ["--morph-targets"])]
-    rng = random.Random(a.seed)
-    failed = []
-    for run in range(a.runs):
-        (doc, data), args = rng.choice(seeds)
+             (read_glb(a.out + "/seeds/robot/robot.glb"), clip),
+             (read_glb(a.out + "/seeds/car/car-morph.glb"), ["--morph-targets"])]
+    args = []  # the chosen seed's options, for the same run's command
+
+    def next_input(rng):
+        (doc, data), args[:] = rng.choice(seeds)
         doc, data = copy.deepcopy(doc), bytearray(data)
         said = mutate(doc, data, rng)
-        path = out + "/in.glb"
-        with open(path, "wb") as f:
-            f.write(glb(doc, data))
-        wrong = run_once(build + "/apps/pose-extract", path, out + "/poses", args, a.timeout)
-        if wrong:
-            kept = "%s/failed-%d.glb" % (out, run)
-            shutil.copy(path, kept)
-            failed.append(kept)
-            print("FAIL %s (%s; %s): %s" % (kept, " ".join(args), "; ".join(said), wrong), flush=True)
-    print("mutate-rigs: %d runs, %d passed, %d failed" % (a.runs, a.runs - len(failed), len(failed)))
-    return 1 if failed else 0
+        return "glb", glb(doc, data), "; ".join([" ".join(args)] + said)
+
+    # Every run into one folder, as a user's runs again: what a failed run left there is the next
+    # run's to clear (the manifest, written last, is what says a run ended).
+    poses = a.out + "/poses"
+    command = lambda path: ([a.build + "/apps/pose-extract", path, "-o", poses, "-q", "--threads", "1"] + args,
+                            poses + "/poses.json")
+    return mutation_runs.run_all("mutate-rigs", a, next_input, command)
 
 
 if __name__ == "__main__":
