@@ -21,7 +21,7 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
   -o "$out/json_readers"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/gltf_meshopt.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_check.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
   "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -lmeshoptimizer -o "$out/gltf_container"
-"$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/core/file_kind.cpp" \
+"$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/mesh/collada_check.cpp" "$root/lib/core/file_kind.cpp" \
   -o "$out/mesh_text"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
@@ -51,7 +51,7 @@ doc['buffers'][0]['uri'] = 'data:application/octet-stream;base64,' + base64.b64e
 json.dump(doc, open(sys.argv[2], 'w'))
 " "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/barrel.gltf"
 # Meshes: the barrel's rest mesh as its OBJ, an OFF, an ASCII PLY, a binary PLY (with a list of
-# floats) and a binary STL.
+# floats), a binary STL and a COLLADA file.
 cp "$out/seeds/barrel/rest.obj" "$out/corpus-mesh/barrel.obj"
 python3 -c "
 import struct, sys
@@ -79,6 +79,17 @@ tris = [(t[0], t[k], t[k + 1]) for t in f for k in range(1, len(t) - 1)]
 with open(out + '/barrel.stl', 'wb') as o:
     o.write(b'solid barrel'.ljust(80, b'\\0') + struct.pack('<I', len(tris)))
     o.write(b''.join(struct.pack('<12fH', 0, 0, 0, *v[a], *v[b], *v[c], 0) for a, b, c in tris))
+with open(out + '/barrel.dae', 'w') as o:
+    o.write('<?xml version=\"1.0\"?>\\n<COLLADA version=\"1.4.1\"><library_geometries><geometry id=\"g\"><mesh>'
+            '<source id=\"p\"><float_array id=\"a\" count=\"%d\">%s</float_array><technique_common>'
+            '<accessor source=\"#a\" count=\"%d\" stride=\"3\"><param name=\"X\" type=\"float\"/>'
+            '<param name=\"Y\" type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor></technique_common></source>'
+            '<vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>'
+            '<triangles count=\"%d\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/>\\n<p>%s</p></triangles>'
+            '</mesh></geometry></library_geometries><library_visual_scenes><visual_scene id=\"s\"><node id=\"n\">'
+            '<instance_geometry url=\"#g\"/></node></visual_scene></library_visual_scenes>'
+            '<scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>\\n'
+            % (3 * len(v), ' '.join('%g' % c for p in v for c in p), len(v), len(tris), ' '.join('%d' % i for t in tris for i in t)))
 " "$out/seeds/barrel/rest.obj" "$out/corpus-mesh"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"

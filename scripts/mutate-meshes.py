@@ -5,9 +5,10 @@ The libFuzzer targets (scripts/fuzz.sh) reach the project's own readers in proce
 what assimp makes of a damaged file and what the tools then do with it, the way a user meets it:
 a download cut short, a byte flipped, a number run into the next. Seeds: the car sample (OBJ and
 its morph-target GLB, made by sample-gen), the knight (OFF) and a binary PLY from the shared data,
-and ASCII PLY and both STLs written from the knight. Each run mutates one seed (bytes changed,
-inserted, deleted or copied, a number swapped for an extreme one, the file cut short), writes it
-and runs `sdf-build IN -o OUT --resolution 32 --threads 1 -q` under a time limit.
+and ASCII PLY, both STLs and a COLLADA file written from the knight. Each run mutates one seed
+(bytes changed, inserted, deleted or copied, a number swapped for an extreme one, the file cut
+short), writes it and runs `sdf-build IN -o OUT --resolution 32 --threads 1 -q` under a time and
+a memory limit.
 
 A run passes when it exits 0 with the field written, or exits 1-3 with exactly one `Error:` line
 and no field. Anything else (a signal, an abort, a hang, a half-written field, several lines) is
@@ -59,6 +60,26 @@ def stl_ascii(verts, faces):
     return ("solid knight\n" + facets + "endsolid knight\n").encode()
 
 
+def collada(verts, faces):
+    floats = " ".join("%g" % c for v in verts for c in v)
+    corners = " ".join("%d" % i for f in faces for i in f)
+    return ("""<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+ <library_geometries><geometry id="g"><mesh>
+  <source id="p"><float_array id="a" count="%d">%s</float_array>
+   <technique_common><accessor source="#a" count="%d" stride="3">
+    <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+   </accessor></technique_common></source>
+  <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+  <triangles count="%d"><input semantic="VERTEX" source="#v" offset="0"/><p>%s</p></triangles>
+ </mesh></geometry></library_geometries>
+ <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene>
+ </library_visual_scenes>
+ <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+""" % (3 * len(verts), floats, len(verts), len(faces), corners)).encode()
+
+
 def seeds(build, data, out):
     subprocess.run([build + "/apps/sample-gen", "car", "-o", out + "/seeds", "-q"], check=True)
     verts, faces = read_off(data + "/static/decimated-knight.off")
@@ -68,7 +89,8 @@ def seeds(build, data, out):
             ("ply", open(data + "/broken/cube_with_fold.ply", "rb").read()),
             ("ply", ply_ascii(verts, faces)),
             ("stl", stl_binary(verts, faces)),
-            ("stl", stl_ascii(verts, faces))]
+            ("stl", stl_ascii(verts, faces)),
+            ("dae", collada(verts, faces))]
 
 
 def mutate(data, rng):

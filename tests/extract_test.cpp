@@ -541,6 +541,60 @@ TEST(PoseExtract, FbxAndColladaGiveTheGltfsPoses) {
   }
 }
 
+// COLLADA's index lists (<p>, <vcount>, <v>) as assimp's reader takes them, one whole number at a
+// time: it read a negative corner as another vertex, and a skin's counts or joints with a word
+// that is not one as other weights, all without a word (and a word like "5.2" in a <p> never
+// ended it: cli.errors, under a memory limit). RiggedSimple's COLLADA with one word changed: each
+// bad one is one error line naming the line and the element; "+" or a leading zero, which it reads
+// right, gives the file's poses.
+TEST(PoseExtract, ColladaIndexListsTheReaderWouldMisreadAreErrors) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("collada-lists");
+  const std::string dae = dir + "/simple.dae";
+  ASSERT_EQ(reexport(test::shared_data() + "/rigged-simple/RiggedSimple.glb", "collada", dae), dae);
+  const std::string text = read_file(dae);
+  // The text with the first word of the first `element` after `after` replaced by `word`.
+  const auto with_word = [&](const std::string& after, const std::string& element, const std::string& word) {
+    const size_t open = text.find("<" + element + ">", text.find(after));
+    const size_t begin = open + element.size() + 2, end = text.find(' ', begin);
+    return text.substr(0, begin) + word + text.substr(end);
+  };
+  PoseExtractOptions clip;
+  clip.animation = "0";
+  json report;
+  pose_extract_files(dae, dir + "/plain", clip, Log::silent(), report);
+  // A pose's vertices and faces (its first line names the file it came from).
+  const auto body = [](const std::string& obj) {
+    const std::string text = read_file(obj);
+    return text.substr(text.find('\n'));
+  };
+  const std::string plain = body(dir + "/plain/pose-00.obj");
+  struct Case {
+    std::string after, element, word, said;
+  };
+  const Case bad[] = {{"<mesh", "p", "-2", "<p> holds '-2'"},
+                      {"<vertex_weights", "vcount", "x", "<vcount> holds 'x'"},
+                      {"<vertex_weights", "v", "1.5", "<v> holds '1.5'"}};
+  for (const Case& c : bad) {
+    write_file_atomic(dir + "/bad.dae", with_word(c.after, c.element, c.word));
+    try {
+      pose_extract_files(dir + "/bad.dae", dir + "/bad", clip, Log::silent(), report);
+      ADD_FAILURE() << "read without an error: " << c.said;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+      EXPECT_NE(e.message().find(c.said), std::string::npos) << e.what();
+      EXPECT_NE(e.message().find("line "), std::string::npos) << e.what();
+    }
+  }
+  const size_t first = text.find("<p>", text.find("<mesh")) + 3;
+  const std::string corner = text.substr(first, text.find(' ', first) - first);
+  for (const std::string& same : {"+" + corner, "0" + corner}) {
+    write_file_atomic(dir + "/good.dae", with_word("<mesh", "p", same));
+    pose_extract_files(dir + "/good.dae", dir + "/good", clip, Log::silent(), report);
+    EXPECT_TRUE(body(dir + "/good/pose-00.obj") == plain) << same;
+  }
+}
+
 // A joint with FBX's pre- and post-rotations (Maya's joint orients; Mixamo's and 3ds Max's rigs
 // carry them): FBX places it at T * Rpre * R * Rpost^-1, which assimp keeps as helper nodes
 // ("$AssimpFbx$_PreRotation", ...) around the joint. RiggedSimple's FBX with both on its animated

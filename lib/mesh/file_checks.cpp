@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 #include "core/format.hpp"
+#include "mesh/collada_check.hpp"
 #include "mesh/obj_check.hpp"
 
 namespace spx {
@@ -353,7 +354,9 @@ void check_stl(const std::string& path, std::string_view head, size_t size) {
                         "wrong count?)");
 }
 
-bool is_checked(const std::string& ext) { return ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".stl"; }
+bool is_checked(const std::string& ext) {
+  return ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".stl" || ext == ".dae";
+}
 
 // `text`: the file's bytes (a binary STL's head alone will do), `size`: the file's size.
 void check_text(const std::string& path, const std::string& ext, const std::string& text, size_t size) {
@@ -361,6 +364,7 @@ void check_text(const std::string& path, const std::string& ext, const std::stri
   if (ext == ".ply") PlyScan(path, text).check();
   if (ext == ".obj") check_obj_text(path, text);
   if (ext == ".stl") check_stl(path, text, size);
+  if (ext == ".dae") check_collada_text(path, text);
 }
 
 }  // namespace

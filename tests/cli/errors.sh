@@ -37,6 +37,42 @@ check "a long error line shortened (${#said} characters)" [ "${#said}" -lt 400 ]
 # A PLY cut short within its header: assimp's reader never returned.
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty fl' >"$out/head.ply"
 expect 2 "head.ply: its PLY header does not end" "$out/x.vdb" -- timeout 60 "$bin/sdf-build" "$out/head.ply" -o "$out/x.vdb"
+# A COLLADA <p> holding a word that is no whole number: assimp's reader never moved past it and
+# allocated without end (6 GB in 15 s); under this 3 GB limit the code before said "out of memory;
+# try a coarser --resolution" (exit 3).
+cat >"$out/tet.dae" <<'EOF'
+<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <library_geometries>
+    <geometry id="tet">
+      <mesh>
+        <source id="tet-positions">
+          <float_array id="tet-array" count="12">0 0 0 1 0 0 0 1 0 0 0 1</float_array>
+          <technique_common>
+            <accessor source="#tet-array" count="4" stride="3">
+              <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+            </accessor>
+          </technique_common>
+        </source>
+        <vertices id="tet-vertices"><input semantic="POSITION" source="#tet-positions"/></vertices>
+        <triangles count="4">
+          <input semantic="VERTEX" source="#tet-vertices" offset="0"/>
+          <p>0 2 1 0 1 3 0 3 2 1 2 3</p>
+        </triangles>
+      </mesh>
+    </geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="scene"><node id="tet-node"><instance_geometry url="#tet"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+EOF
+sed 's|<p>0 2 1 0 1 3 |<p>0 2 1 0 1 3.5 |' "$out/tet.dae" >"$out/bad.dae"
+"$bin/sdf-build" "$out/tet.dae" -o "$out/tet.vdb" --resolution 16 -q
+check "a COLLADA tetrahedron reads" test -s "$out/tet.vdb"
+expect 2 "bad.dae: line 17: <p> holds '3.5', where the COLLADA reader takes whole numbers" "$out/x.vdb" -- \
+  bash -c 'ulimit -v 3000000 && exec "$@"' limited timeout 60 "$bin/sdf-build" "$out/bad.dae" -o "$out/x.vdb"
 expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 0
 expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution abc
 expect 3 "GiB" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 20000

@@ -1,6 +1,6 @@
-// libFuzzer target: the OFF, PLY, OBJ and STL checks run before assimp (mesh/file_checks.hpp)
-// on arbitrary bytes, read as each format. Bad input must end in spx::Error with a message of one line, never a
-// crash, a read past the text or another exception.
+// libFuzzer target: the OFF, PLY, OBJ, STL and COLLADA checks run before assimp
+// (mesh/file_checks.hpp) on arbitrary bytes, read as each format. Bad input must end in spx::Error
+// with a message of one line, never a crash, a read past the text or another exception.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
@@ -10,7 +10,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  for (const char* path : {"fuzz.off", "fuzz.ply", "fuzz.obj", "fuzz.stl"}) {
+  for (const char* path : {"fuzz.off", "fuzz.ply", "fuzz.obj", "fuzz.stl", "fuzz.dae"}) {
     try {
       spx::check_mesh_text(path, text);
     } catch (const spx::Error& e) {
