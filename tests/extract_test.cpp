@@ -595,6 +595,36 @@ TEST(PoseExtract, ColladaIndexListsTheReaderWouldMisreadAreErrors) {
   }
 }
 
+// A check of assimp's own that fails (ai_assert) aborted the process: RiggedSimple's FBX whose second
+// curve node lost its name (a damaged byte) stopped pose-extract and sdf-build with exit 134 and
+// assimp's line. It is one error line now, exit 2, in both.
+TEST(PoseExtract, AssimpsOwnFailedCheckIsAnErrorLine) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("assimp-check");
+  const std::string fbx = dir + "/simple.fbx";
+  Assimp::Importer importer;  // written as assimp writes it (reexport's keys in seconds do not trip the check)
+  ASSERT_TRUE(importer.ReadFile(test::shared_data() + "/rigged-simple/RiggedSimple.glb", 0));
+  ASSERT_EQ(Assimp::Exporter().Export(importer.GetScene(), "fbxa", fbx), AI_SUCCESS);
+  std::string text = read_file(fbx);
+  const size_t second = text.find("AnimationCurveNode: ", text.find("AnimationCurveNode: ") + 1);
+  ASSERT_NE(second, std::string::npos);
+  text[second + 5] = 'X';  // AnimaXionCurveNode
+  write_file_atomic(dir + "/damaged.fbx", text);
+  PoseExtractOptions clip;
+  clip.animation = "0";
+  json report;
+  for (int tool = 0; tool < 2; ++tool) try {
+      if (tool == 0) pose_extract_files(dir + "/damaged.fbx", dir + "/out", clip, Log::silent(), report);
+      if (tool == 1) load_mesh(dir + "/damaged.fbx");
+      ADD_FAILURE() << "read without an error";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+      EXPECT_NE(e.message().find("assimp stopped on a check of its own (!keys.empty(), FBXConverter.cpp line"),
+                std::string::npos)
+          << e.what();
+    }
+}
+
 // A joint with FBX's pre- and post-rotations (Maya's joint orients; Mixamo's and 3ds Max's rigs
 // carry them): FBX places it at T * Rpre * R * Rpost^-1, which assimp keeps as helper nodes
 // ("$AssimpFbx$_PreRotation", ...) around the joint. RiggedSimple's FBX with both on its animated

@@ -1,10 +1,12 @@
 #include "mesh/assimp_scene.hpp"
 
 #include <assimp/SceneCombiner.h>
+#include <assimp/ai_assert.h>
 
 #include <algorithm>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "core/error.hpp"
@@ -13,6 +15,32 @@
 #include "mesh/file_checks.hpp"
 #include "mesh/gltf_check.hpp"
 #include "mesh/gltf_input.hpp"
+
+namespace spx {
+namespace {
+
+// A check of assimp's own that failed (ai_assert), as an exception: below.
+struct AssimpCheckFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace
+}  // namespace spx
+
+// assimp's internal checks (ai_assert) abort the process where they fail (exit 134, its own line
+// on stderr: a damaged FBX whose curve node lost its name stopped pose-extract so), and Debian's
+// build of 5.2 offers no handler of one's own. The library calls this function through its
+// procedure linkage table, so this definition, linked into every tool that reads through assimp,
+// takes its place: the failed check becomes an exception, which assimp's ReadFile turns into its
+// error string, and post_processed below into one error line.
+namespace Assimp {
+void aiAssertViolation(const char* expression, const char* file, int line) {
+  const std::string where = file;
+  throw spx::AssimpCheckFailed("assimp stopped on a check of its own (" + std::string(expression) + ", " +
+                               where.substr(where.find_last_of('/') + 1) + " line " + std::to_string(line) +
+                               "): a damaged file, or one its reader does not handle");
+}
+}  // namespace Assimp
 
 namespace spx {
 
@@ -121,8 +149,17 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, u
   // with the faces checked before any step trusts them.
   const aiScene* scene = read_unprocessed(importer, path, what, added_keys);
   check_faces(scene, path);
-  if (!flags) return scene;
-  scene = importer.ApplyPostProcessing(flags);
+  return flags ? post_processed(importer, flags, path, what) : scene;
+}
+
+const aiScene* post_processed(Assimp::Importer& importer, unsigned flags, const std::string& path,
+                              const std::string& what) {
+  const aiScene* scene = nullptr;
+  try {
+    scene = importer.ApplyPostProcessing(flags);
+  } catch (const AssimpCheckFailed& e) {
+    fail_reading(path, what, e.what());
+  }
   if (!scene || !scene->mRootNode) fail_reading(path, what, importer.GetErrorString());
   return scene;
 }

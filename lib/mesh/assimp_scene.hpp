@@ -23,11 +23,17 @@ namespace spx {
 // the GLB that reader makes of it. Otherwise throws spx::Error naming `path` (exit 2): "cannot read
 // <what>: <assimp's error>"; and so where a face has no corners or names a vertex past its mesh's,
 // which assimp keeps (a file cut short; its triangulation would abort the process), and where an
-// OFF, PLY or OBJ holds what assimp's reader would read wrong or never finish (mesh/file_checks.hpp).
-// The file is read without flags and then post-processed with them, as ReadFile does. The scene
-// is the importer's.
+// OFF, PLY, OBJ or COLLADA file holds what assimp's reader would read wrong or never finish
+// (mesh/file_checks.hpp); and where a check of assimp's own fails (ai_assert, which would abort
+// the process: a damaged FBX). The file is read without flags and then post-processed with them,
+// as ReadFile does. The scene is the importer's.
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
                           std::vector<AddedKeys>* added_keys = nullptr);
+
+// importer.ApplyPostProcessing(flags) on the scene it read, or exit 2 as read_scene says, a failed
+// check of assimp's own (ai_assert, which would abort the process) included.
+const aiScene* post_processed(Assimp::Importer& importer, unsigned flags, const std::string& path,
+                              const std::string& what);
 
 // assimp's error reading `path` said: spx::Error (exit 2) "cannot read <what>: <error>" (an error
 // past 320 characters keeps its first 160 and last 120, saying how many it leaves out), or

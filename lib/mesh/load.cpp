@@ -50,8 +50,7 @@ RawMesh read_raw(const std::string& path) {
   // steps in the same order as reading with those flags.
   face_out_mirrored(const_cast<aiScene*>(read_scene(importer, path, 0, "mesh")));
   const aiScene* scene =
-      importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
-  if (!scene || !scene->mRootNode) fail_reading(path, "mesh", importer.GetErrorString());
+      post_processed(importer, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType, path, "mesh");
 
   RawMesh raw;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
