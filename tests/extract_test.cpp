@@ -544,9 +544,12 @@ TEST(PoseExtract, FbxAndColladaGiveTheGltfsPoses) {
 // COLLADA's index lists (<p>, <vcount>, <v>) as assimp's reader takes them, one whole number at a
 // time: it read a negative corner as another vertex, and a skin's counts or joints with a word
 // that is not one as other weights, all without a word (and a word like "5.2" in a <p> never
-// ended it: cli.errors, under a memory limit). RiggedSimple's COLLADA with one word changed: each
-// bad one is one error line naming the line and the element; "+" or a leading zero, which it reads
-// right, gives the file's poses.
+// ended it: cli.errors, under a memory limit). It reads an array's count of values however many
+// it holds, and an accessor's elements wherever they fall: an array's count one less (the
+// bind matrices' so crashed it) or an accessor's one more read past the array's end without a
+// word. RiggedSimple's COLLADA with one word or count changed: each bad one is one error line
+// naming the line and the element; "+" or a leading zero, which it reads right, gives the file's
+// poses.
 TEST(PoseExtract, ColladaIndexListsTheReaderWouldMisreadAreErrors) {
   SPX_REQUIRE_SHARED_DATA();
   const std::string dir = test::temp_dir("collada-lists");
@@ -572,11 +575,20 @@ TEST(PoseExtract, ColladaIndexListsTheReaderWouldMisreadAreErrors) {
   struct Case {
     std::string after, element, word, said;
   };
+  // The text with the first `element`'s count one less or one more.
+  const auto with_count = [&](const std::string& element, int by) {
+    const size_t count = text.find("count=\"", text.find("<" + element)) + 7, end = text.find('"', count);
+    return text.substr(0, count) + std::to_string(std::stoi(text.substr(count, end - count)) + by) + text.substr(end);
+  };
   const Case bad[] = {{"<mesh", "p", "-2", "<p> holds '-2'"},
                       {"<vertex_weights", "vcount", "x", "<vcount> holds 'x'"},
-                      {"<vertex_weights", "v", "1.5", "<v> holds '1.5'"}};
+                      {"<vertex_weights", "v", "1.5", "<v> holds '1.5'"},
+                      {"", "float_array", "-1", "values (a number changed, or values lost?)"},
+                      {"", "accessor", "+1", ": the reader would read past its end"}};
   for (const Case& c : bad) {
-    write_file_atomic(dir + "/bad.dae", with_word(c.after, c.element, c.word));
+    const bool count = c.word == "-1" || c.word == "+1";
+    write_file_atomic(dir + "/bad.dae", count ? with_count(c.element, std::stoi(c.word))
+                                              : with_word(c.after, c.element, c.word));
     try {
       pose_extract_files(dir + "/bad.dae", dir + "/bad", clip, Log::silent(), report);
       ADD_FAILURE() << "read without an error: " << c.said;
