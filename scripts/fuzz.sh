@@ -55,6 +55,8 @@ json.dump(doc, open(sys.argv[2], 'w'))
 cp "$out/seeds/barrel/rest.obj" "$out/corpus-mesh/barrel.obj"
 python3 -c "
 import struct, sys
+sys.path.insert(0, sys.argv[3])
+from mesh_writers import collada
 v, f = [], []
 for line in open(sys.argv[1]):
     w = line.split()
@@ -79,18 +81,9 @@ tris = [(t[0], t[k], t[k + 1]) for t in f for k in range(1, len(t) - 1)]
 with open(out + '/barrel.stl', 'wb') as o:
     o.write(b'solid barrel'.ljust(80, b'\\0') + struct.pack('<I', len(tris)))
     o.write(b''.join(struct.pack('<12fH', 0, 0, 0, *v[a], *v[b], *v[c], 0) for a, b, c in tris))
-with open(out + '/barrel.dae', 'w') as o:
-    o.write('<?xml version=\"1.0\"?>\\n<COLLADA version=\"1.4.1\"><library_geometries><geometry id=\"g\"><mesh>'
-            '<source id=\"p\"><float_array id=\"a\" count=\"%d\">%s</float_array><technique_common>'
-            '<accessor source=\"#a\" count=\"%d\" stride=\"3\"><param name=\"X\" type=\"float\"/>'
-            '<param name=\"Y\" type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor></technique_common></source>'
-            '<vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>'
-            '<triangles count=\"%d\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/>\\n<p>%s</p></triangles>'
-            '</mesh></geometry></library_geometries><library_visual_scenes><visual_scene id=\"s\"><node id=\"n\">'
-            '<instance_geometry url=\"#g\"/></node></visual_scene></library_visual_scenes>'
-            '<scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>\\n'
-            % (3 * len(v), ' '.join('%g' % c for p in v for c in p), len(v), len(tris), ' '.join('%d' % i for t in tris for i in t)))
-" "$out/seeds/barrel/rest.obj" "$out/corpus-mesh"
+with open(out + '/barrel.dae', 'wb') as o:
+    o.write(collada(v, tris))
+" "$out/seeds/barrel/rest.obj" "$out/corpus-mesh" "$root/scripts"
 # Inputs that once crashed a target stay in its corpus, so every run retries them first.
 cp "$root"/tests/fuzz/regressions/json/* "$out/corpus-json/"
 cp "$root"/tests/fuzz/regressions/gltf/* "$out/corpus-gltf/"

@@ -16,11 +16,11 @@ kept as OUT_DIR/failed-RUN.EXT and listed; the script then exits 1.
 
 usage: mutate-meshes.py BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]
 """
-import struct
 import subprocess
 import sys
 
 import mutation_runs
+from mesh_writers import collada, ply_ascii, stl_ascii, stl_binary
 
 EXTREMES = [b"0", b"-1", b"2147483648", b"4294967295", b"1e39", b"nan", b"inf", b"99999999999"]
 TOKENS = [b"-", b"e", b"9", b".", b" ", b"\n", b"/", b"f ", b"v ", b"3 "]
@@ -38,46 +38,6 @@ def read_off(path):
         faces.append(tuple(map(int, words[at + 1:at + 1 + n])))
         at += 1 + n
     return verts, faces
-
-
-def ply_ascii(verts, faces):
-    head = ("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
-            "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (len(verts), len(faces)))
-    body = "".join("%g %g %g\n" % v for v in verts) + "".join("3 %d %d %d\n" % f for f in faces)
-    return (head + body).encode()
-
-
-def stl_binary(verts, faces):
-    out = bytearray(80) + struct.pack("<I", len(faces))
-    for f in faces:
-        out += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *verts[v]) for v in f) + b"\0\0"
-    return bytes(out)
-
-
-def stl_ascii(verts, faces):
-    facets = "".join("facet normal 0 0 0\nouter loop\n" + "".join("vertex %g %g %g\n" % verts[v] for v in f) +
-                     "endloop\nendfacet\n" for f in faces)
-    return ("solid knight\n" + facets + "endsolid knight\n").encode()
-
-
-def collada(verts, faces):
-    floats = " ".join("%g" % c for v in verts for c in v)
-    corners = " ".join("%d" % i for f in faces for i in f)
-    return ("""<?xml version="1.0" encoding="utf-8"?>
-<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
- <library_geometries><geometry id="g"><mesh>
-  <source id="p"><float_array id="a" count="%d">%s</float_array>
-   <technique_common><accessor source="#a" count="%d" stride="3">
-    <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
-   </accessor></technique_common></source>
-  <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
-  <triangles count="%d"><input semantic="VERTEX" source="#v" offset="0"/><p>%s</p></triangles>
- </mesh></geometry></library_geometries>
- <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene>
- </library_visual_scenes>
- <scene><instance_visual_scene url="#s"/></scene>
-</COLLADA>
-""" % (3 * len(verts), floats, len(verts), len(faces), corners)).encode()
 
 
 def seeds(build, data, out):

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "extract/asset.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_query.hpp"
@@ -22,6 +23,18 @@ namespace spx::test {
 
 // ../shared/data beside the checkout; tests that need it skip (with a message) only when absent.
 inline std::string shared_data() { return SPX_SHARED_DATA; }
+
+// The error `run` gives, checked to be bad input's (exit 2), or "no error".
+template <class Run>
+std::string bad_input_error(Run&& run) {
+  try {
+    run();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
+    return e.what();
+  }
+  return "no error";
+}
 inline bool have_shared_data() { return std::filesystem::exists(shared_data() + "/README.md"); }
 #define SPX_REQUIRE_SHARED_DATA()                                                   \
   do {                                                                              \

@@ -24,12 +24,14 @@ std::string seconds(double t) {
   return buf;
 }
 
-// The document's list `name` (empty where it has none; a list of objects where it has one, which
-// the container's reader and the lists' own checks below make sure of).
-const json& list_of(const json& doc, const char* name) {
+// `object`'s list `name`, read in place (empty where it has none, or where `object` is no object).
+// The document's lists are lists of objects where given: the container's reader and the lists'
+// own checks below make sure of it.
+const json& list_of(const json& object, const char* name) {
   static const json none = json::array();
-  const auto it = doc.find(name);
-  return it != doc.end() && it->is_array() ? *it : none;
+  if (!object.is_object()) return none;
+  const auto it = object.find(name);
+  return it != object.end() && it->is_array() ? *it : none;
 }
 
 class Rules {
@@ -65,6 +67,13 @@ class Rules {
     return i;
   }
 
+  // The node `v` names, element `k` of the list `list`, or exit 2 where it names none.
+  size_t node_in_list(const json& v, const std::string& list, size_t k) const {
+    if (!is_index(v) || size_t(v.get<int64_t>()) >= nodes_.size())
+      fail(at(list, k) + " is " + v.dump() + ", not one of the file's " + std::to_string(nodes_.size()) + " nodes");
+    return size_t(v.get<int64_t>());
+  }
+
   // Accessor `a`, its componentType and type as the spec lists them, and a count of at least 1.
   const json& accessor(size_t a, const std::string& where) const {
     const json& acc = accessors_[a];
@@ -91,11 +100,7 @@ class Rules {
       if (children == node.end()) continue;
       if (!children->is_array()) fail(where + ".children is not a list");
       for (size_t k = 0; k < children->size(); ++k) {
-        const json& c = (*children)[k];
-        if (!is_index(c) || size_t(c.get<int64_t>()) >= nodes_.size())
-          fail(at(where + ".children", k) + " is " + c.dump() + ", not one of the file's " + std::to_string(nodes_.size()) +
-               " nodes");
-        const size_t child = size_t(c.get<int64_t>());
+        const size_t child = node_in_list((*children)[k], where + ".children", k);
         if (child == n) fail(where + " lists itself among its children");
         if (parent[child] != SIZE_MAX)
           fail(at("nodes", child) + " is a child of both " + at("nodes", parent[child]) + " and " + where +
@@ -116,14 +121,12 @@ class Rules {
     const auto joints = skin.find("joints");
     if (joints == skin.end() || !joints->is_array() || joints->empty())
       fail(where + " has no joints (glTF requires the list of its joint nodes)");
-    std::set<int64_t> seen;
+    std::set<size_t> seen;
     for (size_t j = 0; j < joints->size(); ++j) {
-      const json& joint = (*joints)[j];
-      if (!is_index(joint) || size_t(joint.get<int64_t>()) >= nodes_.size())
-        fail(at(where + ".joints", j) + " is " + joint.dump() + ", not one of the file's " + std::to_string(nodes_.size()) +
-             " nodes");
-      if (!seen.insert(joint.get<int64_t>()).second)
-        fail(where + ".joints lists node " + joint.dump() + " twice (a vertex weighted to either would be weighted to one)");
+      const size_t joint = node_in_list((*joints)[j], where + ".joints", j);
+      if (!seen.insert(joint).second)
+        fail(where + ".joints lists node " + std::to_string(joint) +
+             " twice (a vertex weighted to either would be weighted to one)");
     }
     index(skin, "skeleton", nodes_.size(), where, "node");
     const size_t matrices = index(skin, "inverseBindMatrices", accessors_.size(), where, "accessor");
@@ -146,10 +149,11 @@ class Rules {
     const size_t mesh = index(node, "mesh", meshes_.size(), at("nodes", n), "mesh");
     if (skin == SIZE_MAX || mesh == SIZE_MAX) return;
     const size_t joints = skins_[skin]["joints"].size();
-    const json& primitives = meshes_[mesh].is_object() ? meshes_[mesh].value("primitives", json::array()) : json::array();
+    const json& primitives = list_of(meshes_[mesh], "primitives");
     for (size_t p = 0; p < primitives.size(); ++p) {
-      const json& attributes = primitives[p].is_object() ? primitives[p].value("attributes", json::object()) : json::object();
-      if (!attributes.is_object()) continue;
+      const auto found = primitives[p].find("attributes");  // end() where the primitive is no object
+      if (found == primitives[p].end() || !found->is_object()) continue;
+      const json& attributes = *found;
       const std::string where = at(at("meshes", mesh) + ".primitives", p);
       for (int set = 0;; ++set) {
         const std::string j_name = "JOINTS_" + std::to_string(set), w_name = "WEIGHTS_" + std::to_string(set);
@@ -207,9 +211,9 @@ class Rules {
         fail(where + ": key time " + std::to_string(k) + " (" + seconds(times[k]) + ") comes before key time " +
              std::to_string(k - 1) + " (" + seconds(times[k - 1]) + "); key times go forward");
     }
-    const std::string type = moved == "rotation" ? "VEC4" : moved == "weights" ? "SCALAR" : "VEC3";
     const json& out = accessor(output, where + ".output");
     if (moved != "translation" && moved != "rotation" && moved != "scale" && moved != "weights") return;  // an extension's
+    const std::string type = moved == "rotation" ? "VEC4" : moved == "weights" ? "SCALAR" : "VEC3";
     if (text(out, "type") != type)
       fail(where + ".output (accessor " + std::to_string(output) + ") is " + text(out, "type") + "; a channel moving " +
            moved + " takes " + type);
@@ -217,12 +221,12 @@ class Rules {
     if (moved == "weights") {
       if (node == SIZE_MAX) return;
       const size_t mesh = index(nodes_[node], "mesh", meshes_.size(), at("nodes", node), "mesh");
-      const json primitives = mesh == SIZE_MAX || !meshes_[mesh].is_object() ? json::array()
-                                                                              : meshes_[mesh].value("primitives", json::array());
+      if (mesh == SIZE_MAX) return;
+      const json& primitives = list_of(meshes_[mesh], "primitives");
       if (primitives.empty() || !primitives[0].is_object()) return;
-      const json targets = primitives[0].value("targets", json::array());
-      if (!targets.is_array() || targets.empty()) return;
-      per_key *= targets.size();
+      const size_t targets = list_of(primitives[0], "targets").size();
+      if (targets == 0) return;
+      per_key *= targets;
     }
     const size_t count = gltf_whole_number(out, "count", 0, path_, "an accessor");
     if (count != times.size() * per_key)
