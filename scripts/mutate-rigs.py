@@ -6,7 +6,8 @@ scripts/mutate-meshes.py changes a file's bytes, which in a GLB mostly breaks it
 reader goes further. This changes what a reader follows: a member of the skins, the node tree, the
 clips, the meshes, the accessors and their views (an index moved by one, past its list or
 negative; a list emptied, cut, lengthened or reversed; a member dropped; a name swapped for
-another of glTF's), a node given a second parent or made its own ancestor, or a value in the data
+another of glTF's), a channel's target named by a KHR_animation_pointer (its own, another
+object's, a malformed one), a node given a second parent or made its own ancestor, or a value in the data
 an accessor holds (a joint index, a weight, a position, a matrix, a key time or a key's value set
 to NaN, an infinity, 0, a huge number). The file stays a well-formed GLB; what assimp and the tools
 make of it is the test. Seeds: RiggedSimple and the rigged elephant from the shared data, and the
@@ -136,13 +137,30 @@ def change_tree(doc, rng):
     return "node %d given child %d" % (a, b)
 
 
+def change_to_pointer(doc, rng):
+    """A channel's target named by KHR_animation_pointer: its own node and path, or a pointer the
+    tools must pass over or refuse (another object's property, a node past the list, a malformed
+    index)."""
+    clip = rng.choice(doc["animations"])
+    channel = rng.choice(clip["channels"])
+    target = channel["target"]
+    nodes = len(doc.get("nodes", []))
+    pointer = rng.choice(["/nodes/%s/%s" % (target.get("node"), target.get("path")),
+                          "/nodes/%d/%s" % (rng.randrange(nodes + 2), rng.choice(NAMES)),
+                          "/materials/0/pbrMetallicRoughness/baseColorFactor", "/nodes/01/rotation",
+                          "/nodes/-1/scale", "/nodes/99999999999/translation", "/nodes/0", "", 7])
+    channel["target"] = {"path": "pointer", "extensions": {"KHR_animation_pointer": {"pointer": pointer}}}
+    return "animations' channel given the pointer %s" % json.dumps(pointer)
+
+
 def mutate(doc, data, rng):
     said = []
     for _ in range(rng.randint(1, 2)):
         kind = rng.random()
         try:  # a change before may have left the document so that this one cannot be made
             said.append(change_value(doc, data, rng) if kind < 0.45 else
-                        change_member(doc, rng) if kind < 0.95 else change_tree(doc, rng))
+                        change_member(doc, rng) if kind < 0.9 else
+                        change_to_pointer(doc, rng) if kind < 0.95 else change_tree(doc, rng))
         except (KeyError, IndexError, TypeError, ValueError, AttributeError):
             pass
     return [s for s in said if s]

@@ -155,8 +155,8 @@ std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, co
 Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), importer_(new Assimp::Importer) {
   check_importable(path, "an asset", "glTF/GLB, FBX or COLLADA");
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
-  std::vector<AddedKeys> added;
-  scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset", &added);
+  ClipMends mends;
+  scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset", &mends);
   face_out_mirrored(const_cast<aiScene*>(scene_));  // the importer's own scene, ours to change
   fold_fbx_chains_under_channels(const_cast<aiScene*>(scene_));
 
@@ -164,7 +164,7 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
   collect_instances(scene_->mRootNode, placed);
   list_meshes(placed, wanted);
   use_meshes(placed);
-  read_clips(added);
+  read_clips(mends);
 }
 
 // Every mesh instance the hierarchy places, and which of them make the body.
@@ -256,8 +256,9 @@ void Asset::link_joint_parents() {
 }
 
 // Every clip with its distinct key times: the file's, not those that made its cubic splines
-// linear (`added`, per clip).
-void Asset::read_clips(const std::vector<AddedKeys>& added) {
+// linear; and the channels passed over (`mends`, per clip).
+void Asset::read_clips(const ClipMends& mends) {
+  const std::vector<AddedKeys>& added = mends.added_keys;
   for (unsigned a = 0; a < scene_->mNumAnimations; ++a) {
     const aiAnimation* anim = scene_->mAnimations[a];
     AssetClip clip;
@@ -278,6 +279,7 @@ void Asset::read_clips(const std::vector<AddedKeys>& added) {
     }
     clip.node_channels = anim->mNumChannels;
     clip.morph_channels = anim->mNumMorphMeshChannels;
+    if (a < mends.passed_over.size()) clip.passed_over = mends.passed_over[a];
     if (a < added.size() && added[a].added > 0) {
       drop_added_keys(times, clip.ticks_per_second, added[a].asset_times);
       clip.keys -= added[a].added;
@@ -441,6 +443,7 @@ json Asset::inventory() const {
     const auto& c = clips_[i];
     clips.push_back({{"index", i}, {"name", c.name}, {"duration", c.end}, {"frames", c.frames.size()},
                      {"keys", c.keys}, {"node_channels", c.node_channels}, {"morph_channels", c.morph_channels},
+                     {"channels_passed_over", c.passed_over},
                      {"ticks_per_second", c.ticks_per_second}});
   }
   return {{"meshes", meshes}, {"skins", skinned}, {"clips", clips}, {"morph_targets", targets_},

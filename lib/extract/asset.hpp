@@ -18,7 +18,7 @@ class Importer;
 
 namespace spx {
 
-struct AddedKeys;  // mesh/gltf_input.hpp
+struct ClipMends;  // mesh/gltf_input.hpp
 
 // One mesh placed by one node of the file's hierarchy.
 struct AssetMesh {
@@ -48,6 +48,9 @@ struct AssetClip {
   double end = 0;              // the last key
   std::vector<double> frames;  // every distinct key time, ascending
   size_t node_channels = 0, morph_channels = 0, keys = 0;
+  // Channels that move no node's transform or morph weights (a material's colour by
+  // KHR_animation_pointer), which the poses do not follow: "animations[0].channels[4] (...)".
+  std::vector<std::string> passed_over;
 };
 
 class Asset {
@@ -106,7 +109,7 @@ class Asset {
   struct Pose;
   void list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed, const std::string& wanted);
   void use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& placed);
-  void read_clips(const std::vector<AddedKeys>& added);
+  void read_clips(const ClipMends& mends);
   int joint_of(const aiNode* node, const Eigen::Matrix4d& inverse_bind);
   void link_joint_parents();
   Pose clip_pose(size_t clip, double seconds) const;

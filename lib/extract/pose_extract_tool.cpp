@@ -64,11 +64,28 @@ std::vector<PoseRequest> morph_requests(const Asset& asset) {
   return out;
 }
 
-std::vector<PoseRequest> clip_requests(const Asset& asset, const PoseExtractOptions& opt) {
+// The clip's channels that move no geometry, named (the first few) for a warning or an error.
+std::string passed_over_list(const AssetClip& c) {
+  constexpr size_t kListed = 3;
+  std::string out;
+  for (size_t i = 0; i < c.passed_over.size() && i < kListed; ++i) out += (i ? ", " : "") + c.passed_over[i];
+  if (c.passed_over.size() > kListed) out += " and " + std::to_string(c.passed_over.size() - kListed) + " more";
+  return out;
+}
+
+std::vector<PoseRequest> clip_requests(const Asset& asset, const PoseExtractOptions& opt, Log& log) {
   const size_t clip = asset.find_clip(opt.animation);
   const AssetClip& c = asset.clips()[clip];
   const std::string clip_name = c.name.empty() ? "clip" + std::to_string(clip) : c.name;
-  if (c.frames.empty()) fail_input(asset.path(), "clip '" + clip_name + "' has no keys");
+  if (c.frames.empty())
+    fail_input(asset.path(), "clip '" + clip_name + "' has no keys" +
+                                 (c.passed_over.empty() ? std::string()
+                                                        : " that move a node or morph weights (" +
+                                                              passed_over_list(c) + " move no geometry)"));
+  if (!c.passed_over.empty())
+    log.warn(asset.path() + ": clip '" + clip_name + "': " + counted(c.passed_over.size(), "channel") +
+             " moving no node's transform or morph weights passed over (" + passed_over_list(c) +
+             "); the poses follow its other channels");
   const std::string range = " (the clip runs 0 .. " + format_seconds(c.end) + " s)";
   std::vector<std::pair<double, int>> at;  // (time, frame or -1)
   if (!opt.times.empty()) {
@@ -401,7 +418,7 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
                                  poses_on_offer(asset));
   report["asset"] = asset.inventory();
   const Body body = read_body(asset, input, log);
-  std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt);
+  std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt, log);
   if (opt.select > 0) requests = select_frames(asset, body, requests, size_t(opt.select), input, log, report);
   write_poses(asset, body, requests, opt, input, dir, log, report);
   log.info(dir + ": rest + " + counted(requests.size(), "pose"));

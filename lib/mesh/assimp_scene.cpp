@@ -61,8 +61,8 @@ std::string shortened(const std::string& error) {
 
 // The file as assimp reads it, before any post-processing.
 const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& path, const std::string& what,
-                                std::vector<AddedKeys>* added_keys) {
-  if (added_keys) added_keys->clear();
+                                ClipMends* clips) {
+  if (clips) *clips = {};
   const std::string ext = lower_extension(path);
   const bool gltf = ext == ".gltf" || ext == ".glb";
   check_before_assimp(path);
@@ -87,12 +87,13 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
     changes += draco_primitives_decoded(*file, path);
     changes += instances_as_nodes(*file, path);
     changes += skins_given_bind_matrices(*file);
+    ClipMends mends;
+    changes += channels_as_assimp_reads(*file, mends.passed_over);  // before the others read the channels
     changes += float_accessors(*file, path);
     changes += complete_mirrored_channels(*file, path);
     changes += step_samplers_as_held_keys(*file, path);
-    std::vector<AddedKeys> added;
-    changes += cubic_samplers_as_keys(*file, path, added);
-    if (added_keys) *added_keys = std::move(added);
+    changes += cubic_samplers_as_keys(*file, path, mends.added_keys);
+    if (clips) *clips = std::move(mends);
     if (changes > 0) {
       const std::string glb = encode_glb(*file);
       const aiScene* scene = importer.ReadFileFromMemory(glb.data(), glb.size(), 0, "glb");
@@ -144,10 +145,10 @@ void fail_reading(const std::string& path, const std::string& what, const std::s
 }
 
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
-                          std::vector<AddedKeys>* added_keys) {
+                          ClipMends* clips) {
   // Read without flags and post-processed after: what reading with them does, in the same order,
   // with the faces checked before any step trusts them.
-  const aiScene* scene = read_unprocessed(importer, path, what, added_keys);
+  const aiScene* scene = read_unprocessed(importer, path, what, clips);
   check_faces(scene, path);
   return flags ? post_processed(importer, flags, path, what) : scene;
 }

@@ -14,9 +14,10 @@ namespace spx {
 // importer.ReadFile(path, flags). A .gltf or .glb is first checked for the extensions it requires
 // (exit 3 for one the tools cannot honour) and, where it holds what assimp would read wrong
 // (meshes instanced by a node, integer data meant as floats, a mirrored node a clip moves, STEP
-// keys, cubic splines), read from memory made right (mesh/gltf_input.hpp); `added_keys`, where
-// given, receives per clip the keys the cubic splines' rewrite added (empty for a clip without, or
-// a file of another kind). Where assimp cannot read a .gltf or .glb, the project's glTF reader
+// keys, cubic splines, channels of KHR_animation_pointer), read from memory made right
+// (mesh/gltf_input.hpp); `clips`, where given, receives what the clips' mends tell per clip (empty
+// for a file of another kind): the keys the cubic splines' rewrite added, and the channels passed
+// over as moving no geometry. Where assimp cannot read a .gltf or .glb, the project's glTF reader
 // says what is wrong with the file ("not a glTF: its JSON does not parse (...)", "truncated",
 // "contains no mesh"); a .gltf it finds nothing wrong with (a buffer whose URI is
 // percent-encoded, "My%20Body.bin", which assimp opens as written) is read again from memory as
@@ -28,7 +29,7 @@ namespace spx {
 // the process: a damaged FBX). The file is read without flags and then post-processed with them,
 // as ReadFile does. The scene is the importer's.
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, unsigned flags, const std::string& what,
-                          std::vector<AddedKeys>* added_keys = nullptr);
+                          ClipMends* clips = nullptr);
 
 // importer.ApplyPostProcessing(flags) on the scene it read, or exit 2 as read_scene says, a failed
 // check of assimp's own (ai_assert, which would abort the process) included.

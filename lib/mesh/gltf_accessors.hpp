@@ -1,6 +1,7 @@
 #pragma once
 // A glTF's accessors read and written as a reader takes them: what the mends of mesh/gltf_input
 // (the file's data) and mesh/gltf_clips (its clips) share. Internal to mesh/.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,16 @@ size_t components(const json& accessor);
 // The accessor's values as a reader takes them, dense (zeros where it has no view; sparse ones
 // put in place). Exit 2 naming `path` where the accessor or its view is out of range.
 std::vector<double> accessor_values(const GltfFile& file, const json& accessor, const std::string& path);
+
+// What a clip's channel moves: its target's node and path, or those its KHR_animation_pointer
+// names ("/nodes/3/rotation": node 3, "rotation"; `pointer` holds it). `node` is SIZE_MAX where
+// it names no node (none given, or another object's property: "/materials/0/emissiveFactor"),
+// and `path` empty where it names no path of the four a channel may move a node by.
+struct ChannelTarget {
+  size_t node = SIZE_MAX;
+  std::string path, pointer;
+};
+ChannelTarget channel_target(const json& channel);
 
 // Appends `values` as a float accessor of `type` (an attribute's, a clip's, or MAT4) in a view of
 // its own (with min and max where it is a SCALAR, as a clip's times must have); returns its index.

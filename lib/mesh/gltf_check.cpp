@@ -190,8 +190,16 @@ class Rules {
       if (s == SIZE_MAX) fail(channel + " has no sampler");
       const json target = channels[c].value("target", json::object());
       if (!target.is_object()) fail(channel + ".target is not an object");
-      const size_t node = index(target, "node", nodes_.size(), channel + ".target", "node");
-      check_sampler(samplers[s], at(where + ".samplers", s), text(target, "path"), node);
+      const ChannelTarget moved = channel_target(channels[c]);
+      if (moved.pointer.empty()) {
+        const size_t node = index(target, "node", nodes_.size(), channel + ".target", "node");
+        check_sampler(samplers[s], at(where + ".samplers", s), text(target, "path"), node);
+        continue;
+      }
+      if (moved.node != SIZE_MAX && moved.node >= nodes_.size())
+        fail(channel + ".target's KHR_animation_pointer '" + moved.pointer + "' names a node past the file's " +
+             std::to_string(nodes_.size()));
+      check_sampler(samplers[s], at(where + ".samplers", s), moved.path, moved.node);
     }
   }
 

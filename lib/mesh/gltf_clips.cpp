@@ -69,7 +69,79 @@ std::vector<double> node_path_value(const json& node, const std::string& path) {
   return out;
 }
 
+// The node and path a KHR_animation_pointer names, where it is "/nodes/N/<path>" (N written as
+// JSON pointers write a list's index: no sign, no leading zero); node SIZE_MAX otherwise.
+void pointed_node(const std::string& pointer, ChannelTarget& out) {
+  const std::string head = "/nodes/";
+  if (pointer.rfind(head, 0) != 0) return;
+  const size_t slash = pointer.find('/', head.size());
+  if (slash == std::string::npos) return;
+  const std::string digits = pointer.substr(head.size(), slash - head.size());
+  if (digits.empty() || digits.size() > 9 || (digits.size() > 1 && digits[0] == '0') ||
+      digits.find_first_not_of("0123456789") != std::string::npos)
+    return;
+  out.node = std::stoul(digits);
+  out.path = pointer.substr(slash + 1);
+}
+
+bool moves_a_node(const std::string& path) {
+  return path == "translation" || path == "rotation" || path == "scale" || path == "weights";
+}
+
 }  // namespace
+
+ChannelTarget detail::channel_target(const json& channel) {
+  ChannelTarget out;
+  if (!channel.is_object() || !channel.contains("target") || !channel["target"].is_object()) return out;
+  const json& target = channel["target"];
+  out.path = text(target, "path");
+  if (out.path == "pointer") {
+    out.path.clear();
+    const json extensions = target.value("extensions", json::object());
+    const json pointer = extensions.is_object() ? extensions.value("KHR_animation_pointer", json::object()) : json();
+    if (pointer.is_object()) out.pointer = text(pointer, "pointer");
+    pointed_node(out.pointer, out);
+  } else if (target.contains("node") && is_index(target["node"])) {
+    out.node = target["node"].get<size_t>();
+  }
+  if (!moves_a_node(out.path)) out.node = SIZE_MAX;
+  return out;
+}
+
+size_t channels_as_assimp_reads(GltfFile& file, std::vector<std::vector<std::string>>& passed_over) {
+  json& doc = file.doc;
+  const bool clips = doc.contains("animations") && doc["animations"].is_array();
+  passed_over.assign(clips ? doc["animations"].size() : 0, {});
+  size_t changed = 0;
+  for (size_t a = 0; a < passed_over.size(); ++a) {
+    json& clip = doc["animations"][a];
+    if (!clip.is_object() || !clip.contains("channels") || !clip["channels"].is_array()) continue;
+    json kept = json::array();
+    const json& channels = clip["channels"];
+    for (size_t c = 0; c < channels.size(); ++c) {
+      const ChannelTarget moved = channel_target(channels[c]);
+      if (moved.node != SIZE_MAX && !moved.pointer.empty()) {
+        json channel = channels[c];
+        channel["target"] = {{"node", moved.node}, {"path", moved.path}};
+        kept.push_back(std::move(channel));
+        ++changed;
+      } else if (moved.node != SIZE_MAX) {
+        kept.push_back(channels[c]);
+      } else {
+        const json target = channels[c].is_object() ? channels[c].value("target", json::object()) : json::object();
+        const std::string path = target.is_object() ? text(target, "path") : "";
+        const std::string what = !moved.pointer.empty()     ? "KHR_animation_pointer '" + moved.pointer + "'"
+                                 : path == "pointer"        ? "a pointer channel without its pointer"
+                                 : !moves_a_node(path)      ? "path '" + path + "'"
+                                                            : "no target node";
+        passed_over[a].push_back("animations[" + std::to_string(a) + "].channels[" + std::to_string(c) + "] (" + what + ")");
+        ++changed;
+      }
+    }
+    clip["channels"] = std::move(kept);
+  }
+  return changed;
+}
 
 size_t complete_mirrored_channels(GltfFile& file, const std::string& path) {
   json& doc = file.doc;

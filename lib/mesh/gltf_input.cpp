@@ -267,7 +267,7 @@ void check_required_extensions(const json& doc, const std::string& path) {
     if (!e.is_string()) fail_input(path, "not a glTF 2.0 asset: its extensionsRequired lists a name that is not a string");
     const std::string name = e.get<std::string>();
     if (name == "KHR_draco_mesh_compression" || name == "KHR_mesh_quantization" || name == kInstancing ||
-        changes_no_geometry(name))
+        name == "KHR_animation_pointer" || changes_no_geometry(name))
       continue;
     fail_unsupported(path, "requires the glTF extension " + name +
                                ", which the tools do not read (its meshes would come out missing or wrong); export it "

@@ -4,7 +4,8 @@
 // floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
 // out wrong), fails on a Draco-compressed mesh with 32-bit indices, places a mesh instanced by a
 // node once, turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as
-// linear ones, and ignores the extensions an asset requires. Each function below mends one of
+// linear ones, fails on a channel of KHR_animation_pointer, and ignores the extensions an asset
+// requires. Each function below mends one of
 // those in the document and its binary buffer, which assimp then reads from memory
 // (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp, Draco's in mesh/gltf_draco.cpp.
 #include <string>
@@ -16,8 +17,9 @@ namespace spx {
 
 // Exit 3 naming the first extension in `extensionsRequired` that the tools cannot honour. Those
 // they can: KHR_draco_mesh_compression (draco_primitives_decoded), KHR_mesh_quantization
-// (float_accessors), EXT_mesh_gpu_instancing (instances_as_nodes), and those of materials,
-// textures and lights, which change no geometry. (EXT_meshopt_compression is decoded as the file
+// (float_accessors), EXT_mesh_gpu_instancing (instances_as_nodes), KHR_animation_pointer
+// (channels_as_assimp_reads), and those of materials, textures and lights, which change no
+// geometry. (EXT_meshopt_compression is decoded as the file
 // is read, core/gltf_meshopt, and is no longer listed by then.)
 void check_required_extensions(const json& doc, const std::string& path);
 
@@ -78,5 +80,20 @@ struct AddedKeys {
 // ask of a clip, linear only between those. `added[a]` receives clip a's key times (empty where
 // none of its samplers changed). Returns how many samplers changed.
 size_t cubic_samplers_as_keys(GltfFile& file, const std::string& path, std::vector<AddedKeys>& added);
+
+// assimp 5.2 reads a channel's path it does not know as a translation, so a clip with a
+// KHR_animation_pointer channel (path "pointer": a material's colour, a light's intensity)
+// failed the whole file ("GLTF: elemSize 16 > targetElemSize 12"), and it drops a channel with no
+// node without a word. A pointer to a node's translation, rotation, scale or morph weights
+// ("/nodes/3/rotation") becomes the plain channel it stands for; every other channel moves no
+// geometry and leaves its clip, `passed_over[a]` naming clip a's ("animations[0].channels[4]
+// (KHR_animation_pointer '/materials/0/emissiveFactor')"). Returns how many channels changed.
+size_t channels_as_assimp_reads(GltfFile& file, std::vector<std::vector<std::string>>& passed_over);
+
+// What the clips' mends tell whoever reads the clips, per clip in the file's order.
+struct ClipMends {
+  std::vector<AddedKeys> added_keys;                  // cubic_samplers_as_keys
+  std::vector<std::vector<std::string>> passed_over;  // channels_as_assimp_reads
+};
 
 }  // namespace spx

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/gltf_file.hpp"
+#include "mesh/gltf_accessors.hpp"
 #include "mesh/gltf_check.hpp"
 #include "mesh/gltf_input.hpp"
 
@@ -37,6 +38,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const auto& matrices = floats.doc["accessors"][skin["inverseBindMatrices"].get<size_t>()];
       if (matrices["type"] != "MAT4" || matrices["count"].get<size_t>() < skin["joints"].size()) std::abort();
     }
+    std::vector<std::vector<std::string>> passed_over;
+    const size_t pointed = spx::channels_as_assimp_reads(floats, passed_over);
+    for (size_t a = 0; a < passed_over.size(); ++a) {  // every channel left moves a node
+      const spx::json& clip = floats.doc["animations"][a];
+      if (clip.is_object() && clip.contains("channels") && clip["channels"].is_array())
+        for (const auto& channel : clip["channels"])
+          if (spx::detail::channel_target(channel).node == SIZE_MAX) std::abort();
+    }
     const size_t views = floats.doc["bufferViews"].size();
     const size_t changed = spx::float_accessors(floats, "fuzz.gltf");
     if (floats.doc["bufferViews"].size() != views + changed) std::abort();
@@ -49,7 +58,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::vector<spx::AddedKeys> added;
     const size_t cubic = spx::cubic_samplers_as_keys(floats, "fuzz.gltf", added);
     if (cubic > 0 && added.size() != floats.doc["animations"].size()) std::abort();
-    if (changed + channels + steps + cubic > 0) spx::encode_glb(floats);
+    if (pointed + changed + channels + steps + cubic > 0) spx::encode_glb(floats);
   } catch (const spx::Error&) {
   }
   return 0;
