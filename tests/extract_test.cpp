@@ -1187,6 +1187,35 @@ TEST(PoseExtract, AnimationPointerChannelsAreHonouredOrPassedOverByName) {
   EXPECT_EQ(extract(only_colour, "second", report), poses);
 }
 
+// A joint scaled to nothing in the rest collapses the part it moves: the rest was welded into
+// another body (RiggedSimple's 96 vertices into 65) and every pose warned that the welded
+// vertices parted. A joint scaled small, not flat, is a body still.
+TEST(PoseExtract, RestThatCollapsesAJointIsAnError) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("extract-collapsed-rest");
+  const GltfFile good = read_gltf_file(test::shared_data() + "/rigged-simple/RiggedSimple.glb");
+  PoseExtractOptions clip;
+  clip.animation = "0";
+  json report;
+  const auto run = [&](const std::function<void(GltfFile&)>& change, const std::string& name) {
+    GltfFile file = good;
+    change(file);
+    write_file_atomic(dir + "/" + name + ".glb", encode_glb(file));
+    pose_extract_files(dir + "/" + name + ".glb", dir + "/" + name, clip, Log::silent(), report);
+  };
+  const std::string said = "the rest (the nodes' own transforms, the asset without a clip) collapses 32 vertices: joint ";
+  for (const json& scale : {json{0, 0, 0}, json{1, 0, 1}}) {
+    const std::string error = test::bad_input_error([&] { run([&](GltfFile& f) { f.doc["nodes"][3]["scale"] = scale; }, "flat"); });
+    EXPECT_NE(error.find("flat.glb: " + said), std::string::npos) << error;
+  }
+  const std::string zeros = test::bad_input_error([&] {
+    run([](GltfFile& f) { std::memset(element_bytes(f, 13, 1, 64), 0, 64); }, "zero-bind");  // joint 1's matrix
+  });
+  EXPECT_NE(zeros.find("zero-bind.glb: " + said), std::string::npos) << zeros;
+  run([](GltfFile& f) { f.doc["nodes"][3]["scale"] = {1e-3, 1e-3, 1e-3}; }, "small");
+  EXPECT_EQ(report["output"]["vertices"], 96);
+}
+
 TEST(PoseExtract, SkinWithoutBindMatricesReadsAsIdentities) {
   SPX_REQUIRE_SHARED_DATA();
   const std::string dir = test::temp_dir("extract-no-bind-matrices");
