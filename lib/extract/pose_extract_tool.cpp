@@ -213,10 +213,10 @@ void check_rest_not_collapsed(const Asset& asset, const std::string& input) {
       if (w != 0) named.insert(size_t(j));
   }
   if (collapsed == 0) return;
-  std::string joints;
-  for (size_t j : named) joints += (joints.empty() ? "'" : ", '") + asset.joints()[j].name + "'";
+  std::string joints = named.size() > 1 ? "joints " : "joint ";
+  for (size_t j : named) joints += (j == *named.begin() ? "'" : ", '") + asset.joints()[j].name + "'";
   fail_input(input, "the rest (the nodes' own transforms, the asset without a clip) collapses " +
-                        std::to_string(collapsed) + (collapsed == 1 ? " vertex" : " vertices") + ": joint" + (named.size() > 1 ? "s " : " ") + joints +
+                        std::to_string(collapsed) + (collapsed == 1 ? " vertex: " : " vertices: ") + joints +
                         " scaled to nothing there (a node's scale of 0, or an inverse bind matrix of zeros); the rest "
                         "is the body the proxy is packed in, and must show all of it");
 }

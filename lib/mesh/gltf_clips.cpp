@@ -130,11 +130,12 @@ size_t channels_as_assimp_reads(GltfFile& file, std::vector<std::vector<std::str
       } else {
         const json target = channels[c].is_object() ? channels[c].value("target", json::object()) : json::object();
         const std::string path = target.is_object() ? text(target, "path") : "";
-        const std::string what = !moved.pointer.empty()     ? "KHR_animation_pointer '" + moved.pointer + "'"
-                                 : path == "pointer"        ? "a pointer channel without its pointer"
-                                 : !moves_a_node(path)      ? "path '" + path + "'"
-                                                            : "no target node";
-        passed_over[a].push_back("animations[" + std::to_string(a) + "].channels[" + std::to_string(c) + "] (" + what + ")");
+        const std::string what = !moved.pointer.empty() ? "KHR_animation_pointer '" + moved.pointer + "'"
+                                 : path == "pointer"    ? "a pointer channel without its pointer"
+                                 : !moves_a_node(path)  ? "path '" + path + "'"
+                                                        : "no target node";
+        passed_over[a].push_back("animations[" + std::to_string(a) + "].channels[" + std::to_string(c) + "] (" +
+                                 what + ")");
         ++changed;
       }
     }
