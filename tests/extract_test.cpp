@@ -1126,7 +1126,8 @@ std::string vertex_lines(const std::string& obj) {
 // KHR_animation_pointer: a pointer to a node's rotation is that rotation's channel; one to a
 // material's colour moves no geometry and is named as passed over, as is a channel with no node.
 // assimp read the first two as translations and failed the whole file (the mesh loader too), and
-// dropped the third without a word.
+// dropped the third without a word. Morph weights on a joint move nothing either, and are not
+// counted as morph channels the skin cannot follow (pose-extract warned so).
 TEST(PoseExtract, AnimationPointerChannelsAreHonouredOrPassedOverByName) {
   SPX_REQUIRE_SHARED_DATA();
   const std::string dir = test::temp_dir("extract-animation-pointer");
@@ -1167,6 +1168,12 @@ TEST(PoseExtract, AnimationPointerChannelsAreHonouredOrPassedOverByName) {
   no_node.doc["animations"][0]["channels"][4]["target"].erase("node");
   EXPECT_NE(extract(no_node, "no-node", report), poses);  // the rotation is not followed
   EXPECT_EQ(passed_over(), json::array({"animations[0].channels[4] (no target node)"}));
+
+  GltfFile joint_weights = good;  // morph weights on a joint, which has no mesh: nothing moves
+  joint_weights.doc["animations"][0]["samplers"].push_back({{"input", 9}, {"output", 9}});
+  joint_weights.doc["animations"][0]["channels"].push_back({{"sampler", 6}, {"target", {{"node", 2}, {"path", "weights"}}}});
+  EXPECT_EQ(extract(joint_weights, "joint-weights", report), poses);
+  EXPECT_EQ(report["asset"]["clips"][0]["morph_channels"], 0);  // no warning that the skin cannot follow them
 
   GltfFile past = rotation;
   past.doc["animations"][0]["channels"][4]["target"] = pointer("/nodes/9/rotation");

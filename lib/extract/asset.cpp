@@ -278,7 +278,15 @@ void Asset::read_clips(const ClipMends& mends) {
       clip.keys += ch->mNumKeys;
     }
     clip.node_channels = anim->mNumChannels;
-    clip.morph_channels = anim->mNumMorphMeshChannels;
+    // Only those that weigh a target of the body's meshes: a weights channel on a joint, on a
+    // mesh without targets or on a mesh --mesh left out moves nothing the poses hold.
+    for (unsigned c = 0; c < anim->mNumMorphMeshChannels; ++c) {
+      const aiMeshMorphAnim* ch = anim->mMorphMeshChannels[c];
+      const std::string name = ch->mName.C_Str();
+      clip.morph_channels += ch->mNumKeys > 0 && std::any_of(instances_.begin(), instances_.end(), [&](const Instance& i) {
+        return i.mesh->mNumAnimMeshes > 0 && (name == i.node->mName.C_Str() || name == i.mesh->mName.C_Str());
+      });
+    }
     if (a < mends.passed_over.size()) clip.passed_over = mends.passed_over[a];
     if (a < added.size() && added[a].added > 0) {
       drop_added_keys(times, clip.ticks_per_second, added[a].asset_times);

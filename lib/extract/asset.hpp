@@ -47,7 +47,8 @@ struct AssetClip {
   double ticks_per_second = 0;
   double end = 0;              // the last key
   std::vector<double> frames;  // every distinct key time, ascending
-  size_t node_channels = 0, morph_channels = 0, keys = 0;
+  size_t node_channels = 0, keys = 0;
+  size_t morph_channels = 0;  // those weighing a target of the body's meshes
   // Channels that move no node's transform or morph weights (a material's colour by
   // KHR_animation_pointer), which the poses do not follow: "animations[0].channels[4] (...)".
   std::vector<std::string> passed_over;
