@@ -147,7 +147,8 @@ def change_to_pointer(doc, rng):
     nodes = len(doc.get("nodes", []))
     pointer = rng.choice(["/nodes/%s/%s" % (target.get("node"), target.get("path")),
                           "/nodes/%d/%s" % (rng.randrange(nodes + 2), rng.choice(NAMES)),
-                          "/materials/0/pbrMetallicRoughness/baseColorFactor", "/nodes/01/rotation",
+                          "/materials/0/pbrMetallicRoughness/baseColorFactor", "/meshes/0/weights",
+                          "/meshes/%d/weights" % len(doc.get("meshes", [])), "/nodes/01/rotation",
                           "/nodes/-1/scale", "/nodes/99999999999/translation", "/nodes/0", "", 7])
     channel["target"] = {"path": "pointer", "extensions": {"KHR_animation_pointer": {"pointer": pointer}}}
     return "animations' channel given the pointer %s" % json.dumps(pointer)

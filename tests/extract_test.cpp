@@ -307,6 +307,47 @@ TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   EXPECT_GT(moved, 0.01);
 }
 
+// KHR_animation_pointer to morph weights: the barrel's clip with its weights channel named by a
+// pointer to its node's weights, or to its mesh's (which the node takes, having none of its own),
+// gives the same poses to the bit. Where the node has weights of its own, the mesh's move nothing:
+// the clip then has nothing else, which is an error that says so.
+TEST(PoseExtract, AnimationPointerToMorphWeightsIsTheWeightsChannel) {
+  const std::string dir = test::temp_dir("pointer-weights");
+  json report;
+  sample_gen_files("barrel", dir, Log::silent(), report);
+  const GltfFile barrel = read_gltf_file(dir + "/barrel-morph.glb");
+  ASSERT_EQ(barrel.doc["animations"][0]["channels"][0]["target"], json({{"node", 0}, {"path", "weights"}}));
+  PoseExtractOptions clip;
+  clip.animation = "0";
+  const auto poses = [&](const GltfFile& file, const std::string& name) {
+    write_file_atomic(dir + "/" + name + ".glb", encode_glb(file));
+    pose_extract_files(dir + "/" + name + ".glb", dir + "/" + name, clip, Log::silent(), report);
+    std::vector<TriMesh> out;
+    for (const auto& p : read_pose_manifest(dir + "/" + name + "/poses.json").poses)
+      out.push_back(load_mesh(dir + "/" + name + "/" + p.file).mesh);
+    return out;
+  };
+  const std::vector<TriMesh> plain = poses(barrel, "plain");
+  ASSERT_EQ(plain.size(), 4u);
+  for (const char* pointer : {"/nodes/0/weights", "/meshes/0/weights"}) {
+    GltfFile pointed = barrel;
+    pointed.doc["animations"][0]["channels"][0]["target"] = {
+        {"path", "pointer"}, {"extensions", {{"KHR_animation_pointer", {{"pointer", pointer}}}}}};
+    const std::vector<TriMesh> got = poses(pointed, "pointed");
+    ASSERT_EQ(got.size(), plain.size()) << pointer;
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].vertices, plain[i].vertices) << pointer << " pose " << i;
+    EXPECT_EQ(report["asset"]["clips"][0]["morph_channels"], 1) << pointer;
+    if (std::string(pointer) != "/meshes/0/weights") continue;
+    pointed.doc["nodes"][0]["weights"] = {0, 0, 0};
+    const std::string error = test::bad_input_error([&] { poses(pointed, "own-weights"); });
+    EXPECT_NE(error.find("own-weights.glb: clip 'barrel' has no keys that move a node or morph weights "
+                         "(animations[0].channels[0] (KHR_animation_pointer '/meshes/0/weights': no node places "
+                         "meshes[0] without weights of its own) move no geometry)"),
+              std::string::npos)
+        << error;
+  }
+}
+
 // A STEP clip holds each key's value until the next key: between keys, the pose of the key before
 // (assimp read every clip as linear, so the poses glided). The barrel's morph weights (one value
 // per target a key) and the rigged elephant's joints, their samplers set to STEP: the same frames,

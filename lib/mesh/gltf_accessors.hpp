@@ -25,12 +25,15 @@ size_t components(const json& accessor);
 std::vector<double> accessor_values(const GltfFile& file, const json& accessor, const std::string& path);
 
 // What a clip's channel moves: its target's node and path, or those its KHR_animation_pointer
-// names ("/nodes/3/rotation": node 3, "rotation"; `pointer` holds it). `node` is SIZE_MAX where
-// it names no node (none given, or another object's property: "/materials/0/emissiveFactor"),
-// and `path` empty where it names no path of the four a channel may move a node by.
+// names ("/nodes/3/rotation": node 3, "rotation"; "/meshes/1/weights": mesh 1's weights, which
+// every node placing it without weights of its own takes; `pointer` holds it). `node` and `mesh`
+// are SIZE_MAX where it names neither (none given, or another object's property:
+// "/materials/0/emissiveFactor"), and `path` empty where it names no path of the four a channel
+// may move a node by.
 struct ChannelTarget {
-  size_t node = SIZE_MAX;
+  size_t node = SIZE_MAX, mesh = SIZE_MAX;
   std::string path, pointer;
+  bool moves_geometry() const { return node != SIZE_MAX || mesh != SIZE_MAX; }
 };
 ChannelTarget channel_target(const json& channel);
 

@@ -199,12 +199,17 @@ class Rules {
       if (moved.node != SIZE_MAX && moved.node >= nodes_.size())
         fail(channel + ".target's KHR_animation_pointer '" + moved.pointer + "' names a node past the file's " +
              std::to_string(nodes_.size()));
-      check_sampler(samplers[s], at(where + ".samplers", s), moved.path, moved.node);
+      if (moved.mesh != SIZE_MAX && moved.mesh >= meshes_.size())
+        fail(channel + ".target's KHR_animation_pointer '" + moved.pointer + "' names a mesh past the file's " +
+             std::to_string(meshes_.size()));
+      check_sampler(samplers[s], at(where + ".samplers", s), moved.path, moved.node, moved.mesh);
     }
   }
 
-  // A sampler's key times and values, for the channel that moves `node`'s `moved`.
-  void check_sampler(const json& sampler, const std::string& where, const std::string& moved, size_t node) const {
+  // A sampler's key times and values, for the channel that moves `node`'s `moved` (or, for
+  // weights, `mesh`'s where no node is given).
+  void check_sampler(const json& sampler, const std::string& where, const std::string& moved, size_t node,
+                     size_t mesh = SIZE_MAX) const {
     if (!sampler.is_object()) fail(where + " is not an object");
     const size_t input = index(sampler, "input", accessors_.size(), where, "accessor");
     const size_t output = index(sampler, "output", accessors_.size(), where, "accessor");
@@ -227,8 +232,7 @@ class Rules {
            moved + " takes " + type);
     size_t per_key = text(sampler, "interpolation") == "CUBICSPLINE" ? 3 : 1;
     if (moved == "weights") {
-      if (node == SIZE_MAX) return;
-      const size_t mesh = index(nodes_[node], "mesh", meshes_.size(), at("nodes", node), "mesh");
+      if (node != SIZE_MAX) mesh = index(nodes_[node], "mesh", meshes_.size(), at("nodes", node), "mesh");
       if (mesh == SIZE_MAX) return;
       const json& primitives = list_of(meshes_[mesh], "primitives");
       if (primitives.empty() || !primitives[0].is_object()) return;

@@ -69,19 +69,32 @@ std::vector<double> node_path_value(const json& node, const std::string& path) {
   return out;
 }
 
-// The node and path a KHR_animation_pointer names, where it is "/nodes/N/<path>" (N written as
-// JSON pointers write a list's index: no sign, no leading zero); node SIZE_MAX otherwise.
-void pointed_node(const std::string& pointer, ChannelTarget& out) {
-  const std::string head = "/nodes/";
-  if (pointer.rfind(head, 0) != 0) return;
-  const size_t slash = pointer.find('/', head.size());
-  if (slash == std::string::npos) return;
-  const std::string digits = pointer.substr(head.size(), slash - head.size());
-  if (digits.empty() || digits.size() > 9 || (digits.size() > 1 && digits[0] == '0') ||
-      digits.find_first_not_of("0123456789") != std::string::npos)
-    return;
-  out.node = std::stoul(digits);
-  out.path = pointer.substr(slash + 1);
+// The node (or mesh) and path a KHR_animation_pointer names, where it is "/nodes/N/<path>" or
+// "/meshes/M/weights" (N and M written as JSON pointers write a list's index: no sign, no leading
+// zero); neither otherwise.
+void pointed_object(const std::string& pointer, ChannelTarget& out) {
+  for (const std::string head : {"/nodes/", "/meshes/"}) {
+    if (pointer.rfind(head, 0) != 0) continue;
+    const size_t slash = pointer.find('/', head.size());
+    if (slash == std::string::npos) return;
+    const std::string digits = pointer.substr(head.size(), slash - head.size());
+    if (digits.empty() || digits.size() > 9 || (digits.size() > 1 && digits[0] == '0') ||
+        digits.find_first_not_of("0123456789") != std::string::npos)
+      return;
+    out.path = pointer.substr(slash + 1);
+    if (head == "/nodes/") out.node = std::stoul(digits);
+    else if (out.path == "weights") out.mesh = std::stoul(digits);
+  }
+}
+
+// Where a clip's mesh weights go: every node placing `mesh` without weights of its own.
+std::vector<size_t> nodes_taking_weights_of(const json& doc, size_t mesh) {
+  std::vector<size_t> out;
+  const json nodes = doc.value("nodes", json::array());
+  for (size_t n = 0; n < nodes.size() && nodes.is_array(); ++n)
+    if (nodes[n].is_object() && nodes[n].contains("mesh") && nodes[n]["mesh"] == mesh && !nodes[n].contains("weights"))
+      out.push_back(n);
+  return out;
 }
 
 bool moves_a_node(const std::string& path) {
@@ -100,11 +113,11 @@ ChannelTarget detail::channel_target(const json& channel) {
     const json extensions = target.value("extensions", json::object());
     const json pointer = extensions.is_object() ? extensions.value("KHR_animation_pointer", json::object()) : json();
     if (pointer.is_object()) out.pointer = text(pointer, "pointer");
-    pointed_node(out.pointer, out);
+    pointed_object(out.pointer, out);
   } else if (target.contains("node") && is_index(target["node"])) {
     out.node = target["node"].get<size_t>();
   }
-  if (!moves_a_node(out.path)) out.node = SIZE_MAX;
+  if (!moves_a_node(out.path)) out.node = out.mesh = SIZE_MAX;
   return out;
 }
 
@@ -120,20 +133,28 @@ size_t channels_as_assimp_reads(GltfFile& file, std::vector<std::vector<std::str
     const json& channels = clip["channels"];
     for (size_t c = 0; c < channels.size(); ++c) {
       const ChannelTarget moved = channel_target(channels[c]);
-      if (moved.node != SIZE_MAX && !moved.pointer.empty()) {
-        json channel = channels[c];
-        channel["target"] = {{"node", moved.node}, {"path", moved.path}};
-        kept.push_back(std::move(channel));
-        ++changed;
-      } else if (moved.node != SIZE_MAX) {
+      const std::vector<size_t> nodes = moved.node != SIZE_MAX   ? std::vector<size_t>{moved.node}
+                                        : moved.mesh != SIZE_MAX ? nodes_taking_weights_of(doc, moved.mesh)
+                                                                 : std::vector<size_t>{};
+      if (moved.pointer.empty() && !nodes.empty()) {
         kept.push_back(channels[c]);
+      } else if (!nodes.empty()) {
+        for (size_t node : nodes) {
+          json channel = channels[c];
+          channel["target"] = {{"node", node}, {"path", moved.path}};
+          kept.push_back(std::move(channel));
+        }
+        ++changed;
       } else {
         const json target = channels[c].is_object() ? channels[c].value("target", json::object()) : json::object();
         const std::string path = target.is_object() ? text(target, "path") : "";
-        const std::string what = !moved.pointer.empty() ? "KHR_animation_pointer '" + moved.pointer + "'"
-                                 : path == "pointer"    ? "a pointer channel without its pointer"
-                                 : !moves_a_node(path)  ? "path '" + path + "'"
-                                                        : "no target node";
+        const std::string what = moved.mesh != SIZE_MAX ? "KHR_animation_pointer '" + moved.pointer +
+                                                              "': no node places meshes[" + std::to_string(moved.mesh) +
+                                                              "] without weights of its own"
+                                 : !moved.pointer.empty() ? "KHR_animation_pointer '" + moved.pointer + "'"
+                                 : path == "pointer"      ? "a pointer channel without its pointer"
+                                 : !moves_a_node(path)    ? "path '" + path + "'"
+                                                          : "no target node";
         passed_over[a].push_back("animations[" + std::to_string(a) + "].channels[" + std::to_string(c) + "] (" +
                                  what + ")");
         ++changed;

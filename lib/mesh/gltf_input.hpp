@@ -85,8 +85,9 @@ size_t cubic_samplers_as_keys(GltfFile& file, const std::string& path, std::vect
 // KHR_animation_pointer channel (path "pointer": a material's colour, a light's intensity)
 // failed the whole file ("GLTF: elemSize 16 > targetElemSize 12"), and it drops a channel with no
 // node without a word. A pointer to a node's translation, rotation, scale or morph weights
-// ("/nodes/3/rotation") becomes the plain channel it stands for; every other channel moves no
-// geometry and leaves its clip, `passed_over[a]` naming clip a's ("animations[0].channels[4]
+// ("/nodes/3/rotation") becomes the plain channel it stands for, and one to a mesh's morph weights
+// ("/meshes/1/weights") a channel of each node placing that mesh without weights of its own; every
+// other channel moves no geometry and leaves its clip, `passed_over[a]` naming clip a's ("animations[0].channels[4]
 // (KHR_animation_pointer '/materials/0/emissiveFactor')"). Returns how many channels changed.
 size_t channels_as_assimp_reads(GltfFile& file, std::vector<std::vector<std::string>>& passed_over);
 

@@ -44,7 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const spx::json& clip = floats.doc["animations"][a];
       if (clip.is_object() && clip.contains("channels") && clip["channels"].is_array())
         for (const auto& channel : clip["channels"])
-          if (spx::detail::channel_target(channel).node == SIZE_MAX) std::abort();
+          if (spx::detail::channel_target(channel).node == SIZE_MAX || !channel["target"].contains("node")) std::abort();
     }
     const size_t views = floats.doc["bufferViews"].size();
     const size_t changed = spx::float_accessors(floats, "fuzz.gltf");
