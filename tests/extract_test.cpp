@@ -307,6 +307,15 @@ TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   EXPECT_GT(moved, 0.01);
 }
 
+// The vertex lines of a pose file (its first line names the asset it came from).
+std::string vertex_lines(const std::string& obj) {
+  std::string out, line;
+  std::istringstream in(read_file(obj));
+  while (std::getline(in, line))
+    if (line.rfind("v ", 0) == 0) out += line + "\n";
+  return out;
+}
+
 // KHR_animation_pointer to morph weights: the barrel's clip with its weights channel named by a
 // pointer to its node's weights, or to its mesh's (which the node takes, having none of its own),
 // gives the same poses to the bit. Where the node has weights of its own, the mesh's move nothing:
@@ -319,23 +328,21 @@ TEST(PoseExtract, AnimationPointerToMorphWeightsIsTheWeightsChannel) {
   ASSERT_EQ(barrel.doc["animations"][0]["channels"][0]["target"], json({{"node", 0}, {"path", "weights"}}));
   PoseExtractOptions clip;
   clip.animation = "0";
-  const auto poses = [&](const GltfFile& file, const std::string& name) {
+  const auto poses = [&](const GltfFile& file, const std::string& name) {  // every pose's vertices
     write_file_atomic(dir + "/" + name + ".glb", encode_glb(file));
     pose_extract_files(dir + "/" + name + ".glb", dir + "/" + name, clip, Log::silent(), report);
-    std::vector<TriMesh> out;
+    std::vector<std::string> out;
     for (const auto& p : read_pose_manifest(dir + "/" + name + "/poses.json").poses)
-      out.push_back(load_mesh(dir + "/" + name + "/" + p.file).mesh);
+      out.push_back(vertex_lines(dir + "/" + name + "/" + p.file));
     return out;
   };
-  const std::vector<TriMesh> plain = poses(barrel, "plain");
+  const std::vector<std::string> plain = poses(barrel, "plain");
   ASSERT_EQ(plain.size(), 4u);
   for (const char* pointer : {"/nodes/0/weights", "/meshes/0/weights"}) {
     GltfFile pointed = barrel;
     pointed.doc["animations"][0]["channels"][0]["target"] = {
         {"path", "pointer"}, {"extensions", {{"KHR_animation_pointer", {{"pointer", pointer}}}}}};
-    const std::vector<TriMesh> got = poses(pointed, "pointed");
-    ASSERT_EQ(got.size(), plain.size()) << pointer;
-    for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].vertices, plain[i].vertices) << pointer << " pose " << i;
+    EXPECT_EQ(poses(pointed, "pointed"), plain) << pointer;
     EXPECT_EQ(report["asset"]["clips"][0]["morph_channels"], 1) << pointer;
     if (std::string(pointer) != "/meshes/0/weights") continue;
     pointed.doc["nodes"][0]["weights"] = {0, 0, 0};
@@ -1155,15 +1162,6 @@ char* element_bytes(GltfFile& file, size_t index, size_t i, size_t width) {
 // on such a file (a segmentation fault, from pose-extract and from sdf-build alike). RiggedSimple
 // with its matrices made identities, given, and the same file without them give the same poses,
 // byte for byte.
-// The vertex lines of a pose file (its first line names the asset it came from).
-std::string vertex_lines(const std::string& obj) {
-  std::string out, line;
-  std::istringstream in(read_file(obj));
-  while (std::getline(in, line))
-    if (line.rfind("v ", 0) == 0) out += line + "\n";
-  return out;
-}
-
 // KHR_animation_pointer: a pointer to a node's rotation is that rotation's channel; one to a
 // material's colour moves no geometry and is named as passed over, as is a channel with no node.
 // assimp read the first two as translations and failed the whole file (the mesh loader too), and

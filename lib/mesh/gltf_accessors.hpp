@@ -33,7 +33,6 @@ std::vector<double> accessor_values(const GltfFile& file, const json& accessor, 
 struct ChannelTarget {
   size_t node = SIZE_MAX, mesh = SIZE_MAX;
   std::string path, pointer;
-  bool moves_geometry() const { return node != SIZE_MAX || mesh != SIZE_MAX; }
 };
 ChannelTarget channel_target(const json& channel);
 

@@ -90,8 +90,9 @@ void pointed_object(const std::string& pointer, ChannelTarget& out) {
 // Where a clip's mesh weights go: every node placing `mesh` without weights of its own.
 std::vector<size_t> nodes_taking_weights_of(const json& doc, size_t mesh) {
   std::vector<size_t> out;
-  const json nodes = doc.value("nodes", json::array());
-  for (size_t n = 0; n < nodes.size() && nodes.is_array(); ++n)
+  if (!doc.contains("nodes") || !doc["nodes"].is_array()) return out;
+  const json& nodes = doc["nodes"];
+  for (size_t n = 0; n < nodes.size(); ++n)
     if (nodes[n].is_object() && nodes[n].contains("mesh") && nodes[n]["mesh"] == mesh && !nodes[n].contains("weights"))
       out.push_back(n);
   return out;
