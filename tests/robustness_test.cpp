@@ -210,6 +210,40 @@ TEST(GeneratedInput, DegenerateShapesAndScales) {
   EXPECT_EQ(code_of([&] { build_sdf(tiny, {}); }), ExitCode::unsupported);
 }
 
+// Every mesh reader reads single precision: a mesh far from the origin for its size is read
+// coarser than written, by half the spacing of floats at its largest coordinate.
+TEST(GeneratedInput, MeshesReadCoarserThanTheirFieldAreNamed) {
+  const auto box_at = [](double offset) {  // a unit box, its corners as a reader gives them
+    TriMesh box = test::box_mesh(Eigen::Vector3d::Constant(offset), Eigen::Vector3d::Constant(offset + 1));
+    for (Eigen::Vector3d& v : box.vertices) v = v.cast<float>().cast<double>();
+    return box;
+  };
+  EXPECT_EQ(read_rounding(box_at(0)), std::ldexp(1.0, -24));  // floats in [1, 2) are 2^-23 apart
+  EXPECT_EQ(read_rounding(box_at(1e5)), std::ldexp(1.0, -8));  // in [65536, 131072) 2^-7
+  EXPECT_EQ(read_rounding(box_at(-1e6)), std::ldexp(1.0, -5));
+  const double voxel = 1.0 / 128;
+  Log near;
+  check_read_rounding(box_at(1e4), voxel, "near.obj", near);  // 0.06 of a voxel
+  EXPECT_TRUE(near.warnings().empty());
+  Log far;
+  check_read_rounding(box_at(1e5), voxel, "far.obj", far);  // half a voxel
+  ASSERT_EQ(far.warnings().size(), 1u);
+  EXPECT_NE(far.warnings()[0].find("far.obj: its coordinates reach 1e+05, where the mesh readers' single precision "
+                                   "places a vertex only to within 0.003906 of the file's, 0.5 of a voxel"),
+            std::string::npos)
+      << far.warnings()[0];
+  const std::string refused = test::bad_input_error([&] { check_read_rounding(box_at(1e6), voxel, "farther.obj", far); });
+  EXPECT_NE(refused.find("farther.obj: its coordinates reach 1e+06, where the mesh readers' single precision places a "
+                         "vertex only to within 0.03125 of the file's, 4 voxels of 0.007812"),
+            std::string::npos)
+      << refused;
+  EXPECT_NE(refused.find("move the mesh near the origin"), std::string::npos) << refused;
+  // A coarser field takes the same mesh.
+  Log coarse;
+  check_read_rounding(box_at(1e6), 1.0, "farther.obj", coarse);
+  EXPECT_TRUE(coarse.warnings().empty());
+}
+
 TEST(GeneratedInput, AbsurdParameters) {
   const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
   for (double v : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {

@@ -202,6 +202,27 @@ std::string to_obj(const TriMesh& mesh, const std::string& comment) {
   return out;
 }
 
+double read_rounding(const TriMesh& mesh) {
+  float largest = 0;
+  for (const Eigen::Vector3d& v : mesh.vertices) largest = std::max(largest, float(v.cwiseAbs().maxCoeff()));
+  return 0.5 * (double(std::nextafter(largest, INFINITY)) - double(largest));
+}
+
+void check_read_rounding(const TriMesh& mesh, double voxel, const std::string& file, Log& log) {
+  const double rounding = read_rounding(mesh);
+  if (!(voxel > 0) || rounding <= 0.1 * voxel) return;
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const std::string said =
+      "its coordinates reach " + num(std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff())) +
+      ", where the mesh readers' single precision places a vertex only to within " + num(rounding) +
+      " of the file's, " + num(rounding / voxel) + (rounding > voxel ? " voxels of " : " of a voxel of ") + num(voxel) +
+      " (the mesh is " +
+      num(box.sizes().maxCoeff()) + " across)";
+  if (rounding > voxel)
+    fail_input(file, said + ": the field would follow that reading, not the file; move the mesh near the origin");
+  log.warn(file + ": " + said + "; move the mesh near the origin for the field to follow the file");
+}
+
 std::string stem_of(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
 }  // namespace spx

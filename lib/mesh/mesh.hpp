@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/log.hpp"
+
 namespace spx {
 
 struct TriMesh {
@@ -48,6 +50,15 @@ std::vector<TriMesh> load_poses(const std::vector<std::string>& paths, const Loa
 // Coincident positions become one vertex of `welded` (appended), numbered in order of first
 // appearance; returns the vertex each position became. -0 and +0 weld together.
 std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& welded);
+
+// How far a vertex read from a mesh file may lie from the file's own: every reader (assimp's, for
+// every format) reads single precision, so up to half the spacing of floats at the mesh's largest
+// coordinate. A mesh far from the origin for its size is read coarser than it was written.
+double read_rounding(const TriMesh& mesh);
+// `mesh`, read from `file`, against the field that follows it (`voxel`): read coarser than a voxel
+// it is refused (spx::Error, exit 2, naming the file: the field would follow the reading, not the
+// file), past a tenth of one a warning. Each says to move the mesh near the origin.
+void check_read_rounding(const TriMesh& mesh, double voxel, const std::string& file, Log& log);
 
 // Deterministic Wavefront OBJ text.
 std::string to_obj(const TriMesh& mesh, const std::string& comment = {});

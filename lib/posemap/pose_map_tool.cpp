@@ -84,6 +84,12 @@ PoseMapInputs read_inputs(const std::string& rest_path, const std::vector<std::s
       log.warn(pose.source + ": its size is " + num(ratio) + "x the rest mesh's; is it in another unit?");
     in.poses.push_back(std::move(pose));
   }
+  // Read coarser than the spheres' voxel, a pose's field and candidates would follow the reading.
+  check_read_rounding(in.rest.mesh, in.spheres.voxel_size, rest_path, log);
+  const auto coarsest = std::max_element(in.poses.begin(), in.poses.end(), [](const PoseInput& a, const PoseInput& b) {
+    return read_rounding(a.mesh) < read_rounding(b.mesh);
+  });
+  if (coarsest != in.poses.end()) check_read_rounding(coarsest->mesh, in.spheres.voxel_size, coarsest->source, log);
   if (!skin_path.empty()) match_skin(in.skin, skin_path, in.rest.mesh, in.poses);
   return in;
 }

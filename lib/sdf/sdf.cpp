@@ -143,7 +143,7 @@ GridShape plan_grid(const TriMesh& mesh, const SdfOptions& opt, double* estimate
   }
 
   GridShape shape;
-  shape.voxel_size = opt.voxel_size > 0 ? opt.voxel_size : longest / opt.resolution;
+  shape.voxel_size = voxel_size_for(mesh, opt);
   const int pad = opt.band + 1;
   Eigen::Vector3d lo = (box.min() / shape.voxel_size).array().floor() - pad;
   Eigen::Vector3d hi = (box.max() / shape.voxel_size).array().ceil() + pad;
@@ -371,6 +371,11 @@ void apply_sign(SdfWork& w) {
 }
 
 }  // namespace
+
+double voxel_size_for(const TriMesh& mesh, const SdfOptions& opt) {
+  const double longest = mesh.vertices.empty() ? 0 : mesh.bounds().sizes().maxCoeff();
+  return opt.voxel_size > 0 ? opt.voxel_size : longest > 0 ? longest / opt.resolution : 0;
+}
 
 SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const SolidBoundary* found) {
   SdfResult result;

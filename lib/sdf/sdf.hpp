@@ -54,6 +54,9 @@ struct SdfResult {
   SdfStats stats;
 };
 
+// The voxel build_sdf gives `mesh` (0 where it has no extent).
+double voxel_size_for(const TriMesh& mesh, const SdfOptions& options);
+
 // `boundary`: the mesh's solid boundary where already found (MeshQuery::boundary()), or null.
 SdfResult build_sdf(const TriMesh& mesh, const SdfOptions& options, Log& log = Log::silent(),
                     const SolidBoundary* boundary = nullptr);

@@ -32,6 +32,7 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
     StageTimer t(log, "load");
     loaded = load_mesh(input);
   }
+  check_read_rounding(loaded.mesh, voxel_size_for(loaded.mesh, options), input, log);
   const SdfResult sdf = about_file(input, [&] { return build_sdf(loaded.mesh, options, log); });
   const MeshDefects& d = sdf.stats.defects;
   if (!d.watertight())
@@ -71,7 +72,8 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
   report["mesh"] = {{"vertices", loaded.mesh.vertices.size()},
                     {"triangles", loaded.mesh.triangles.size()},
                     {"file_vertices", loaded.file_vertex_count()},
-                    {"merged_corners", loaded.merged_corners()}};
+                    {"merged_corners", loaded.merged_corners()},
+                    {"read_rounding", read_rounding(loaded.mesh)}};
   report["grid"] = {{"voxel_size", s.voxel_size},
                     {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
                     {"origin_index", {s.origin.x(), s.origin.y(), s.origin.z()}},

@@ -178,6 +178,24 @@ for line in open(sys.argv[1]):
 said=$("$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/dent-cm.obj" --spheres "$out/s.json" -o "$out/cm.json" 2>&1)
 if grep -q "dent-cm.obj: its size is .*another unit" <<<"$said"; then passed=$((passed + 1)); else
   echo "FAIL: no unit-scale warning"; fail=$((fail + 1)); fi
+# A mesh far from the origin for its size, read in single precision as every mesh reader reads:
+# past a voxel it is refused naming the file (the field followed the rounded vertices without a
+# word), past a tenth of one warned about, and the report says by how much.
+for off in 1e5 1e6; do
+  awk -v o=$off '/^v /{printf "v %.9g %.9g %.9g\n", $2 + o, $3, $4; next} {print}' "$out/in/rest.obj" >"$out/far-$off.obj"
+  awk -v o=$off '/^v /{printf "v %.9g %.9g %.9g\n", $2 + o, $3, $4; next} {print}' "$out/in/dent.obj" >"$out/dent-$off.obj"
+done
+expect 2 "far-1e6.obj: its coordinates reach 1e+06, where the mesh readers' single precision places a vertex only to within 0.03125 of the file's, .* voxels of .*: the field would follow that reading, not the file; move the mesh near the origin" \
+  "$out/far.vdb" -- "$bin/sdf-build" "$out/far-1e6.obj" -o "$out/far.vdb" --resolution 32
+said=$("$bin/sdf-build" "$out/far-1e5.obj" -o "$out/far.vdb" --resolution 32 --report "$out/far.json" 2>&1)
+check "a mesh read coarser than a tenth of a voxel is warned about: $said" \
+  eval 'grep -q "warning: .*far-1e5.obj: its coordinates reach 1e+05, .* within 0.003906 of the file.s, 0.17.. of a voxel" <<<"$said"'
+check "the report gives the reading's rounding" /usr/bin/python3 -c \
+  "import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))['mesh']['read_rounding'] == 2**-8 else 1)" "$out/far.json"
+said=$("$bin/sdf-build" "$out/in/rest.obj" -o "$out/near.vdb" --resolution 32 2>&1)
+check "a mesh near the origin is not warned about: $said" eval '! grep -q "single precision" <<<"$said"'
+expect 2 "dent-1e6.obj: its coordinates reach 1e+06, .* move the mesh near the origin" "$out/far-map.json" -- \
+  "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/dent-1e6.obj" --spheres "$out/s.json" -o "$out/far-map.json"
 # Swapped rest and pose: the rest spheres do not fit the "rest" mesh.
 # A pose that is inside out (mirrored): named, for the map as given and for the selection; an open
 # body's mirrored pose, whose field encloses nothing, is named too (the rest was).
