@@ -37,7 +37,11 @@
 // one radius in every frame. joint_matrices are joint_count() column-major 4x4 matrices in the
 // skin's joint order (joint_name()): each joint's global transform times its inverse bind, the
 // matrices the host computes for its own skinned mesh, acting on the mesh as the asset stores
-// it (glTF POSITION). The sphere centers are stored in that space.
+// it (glTF POSITION). The sphere centers are stored in that space. The radii are lengths of the
+// asset's scene (skin.json's matrices): matrices that also carry a scale of the host's own (the
+// body's node scaled to the level, world matrices of a scaled object) scale the centers, not the
+// radii, so a host placing the body at scale s multiplies each radius by s (or skins in the
+// asset's scene and places the result, as samples/character does).
 //
 // File layout (little-endian), format 1.1 (1.0: the same without the skin section):
 //   0  u8[8]  magic 89 'S' 'P' 'X' 0D 0A 1A 0A
