@@ -68,6 +68,16 @@ Tool::Tool(std::string name, const std::string& description)
   app.add_option("--threads", threads_,
                  "Use at most this many threads (default: every core); the outputs are the same whatever the count")
       ->check(kPositive);
+  // What a script branches on, where the person writing it looks first.
+  app.footer(
+      "Exit codes:\n"
+      "  0  success\n"
+      "  1  usage: a bad option or value\n"
+      "  2  bad input: a file missing, unreadable or invalid\n"
+      "  3  unsupported: a format or version not read here, a grid past the memory limit, out of memory\n"
+      "  4  an output that cannot be written\n"
+      "  5  internal error: a bug (please report it with the inputs)\n"
+      "A failure prints one line, 'Error: <file>: <what is wrong>', and leaves no half-written output.");
 }
 
 std::vector<const CLI::Option*> Tool::given(const std::vector<std::string>& flags) const {

@@ -509,10 +509,15 @@ else
   rm -f "$out/large.obj"
 fi
 
-# --help and --version succeed on every tool.
+# --help and --version succeed on every tool, and the help ends with the exit codes a script
+# branches on, as lib/core/error.hpp numbers them.
+codes=$(sed -n '/enum class ExitCode/,/};/p' "$(dirname "$0")/../../lib/core/error.hpp" | grep -o '= [0-9]' | tr -dc '0-9')
+check "error.hpp numbers the exit codes 0 to 5 ($codes)" [ "$codes" = 012345 ]
 for t in pose-extract sdf-build sphere-pack pose-map proxy-export proxy-eval sample-gen; do
-  if "$bin/$t" --help >/dev/null && said=$("$bin/$t" --version) && grep -q "(spx) " <<<"$said"; then passed=$((passed + 1)); else
+  if help=$("$bin/$t" --help) && said=$("$bin/$t" --version) && grep -q "(spx) " <<<"$said"; then passed=$((passed + 1)); else
     echo "FAIL: $t --help/--version"; fail=$((fail + 1)); fi
+  check "$t --help lists the exit codes" eval 'grep -q "^Exit codes:" <<<"$help" &&
+    [ "$(grep -c "^  [0-5]  " <<<"$help")" = 6 ] && grep -q "^  2  bad input" <<<"$help" && grep -q "^  4  an output" <<<"$help"'
 done
 # A bad .spx gives the demo's status line and a non-zero exit.
 head -c 50 /dev/urandom >"$out/junk.spx"
