@@ -262,6 +262,23 @@ TEST(PoseMap, AcceptsUserTetsAndStillMapsAffinePosesExactly) {
     bad << "Vertices\n2\n0 0 0 0\n1 0 0 0\nTetrahedra\n1\n1 2 3 4 1\nEnd\n";
   }
   EXPECT_THROW(read_medit_tets(dir + "/bad.mesh"), Error);
+
+  // Tets that do not fit the rest (in another unit, moved) are refused naming the file: the map
+  // pinned their boundary to the nearest surface and wrote a proxy (the tenfold one, one blend site).
+  const Eigen::Vector3d away = Eigen::Vector3d::UnitX() * rest.diagonal() / 5;
+  for (const auto& [name, move] : std::vector<std::pair<std::string, std::function<Eigen::Vector3d(const Eigen::Vector3d&)>>>{
+           {"tenfold", [](const Eigen::Vector3d& v) { return Eigen::Vector3d(10 * v); }},
+           {"moved", [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(v + away); }}}) {
+    TetMesh other = tets;
+    for (Eigen::Vector3d& v : other.vertices) v = move(v);
+    const std::string path = dir + "/" + name + ".mesh";
+    std::ofstream(path) << to_medit(other);
+    opt.tet_file = path;
+    const std::string said = test::bad_input_error([&] { pose_map(rest, "rest.obj", {{"turned", "", pose}}, spheres, opt); });
+    EXPECT_NE(said.find(path + ": does not fit the rest mesh rest.obj: half its boundary's vertices lie farther than"),
+              std::string::npos)
+        << said;
+  }
 }
 
 void expect_same_proxy(const ProxyModel& a, const ProxyModel& b) {
