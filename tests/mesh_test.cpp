@@ -189,6 +189,87 @@ TEST(MeshLoad, PoseWithReorderedFacesIsMatchedByItsTriangles) {
   }
 }
 
+// OBJ text of a polygon mesh (faces of any number of corners, counted from 0).
+std::string polygon_obj(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::vector<int>>& faces) {
+  std::string out;
+  char line[100];
+  for (const Eigen::Vector3d& v : vertices) {
+    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
+    out += line;
+  }
+  for (const std::vector<int>& face : faces) {
+    out += "f";
+    for (int c : face) out += " " + std::to_string(c + 1);
+    out += "\n";
+  }
+  return out;
+}
+
+// assimp splits a polygon by its shape (a quad from its concave corner, a larger polygon by ear
+// clipping): a pose whose quad or hexagon turned concave was split along other diagonals than its
+// rest, and refused as "its triangles connect its vertices otherwise". Its polygons are now split
+// as the rest's were, and every vertex gets its place in the pose.
+TEST(MeshLoad, PolygonPosesAreSplitAsTheirRest) {
+  const std::string dir = test::temp_dir("polygons");
+  // A hexagonal prism: hexagons at the ends, quads around; then each end corner in turn pulled
+  // towards the axis (the hexagon concave there, and the quads beside it bent).
+  std::vector<Eigen::Vector3d> prism;
+  for (double z : {0.0, 1.0})
+    for (int i = 0; i < 6; ++i) prism.emplace_back(std::cos(M_PI * i / 3), std::sin(M_PI * i / 3), z);
+  std::vector<std::vector<int>> faces = {{5, 4, 3, 2, 1, 0}, {6, 7, 8, 9, 10, 11}};
+  for (int i = 0; i < 6; ++i) faces.push_back({i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i});
+  // A bar of quads, 3 by 3 on each side of a unit cube; a corner of the side x = 1 pulled within
+  // it makes the quad beside it concave at its corner 3 (assimp then splits it along 1-3, not 0-2).
+  std::vector<Eigen::Vector3d> cube;
+  std::vector<std::vector<int>> quads;
+  std::map<std::tuple<int, int, int>, int> index;
+  const auto at = [&](int x, int y, int z) {
+    const auto [it, fresh] = index.emplace(std::make_tuple(x, y, z), int(cube.size()));
+    if (fresh) cube.emplace_back(x / 3.0, y / 3.0, z / 3.0);
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {0, 3})
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          std::vector<int> q;
+          for (const auto& [a, b] : {std::pair{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}}) {
+            int c[3];
+            c[axis] = side, c[(axis + 1) % 3] = a, c[(axis + 2) % 3] = b;
+            q.push_back(at(c[0], c[1], c[2]));
+          }
+          if (side == 0) std::reverse(q.begin(), q.end());
+          quads.push_back(q);
+        }
+  struct Case {
+    std::string name;
+    const std::vector<Eigen::Vector3d>& rest;
+    const std::vector<std::vector<int>>& faces;
+    int moved;
+    Eigen::Vector3d to;
+  };
+  std::vector<Case> cases;
+  for (int k = 0; k < 6; ++k)
+    cases.push_back({"prism-" + std::to_string(k), prism, faces, 6 + k, Eigen::Vector3d(0.25 * prism[size_t(6 + k)].x(), 0.25 * prism[size_t(6 + k)].y(), 1)});
+  cases.push_back({"bar", cube, quads, at(3, 1, 1), Eigen::Vector3d(1, 0.55, 0.1)});
+  for (const Case& c : cases) {
+    write_file_atomic(dir + "/" + c.name + "-rest.obj", polygon_obj(c.rest, c.faces));
+    std::vector<Eigen::Vector3d> posed = c.rest;
+    posed[size_t(c.moved)] = c.to;
+    write_file_atomic(dir + "/" + c.name + "-pose.obj", polygon_obj(posed, c.faces));
+    const LoadedMesh rest = load_mesh(dir + "/" + c.name + "-rest.obj");
+    ASSERT_FALSE(rest.triangulation.empty()) << c.name;
+    const TriMesh pose = load_pose(dir + "/" + c.name + "-pose.obj", rest);
+    for (size_t v = 0; v < rest.mesh.vertices.size(); ++v) {  // each rest vertex where the pose put it
+      const auto file = std::find_if(c.rest.begin(), c.rest.end(), [&](const Eigen::Vector3d& p) {
+        return (p - rest.mesh.vertices[v]).norm() < 1e-6;
+      });
+      ASSERT_NE(file, c.rest.end());
+      EXPECT_LT((pose.vertices[v] - posed[size_t(file - c.rest.begin())]).norm(), 1e-6) << c.name << " vertex " << v;
+    }
+  }
+}
+
 // The same on a real mesh of thousands of vertices whose pose moves far (the elephant's legs):
 // matching may not hinge on where the triangles are, only on how they connect.
 TEST(MeshLoad, RealPoseWithShuffledFacesAndRotatedCornersIsMatched) {

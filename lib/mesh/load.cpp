@@ -18,6 +18,7 @@
 #include "mesh/assimp_scene.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pose_match.hpp"
+#include "mesh/triangulation.hpp"
 
 namespace spx {
 namespace {
@@ -25,6 +26,7 @@ namespace {
 struct RawMesh {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3i> triangles;
+  Triangulation triangulation;  // how its polygons were split (a rest's)
 };
 
 }  // namespace
@@ -41,7 +43,8 @@ void check_importable(const std::string& path, const std::string& kind, const st
 
 namespace {
 
-RawMesh read_raw(const std::string& path) {
+// `rest`: how the rest's polygons were split, for a pose's same polygons to be split so.
+RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   check_importable(path, "a mesh", "OBJ, PLY, STL, OFF, glTF/GLB or FBX");
   Assimp::Importer importer;
   // Keep only triangles; never drop degenerate ones silently (the report lists them).
@@ -49,10 +52,16 @@ RawMesh read_raw(const std::string& path) {
   // Read as it is, its mirrored parts turned to face out, then placed (pre-transformed): the same
   // steps in the same order as reading with those flags.
   face_out_mirrored(const_cast<aiScene*>(read_scene(importer, path, 0, "mesh")));
-  const aiScene* scene =
-      post_processed(importer, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType, path, "mesh");
-
+  // assimp's steps in its own order, one at a time, to see the faces before their split.
+  aiScene& placed = *const_cast<aiScene*>(post_processed(importer, aiProcess_PreTransformVertices, path, "mesh"));
+  const FaceLists faces = face_lists(placed);
   RawMesh raw;
+  if (!(rest && split_as(placed, faces, *rest))) {
+    const aiScene* split = post_processed(importer, aiProcess_Triangulate, path, "mesh");
+    if (!rest) raw.triangulation = triangulation_of(faces, *split);
+  }
+  const aiScene* scene = post_processed(importer, aiProcess_SortByPType, path, "mesh");
+
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[m];
     if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
@@ -121,6 +130,7 @@ LoadedMesh load_mesh(const std::string& path) {
   out.path = path;
   out.weld = weld_by_position(raw.positions, out.mesh.vertices);
   out.file_triangles = std::move(raw.triangles);
+  out.triangulation = std::move(raw.triangulation);
   out.mesh.triangles.reserve(out.file_triangles.size());
   for (const auto& t : out.file_triangles)
     out.mesh.triangles.emplace_back(out.weld[t[0]], out.weld[t[1]], out.weld[t[2]]);
@@ -168,7 +178,7 @@ void pose_by_triangles(const std::string& path, const RawMesh& raw, const Loaded
 }  // namespace
 
 TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
-  const RawMesh raw = read_raw(path);
+  const RawMesh raw = read_raw(path, &rest.triangulation);
   const std::string differs = " (poses must share the rest mesh's topology: " + rest.path + ")";
   if (raw.triangles.size() != rest.file_triangles.size())
     fail_input(path, "has " + std::to_string(raw.triangles.size()) + " triangles, the rest mesh has " +

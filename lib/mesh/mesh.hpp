@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "mesh/triangulation.hpp"
 
 namespace spx {
 
@@ -25,6 +26,7 @@ struct LoadedMesh {
   TriMesh mesh;
   std::vector<int> weld;                       // file vertex -> mesh vertex
   std::vector<Eigen::Vector3i> file_triangles; // triangles in file vertex indices
+  Triangulation triangulation;                 // how its polygons were split: its poses' are split so
   size_t file_vertex_count() const { return weld.size(); }
   // File vertices merged into another at the same position (face corners, for OBJ through
   // assimp): not the mesh's vertex count, which is mesh.vertices.size().

@@ -1,0 +1,45 @@
+#pragma once
+// How a file's polygons were split into triangles, kept so that the poses of a polygon mesh are
+// split as their rest was. assimp splits each polygon by its shape (a quad from its concave
+// corner, a larger polygon by ear clipping), so a pose whose quad turned concave was split along
+// its other diagonal, and its triangles no longer matched the rest's: a crumpled quad mesh, the
+// same faces as its rest, was refused as "another topology".
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+struct aiScene;
+
+namespace spx {
+
+// A scene's faces as read (after its placement, before triangulation): each mesh's faces, their
+// corners in order (face f's are corners[start[f]] to corners[start[f + 1]] - 1).
+struct FaceLists {
+  struct Mesh {
+    std::vector<uint32_t> start{0};
+    std::vector<unsigned> corners;
+    bool operator==(const Mesh& o) const { return start == o.start && corners == o.corners; }
+  };
+  std::vector<Mesh> meshes;
+};
+FaceLists face_lists(const aiScene& scene);
+
+struct Triangulation {
+  FaceLists faces;  // the faces it split
+  // Each face of more than 3 corners, in order over the meshes: its triangles, as corners of the
+  // face (0 to n-1).
+  std::vector<std::vector<std::array<uint16_t, 3>>> polygons;
+  bool empty() const { return polygons.empty(); }
+};
+
+// What assimp's aiProcess_Triangulate made of `before` (`after`: the same scene once it ran);
+// empty where there was no polygon, or where a face's triangles cannot be told from the next
+// face's (no pose then follows it: each is split by its own shape, as before).
+Triangulation triangulation_of(const FaceLists& before, const aiScene& after);
+
+// Splits the polygons of `scene` (whose faces are `faces`) as `rest` split its own, where the two
+// are the same faces, corner for corner: true, and `scene` holds no polygon after.
+bool split_as(aiScene& scene, const FaceLists& faces, const Triangulation& rest);
+
+}  // namespace spx
