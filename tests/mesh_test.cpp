@@ -270,6 +270,29 @@ TEST(MeshLoad, PolygonPosesAreSplitAsTheirRest) {
   }
 }
 
+// Two cubes touching face to face, each with its own 8 vertices in the file: at rest the 4 of the
+// face they share are one vertex each to the tools (welded by position). A pose that parts them
+// is refused saying so; it was "has 16 distinct vertices and 12 triangles, the rest mesh 12".
+TEST(MeshLoad, PointsOneAtRestThatPartInAPoseAreNamed) {
+  const std::string dir = test::temp_dir("parting");
+  const auto two_cubes = [](double gap) {
+    TriMesh a = test::box_mesh({0, 0, 0}, {1, 1, 1}), b = test::box_mesh({1 + gap, 0, 0}, {2 + gap, 1, 1});
+    const int n = int(a.vertices.size());
+    a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
+    for (const Eigen::Vector3i& t : b.triangles) a.triangles.emplace_back(t + Eigen::Vector3i::Constant(n));
+    return a;
+  };
+  write_file_atomic(dir + "/rest.obj", to_obj(two_cubes(0)));
+  write_file_atomic(dir + "/apart.obj", to_obj(two_cubes(0.3)));
+  const LoadedMesh rest = load_mesh(dir + "/rest.obj");
+  ASSERT_EQ(rest.mesh.vertices.size(), 12u);
+  const std::string said = test::bad_input_error([&] { load_pose(dir + "/apart.obj", rest); });
+  EXPECT_NE(said.find("apart.obj: 4 vertices of the rest part in this pose (the first at 1, "), std::string::npos) << said;
+  EXPECT_NE(said.find("keep them together in every pose, or apart at rest"), std::string::npos) << said;
+  write_file_atomic(dir + "/together.obj", to_obj(two_cubes(0)));  // the same pose reads
+  EXPECT_EQ(load_pose(dir + "/together.obj", rest).vertices.size(), 12u);
+}
+
 // The same on a real mesh of thousands of vertices whose pose moves far (the elephant's legs):
 // matching may not hinge on where the triangles are, only on how they connect.
 TEST(MeshLoad, RealPoseWithShuffledFacesAndRotatedCornersIsMatched) {

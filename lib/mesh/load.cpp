@@ -159,6 +159,32 @@ bool pose_by_rest_weld(const RawMesh& raw, const LoadedMesh& rest, TriMesh& pose
   return true;
 }
 
+// A pose laid out as the rest file whose own weld splits some of the rest's vertices and joins
+// none (two parts touching at rest, or a seam, that open in the pose) is refused saying so: those
+// points are one vertex to the tools. (Faces in another order, whose weld does not split the
+// rest's, go on to be matched by their triangles.)
+void fail_where_rest_vertices_part(const std::string& path, const RawMesh& raw, const LoadedMesh& rest) {
+  if (raw.positions.size() != rest.file_vertex_count() || raw.triangles != rest.file_triangles) return;
+  std::vector<Eigen::Vector3d> own;
+  const std::vector<int> weld = weld_by_position(raw.positions, own);
+  std::vector<int> rest_of(own.size(), -1);
+  std::vector<int> parts(rest.mesh.vertices.size(), 0);
+  for (size_t i = 0; i < weld.size(); ++i) {
+    int& r = rest_of[size_t(weld[i])];
+    if (r >= 0 && r != rest.weld[i]) return;  // joins two rest vertices: another layout
+    if (r < 0) ++parts[size_t(r = rest.weld[i])];
+  }
+  const auto first = std::find_if(parts.begin(), parts.end(), [](int n) { return n > 1; });
+  if (first == parts.end()) return;
+  const size_t n = size_t(std::count_if(parts.begin(), parts.end(), [](int k) { return k > 1; }));
+  const Eigen::Vector3d& at = rest.mesh.vertices[size_t(first - parts.begin())];
+  fail_input(path, (n == 1 ? std::string("1 vertex") : std::to_string(n) + " vertices") +
+                       " of the rest part in this pose (the first at " + num(at.x()) + ", " + num(at.y()) + ", " +
+                       num(at.z()) + " in " + rest.path +
+                       "): points its file has in one place (two parts touching, a seam) are one vertex to the tools, "
+                       "and the map from the rest cannot tear them apart; keep them together in every pose, or apart at rest");
+}
+
 // Any other layout (a GLB's vertices against an OBJ's face corners, faces in another order or
 // their corners rotated): weld the pose by its own positions and match it by its triangles.
 void pose_by_triangles(const std::string& path, const RawMesh& raw, const LoadedMesh& rest, const std::string& differs,
@@ -186,7 +212,10 @@ TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
   TriMesh pose;
   pose.triangles = rest.mesh.triangles;
   pose.vertices.assign(rest.mesh.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
-  if (!pose_by_rest_weld(raw, rest, pose)) pose_by_triangles(path, raw, rest, differs, pose);
+  if (!pose_by_rest_weld(raw, rest, pose)) {
+    fail_where_rest_vertices_part(path, raw, rest);
+    pose_by_triangles(path, raw, rest, differs, pose);
+  }
   return pose;
 }
 
