@@ -132,15 +132,27 @@ TEST(BrokenData, ZeroVolumeStopsWithAClearError) {
 TEST(BrokenData, InsideOutMeshStopsWithAClearError) {
   TriMesh box = test::box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
   for (auto& t : box.triangles) std::swap(t[1], t[2]);
-  SdfOptions o;
-  o.resolution = 24;
-  try {
-    build_sdf(box, o);
-    ADD_FAILURE() << "an inside-out mesh gave a field";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ExitCode::bad_input);
-    EXPECT_NE(std::string(e.what()).find("face inward"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("flip its faces"), std::string::npos) << e.what();
+  // Two such boxes welded face to face: closed, not manifold (4 triangles on the shared face's
+  // edges). It was told to try a finer resolution.
+  TriMesh two;
+  std::vector<Eigen::Vector3d> corners;
+  for (const Eigen::Vector3d& shift : {Eigen::Vector3d::Zero().eval(), Eigen::Vector3d::UnitX().eval()})
+    for (const Eigen::Vector3i& t : box.triangles)
+      for (int k = 0; k < 3; ++k) corners.push_back(box.vertices[size_t(t[k])] + shift);
+  const std::vector<int> weld = weld_by_position(corners, two.vertices);
+  for (size_t c = 0; c < weld.size(); c += 3) two.triangles.emplace_back(weld[c], weld[c + 1], weld[c + 2]);
+  ASSERT_EQ(two.vertices.size(), 12u);
+  for (const TriMesh* inward : {&box, &two}) {
+    SdfOptions o;
+    o.resolution = 24;
+    try {
+      build_sdf(*inward, o);
+      ADD_FAILURE() << "an inside-out mesh gave a field";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input);
+      EXPECT_NE(std::string(e.what()).find("face inward"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("flip its faces"), std::string::npos) << e.what();
+    }
   }
 }
 

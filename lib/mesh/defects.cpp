@@ -1,5 +1,7 @@
 #include "mesh/defects.hpp"
 
+#include <algorithm>
+
 #include "core/format.hpp"
 #include "mesh/components.hpp"
 #include "mesh/winding_number.hpp"
@@ -91,6 +93,9 @@ MeshDefects find_defects(const TriMesh& mesh) {
     size_t j = i;
     while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
     const size_t n = j - i;
+    const size_t forward = size_t(std::count_if(half.begin() + std::ptrdiff_t(i), half.begin() + std::ptrdiff_t(j),
+                                                 [](const EdgeUse& u) { return u.forward; }));
+    d.encloses = d.encloses && 2 * forward == n;
     if (n == 1) ++d.boundary_edges;
     else if (n > 2) ++d.non_manifold_edges;
     else if (half[i].forward == half[i + 1].forward) ++d.inconsistent_edges;

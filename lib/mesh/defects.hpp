@@ -16,6 +16,9 @@ struct MeshDefects {
   size_t degenerate_triangles = 0;
   size_t components = 0;          // edge-connected pieces
   double signed_volume = 0;       // divergence theorem; negative when the mesh is inside out
+  // Every edge is used as often one way as the other (closed, if not manifold: two boxes welded
+  // face to face): the signed volume is then the mesh's, wherever the origin lies.
+  bool encloses = true;
   // Closed pieces that face inward and lie in no other piece (the winding number is -1 within
   // them: they enclose nothing, where a cavity's inward shell lies in the body around it), each
   // as "part 2 of 3 (12 triangles around x, y, z)".

@@ -441,7 +441,7 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
     if (!stats.defects.watertight()) bound_across_holes(w);
     apply_sign(w);
   }
-  if (stats.interior_voxels == 0 && stats.defects.watertight() && stats.defects.signed_volume < 0)
+  if (stats.interior_voxels == 0 && stats.defects.encloses && stats.defects.signed_volume < 0)
     fail_input("", "encloses no volume: its triangles face inward (signed volume " + num(stats.defects.signed_volume) +
                        "), so the winding number is -1 within it, and inside is where it exceeds 1/2; flip its faces");
   if (stats.interior_voxels == 0)
