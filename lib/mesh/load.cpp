@@ -52,15 +52,16 @@ RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   // Read as it is, its mirrored parts turned to face out, then placed (pre-transformed): the same
   // steps in the same order as reading with those flags.
   face_out_mirrored(const_cast<aiScene*>(read_scene(importer, path, 0, "mesh")));
-  // assimp's steps in its own order, one at a time, to see the faces before their split.
+  // assimp's steps in its own order, the split apart where there are polygons, to see their faces
+  // before it (a split scene's aiProcess_Triangulate does nothing).
   aiScene& placed = *const_cast<aiScene*>(post_processed(importer, aiProcess_PreTransformVertices, path, "mesh"));
-  const FaceLists faces = face_lists(placed);
   RawMesh raw;
-  if (!(rest && split_as(placed, faces, *rest))) {
-    const aiScene* split = post_processed(importer, aiProcess_Triangulate, path, "mesh");
-    if (!rest) raw.triangulation = triangulation_of(faces, *split);
+  if (has_polygons(placed)) {
+    const FaceLists faces = face_lists(placed);
+    if (!rest) raw.triangulation = triangulation_of(faces, *post_processed(importer, aiProcess_Triangulate, path, "mesh"));
+    else split_as(placed, faces, *rest);
   }
-  const aiScene* scene = post_processed(importer, aiProcess_SortByPType, path, "mesh");
+  const aiScene* scene = post_processed(importer, aiProcess_Triangulate | aiProcess_SortByPType, path, "mesh");
 
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[m];
@@ -141,8 +142,13 @@ namespace {
 
 // A pose laid out as the rest file: the rest's own weld gives its vertices. False when points
 // that are one at rest part (the faces are in another order, or a seam really opens).
+// The pose file lays out its vertices and triangles as the rest file does.
+bool laid_out_as_rest(const RawMesh& raw, const LoadedMesh& rest) {
+  return raw.positions.size() == rest.file_vertex_count() && raw.triangles == rest.file_triangles;
+}
+
 bool pose_by_rest_weld(const RawMesh& raw, const LoadedMesh& rest, TriMesh& pose) {
-  if (raw.positions.size() != rest.file_vertex_count() || raw.triangles != rest.file_triangles) return false;
+  if (!laid_out_as_rest(raw, rest)) return false;
   std::vector<char> set(rest.mesh.vertices.size(), 0);
   double scale = 0;
   for (const auto& p : raw.positions) scale = std::max(scale, p.cwiseAbs().maxCoeff());
@@ -163,11 +169,11 @@ bool pose_by_rest_weld(const RawMesh& raw, const LoadedMesh& rest, TriMesh& pose
 // none (two parts touching at rest, or a seam, that open in the pose) is refused saying so: those
 // points are one vertex to the tools. (Faces in another order, whose weld does not split the
 // rest's, go on to be matched by their triangles.)
-void fail_where_rest_vertices_part(const std::string& path, const RawMesh& raw, const LoadedMesh& rest) {
-  if (raw.positions.size() != rest.file_vertex_count() || raw.triangles != rest.file_triangles) return;
-  std::vector<Eigen::Vector3d> own;
-  const std::vector<int> weld = weld_by_position(raw.positions, own);
-  std::vector<int> rest_of(own.size(), -1);
+// `own`: the pose welded by its own positions (its vertices), `weld`: each file vertex's.
+void fail_where_rest_vertices_part(const std::string& path, const RawMesh& raw, const std::vector<int>& weld,
+                                   const TriMesh& own, const LoadedMesh& rest) {
+  if (!laid_out_as_rest(raw, rest)) return;
+  std::vector<int> rest_of(own.vertices.size(), -1);
   std::vector<int> parts(rest.mesh.vertices.size(), 0);
   for (size_t i = 0; i < weld.size(); ++i) {
     int& r = rest_of[size_t(weld[i])];
@@ -185,13 +191,18 @@ void fail_where_rest_vertices_part(const std::string& path, const RawMesh& raw, 
                        "and the map from the rest cannot tear them apart; keep them together in every pose, or apart at rest");
 }
 
-// Any other layout (a GLB's vertices against an OBJ's face corners, faces in another order or
-// their corners rotated): weld the pose by its own positions and match it by its triangles.
-void pose_by_triangles(const std::string& path, const RawMesh& raw, const LoadedMesh& rest, const std::string& differs,
-                       TriMesh& pose) {
+// The pose welded by its own positions; `weld`: the vertex each file vertex became.
+TriMesh welded_on_its_own(const RawMesh& raw, std::vector<int>& weld) {
   TriMesh own;
-  const std::vector<int> weld = weld_by_position(raw.positions, own.vertices);
+  weld = weld_by_position(raw.positions, own.vertices);
   for (const auto& t : raw.triangles) own.triangles.emplace_back(weld[size_t(t[0])], weld[size_t(t[1])], weld[size_t(t[2])]);
+  return own;
+}
+
+// Any other layout (a GLB's vertices against an OBJ's face corners, faces in another order or
+// their corners rotated): the pose welded on its own (`own`), matched to the rest by its triangles.
+void pose_by_triangles(const std::string& path, const TriMesh& own, const LoadedMesh& rest, const std::string& differs,
+                       TriMesh& pose) {
   std::vector<int> to_rest;
   try {
     to_rest = match_pose_vertices(rest.mesh, own, path);
@@ -213,8 +224,10 @@ TriMesh load_pose(const std::string& path, const LoadedMesh& rest) {
   pose.triangles = rest.mesh.triangles;
   pose.vertices.assign(rest.mesh.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
   if (!pose_by_rest_weld(raw, rest, pose)) {
-    fail_where_rest_vertices_part(path, raw, rest);
-    pose_by_triangles(path, raw, rest, differs, pose);
+    std::vector<int> weld;
+    const TriMesh own = welded_on_its_own(raw, weld);
+    fail_where_rest_vertices_part(path, raw, weld, own, rest);
+    pose_by_triangles(path, own, rest, differs, pose);
   }
   return pose;
 }

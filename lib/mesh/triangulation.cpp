@@ -23,6 +23,13 @@ FaceLists face_lists(const aiScene& scene) {
   return out;
 }
 
+bool has_polygons(const aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+    for (unsigned f = 0; f < scene.mMeshes[m]->mNumFaces; ++f)
+      if (scene.mMeshes[m]->mFaces[f].mNumIndices > 3) return true;
+  return false;
+}
+
 Triangulation triangulation_of(const FaceLists& before, const aiScene& after) {
   Triangulation out;
   if (after.mNumMeshes != before.meshes.size()) return {};

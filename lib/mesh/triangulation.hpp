@@ -24,6 +24,8 @@ struct FaceLists {
   std::vector<Mesh> meshes;
 };
 FaceLists face_lists(const aiScene& scene);
+// A face of more than 3 corners in some mesh of `scene`.
+bool has_polygons(const aiScene& scene);
 
 struct Triangulation {
   FaceLists faces;  // the faces it split
@@ -39,7 +41,8 @@ struct Triangulation {
 Triangulation triangulation_of(const FaceLists& before, const aiScene& after);
 
 // Splits the polygons of `scene` (whose faces are `faces`) as `rest` split its own, where the two
-// are the same faces, corner for corner: true, and `scene` holds no polygon after.
+// are the same faces, corner for corner: true, and `scene` holds no polygon after; else false,
+// `scene` as it was.
 bool split_as(aiScene& scene, const FaceLists& faces, const Triangulation& rest);
 
 }  // namespace spx

@@ -33,7 +33,7 @@ void PoseMapper::make_tets() {
   } done{tets_done_};
   if (!opt_.tet_file.empty()) {
     tets_ = read_medit_tets(opt_.tet_file);
-    check_tets_fit(tets_, rest_, rest_source_, opt_.tet_file);
+    check_tets_fit(tets_, *queries_[0], rest_source_, opt_.tet_file);  // made before the tets (check_rest_fits_spheres)
   } else if (cached_tets_) {
     tets_ = std::move(*cached_tets_);
   } else {

@@ -29,7 +29,6 @@
 #include "core/format.hpp"
 #include "mesh/components.hpp"
 #include "mesh/deforming_query.hpp"
-#include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
 
 namespace spx {
@@ -343,17 +342,16 @@ constexpr const char* kUnmeshedTag = "unmeshed: ";
 
 TetMesh read_medit_tets(const std::string& path) { return read_medit(path, nullptr); }
 
-void check_tets_fit(const TetMesh& tets, const TriMesh& rest, const std::string& rest_name, const std::string& path) {
+void check_tets_fit(const TetMesh& tets, const MeshQuery& rest, const std::string& rest_name, const std::string& path) {
   std::vector<size_t> boundary;
   for (size_t v = 0; v < tets.vertices.size(); ++v)
     if (tets.on_boundary[v]) boundary.push_back(v);
   if (boundary.empty()) return;
-  const MeshQuery surface(rest);
   std::vector<double> gap(boundary.size());
-  tbb::parallel_for(size_t(0), boundary.size(), [&](size_t n) { gap[n] = surface.distance(tets.vertices[boundary[n]]); });
+  tbb::parallel_for(size_t(0), boundary.size(), [&](size_t n) { gap[n] = rest.distance(tets.vertices[boundary[n]]); });
   const auto half = gap.begin() + std::ptrdiff_t(gap.size() / 2);
   std::nth_element(gap.begin(), half, gap.end());
-  const double diagonal = rest.diagonal();
+  const double diagonal = rest.mesh().diagonal();
   if (*half <= diagonal / 20) return;
   Eigen::AlignedBox3d box;
   for (const Eigen::Vector3d& v : tets.vertices) box.extend(v);
@@ -362,7 +360,7 @@ void check_tets_fit(const TetMesh& tets, const TriMesh& rest, const std::string&
   };
   fail_input(path, "does not fit the rest mesh " + rest_name + ": half its boundary's vertices lie farther than " +
                        num(*half) + " from its surface (" + num(100 * *half / diagonal) + " % of its diagonal; the tets span " +
-                       spans(box) + ", the rest " + spans(rest.bounds()) + "): tets of another body, moved, or in another unit?");
+                       spans(box) + ", the rest " + spans(rest.mesh().bounds()) + "): tets of another body, moved, or in another unit?");
 }
 
 std::string tets_cache_key(const TriMesh& rest, const TetOptions& options) {

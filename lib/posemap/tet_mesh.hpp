@@ -7,6 +7,7 @@
 
 #include "core/log.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/mesh_query.hpp"
 
 namespace spx {
 
@@ -38,11 +39,11 @@ TetMesh tetrahedralize(const TriMesh& surface, const TetOptions& options, Log& l
 // are comments).
 TetMesh read_medit_tets(const std::string& path);
 
-// A user's tets that do not fit `rest` (another body's, in another unit, moved) are refused
+// A user's tets that do not fit the rest (`rest`: its query; another body's, in another unit, moved) are refused
 // (spx::Error naming `path`, exit 2): half their boundary's vertices farther than a twentieth of
 // the rest's diagonal from its surface. The map pins each boundary vertex to the surface point
 // nearest it, so such tets gave a proxy with no word of why (a tenfold mesh: one blend site).
-void check_tets_fit(const TetMesh& tets, const TriMesh& rest, const std::string& rest_name, const std::string& path);
+void check_tets_fit(const TetMesh& tets, const MeshQuery& rest, const std::string& rest_name, const std::string& path);
 
 // pose-map's cache (`--cache DIR`): the rest's tets kept between runs, so that a run with another
 // tolerance or budget on the same rest skips Mesh_3 and maps to the same bytes. DIR/tets-KEY.mesh,

@@ -182,14 +182,15 @@ if grep -q "dent-cm.obj: its size is .*another unit" <<<"$said"; then passed=$((
 # past a voxel it is refused naming the file (the field followed the rounded vertices without a
 # word), past a tenth of one warned about, and the report says by how much.
 for off in 1e5 1e6; do
-  awk -v o=$off '/^v /{printf "v %.9g %.9g %.9g\n", $2 + o, $3, $4; next} {print}' "$out/in/rest.obj" >"$out/far-$off.obj"
-  awk -v o=$off '/^v /{printf "v %.9g %.9g %.9g\n", $2 + o, $3, $4; next} {print}' "$out/in/dent.obj" >"$out/dent-$off.obj"
+  for mesh in rest dent; do
+    awk -v o=$off '/^v /{printf "v %.9g %.9g %.9g\n", $2 + o, $3, $4; next} {print}' "$out/in/$mesh.obj" >"$out/$mesh-$off.obj"
+  done
 done
-expect 2 "far-1e6.obj: its coordinates reach 1e+06, where the mesh readers' single precision places a vertex only to within 0.03125 of the file's, .* voxels of .*: the field would follow that reading, not the file; move the mesh near the origin" \
-  "$out/far.vdb" -- "$bin/sdf-build" "$out/far-1e6.obj" -o "$out/far.vdb" --resolution 32
-said=$("$bin/sdf-build" "$out/far-1e5.obj" -o "$out/far.vdb" --resolution 32 --report "$out/far.json" 2>&1)
+expect 2 "rest-1e6.obj: its coordinates reach 1e+06, where the mesh readers' single precision places a vertex only to within 0.03125 of the file's, .* voxels of .*: the field would follow that reading, not the file; move the mesh near the origin" \
+  "$out/far.vdb" -- "$bin/sdf-build" "$out/rest-1e6.obj" -o "$out/far.vdb" --resolution 32
+said=$("$bin/sdf-build" "$out/rest-1e5.obj" -o "$out/far.vdb" --resolution 32 --report "$out/far.json" 2>&1)
 check "a mesh read coarser than a tenth of a voxel is warned about: $said" \
-  eval 'grep -q "warning: .*far-1e5.obj: its coordinates reach 1e+05, .* within 0.003906 of the file.s, 0.17.. of a voxel" <<<"$said"'
+  eval 'grep -q "warning: .*rest-1e5.obj: its coordinates reach 1e+05, .* within 0.003906 of the file.s, 0.17.. of a voxel" <<<"$said"'
 check "the report gives the reading's rounding" /usr/bin/python3 -c \
   "import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))['mesh']['read_rounding'] == 2**-8 else 1)" "$out/far.json"
 said=$("$bin/sdf-build" "$out/in/rest.obj" -o "$out/near.vdb" --resolution 32 2>&1)
