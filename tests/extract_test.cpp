@@ -678,6 +678,24 @@ TEST(PoseExtract, AssimpsOwnFailedCheckIsAnErrorLine) {
   EXPECT_NE(load_error.find("damaged.fbx: cannot read mesh" + said), std::string::npos) << load_error;
 }
 
+// An asset's polygons are split as the meshes' are: the heptagram prism's ends, which cross
+// themselves, as fans (assimp's ear clipping had stopped part way and left 2 triangles of each
+// out, the body open there), in an FBX as a modelling tool writes n-gons.
+TEST(PoseExtract, AssetPolygonsThatCrossThemselvesAreFanned) {
+  const std::string dir = test::temp_dir("asset-heptagram");
+  write_file_atomic(dir + "/prism.obj", test::heptagram_prism_obj(1));
+  Assimp::Importer importer;  // its polygons kept
+  ASSERT_TRUE(importer.ReadFile(dir + "/prism.obj", 0));
+  ASSERT_EQ(Assimp::Exporter().Export(importer.GetScene(), "fbxa", dir + "/prism.fbx"), AI_SUCCESS);
+  const Asset asset(dir + "/prism.fbx", "");
+  EXPECT_EQ(asset.triangles().size(), 2u * 5 + 7 * 2);
+  EXPECT_EQ(asset.fanned().polygons, 2u);
+  EXPECT_EQ(asset.fanned().dropped, 4u);
+  const WeldedBody body = weld_body(asset);
+  EXPECT_TRUE(find_defects(body.rest).watertight());
+  EXPECT_EQ(asset.inventory()["polygons_fanned"], 2);
+}
+
 // A joint with FBX's pre- and post-rotations (Maya's joint orients; Mixamo's and 3ds Max's rigs
 // carry them): FBX places it at T * Rpre * R * Rpost^-1, which assimp keeps as helper nodes
 // ("$AssimpFbx$_PreRotation", ...) around the joint. RiggedSimple's FBX with both on its animated

@@ -189,22 +189,6 @@ TEST(MeshLoad, PoseWithReorderedFacesIsMatchedByItsTriangles) {
   }
 }
 
-// OBJ text of a polygon mesh (faces of any number of corners, counted from 0).
-std::string polygon_obj(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::vector<int>>& faces) {
-  std::string out;
-  char line[100];
-  for (const Eigen::Vector3d& v : vertices) {
-    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
-    out += line;
-  }
-  for (const std::vector<int>& face : faces) {
-    out += "f";
-    for (int c : face) out += " " + std::to_string(c + 1);
-    out += "\n";
-  }
-  return out;
-}
-
 // assimp splits a polygon by its shape (a quad from its concave corner, a larger polygon by ear
 // clipping): a pose whose quad or hexagon turned concave was split along other diagonals than its
 // rest, and refused as "its triangles connect its vertices otherwise". Its polygons are now split
@@ -253,10 +237,10 @@ TEST(MeshLoad, PolygonPosesAreSplitAsTheirRest) {
     cases.push_back({"prism-" + std::to_string(k), prism, faces, 6 + k, Eigen::Vector3d(0.25 * prism[size_t(6 + k)].x(), 0.25 * prism[size_t(6 + k)].y(), 1)});
   cases.push_back({"bar", cube, quads, at(3, 1, 1), Eigen::Vector3d(1, 0.55, 0.1)});
   for (const Case& c : cases) {
-    write_file_atomic(dir + "/" + c.name + "-rest.obj", polygon_obj(c.rest, c.faces));
+    write_file_atomic(dir + "/" + c.name + "-rest.obj", test::polygon_obj(c.rest, c.faces));
     std::vector<Eigen::Vector3d> posed = c.rest;
     posed[size_t(c.moved)] = c.to;
-    write_file_atomic(dir + "/" + c.name + "-pose.obj", polygon_obj(posed, c.faces));
+    write_file_atomic(dir + "/" + c.name + "-pose.obj", test::polygon_obj(posed, c.faces));
     const LoadedMesh rest = load_mesh(dir + "/" + c.name + "-rest.obj");
     ASSERT_FALSE(rest.triangulation.empty()) << c.name;
     const TriMesh pose = load_pose(dir + "/" + c.name + "-pose.obj", rest);
@@ -268,6 +252,39 @@ TEST(MeshLoad, PolygonPosesAreSplitAsTheirRest) {
       EXPECT_LT((pose.vertices[v] - posed[size_t(file - c.rest.begin())]).norm(), 1e-6) << c.name << " vertex " << v;
     }
   }
+}
+
+// The heptagram prism (test::heptagram_prism_obj) read with 2 of each end's 5 triangles left out,
+// open there and said to be only "not watertight".
+TEST(MeshLoad, PolygonsThatCrossThemselvesAreFannedNotDropped) {
+  const std::string dir = test::temp_dir("heptagram");
+  write_file_atomic(dir + "/rest.obj", test::heptagram_prism_obj(1));
+  write_file_atomic(dir + "/pose.obj", test::heptagram_prism_obj(1.5));
+  const LoadedMesh rest = load_mesh(dir + "/rest.obj");
+  EXPECT_EQ(rest.mesh.triangles.size(), 2u * 5 + 7 * 2);  // every polygon's n - 2 triangles
+  EXPECT_TRUE(find_defects(rest.mesh).watertight());
+  EXPECT_EQ(rest.fanned.polygons, 2u);
+  EXPECT_EQ(rest.fanned.dropped, 4u);
+  EXPECT_EQ(rest.fanned.first_corners, 7u);
+  EXPECT_LT((rest.fanned.first_at - Eigen::Vector3d(std::cos(36 * M_PI / 7), std::sin(36 * M_PI / 7), 0)).norm(), 1e-6);
+  // The pose, the same faces, is split as the rest: the same triangles, each vertex raised.
+  const TriMesh pose = load_pose(dir + "/pose.obj", rest);
+  ASSERT_EQ(pose.triangles, rest.mesh.triangles);
+  for (size_t i = 0; i < pose.vertices.size(); ++i)
+    EXPECT_DOUBLE_EQ(pose.vertices[i].z(), rest.mesh.vertices[i].z() * 1.5) << i;
+  Log log;
+  warn_fanned(rest.fanned, "rest.obj", log);
+  ASSERT_EQ(log.warnings().size(), 1u);
+  EXPECT_NE(log.warnings()[0].find("rest.obj: 2 polygons (the first of 7 corners, at "), std::string::npos) << log.warnings()[0];
+  EXPECT_NE(log.warnings()[0].find("cross themselves as seen along their normals, where the mesh reader's ear clipping "
+                                   "stops (4 triangles left out); each is split as a fan"),
+            std::string::npos)
+      << log.warnings()[0];
+  // A mesh whose polygons are all simple is split by assimp alone, and nothing is said.
+  write_file_atomic(dir + "/simple.obj", test::heptagram_prism_obj(1, 1));
+  const LoadedMesh simple = load_mesh(dir + "/simple.obj");
+  EXPECT_EQ(simple.mesh.triangles.size(), 2u * 5 + 7 * 2);
+  EXPECT_EQ(simple.fanned.polygons + simple.fanned.dropped, 0u);
 }
 
 // Two cubes touching face to face, each with its own 8 vertices in the file: at rest the 4 of the

@@ -2,6 +2,8 @@
 // Helpers shared by the unit tests: real data beside the checkout, small generated meshes.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -107,4 +109,31 @@ inline TriMesh uv_sphere(double radius, int rings = 24, int sectors = 48) {
   return lathe(profile, -radius, radius, sectors);
 }
 
+// OBJ text of a polygon mesh (faces of any number of corners, counted from 0).
+inline std::string polygon_obj(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::vector<int>>& faces) {
+  std::string out;
+  char line[100];
+  for (const Eigen::Vector3d& v : vertices) {
+    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
+    out += line;
+  }
+  for (const std::vector<int>& face : faces) {
+    out += "f";
+    for (int c : face) out += " " + std::to_string(c + 1);
+    out += "\n";
+  }
+  return out;
+}
+
+// A heptagram prism: its ends are the star polygon {7/3}, which crosses itself; assimp's ear
+// clipping finds no ear in it after 3 triangles and stops.
+// (`step` 1: a heptagon's prism, which crosses nothing.)
+inline std::string heptagram_prism_obj(double top, int step = 3) {
+  std::vector<Eigen::Vector3d> v;
+  for (double z : {0.0, top})
+    for (int i = 0; i < 7; ++i) v.emplace_back(std::cos(2 * step * M_PI * i / 7), std::sin(2 * step * M_PI * i / 7), z);
+  std::vector<std::vector<int>> faces = {{6, 5, 4, 3, 2, 1, 0}, {7, 8, 9, 10, 11, 12, 13}};
+  for (int i = 0; i < 7; ++i) faces.push_back({i, (i + 1) % 7, 7 + (i + 1) % 7, 7 + i});
+  return polygon_obj(v, faces);
+}
 }  // namespace spx::test

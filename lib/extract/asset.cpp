@@ -156,7 +156,8 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
   check_importable(path, "an asset", "glTF/GLB, FBX or COLLADA");
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
   ClipMends mends;
-  scene_ = read_scene(*importer_, path, aiProcess_Triangulate, "asset", &mends);
+  scene_ = read_scene(*importer_, path, 0, "asset", &mends);
+  triangulate(*importer_, face_lists(*scene_), path, "asset", fanned_);
   face_out_mirrored(const_cast<aiScene*>(scene_));  // the importer's own scene, ours to change
   fold_fbx_chains_under_channels(const_cast<aiScene*>(scene_));
 
@@ -455,7 +456,7 @@ json Asset::inventory() const {
                      {"ticks_per_second", c.ticks_per_second}});
   }
   return {{"meshes", meshes}, {"skins", skinned}, {"clips", clips}, {"morph_targets", targets_},
-          {"unweighted_vertices", unweighted_}};
+          {"unweighted_vertices", unweighted_}, {"polygons_fanned", fanned_.polygons}};
 }
 
 WeldedBody weld_body(const Asset& asset) {

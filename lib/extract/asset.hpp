@@ -77,6 +77,8 @@ class Asset {
   size_t vertex_count() const { return vertex_count_; }
   // Skinned vertices no joint weighs (they keep their bind position).
   size_t unweighted_vertices() const { return unweighted_; }
+  // Polygons that cross themselves, split as fans (at their stored positions).
+  const FannedPolygons& fanned() const { return fanned_; }
 
   // The bind pose: skinned meshes as stored (glTF ignores a skinned mesh's node transform),
   // the others placed by their node; morph weights zero.
@@ -120,6 +122,7 @@ class Asset {
   std::string path_;
   std::unique_ptr<Assimp::Importer> importer_;
   const aiScene* scene_ = nullptr;
+  FannedPolygons fanned_;
   std::vector<AssetMesh> meshes_;
   std::vector<Instance> instances_;  // the used meshes, in file order
   std::vector<AssetClip> clips_;

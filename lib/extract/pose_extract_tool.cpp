@@ -446,6 +446,7 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
   StageTimer read_timer(log, "read");
   const Asset asset(input, opt.mesh);
   read_timer.stop();
+  warn_fanned(asset.fanned(), input, log);
   if (!opt.morph_targets && opt.animation.empty())
     fail_option("animation", "give --morph-targets or --animation (a clip's name or index): " + input + " holds " +
                                  poses_on_offer(asset));

@@ -27,6 +27,7 @@ struct RawMesh {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3i> triangles;
   Triangulation triangulation;  // how its polygons were split (a rest's)
+  FannedPolygons fanned;        // those assimp's split left unfinished
 };
 
 }  // namespace
@@ -58,8 +59,10 @@ RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   RawMesh raw;
   if (has_polygons(placed)) {
     const FaceLists faces = face_lists(placed);
-    if (!rest) raw.triangulation = triangulation_of(faces, *post_processed(importer, aiProcess_Triangulate, path, "mesh"));
-    else split_as(placed, faces, *rest);
+    if (!rest || !split_as(placed, faces, *rest)) {
+      Triangulation own = triangulate(importer, faces, path, "mesh", raw.fanned);
+      if (!rest) raw.triangulation = std::move(own);
+    }
   }
   const aiScene* scene = post_processed(importer, aiProcess_Triangulate | aiProcess_SortByPType, path, "mesh");
 
@@ -132,6 +135,7 @@ LoadedMesh load_mesh(const std::string& path) {
   out.weld = weld_by_position(raw.positions, out.mesh.vertices);
   out.file_triangles = std::move(raw.triangles);
   out.triangulation = std::move(raw.triangulation);
+  out.fanned = raw.fanned;
   out.mesh.triangles.reserve(out.file_triangles.size());
   for (const auto& t : out.file_triangles)
     out.mesh.triangles.emplace_back(out.weld[t[0]], out.weld[t[1]], out.weld[t[2]]);
@@ -273,6 +277,23 @@ void check_read_rounding(const TriMesh& mesh, double voxel, const std::string& f
   if (rounding > voxel)
     fail_input(file, said + ": the field would follow that reading, not the file; move the mesh near the origin");
   log.warn(file + ": " + said + "; move the mesh near the origin for the field to follow the file");
+}
+
+void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log) {
+  const std::string at = num(fanned.first_at.x()) + ", " + num(fanned.first_at.y()) + ", " + num(fanned.first_at.z());
+  const std::string stops = "where the mesh reader's ear clipping stops (" +
+                            counted(fanned.dropped, "triangle") + " left out)";
+  if (fanned.polygons == 1)
+    log.warn(file + ": a polygon of " + std::to_string(fanned.first_corners) + " corners (the first at " + at +
+             ") crosses itself as seen along its normal, " + stops + "; it is split as a fan from its first corner instead, closed as in the file; "
+             "check it in a modelling tool");
+  else if (fanned.polygons > 1)
+    log.warn(file + ": " + std::to_string(fanned.polygons) + " polygons (the first of " + std::to_string(fanned.first_corners) +
+             " corners, at " + at + ") cross themselves as seen along their normals, " + stops + "; each is split as a fan from its first corner instead, "
+             "closed as in the file; check them in a modelling tool");
+  else if (fanned.dropped > 0)
+    log.warn(file + ": the mesh reader's split left out " + counted(fanned.dropped, "triangle") +
+             " of polygons that cross themselves, and the mesh is open there; split them into triangles in a modelling tool");
 }
 
 std::string stem_of(const std::string& path) { return std::filesystem::path(path).stem().string(); }

@@ -27,6 +27,7 @@ struct LoadedMesh {
   std::vector<int> weld;                       // file vertex -> mesh vertex
   std::vector<Eigen::Vector3i> file_triangles; // triangles in file vertex indices
   Triangulation triangulation;                 // how its polygons were split: its poses' are split so
+  FannedPolygons fanned;                       // polygons that cross themselves, split as fans
   size_t file_vertex_count() const { return weld.size(); }
   // File vertices merged into another at the same position (face corners, for OBJ through
   // assimp): not the mesh's vertex count, which is mesh.vertices.size().
@@ -61,6 +62,10 @@ double read_rounding(const TriMesh& mesh);
 // it is refused (spx::Error, exit 2, naming the file: the field would follow the reading, not the
 // file), past a tenth of one a warning. Each says to move the mesh near the origin.
 void check_read_rounding(const TriMesh& mesh, double voxel, const std::string& file, Log& log);
+
+// Warns, naming `file`, of the polygons its reading split as fans (FannedPolygons), or of the
+// triangles the reader's split left out where it could not be mended.
+void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log);
 
 // Deterministic Wavefront OBJ text.
 std::string to_obj(const TriMesh& mesh, const std::string& comment = {});

@@ -1,5 +1,9 @@
 #include "mesh/triangulation.hpp"
 
+#include "mesh/assimp_scene.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <algorithm>
@@ -46,7 +50,8 @@ Triangulation triangulation_of(const FaceLists& before, const aiScene& after) {
         continue;
       }
       if (n > std::numeric_limits<uint16_t>::max()) return {};
-      // Its triangles: up to n - 2 faces of its own corners (fewer where its ear clipping failed).
+      // Its triangles: up to n - 2 faces of its own corners (fewer, or none, where its ear
+      // clipping found no ear).
       std::vector<std::array<uint16_t, 3>> triangles;
       for (; o < mesh.mNumFaces && triangles.size() + 2 < n; ++o) {
         const aiFace& t = mesh.mFaces[o];
@@ -61,7 +66,6 @@ Triangulation triangulation_of(const FaceLists& before, const aiScene& after) {
         if (!own) break;
         triangles.push_back(local);
       }
-      if (triangles.empty()) return {};
       out.polygons.push_back(std::move(triangles));
     }
     if (o != mesh.mNumFaces) return {};
@@ -70,41 +74,100 @@ Triangulation triangulation_of(const FaceLists& before, const aiScene& after) {
   return out;
 }
 
-bool split_as(aiScene& scene, const FaceLists& faces, const Triangulation& rest) {
-  if (rest.empty() || faces.meshes.size() != rest.faces.meshes.size()) return false;
-  for (size_t m = 0; m < faces.meshes.size(); ++m)
-    if (!(faces.meshes[m] == rest.faces.meshes[m])) return false;
+namespace {
+
+// Rebuilds the faces of `scene` (as read: `faces`) with each polygon split as `split` says.
+void apply_split(aiScene& scene, const FaceLists& faces, const Triangulation& split) {
   size_t polygon = 0;
   for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
     aiMesh& mesh = *scene.mMeshes[m];
     const FaceLists::Mesh& lists = faces.meshes[m];
-    size_t count = 0, polygons = 0;
-    for (unsigned f = 0; f < mesh.mNumFaces; ++f)
-      count += mesh.mFaces[f].mNumIndices > 3 ? rest.polygons[polygon + polygons++].size() : 1;
-    if (polygons == 0) continue;
-    aiFace* split = new aiFace[count];
-    aiFace* next = split;
-    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-      aiFace& face = mesh.mFaces[f];
-      if (face.mNumIndices <= 3) {  // kept as it is: its corners move over
-        std::swap(next->mNumIndices, face.mNumIndices);
-        std::swap(next->mIndices, face.mIndices);
-        ++next;
+    std::vector<aiFace> out;
+    for (size_t f = 0; f + 1 < lists.start.size(); ++f) {
+      const unsigned* corners = lists.corners.data() + lists.start[f];
+      const unsigned n = lists.start[f + 1] - lists.start[f];
+      if (n <= 3) {
+        out.emplace_back();
+        out.back().mNumIndices = n;
+        out.back().mIndices = new unsigned[n];
+        std::copy(corners, corners + n, out.back().mIndices);
         continue;
       }
-      const unsigned* corners = lists.corners.data() + lists.start[f];
-      for (const std::array<uint16_t, 3>& t : rest.polygons[polygon]) {
-        next->mNumIndices = 3;
-        next->mIndices = new unsigned[3]{corners[t[0]], corners[t[1]], corners[t[2]]};
-        ++next;
+      for (const std::array<uint16_t, 3>& t : split.polygons[polygon]) {
+        out.emplace_back();
+        out.back().mNumIndices = 3;
+        out.back().mIndices = new unsigned[3]{corners[t[0]], corners[t[1]], corners[t[2]]};
       }
       ++polygon;
     }
-    delete[] mesh.mFaces;
-    mesh.mFaces = split;
-    mesh.mNumFaces = unsigned(count);
-    mesh.mPrimitiveTypes = (mesh.mPrimitiveTypes & ~aiPrimitiveType_POLYGON) | aiPrimitiveType_TRIANGLE;
+    delete[] mesh.mFaces;  // each aiFace frees its own corners
+    mesh.mFaces = new aiFace[out.size()];
+    for (size_t f = 0; f < out.size(); ++f) {  // the corners move over, not copied
+      std::swap(mesh.mFaces[f].mNumIndices, out[f].mNumIndices);
+      std::swap(mesh.mFaces[f].mIndices, out[f].mIndices);
+    }
+    mesh.mNumFaces = unsigned(out.size());
+    unsigned types = 0;
+    for (const aiFace& face : out) types |= face.mNumIndices == 1 ? aiPrimitiveType_POINT : face.mNumIndices == 2 ? aiPrimitiveType_LINE : aiPrimitiveType_TRIANGLE;
+    mesh.mPrimitiveTypes = types;
   }
+}
+
+// Each polygon of `split` with fewer than its n - 2 triangles becomes the fan 0, k, k + 1.
+FannedPolygons fan_unfinished(Triangulation& split, const aiScene& scene) {
+  FannedPolygons fanned;
+  size_t polygon = 0;
+  for (size_t m = 0; m < split.faces.meshes.size(); ++m) {
+    const FaceLists::Mesh& lists = split.faces.meshes[m];
+    for (size_t f = 0; f + 1 < lists.start.size(); ++f) {
+      const size_t n = lists.start[f + 1] - lists.start[f];
+      if (n <= 3) continue;
+      std::vector<std::array<uint16_t, 3>>& triangles = split.polygons[polygon++];
+      if (triangles.size() == n - 2) continue;
+      if (fanned.polygons++ == 0) {
+        const aiVector3D& p = scene.mMeshes[m]->mVertices[lists.corners[lists.start[f]]];
+        fanned.first_corners = n;
+        fanned.first_at = Eigen::Vector3d(p.x, p.y, p.z);
+      }
+      fanned.dropped += n - 2 - triangles.size();
+      triangles.clear();
+      for (size_t k = 1; k + 1 < n; ++k) triangles.push_back({0, uint16_t(k), uint16_t(k + 1)});
+    }
+  }
+  return fanned;
+}
+
+// The triangles a full split of `faces` makes, faces of up to 3 corners counted as one.
+size_t full_split_size(const FaceLists& faces) {
+  size_t count = 0;
+  for (const FaceLists::Mesh& lists : faces.meshes)
+    for (size_t f = 0; f + 1 < lists.start.size(); ++f) count += std::max<size_t>(1, lists.start[f + 1] - lists.start[f] - 2);
+  return count;
+}
+
+}  // namespace
+
+Triangulation triangulate(Assimp::Importer& importer, const FaceLists& faces, const std::string& path,
+                          const std::string& what, FannedPolygons& fanned) {
+  aiScene& scene = *const_cast<aiScene*>(post_processed(importer, aiProcess_Triangulate, path, what));
+  Triangulation split = triangulation_of(faces, scene);
+  if (split.empty()) {  // nothing to mend by, but what was left out is counted
+    size_t made = 0;
+    for (unsigned m = 0; m < scene.mNumMeshes; ++m) made += scene.mMeshes[m]->mNumFaces;
+    fanned = {};
+    fanned.dropped = full_split_size(faces) - std::min(made, full_split_size(faces));
+    return split;
+  }
+  fanned = fan_unfinished(split, scene);
+  if (fanned.polygons > 0) apply_split(scene, faces, split);
+  return split;
+}
+
+bool split_as(aiScene& scene, const FaceLists& faces, const Triangulation& rest) {
+  if (rest.empty() || faces.meshes.size() != rest.faces.meshes.size()) return false;
+  for (size_t m = 0; m < faces.meshes.size(); ++m)
+    if (!(faces.meshes[m] == rest.faces.meshes[m])) return false;
+  apply_split(scene, faces, rest);
   return true;
 }
 

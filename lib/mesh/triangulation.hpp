@@ -4,12 +4,18 @@
 // corner, a larger polygon by ear clipping), so a pose whose quad turned concave was split along
 // its other diagonal, and its triangles no longer matched the rest's: a crumpled quad mesh, the
 // same faces as its rest, was refused as "another topology".
+#include <Eigen/Core>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 struct aiScene;
+namespace Assimp {
+class Importer;
+}
 
 namespace spx {
 
@@ -39,6 +45,23 @@ struct Triangulation {
 // empty where there was no polygon, or where a face's triangles cannot be told from the next
 // face's (no pose then follows it: each is split by its own shape, as before).
 Triangulation triangulation_of(const FaceLists& before, const aiScene& after);
+
+// The polygons whose split assimp left unfinished: one that crosses itself as seen along its
+// normal (a star, a twisted n-gon) can leave its ear clipping without an ear, and assimp then
+// logs it and stops, the rest of the polygon dropped and the mesh opened there.
+struct FannedPolygons {
+  size_t polygons = 0;      // split as fans from their first corner instead
+  size_t dropped = 0;       // the triangles assimp's split had left out of them
+  size_t first_corners = 0; // the first one's corners
+  Eigen::Vector3d first_at = Eigen::Vector3d::Zero();  // and its first corner
+};
+
+// aiProcess_Triangulate on `importer`'s scene, whose faces are `faces` (`path`, `what`: for its
+// errors), each polygon it left unfinished split instead as a fan from its first corner: a fan
+// uses each edge of its polygon once, as the polygon did, so the mesh stays as closed as the
+// file's. Returns the split, as triangulation_of; `fanned` says what was mended.
+Triangulation triangulate(Assimp::Importer& importer, const FaceLists& faces, const std::string& path,
+                          const std::string& what, FannedPolygons& fanned);
 
 // Splits the polygons of `scene` (whose faces are `faces`) as `rest` split its own, where the two
 // are the same faces, corner for corner: true, and `scene` holds no polygon after; else false,

@@ -33,6 +33,7 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
     loaded = load_mesh(input);
   }
   check_read_rounding(loaded.mesh, voxel_size_for(loaded.mesh, options), input, log);
+  warn_fanned(loaded.fanned, input, log);
   const SdfResult sdf = about_file(input, [&] { return build_sdf(loaded.mesh, options, log); });
   const MeshDefects& d = sdf.stats.defects;
   if (!d.watertight())
@@ -73,7 +74,9 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
                     {"triangles", loaded.mesh.triangles.size()},
                     {"file_vertices", loaded.file_vertex_count()},
                     {"merged_corners", loaded.merged_corners()},
-                    {"read_rounding", read_rounding(loaded.mesh)}};
+                    {"read_rounding", read_rounding(loaded.mesh)},
+                    {"polygons_fanned", loaded.fanned.polygons},
+                    {"triangles_left_out", loaded.fanned.polygons > 0 ? 0 : loaded.fanned.dropped}};
   report["grid"] = {{"voxel_size", s.voxel_size},
                     {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
                     {"origin_index", {s.origin.x(), s.origin.y(), s.origin.z()}},
