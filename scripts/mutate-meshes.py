@@ -5,7 +5,8 @@ The libFuzzer targets (scripts/fuzz.sh) reach the project's own readers in proce
 what assimp makes of a damaged file and what the tools then do with it, the way a user meets it:
 a download cut short, a byte flipped, a number run into the next. Seeds: the car sample (OBJ and
 its morph-target GLB, made by sample-gen), the knight (OFF) and a binary PLY from the shared data,
-and ASCII PLY, both STLs and a COLLADA file written from the knight. Each run mutates one seed
+ASCII PLY, both STLs and a COLLADA file written from the knight, and OBJ prisms of polygons (a
+12-gon's and a heptagram's, whose ends cross themselves, with quads around). Each run mutates one seed
 (bytes changed, inserted, deleted or copied, a number swapped for an extreme one, the file cut
 short), writes it and runs `sdf-build IN -o OUT --resolution 32 --threads 1 -q` under a time and
 a memory limit.
@@ -16,6 +17,7 @@ kept as OUT_DIR/failed-RUN.EXT and listed; the script then exits 1.
 
 usage: mutate-meshes.py BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]
 """
+import math
 import subprocess
 import sys
 
@@ -40,6 +42,16 @@ def read_off(path):
     return verts, faces
 
 
+def prism_obj(n, step):
+    """A prism of polygons: the ends the n corners 2 pi step i / n (step > 1: a star), quads around."""
+    lines = ["v %.6f %.6f %d" % (math.cos(2 * math.pi * step * i / n), math.sin(2 * math.pi * step * i / n), z)
+             for z in (0, 1) for i in range(n)]
+    lines.append("f " + " ".join(str(n - i) for i in range(n)))
+    lines.append("f " + " ".join(str(n + 1 + i) for i in range(n)))
+    lines += ["f %d %d %d %d" % (i + 1, (i + 1) % n + 1, n + (i + 1) % n + 1, n + i + 1) for i in range(n)]
+    return ("\n".join(lines) + "\n").encode()
+
+
 def seeds(build, data, out):
     subprocess.run([build + "/apps/sample-gen", "car", "-o", out + "/seeds", "-q"], check=True)
     verts, faces = read_off(data + "/static/decimated-knight.off")
@@ -50,7 +62,9 @@ def seeds(build, data, out):
             ("ply", ply_ascii(verts, faces)),
             ("stl", stl_binary(verts, faces)),
             ("stl", stl_ascii(verts, faces)),
-            ("dae", collada(verts, faces))]
+            ("dae", collada(verts, faces)),
+            ("obj", prism_obj(12, 1)),
+            ("obj", prism_obj(7, 3))]
 
 
 def mutate(data, rng):

@@ -83,6 +83,7 @@ void apply_split(aiScene& scene, const FaceLists& faces, const Triangulation& sp
     aiMesh& mesh = *scene.mMeshes[m];
     const FaceLists::Mesh& lists = faces.meshes[m];
     std::vector<aiFace> out;
+    out.reserve(lists.corners.size());
     for (size_t f = 0; f + 1 < lists.start.size(); ++f) {
       const unsigned* corners = lists.corners.data() + lists.start[f];
       const unsigned n = lists.start[f + 1] - lists.start[f];
@@ -107,9 +108,11 @@ void apply_split(aiScene& scene, const FaceLists& faces, const Triangulation& sp
       std::swap(mesh.mFaces[f].mIndices, out[f].mIndices);
     }
     mesh.mNumFaces = unsigned(out.size());
-    unsigned types = 0;
-    for (const aiFace& face : out) types |= face.mNumIndices == 1 ? aiPrimitiveType_POINT : face.mNumIndices == 2 ? aiPrimitiveType_LINE : aiPrimitiveType_TRIANGLE;
-    mesh.mPrimitiveTypes = types;
+    mesh.mPrimitiveTypes = 0;
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const unsigned n = mesh.mFaces[f].mNumIndices;
+      mesh.mPrimitiveTypes |= n == 1 ? aiPrimitiveType_POINT : n == 2 ? aiPrimitiveType_LINE : aiPrimitiveType_TRIANGLE;
+    }
   }
 }
 
@@ -141,7 +144,10 @@ FannedPolygons fan_unfinished(Triangulation& split, const aiScene& scene) {
 size_t full_split_size(const FaceLists& faces) {
   size_t count = 0;
   for (const FaceLists::Mesh& lists : faces.meshes)
-    for (size_t f = 0; f + 1 < lists.start.size(); ++f) count += std::max<size_t>(1, lists.start[f + 1] - lists.start[f] - 2);
+    for (size_t f = 0; f + 1 < lists.start.size(); ++f) {
+      const size_t n = lists.start[f + 1] - lists.start[f];
+      count += n > 3 ? n - 2 : 1;
+    }
   return count;
 }
 
