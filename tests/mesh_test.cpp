@@ -280,10 +280,13 @@ TEST(MeshLoad, PolygonsThatCrossThemselvesAreFannedNotDropped) {
                                    "stops (4 triangles left out); each is split as a fan"),
             std::string::npos)
       << log.warnings()[0];
-  // With a line among the faces (an OBJ's `l`), which the reader sets aside with its corners.
-  write_file_atomic(dir + "/rest-line.obj", test::heptagram_prism_obj(1) + "v 5 5 5\nv 6 6 6\nl 15 16\n");
-  write_file_atomic(dir + "/pose-line.obj", test::heptagram_prism_obj(1.5) + "v 5 5 5\nv 6 6 6\nl 15 16\n");
+  // With a line and a point among the faces (an OBJ's `l` and `p`), which the reader sets aside
+  // with their corners, and counts.
+  write_file_atomic(dir + "/rest-line.obj", test::heptagram_prism_obj(1) + "v 5 5 5\nv 6 6 6\nl 15 16\np 15\n");
+  write_file_atomic(dir + "/pose-line.obj", test::heptagram_prism_obj(1.5) + "v 5 5 5\nv 6 6 6\nl 15 16\np 15\n");
   const LoadedMesh lined = load_mesh(dir + "/rest-line.obj");
+  EXPECT_EQ(lined.points_and_lines, 2u);
+  EXPECT_EQ(rest.points_and_lines, 0u);
   EXPECT_EQ(lined.mesh.vertices.size(), rest.mesh.vertices.size());
   EXPECT_EQ(lined.mesh.triangles, rest.mesh.triangles);
   EXPECT_EQ(load_pose(dir + "/pose-line.obj", lined).vertices, pose.vertices);

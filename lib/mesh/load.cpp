@@ -28,6 +28,7 @@ struct RawMesh {
   std::vector<Eigen::Vector3i> triangles;
   Triangulation triangulation;  // how its polygons were split (a rest's)
   FannedPolygons fanned;        // those assimp's split left unfinished
+  size_t points_and_lines = 0;  // faces left out: no surface
 };
 
 }  // namespace
@@ -57,6 +58,7 @@ RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   // before it (a split scene's aiProcess_Triangulate does nothing).
   aiScene& placed = *const_cast<aiScene*>(post_processed(importer, aiProcess_PreTransformVertices, path, "mesh"));
   RawMesh raw;
+  raw.points_and_lines = points_and_lines(placed);
   if (has_polygons(placed)) {
     const FaceLists faces = face_lists(placed);
     if (!rest || !split_as(placed, faces, *rest)) {
@@ -136,6 +138,7 @@ LoadedMesh load_mesh(const std::string& path) {
   out.file_triangles = std::move(raw.triangles);
   out.triangulation = std::move(raw.triangulation);
   out.fanned = raw.fanned;
+  out.points_and_lines = raw.points_and_lines;
   out.mesh.triangles.reserve(out.file_triangles.size());
   for (const auto& t : out.file_triangles)
     out.mesh.triangles.emplace_back(out.weld[t[0]], out.weld[t[1]], out.weld[t[2]]);

@@ -28,6 +28,7 @@ struct LoadedMesh {
   std::vector<Eigen::Vector3i> file_triangles; // triangles in file vertex indices
   Triangulation triangulation;                 // how its polygons were split: its poses' are split so
   FannedPolygons fanned;                       // polygons that cross themselves, split as fans
+  size_t points_and_lines = 0;                 // faces of 1 or 2 corners in the file, left out
   size_t file_vertex_count() const { return weld.size(); }
   // File vertices merged into another at the same position (face corners, for OBJ through
   // assimp): not the mesh's vertex count, which is mesh.vertices.size().

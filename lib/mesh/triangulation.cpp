@@ -34,6 +34,13 @@ bool has_polygons(const aiScene& scene) {
   return false;
 }
 
+size_t points_and_lines(const aiScene& scene) {
+  size_t count = 0;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+    for (unsigned f = 0; f < scene.mMeshes[m]->mNumFaces; ++f) count += scene.mMeshes[m]->mFaces[f].mNumIndices < 3;
+  return count;
+}
+
 Triangulation triangulation_of(const FaceLists& before, const aiScene& after) {
   Triangulation out;
   if (after.mNumMeshes != before.meshes.size()) return {};

@@ -32,6 +32,9 @@ struct FaceLists {
 FaceLists face_lists(const aiScene& scene);
 // A face of more than 3 corners in some mesh of `scene`.
 bool has_polygons(const aiScene& scene);
+// The faces of 1 or 2 corners (an OBJ's `p` and `l`, a glTF's points and lines): no surface, so
+// the mesh reader leaves them out, and the tools count them.
+size_t points_and_lines(const aiScene& scene);
 
 struct Triangulation {
   FaceLists faces;  // the faces it split

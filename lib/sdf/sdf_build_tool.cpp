@@ -34,6 +34,10 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
   }
   check_read_rounding(loaded.mesh, voxel_size_for(loaded.mesh, options), input, log);
   warn_fanned(loaded.fanned, input, log);
+  if (loaded.points_and_lines > 0)
+    log.info(input + ": " + std::to_string(loaded.points_and_lines) +
+             (loaded.points_and_lines == 1 ? " point or line among its faces is" : " points and lines among its faces are") +
+             " left out: they bound no volume");
   const SdfResult sdf = about_file(input, [&] { return build_sdf(loaded.mesh, options, log); });
   const MeshDefects& d = sdf.stats.defects;
   if (!d.watertight())
@@ -76,7 +80,8 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
                     {"merged_corners", loaded.merged_corners()},
                     {"read_rounding", read_rounding(loaded.mesh)},
                     {"polygons_fanned", loaded.fanned.polygons},
-                    {"triangles_left_out", loaded.fanned.polygons > 0 ? 0 : loaded.fanned.dropped}};
+                    {"triangles_left_out", loaded.fanned.polygons > 0 ? 0 : loaded.fanned.dropped},
+                    {"points_and_lines_left_out", loaded.points_and_lines}};
   report["grid"] = {{"voxel_size", s.voxel_size},
                     {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
                     {"origin_index", {s.origin.x(), s.origin.y(), s.origin.z()}},
