@@ -552,6 +552,33 @@ TEST(MeshLoad, GltfWithAPercentEncodedBufferReadsAsItsGlb) {
   }
 }
 
+// A skinned mesh is where its skin puts it, as glTF draws it and pose-extract's rest has it: not
+// where its node would place a static mesh. RiggedSimple with its skinned node moved 5 along z
+// (which glTF ignores) read 5 away from pose-extract's rest, and the chain from that field stopped
+// at pose-map ("20 of 20 spheres do not fit inside this rest mesh"). The file as it is reads as
+// before, and as the rest.
+TEST(MeshLoad, SkinnedMeshIsPlacedByItsSkinAsPoseExtractsRest) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("skinned-node");
+  const std::string original = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
+  GltfFile file = read_gltf_file(original);
+  ASSERT_TRUE(file.doc["nodes"][1].contains("skin"));
+  file.doc["nodes"][1]["translation"] = json::array({0, 0, 5});
+  write_file_atomic(dir + "/moved.glb", encode_glb(file));
+  for (const std::string& path : {original, dir + "/moved.glb"}) {
+    const LoadedMesh mesh = load_mesh(path);
+    const Asset asset(path, "");
+    const WeldedBody body = weld_body(asset);
+    ASSERT_EQ(mesh.mesh.vertices.size(), body.rest.vertices.size()) << path;
+    const double size = body.rest.bounds().diagonal().norm();
+    for (const Eigen::Vector3d& v : mesh.mesh.vertices) {
+      double nearest = INFINITY;
+      for (const Eigen::Vector3d& r : body.rest.vertices) nearest = std::min(nearest, (v - r).norm());
+      ASSERT_LT(nearest, 1e-6 * size) << path << ": a vertex at " << v.transpose();
+    }
+  }
+}
+
 // A mesh instanced by EXT_mesh_gpu_instancing (gltfpack -mi): each instance where renderers draw
 // it, in the node's frame (the node moved by 10 along x). A unit cube three times: as it is; scaled
 // 2 along x, turned a quarter about z (a rotation of normalized shorts) and moved 3 along x;

@@ -3,7 +3,12 @@
 #include <assimp/SceneCombiner.h>
 #include <assimp/ai_assert.h>
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -201,6 +206,74 @@ void face_out_mirrored(aiScene* scene) {
   delete[] scene->mMeshes;
   scene->mMeshes = meshes;
   scene->mNumMeshes += unsigned(added.size());
+}
+
+namespace {
+
+Eigen::Matrix4d matrix_of(const aiMatrix4x4& m) {
+  Eigen::Matrix4d out;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out(r, c) = m[r][c];
+  return out;
+}
+
+// Every node's global transform, and the first node that places each mesh.
+void node_globals(const aiNode* node, const Eigen::Matrix4d& parent, std::map<const aiNode*, Eigen::Matrix4d>& global,
+                  std::map<unsigned, const aiNode*>& placed_by) {
+  const Eigen::Matrix4d g = parent * matrix_of(node->mTransformation);
+  global[node] = g;
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) placed_by.emplace(node->mMeshes[i], node);
+  for (unsigned c = 0; c < node->mNumChildren; ++c) node_globals(node->mChildren[c], g, global, placed_by);
+}
+
+Eigen::Vector3d point_of(const aiVector3D& v) { return Eigen::Vector3d(v.x, v.y, v.z); }
+
+}  // namespace
+
+size_t place_skinned_by_skin(aiScene* scene) {
+  std::map<const aiNode*, Eigen::Matrix4d> global;
+  std::map<unsigned, const aiNode*> placed_by;
+  node_globals(scene->mRootNode, Eigen::Matrix4d::Identity(), global, placed_by);
+  size_t moved = 0;
+  for (const auto& [index, node] : placed_by) {
+    aiMesh& mesh = *scene->mMeshes[index];
+    const Eigen::Matrix4d& g = global.at(node);
+    if (mesh.mNumBones == 0 || !(std::abs(g.topLeftCorner<3, 3>().determinant()) > 1e-12)) continue;
+    std::vector<Eigen::Vector3d> sum(mesh.mNumVertices, Eigen::Vector3d::Zero());
+    std::vector<double> total(mesh.mNumVertices, 0.0);
+    bool joints_found = true;
+    for (unsigned b = 0; b < mesh.mNumBones && joints_found; ++b) {
+      const aiBone& bone = *mesh.mBones[b];
+      const aiNode* joint = scene->mRootNode->FindNode(bone.mName);
+      joints_found = joint != nullptr;  // else pose-extract names it; here the node places the mesh
+      if (!joints_found) break;
+      const Eigen::Matrix4d skin = global.at(joint) * matrix_of(bone.mOffsetMatrix);
+      for (unsigned w = 0; w < bone.mNumWeights; ++w) {
+        const aiVertexWeight& vw = bone.mWeights[w];
+        if (vw.mVertexId >= mesh.mNumVertices) continue;
+        sum[vw.mVertexId] += vw.mWeight * (skin * point_of(mesh.mVertices[vw.mVertexId]).homogeneous()).head<3>();
+        total[vw.mVertexId] += vw.mWeight;
+      }
+    }
+    if (!joints_found) continue;
+    // Where the skin puts each vertex, and how far that is from where its node puts it.
+    Eigen::AlignedBox3d box;
+    double apart = 0;
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const Eigen::Vector3d by_node = (g * point_of(mesh.mVertices[v]).homogeneous()).head<3>();
+      sum[v] = total[v] > 0 ? Eigen::Vector3d(sum[v] / total[v]) : point_of(mesh.mVertices[v]);
+      apart = std::max(apart, (sum[v] - by_node).norm());
+      box.extend(sum[v]);
+    }
+    if (!(apart > 1e-6 * box.diagonal().norm())) continue;
+    const Eigen::Matrix4d back = g.inverse();
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const Eigen::Vector3d local = (back * sum[v].homogeneous()).head<3>();
+      mesh.mVertices[v] = aiVector3D(ai_real(local.x()), ai_real(local.y()), ai_real(local.z()));
+    }
+    ++moved;
+  }
+  return moved;
 }
 
 namespace {

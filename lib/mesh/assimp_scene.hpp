@@ -48,6 +48,14 @@ const aiScene* post_processed(Assimp::Importer& importer, unsigned flags, const 
 // left as it is (its skin places it, not its node).
 void face_out_mirrored(aiScene* scene);
 
+// aiProcess_PreTransformVertices places every mesh by its node, but a skinned mesh is placed by
+// its skin: glTF ignores a skinned mesh's node, and pose-extract's rest (extract/asset) follows
+// the joints. Each skinned vertex goes to sum_b w_b (joint b's global * its inverse bind) v / sum_b
+// w_b at the nodes' own transforms (one no joint weighs stays as stored), taken back through its
+// node's inverse, which PreTransformVertices then applies. A mesh both place alike (within 1e-6
+// of its size: the usual file) is left as it is, to the bit. Returns the meshes moved.
+size_t place_skinned_by_skin(aiScene* scene);
+
 // assimp 5.2's FBX importer keeps a joint X's translation, pre-rotation, rotation, post-rotation
 // and scaling as a chain of helper nodes above it ("X_$AssimpFbx$_PreRotation", ...), and yet,
 // where those are all X's transform has, gives a clip's channel for X itself holding X's whole

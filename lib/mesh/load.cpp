@@ -51,9 +51,12 @@ RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   Assimp::Importer importer;
   // Keep only triangles; never drop degenerate ones silently (the report lists them).
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  // Read as it is, its mirrored parts turned to face out, then placed (pre-transformed): the same
-  // steps in the same order as reading with those flags.
-  face_out_mirrored(const_cast<aiScene*>(read_scene(importer, path, 0, "mesh")));
+  // Read as it is, its mirrored parts turned to face out, its skinned parts where their skin puts
+  // them, then placed (pre-transformed): the same steps in the same order as reading with those
+  // flags.
+  aiScene* read = const_cast<aiScene*>(read_scene(importer, path, 0, "mesh"));
+  face_out_mirrored(read);
+  place_skinned_by_skin(read);
   // assimp's steps in its own order, the split apart where there are polygons, to see their faces
   // before it (a split scene's aiProcess_Triangulate does nothing).
   aiScene& placed = *const_cast<aiScene*>(post_processed(importer, aiProcess_PreTransformVertices, path, "mesh"));
