@@ -15,11 +15,15 @@ robot (skinned) and the car's morph targets written by sample-gen; each run chan
 or twice, writes it and runs `pose-extract IN -o OUT -q --threads 1` with `--animation 0 --select
 2` (or `--morph-targets`) under a time limit.
 
-A run passes when it exits 0 with poses.json written and nothing said, or exits 1-3 with exactly
-one `Error:` line and no poses.json. Anything else (a signal, an abort, a hang, several lines) is
+With `--tool sdf-build` each run is `sdf-build IN -o OUT.vdb --resolution 32 -q --threads 1`
+instead: the mesh a rigged file gives where its skin places it, with the same changes.
+
+A run passes when it exits 0 with poses.json (the field) written and nothing said (sdf-build may
+warn), or exits 1-3 with exactly one `Error:` line and no poses.json (field). Anything else (a signal, an abort, a hang, several lines) is
 kept as OUT_DIR/failed-RUN.glb and listed; the script then exits 1.
 
 usage: mutate-rigs.py BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]
+                      [--tool pose-extract|sdf-build]
 """
 import copy
 import json
@@ -168,7 +172,8 @@ def mutate(doc, data, rng):
 
 
 def main():
-    a = mutation_runs.arguments(__doc__)
+    a = mutation_runs.arguments(__doc__, lambda ap: ap.add_argument(
+        "--tool", choices=["pose-extract", "sdf-build"], default="pose-extract"))
     for sample in ("robot", "car"):
         subprocess.run([a.build + "/apps/sample-gen", sample, "-o", a.out + "/seeds/" + sample, "-q"], check=True)
     clip = ["--animation", "0", "--select", "2"]
@@ -189,7 +194,11 @@ def main():
     poses = a.out + "/poses"
     command = lambda path: ([a.build + "/apps/pose-extract", path, "-o", poses, "-q", "--threads", "1"] + args,
                             poses + "/poses.json")
-    return mutation_runs.run_all("mutate-rigs", a, next_input, command)
+    if a.tool == "sdf-build":
+        field = a.out + "/in.vdb"
+        command = lambda path: ([a.build + "/apps/sdf-build", path, "-o", field, "--resolution", "32", "-q",
+                                 "--threads", "1"], field)
+    return mutation_runs.run_all("mutate-rigs", a, next_input, command, a.tool if a.tool == "sdf-build" else None)
 
 
 if __name__ == "__main__":

@@ -11,9 +11,12 @@ import subprocess
 MEMORY = 4 << 30
 
 
-def arguments(doc):
-    """BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]; OUT_DIR made afresh."""
+def arguments(doc, more=None):
+    """BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]; OUT_DIR made afresh.
+    `more(parser)` adds a script's own options."""
     ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    if more:
+        more(ap)
     ap.add_argument("build")
     ap.add_argument("data")
     ap.add_argument("out")
@@ -27,10 +30,10 @@ def arguments(doc):
     return a
 
 
-def broken_contract(command, output, timeout):
+def broken_contract(command, output, timeout, warner=None):
     """Runs `command`, which writes the file `output`: None where it ended as it should (exit 0 with
-    `output` written and nothing said, or exit 1-3 with one `Error:` line and no `output`, not for
-    want of memory), else what was wrong."""
+    `output` written and nothing said but, where `warner` names the tool, its warnings; or exit 1-3
+    with one `Error:` line and no `output`, not for want of memory), else what was wrong."""
     if os.path.exists(output):
         os.remove(output)
     # A reader that runs away allocates without end (assimp's COLLADA reader took 6 GB in 15 s on a
@@ -44,6 +47,8 @@ def broken_contract(command, output, timeout):
     if any("out of memory" in line for line in err):
         return "out of memory within %d GiB: %s" % (MEMORY >> 30, " | ".join(err)[-300:])
     written = os.path.exists(output)
+    if r.returncode == 0 and warner:
+        err = [line for line in err if not line.startswith(warner + ": warning: ")]
     if r.returncode == 0:
         return None if written and not err else "exit 0 with %s" % ("lines: " + " | ".join(err) if err else "nothing written")
     if r.returncode not in (1, 2, 3):
@@ -53,7 +58,7 @@ def broken_contract(command, output, timeout):
     return "exit %d but %s written" % (r.returncode, os.path.basename(output)) if written else None
 
 
-def run_all(name, a, next_input, command):
+def run_all(name, a, next_input, command, warner=None):
     """a.runs runs from random.Random(a.seed): next_input(rng) gives (extension, bytes, what was
     changed), written to OUT/in.EXT; command(path) gives the tool's command line and its output.
     A run that breaks the contract keeps its input as OUT/failed-RUN.EXT. Returns the exit code."""
@@ -64,7 +69,7 @@ def run_all(name, a, next_input, command):
         path = "%s/in.%s" % (a.out, ext)
         with open(path, "wb") as f:
             f.write(data)
-        wrong = broken_contract(*command(path), a.timeout)
+        wrong = broken_contract(*command(path), a.timeout, warner)
         if wrong:
             kept = "%s/failed-%d.%s" % (a.out, run, ext)
             shutil.copy(path, kept)

@@ -257,15 +257,19 @@ size_t place_skinned_by_skin(aiScene* scene) {
     }
     if (!joints_found) continue;
     // Where the skin puts each vertex, and how far that is from where its node puts it.
+    // (A skin that places a vertex nowhere, its weights or matrices not finite or past what a
+    // float holds, places none: the node does, and pose-extract names what is wrong.)
     Eigen::AlignedBox3d box;
     double apart = 0;
-    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+    bool finite = true;
+    for (unsigned v = 0; v < mesh.mNumVertices && finite; ++v) {
       const Eigen::Vector3d by_node = (g * point_of(mesh.mVertices[v]).homogeneous()).head<3>();
       sum[v] = total[v] > 0 ? Eigen::Vector3d(sum[v] / total[v]) : point_of(mesh.mVertices[v]);
+      finite = sum[v].allFinite() && sum[v].cwiseAbs().maxCoeff() < 1e30;  // a float can hold it
       apart = std::max(apart, (sum[v] - by_node).norm());
       box.extend(sum[v]);
     }
-    if (!(apart > 1e-6 * box.diagonal().norm())) continue;
+    if (!finite || !(apart > 1e-6 * box.diagonal().norm())) continue;
     const Eigen::Matrix4d back = g.inverse();
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
       const Eigen::Vector3d local = (back * sum[v].homogeneous()).head<3>();
