@@ -287,19 +287,21 @@ void check_read_rounding(const TriMesh& mesh, double voxel, const std::string& f
 
 void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log) {
   const std::string at = num(fanned.first_at.x()) + ", " + num(fanned.first_at.y()) + ", " + num(fanned.first_at.z());
-  const std::string stops = "where the mesh reader's ear clipping stops (" +
-                            counted(fanned.dropped, "triangle") + " left out)";
+  const std::string corners = std::to_string(fanned.first_corners) + " corners";
+  const std::string stops =
+      "where the mesh reader's ear clipping stops (" + counted(fanned.dropped, "triangle") + " left out); ";
   if (fanned.polygons == 1)
-    log.warn(file + ": a polygon of " + std::to_string(fanned.first_corners) + " corners (the first at " + at +
-             ") crosses itself as seen along its normal, " + stops + "; it is split as a fan from its first corner instead, closed as in the file; "
-             "check it in a modelling tool");
+    log.warn(file + ": a polygon of " + corners + " (the first at " + at + ") crosses itself as seen along its normal, " +
+             stops + "it is split as a fan from its first corner instead, closed as in the file; check it in a "
+             "modelling tool");
   else if (fanned.polygons > 1)
-    log.warn(file + ": " + std::to_string(fanned.polygons) + " polygons (the first of " + std::to_string(fanned.first_corners) +
-             " corners, at " + at + ") cross themselves as seen along their normals, " + stops + "; each is split as a fan from its first corner instead, "
-             "closed as in the file; check them in a modelling tool");
+    log.warn(file + ": " + std::to_string(fanned.polygons) + " polygons (the first of " + corners + ", at " + at +
+             ") cross themselves as seen along their normals, " + stops + "each is split as a fan from its first "
+             "corner instead, closed as in the file; check them in a modelling tool");
   else if (fanned.dropped > 0)
     log.warn(file + ": the mesh reader's split left out " + counted(fanned.dropped, "triangle") +
-             " of polygons that cross themselves, and the mesh is open there; split them into triangles in a modelling tool");
+             " of polygons that cross themselves, and the mesh is open there; split them into triangles in a "
+             "modelling tool");
 }
 
 std::string stem_of(const std::string& path) { return std::filesystem::path(path).stem().string(); }
