@@ -14,6 +14,7 @@
 
 #include "extract/asset.hpp"
 #include "core/gltf_file.hpp"
+#include "mesh/assimp_scene.hpp"
 #include "spx_runtime.h"
 
 namespace {
@@ -23,16 +24,9 @@ void expect(bool ok, const std::string& what) {
   if (!ok && failures++ < 10) std::printf("FAIL: %s\n", what.c_str());
 }
 
-Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
-  Eigen::Matrix4d out;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out(r, c) = double(m[r][c]);
-  return out;
-}
-
 // Every node named spx-sphere-<j>: its world transform.
 void collect(const aiNode* node, const Eigen::Matrix4d& parent, std::map<int, Eigen::Matrix4d>& out) {
-  const Eigen::Matrix4d world = parent * to_eigen(node->mTransformation);
+  const Eigen::Matrix4d world = parent * spx::to_eigen(node->mTransformation);
   const std::string name = node->mName.C_Str();
   if (name.rfind("spx-sphere-", 0) == 0) {
     const int j = std::stoi(name.substr(11));

@@ -38,15 +38,6 @@ struct Asset::Pose {
 
 namespace {
 
-Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
-  Eigen::Matrix4d e;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) e(r, c) = m[r][c];
-  return e;
-}
-Eigen::Vector3d to_eigen(const aiVector3D& v) { return {v.x, v.y, v.z}; }
-Eigen::Quaterniond to_eigen(const aiQuaternion& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z); }
-
 double ticks_per_second(const aiAnimation* a) { return a->mTicksPerSecond > 0 ? a->mTicksPerSecond : 25.0; }
 
 // Keeps of a clip's key times (ticks) those of the file's keys, `asset_times` (seconds, sorted):
@@ -157,7 +148,7 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
   // Triangulate only: vertices, skins and morph targets stay as the file has them.
   ClipMends mends;
   scene_ = read_scene(*importer_, path, 0, "asset", &mends);
-  triangulate(*importer_, face_lists(*scene_), path, "asset", fanned_);
+  if (has_polygons(*scene_)) triangulate(*importer_, face_lists(*scene_), path, "asset", fanned_);
   face_out_mirrored(const_cast<aiScene*>(scene_));  // the importer's own scene, ours to change
   fold_fbx_chains_under_channels(const_cast<aiScene*>(scene_));
 

@@ -210,31 +210,28 @@ void face_out_mirrored(aiScene* scene) {
 
 namespace {
 
-Eigen::Matrix4d matrix_of(const aiMatrix4x4& m) {
-  Eigen::Matrix4d out;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out(r, c) = m[r][c];
-  return out;
-}
-
 // Every node's global transform, and the first node that places each mesh.
 void node_globals(const aiNode* node, const Eigen::Matrix4d& parent, std::map<const aiNode*, Eigen::Matrix4d>& global,
                   std::map<unsigned, const aiNode*>& placed_by) {
-  const Eigen::Matrix4d g = parent * matrix_of(node->mTransformation);
+  const Eigen::Matrix4d g = parent * to_eigen(node->mTransformation);
   global[node] = g;
   for (unsigned i = 0; i < node->mNumMeshes; ++i) placed_by.emplace(node->mMeshes[i], node);
   for (unsigned c = 0; c < node->mNumChildren; ++c) node_globals(node->mChildren[c], g, global, placed_by);
 }
 
-Eigen::Vector3d point_of(const aiVector3D& v) { return Eigen::Vector3d(v.x, v.y, v.z); }
-
 }  // namespace
 
-size_t place_skinned_by_skin(aiScene* scene) {
+Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) e(r, c) = m[r][c];
+  return e;
+}
+
+void place_skinned_by_skin(aiScene* scene) {
   std::map<const aiNode*, Eigen::Matrix4d> global;
   std::map<unsigned, const aiNode*> placed_by;
   node_globals(scene->mRootNode, Eigen::Matrix4d::Identity(), global, placed_by);
-  size_t moved = 0;
   for (const auto& [index, node] : placed_by) {
     aiMesh& mesh = *scene->mMeshes[index];
     const Eigen::Matrix4d& g = global.at(node);
@@ -247,11 +244,11 @@ size_t place_skinned_by_skin(aiScene* scene) {
       const aiNode* joint = scene->mRootNode->FindNode(bone.mName);
       joints_found = joint != nullptr;  // else pose-extract names it; here the node places the mesh
       if (!joints_found) break;
-      const Eigen::Matrix4d skin = global.at(joint) * matrix_of(bone.mOffsetMatrix);
+      const Eigen::Matrix4d skin = global.at(joint) * to_eigen(bone.mOffsetMatrix);
       for (unsigned w = 0; w < bone.mNumWeights; ++w) {
         const aiVertexWeight& vw = bone.mWeights[w];
         if (vw.mVertexId >= mesh.mNumVertices) continue;
-        sum[vw.mVertexId] += vw.mWeight * (skin * point_of(mesh.mVertices[vw.mVertexId]).homogeneous()).head<3>();
+        sum[vw.mVertexId] += vw.mWeight * (skin * to_eigen(mesh.mVertices[vw.mVertexId]).homogeneous()).head<3>();
         total[vw.mVertexId] += vw.mWeight;
       }
     }
@@ -263,8 +260,8 @@ size_t place_skinned_by_skin(aiScene* scene) {
     double apart = 0;
     bool finite = true;
     for (unsigned v = 0; v < mesh.mNumVertices && finite; ++v) {
-      const Eigen::Vector3d by_node = (g * point_of(mesh.mVertices[v]).homogeneous()).head<3>();
-      sum[v] = total[v] > 0 ? Eigen::Vector3d(sum[v] / total[v]) : point_of(mesh.mVertices[v]);
+      const Eigen::Vector3d by_node = (g * to_eigen(mesh.mVertices[v]).homogeneous()).head<3>();
+      sum[v] = total[v] > 0 ? Eigen::Vector3d(sum[v] / total[v]) : to_eigen(mesh.mVertices[v]);
       finite = sum[v].allFinite() && sum[v].cwiseAbs().maxCoeff() < 1e30;  // a float can hold it
       apart = std::max(apart, (sum[v] - by_node).norm());
       box.extend(sum[v]);
@@ -275,9 +272,7 @@ size_t place_skinned_by_skin(aiScene* scene) {
       const Eigen::Vector3d local = (back * sum[v].homogeneous()).head<3>();
       mesh.mVertices[v] = aiVector3D(ai_real(local.x()), ai_real(local.y()), ai_real(local.z()));
     }
-    ++moved;
   }
-  return moved;
 }
 
 namespace {

@@ -1,6 +1,8 @@
 #pragma once
 // A file read by assimp, or one error line that says why not (assimp's own words mislead for
 // glTF: "no suitable reader found" for a document whose JSON does not parse).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
@@ -10,6 +12,11 @@
 #include "mesh/gltf_input.hpp"
 
 namespace spx {
+
+// assimp's single-precision types as Eigen's in double.
+Eigen::Matrix4d to_eigen(const aiMatrix4x4& m);
+inline Eigen::Vector3d to_eigen(const aiVector3D& v) { return {v.x, v.y, v.z}; }
+inline Eigen::Quaterniond to_eigen(const aiQuaternion& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z); }
 
 // importer.ReadFile(path, flags). A .gltf or .glb is first checked for the extensions it requires
 // (exit 3 for one the tools cannot honour) and, where it holds what assimp would read wrong
@@ -53,8 +60,8 @@ void face_out_mirrored(aiScene* scene);
 // the joints. Each skinned vertex goes to sum_b w_b (joint b's global * its inverse bind) v / sum_b
 // w_b at the nodes' own transforms (one no joint weighs stays as stored), taken back through its
 // node's inverse, which PreTransformVertices then applies. A mesh both place alike (within 1e-6
-// of its size: the usual file) is left as it is, to the bit. Returns the meshes moved.
-size_t place_skinned_by_skin(aiScene* scene);
+// of its size: the usual file) is left as it is, to the bit.
+void place_skinned_by_skin(aiScene* scene);
 
 // assimp 5.2's FBX importer keeps a joint X's translation, pre-rotation, rotation, post-rotation
 // and scaling as a chain of helper nodes above it ("X_$AssimpFbx$_PreRotation", ...), and yet,

@@ -150,13 +150,13 @@ LoadedMesh load_mesh(const std::string& path) {
 
 namespace {
 
-// A pose laid out as the rest file: the rest's own weld gives its vertices. False when points
-// that are one at rest part (the faces are in another order, or a seam really opens).
 // The pose file lays out its vertices and triangles as the rest file does.
 bool laid_out_as_rest(const RawMesh& raw, const LoadedMesh& rest) {
   return raw.positions.size() == rest.file_vertex_count() && raw.triangles == rest.file_triangles;
 }
 
+// A pose laid out as the rest file: the rest's own weld gives its vertices. False when points
+// that are one at rest part (the faces are in another order, or a seam really opens).
 bool pose_by_rest_weld(const RawMesh& raw, const LoadedMesh& rest, TriMesh& pose) {
   if (!laid_out_as_rest(raw, rest)) return false;
   std::vector<char> set(rest.mesh.vertices.size(), 0);
@@ -298,8 +298,8 @@ void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log
     log.warn(file + ": " + std::to_string(fanned.polygons) + " polygons (the first of " + corners + ", at " + at +
              ") cross themselves as seen along their normals, " + stops + "each is split as a fan from its first "
              "corner instead, closed as in the file; check them in a modelling tool");
-  else if (fanned.dropped > 0)
-    log.warn(file + ": the mesh reader's split left out " + counted(fanned.dropped, "triangle") +
+  else if (fanned.left_out() > 0)
+    log.warn(file + ": the mesh reader's split left out " + counted(fanned.left_out(), "triangle") +
              " of polygons that cross themselves, and the mesh is open there; split them into triangles in a "
              "modelling tool");
 }

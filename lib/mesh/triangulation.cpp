@@ -135,9 +135,8 @@ FannedPolygons fan_unfinished(Triangulation& split, const aiScene& scene) {
       std::vector<std::array<uint16_t, 3>>& triangles = split.polygons[polygon++];
       if (triangles.size() == n - 2) continue;
       if (fanned.polygons++ == 0) {
-        const aiVector3D& p = scene.mMeshes[m]->mVertices[lists.corners[lists.start[f]]];
         fanned.first_corners = n;
-        fanned.first_at = Eigen::Vector3d(p.x, p.y, p.z);
+        fanned.first_at = to_eigen(scene.mMeshes[m]->mVertices[lists.corners[lists.start[f]]]);
       }
       fanned.dropped += n - 2 - triangles.size();
       triangles.clear();
@@ -167,8 +166,9 @@ Triangulation triangulate(Assimp::Importer& importer, const FaceLists& faces, co
   if (split.empty()) {  // nothing to mend by, but what was left out is counted
     size_t made = 0;
     for (unsigned m = 0; m < scene.mNumMeshes; ++m) made += scene.mMeshes[m]->mNumFaces;
+    const size_t full = full_split_size(faces);
     fanned = {};
-    fanned.dropped = full_split_size(faces) - std::min(made, full_split_size(faces));
+    fanned.dropped = full - std::min(made, full);
     return split;
   }
   fanned = fan_unfinished(split, scene);

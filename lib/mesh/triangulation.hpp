@@ -57,6 +57,9 @@ struct FannedPolygons {
   size_t dropped = 0;       // the triangles assimp's split had left out of them
   size_t first_corners = 0; // the first one's corners
   Eigen::Vector3d first_at = Eigen::Vector3d::Zero();  // and its first corner
+  // Triangles left out and not mended (where assimp's split could not be followed polygon by
+  // polygon, so none was fanned): the mesh is open there.
+  size_t left_out() const { return polygons > 0 ? 0 : dropped; }
 };
 
 // aiProcess_Triangulate on `importer`'s scene, whose faces are `faces` (`path`, `what`: for its

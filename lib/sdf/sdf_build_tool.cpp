@@ -80,7 +80,7 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
                     {"merged_corners", loaded.merged_corners()},
                     {"read_rounding", read_rounding(loaded.mesh)},
                     {"polygons_fanned", loaded.fanned.polygons},
-                    {"triangles_left_out", loaded.fanned.polygons > 0 ? 0 : loaded.fanned.dropped},
+                    {"triangles_left_out", loaded.fanned.left_out()},
                     {"points_and_lines_left_out", loaded.points_and_lines}};
   report["grid"] = {{"voxel_size", s.voxel_size},
                     {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
