@@ -25,15 +25,16 @@ void expect(bool ok, const std::string& what) {
 }
 
 // Every node named spx-sphere-<j>: its world transform.
-void collect(const aiNode* node, const Eigen::Matrix4d& parent, std::map<int, Eigen::Matrix4d>& out) {
-  const Eigen::Matrix4d world = parent * spx::to_eigen(node->mTransformation);
-  const std::string name = node->mName.C_Str();
-  if (name.rfind("spx-sphere-", 0) == 0) {
+std::map<int, Eigen::Matrix4d> sphere_nodes(const aiNode& root) {
+  std::map<int, Eigen::Matrix4d> out;
+  for (const auto& [node, world] : spx::node_globals(root)) {
+    const std::string name = node->mName.C_Str();
+    if (name.rfind("spx-sphere-", 0) != 0) continue;
     const int j = std::stoi(name.substr(11));
     expect(!out.count(j), name + " twice");
     out[j] = world;
   }
-  for (unsigned c = 0; c < node->mNumChildren; ++c) collect(node->mChildren[c], world, out);
+  return out;
 }
 
 // The asset as pose-extract reads it, from the original and from the export.
@@ -61,8 +62,7 @@ int main(int argc, char** argv) {
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(glb, 0);
   if (!scene) return std::printf("assimp cannot read %s: %s\n", argv[1], importer.GetErrorString()), 1;
-  std::map<int, Eigen::Matrix4d> nodes;
-  collect(scene->mRootNode, Eigen::Matrix4d::Identity(), nodes);
+  const std::map<int, Eigen::Matrix4d> nodes = sphere_nodes(*scene->mRootNode);
 
   // Where each sphere should be at rest: the .spx's rest, or on its heaviest joint in the asset.
   const uint32_t n = proxy.sphere_count();

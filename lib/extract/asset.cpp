@@ -85,20 +85,6 @@ Eigen::Matrix4d local_at(const aiNodeAnim* ch, const aiNode* node, double t) {
   return m;
 }
 
-// Every node's global transform, with the clip's channels (if any) replacing local transforms.
-void node_globals(const aiNode* node, const Eigen::Matrix4d& parent, const std::map<std::string, const aiNodeAnim*>& channels,
-                  double t, std::map<const aiNode*, Eigen::Matrix4d>& out) {
-  const auto ch = channels.find(node->mName.C_Str());
-  const Eigen::Matrix4d local = ch == channels.end() ? to_eigen(node->mTransformation) : local_at(ch->second, node, t);
-  const Eigen::Matrix4d global = parent * local;
-  out[node] = global;
-  for (unsigned i = 0; i < node->mNumChildren; ++i) node_globals(node->mChildren[i], global, channels, t, out);
-}
-
-void collect_instances(const aiNode* node, std::vector<std::pair<const aiNode*, unsigned>>& out) {
-  for (unsigned i = 0; i < node->mNumMeshes; ++i) out.emplace_back(node, node->mMeshes[i]);
-  for (unsigned i = 0; i < node->mNumChildren; ++i) collect_instances(node->mChildren[i], out);
-}
 
 std::string mesh_name(const aiScene* scene, unsigned index) {
   const std::string name = scene->mMeshes[index]->mName.C_Str();
@@ -152,8 +138,7 @@ Asset::Asset(const std::string& path, const std::string& wanted) : path_(path), 
   face_out_mirrored(const_cast<aiScene*>(scene_));  // the importer's own scene, ours to change
   fold_fbx_chains_under_channels(const_cast<aiScene*>(scene_));
 
-  std::vector<std::pair<const aiNode*, unsigned>> placed;
-  collect_instances(scene_->mRootNode, placed);
+  const std::vector<std::pair<const aiNode*, unsigned>> placed = mesh_instances(*scene_->mRootNode);
   list_meshes(placed, wanted);
   use_meshes(placed);
   read_clips(mends);
@@ -315,8 +300,11 @@ std::vector<Eigen::Matrix4d> Asset::joint_matrices(const Pose& pose) const {
   std::map<std::string, const aiNodeAnim*> channels;
   for (unsigned c = 0; pose.clip && c < pose.clip->mNumChannels; ++c)
     channels[pose.clip->mChannels[c]->mNodeName.C_Str()] = pose.clip->mChannels[c];
-  std::map<const aiNode*, Eigen::Matrix4d> globals;
-  node_globals(scene_->mRootNode, Eigen::Matrix4d::Identity(), channels, pose.ticks, globals);
+  // The clip's channels replace the local transforms of the nodes they move.
+  const std::map<const aiNode*, Eigen::Matrix4d> globals = node_globals(*scene_->mRootNode, [&](const aiNode& node) {
+    const auto ch = channels.find(node.mName.C_Str());
+    return ch == channels.end() ? to_eigen(node.mTransformation) : local_at(ch->second, &node, pose.ticks);
+  });
   std::vector<Eigen::Matrix4d> out;
   for (size_t j = 0; j < joints_.size(); ++j) {
     const Eigen::Matrix4d& global = globals.at(joint_nodes_[j]);

@@ -210,16 +210,31 @@ void face_out_mirrored(aiScene* scene) {
 
 namespace {
 
-// Every node's global transform, and the first node that places each mesh.
-void node_globals(const aiNode* node, const Eigen::Matrix4d& parent, std::map<const aiNode*, Eigen::Matrix4d>& global,
-                  std::map<unsigned, const aiNode*>& placed_by) {
-  const Eigen::Matrix4d g = parent * to_eigen(node->mTransformation);
-  global[node] = g;
-  for (unsigned i = 0; i < node->mNumMeshes; ++i) placed_by.emplace(node->mMeshes[i], node);
-  for (unsigned c = 0; c < node->mNumChildren; ++c) node_globals(node->mChildren[c], g, global, placed_by);
+void add_globals(const aiNode& node, const Eigen::Matrix4d& parent, const NodeLocal& local,
+                 std::map<const aiNode*, Eigen::Matrix4d>& out) {
+  const Eigen::Matrix4d g = parent * (local ? local(node) : to_eigen(node.mTransformation));
+  out[&node] = g;
+  for (unsigned c = 0; c < node.mNumChildren; ++c) add_globals(*node.mChildren[c], g, local, out);
+}
+
+void add_instances(const aiNode& node, std::vector<std::pair<const aiNode*, unsigned>>& out) {
+  for (unsigned i = 0; i < node.mNumMeshes; ++i) out.emplace_back(&node, node.mMeshes[i]);
+  for (unsigned c = 0; c < node.mNumChildren; ++c) add_instances(*node.mChildren[c], out);
 }
 
 }  // namespace
+
+std::map<const aiNode*, Eigen::Matrix4d> node_globals(const aiNode& root, const NodeLocal& local) {
+  std::map<const aiNode*, Eigen::Matrix4d> out;
+  add_globals(root, Eigen::Matrix4d::Identity(), local, out);
+  return out;
+}
+
+std::vector<std::pair<const aiNode*, unsigned>> mesh_instances(const aiNode& root) {
+  std::vector<std::pair<const aiNode*, unsigned>> out;
+  add_instances(root, out);
+  return out;
+}
 
 Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
   Eigen::Matrix4d e;
@@ -229,9 +244,9 @@ Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
 }
 
 void place_skinned_by_skin(aiScene* scene) {
-  std::map<const aiNode*, Eigen::Matrix4d> global;
-  std::map<unsigned, const aiNode*> placed_by;
-  node_globals(scene->mRootNode, Eigen::Matrix4d::Identity(), global, placed_by);
+  const std::map<const aiNode*, Eigen::Matrix4d> global = node_globals(*scene->mRootNode);
+  std::map<unsigned, const aiNode*> placed_by;  // the first node that places each mesh
+  for (const auto& [node, index] : mesh_instances(*scene->mRootNode)) placed_by.emplace(index, node);
   for (const auto& [index, node] : placed_by) {
     aiMesh& mesh = *scene->mMeshes[index];
     const Eigen::Matrix4d& g = global.at(node);

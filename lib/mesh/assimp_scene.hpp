@@ -6,7 +6,10 @@
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
+#include <functional>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/gltf_input.hpp"
@@ -17,6 +20,14 @@ namespace spx {
 Eigen::Matrix4d to_eigen(const aiMatrix4x4& m);
 inline Eigen::Vector3d to_eigen(const aiVector3D& v) { return {v.x, v.y, v.z}; }
 inline Eigen::Quaterniond to_eigen(const aiQuaternion& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z); }
+
+// Every node's global transform: the product of the local transforms from the root down, each
+// node's local given by `local` (where none is given, the node's own: the still pose).
+using NodeLocal = std::function<Eigen::Matrix4d(const aiNode&)>;
+std::map<const aiNode*, Eigen::Matrix4d> node_globals(const aiNode& root, const NodeLocal& local = {});
+
+// Every (node, mesh index) pair the hierarchy places, depth first: a mesh two nodes place, twice.
+std::vector<std::pair<const aiNode*, unsigned>> mesh_instances(const aiNode& root);
 
 // importer.ReadFile(path, flags). A .gltf or .glb is first checked for the extensions it requires
 // (exit 3 for one the tools cannot honour) and, where it holds what assimp would read wrong
