@@ -52,6 +52,11 @@ def prism_obj(n, step):
     return ("\n".join(lines) + "\n").encode()
 
 
+def doubled_faces(obj):
+    """The OBJ with every face listed twice (faces doubled, as a copy left in place writes them)."""
+    return obj + b"".join(line + b"\n" for line in obj.splitlines() if line.startswith(b"f "))
+
+
 def seeds(build, data, out):
     subprocess.run([build + "/apps/sample-gen", "car", "-o", out + "/seeds", "-q"], check=True)
     verts, faces = read_off(data + "/static/decimated-knight.off")
@@ -64,7 +69,8 @@ def seeds(build, data, out):
             ("stl", stl_ascii(verts, faces)),
             ("dae", collada(verts, faces)),
             ("obj", prism_obj(12, 1)),
-            ("obj", prism_obj(7, 3))]
+            ("obj", prism_obj(7, 3)),
+            ("obj", doubled_faces(prism_obj(12, 1)))]
 
 
 def mutate(data, rng):

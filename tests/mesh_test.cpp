@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <fstream>
 #include <functional>
@@ -14,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 #include <tbb/parallel_for.h>
@@ -297,6 +299,98 @@ TEST(MeshLoad, PolygonsThatCrossThemselvesAreFannedNotDropped) {
   EXPECT_EQ(simple.fanned.polygons + simple.fanned.dropped, 0u);
 }
 
+// Faces doubled (listed twice, or a copy of the part left where it was made, with vertices of its
+// own) read once: the cube's 12 triangles, closed, as the single cube reads. Read twice, every edge
+// met four triangles, sdf-build said "not watertight (... non-manifold ...)", and the car so
+// doubled packed into 155 spheres against its 116. A sheet's two sides (the same corners in the
+// other turn) are kept, and poses of the doubled file read as the rest, in its layout or another.
+TEST(MeshLoad, RepeatedTrianglesAreReadOnce) {
+  const std::string dir = test::temp_dir("repeated");
+  const TriMesh cube = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  const auto doubled = [&](double scale, bool shuffled) {
+    TriMesh out = cube;
+    for (Eigen::Vector3d& v : out.vertices) v *= scale;
+    const int n = int(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), out.vertices.begin(), out.vertices.end());  // the copy's own vertices
+    for (size_t t = 0; t < cube.triangles.size(); ++t) {
+      const Eigen::Vector3i& f = cube.triangles[t];
+      out.triangles.emplace_back(f[1], f[2], f[0]);                   // the same face, another first corner
+      if (t % 3 == 0) out.triangles.emplace_back(f[2] + n, f[0] + n, f[1] + n);  // and on the copy's vertices
+    }
+    if (shuffled) std::reverse(out.triangles.begin(), out.triangles.end());
+    return out;
+  };
+  write_file_atomic(dir + "/cube.obj", to_obj(cube));
+  write_file_atomic(dir + "/rest.obj", to_obj(doubled(1, false)));
+  write_file_atomic(dir + "/pose.obj", to_obj(doubled(2, false)));
+  write_file_atomic(dir + "/shuffled.obj", to_obj(doubled(2, true)));
+  const LoadedMesh single = load_mesh(dir + "/cube.obj"), rest = load_mesh(dir + "/rest.obj");
+  EXPECT_EQ(single.repeated.count, 0u);
+  EXPECT_EQ(rest.mesh.vertices, single.mesh.vertices);
+  EXPECT_EQ(rest.mesh.triangles, single.mesh.triangles);
+  EXPECT_TRUE(find_defects(rest.mesh).watertight());
+  EXPECT_EQ(rest.repeated.count, 12u + 4);
+  EXPECT_EQ(rest.repeated.first_at, cube.vertices[size_t(cube.triangles[0][1])]);
+  const TriMesh pose = load_pose(dir + "/pose.obj", rest);  // laid out as the rest file
+  EXPECT_EQ(pose.triangles, rest.mesh.triangles);
+  for (size_t v = 0; v < pose.vertices.size(); ++v) EXPECT_EQ(pose.vertices[v], 2 * rest.mesh.vertices[v]) << v;
+  // Laid out otherwise, matched by its triangles: the cube's connections have symmetries, so the
+  // vertices may be matched by one of them; the surface is the doubled cube's either way.
+  const auto faces_at = [](const TriMesh& m) {
+    std::multiset<std::array<std::array<double, 3>, 3>> out;
+    for (const Eigen::Vector3i& t : m.triangles) {
+      std::array<std::array<double, 3>, 3> f;
+      for (int c = 0; c < 3; ++c) f[size_t(c)] = {m.vertices[size_t(t[c])].x(), m.vertices[size_t(t[c])].y(), m.vertices[size_t(t[c])].z()};
+      std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+      out.insert(f);
+    }
+    return out;
+  };
+  const TriMesh shuffled = load_pose(dir + "/shuffled.obj", rest);
+  EXPECT_EQ(shuffled.triangles, rest.mesh.triangles);
+  EXPECT_EQ(faces_at(shuffled), faces_at(pose));
+  Log log;
+  warn_repeated(rest.repeated, "rest.obj", log);
+  ASSERT_EQ(log.warnings().size(), 1u);
+  EXPECT_EQ(log.warnings()[0], "rest.obj: 16 triangles repeat another's corners (the first at 0, 1, 0): a part placed "
+                               "twice in one place, or faces doubled; each is read once");
+  // A face and its other side: a sheet, kept whole.
+  TriMesh sheet = cube;
+  sheet.triangles.emplace_back(cube.triangles[0][2], cube.triangles[0][1], cube.triangles[0][0]);
+  write_file_atomic(dir + "/sheet.obj", to_obj(sheet));
+  const LoadedMesh sided = load_mesh(dir + "/sheet.obj");
+  EXPECT_EQ(sided.repeated.count, 0u);
+  EXPECT_EQ(sided.mesh.triangles.size(), 13u);
+}
+
+// drop_repeated_triangles against the rule read plainly: a triangle is kept unless an earlier kept
+// one is one of its three turns. Random triangles on 4 vertices (many repeats, turns, mirrors and
+// degenerate ones).
+TEST(MeshLoad, RepeatedTrianglesDroppedAsBruteForceDoes) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> corner(0, 3);
+  for (int round = 0; round < 200; ++round) {
+    TriMesh mesh;
+    for (int v = 0; v < 4; ++v) mesh.vertices.emplace_back(v, v * v, 1);
+    const int n = 1 + round % 40;
+    for (int t = 0; t < n; ++t) mesh.triangles.emplace_back(corner(rng), corner(rng), corner(rng));
+    std::vector<Eigen::Vector3i> expected;
+    size_t repeats = 0;
+    Eigen::Vector3d first = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const bool seen = std::any_of(expected.begin(), expected.end(), [&](const Eigen::Vector3i& k) {
+        return k == t || k == Eigen::Vector3i(t[1], t[2], t[0]) || k == Eigen::Vector3i(t[2], t[0], t[1]);
+      });
+      if (!seen) expected.push_back(t);
+      else if (repeats++ == 0) first = mesh.vertices[size_t(t[0])];
+    }
+    const RepeatedTriangles got = drop_repeated_triangles(mesh);
+    ASSERT_EQ(mesh.triangles, expected) << round;
+    EXPECT_EQ(got.count, repeats) << round;
+    EXPECT_EQ(got.first_at, first) << round;
+  }
+}
+
 // Two cubes touching face to face, each with its own 8 vertices in the file: at rest the 4 of the
 // face they share are one vertex each to the tools (welded by position). A pose that parts them
 // is refused saying so; it was "has 16 distinct vertices and 12 triangles, the rest mesh 12".
@@ -565,11 +659,22 @@ TEST(MeshLoad, SkinnedMeshIsPlacedByItsSkinAsPoseExtractsRest) {
   ASSERT_TRUE(file.doc["nodes"][1].contains("skin"));
   file.doc["nodes"][1]["translation"] = json::array({0, 0, 5});
   write_file_atomic(dir + "/moved.glb", encode_glb(file));
-  for (const std::string& path : {original, dir + "/moved.glb"}) {
+  // A second node places the same skinned mesh 3 along x: glTF draws both where the skin puts
+  // them, one place, so it is read once (it read 3 away, doubling the body).
+  file.doc["nodes"].push_back({{"name", "second"}, {"mesh", 0}, {"skin", 0}, {"translation", {3, 0, 0}}});
+  file.doc["scenes"][0]["nodes"].push_back(file.doc["nodes"].size() - 1);
+  write_file_atomic(dir + "/twice.glb", encode_glb(file));
+  const size_t triangles = load_mesh(original).mesh.triangles.size();
+  for (const std::string& path : {original, dir + "/moved.glb", dir + "/twice.glb"}) {
     const LoadedMesh mesh = load_mesh(path);
     const Asset asset(path, "");
     const WeldedBody body = weld_body(asset);
     ASSERT_EQ(mesh.mesh.vertices.size(), body.rest.vertices.size()) << path;
+    EXPECT_EQ(mesh.mesh.triangles.size(), triangles) << path;
+    EXPECT_EQ(body.rest.triangles.size(), triangles) << path;
+    const size_t repeated = path == dir + "/twice.glb" ? triangles : 0;
+    EXPECT_EQ(mesh.repeated.count, repeated) << path;
+    EXPECT_EQ(body.repeated.count, repeated) << path;
     const double size = body.rest.bounds().diagonal().norm();
     for (const Eigen::Vector3d& v : mesh.mesh.vertices) {
       double nearest = INFINITY;

@@ -134,10 +134,12 @@ class Asset {
 };
 
 // The body welded by position (as pose-extract writes it): file vertex -> welded vertex, and the
-// rest's triangles on welded vertices.
+// rest's triangles on welded vertices, those that repeat another's read once (`repeated`: two
+// instances of a skinned mesh, which its skin puts in one place, or faces doubled).
 struct WeldedBody {
   std::vector<int> weld;
   TriMesh rest;
+  RepeatedTriangles repeated;
 };
 WeldedBody weld_body(const Asset& asset);
 // Per welded vertex its first file vertex: the one whose position (welded_pose) and weights

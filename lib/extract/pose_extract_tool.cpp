@@ -232,6 +232,7 @@ Body read_body(const Asset& asset, const std::string& input, Log& log) {
   out.diagonal = out.welded.rest.diagonal();
   out.seam_tolerance = 1e-7 * std::max(out.diagonal, 1e-30);
   const TriMesh& rest = out.welded.rest;
+  warn_repeated(out.welded.repeated, input, log);
   size_t meshes_used = 0;
   for (const auto& m : asset.meshes()) meshes_used += m.used;
   log.info(input + ": " + std::to_string(meshes_used) + " mesh" + (meshes_used == 1 ? "" : "es") + ", " +
@@ -432,7 +433,8 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
   std::filesystem::remove(dir + "/" + kWritingList, ec);  // the manifest names them now
   report["output"] = {{"folder", dir}, {"manifest", "poses.json"}, {"rest", manifest.rest},
                       {"vertices", rest.vertices.size()}, {"triangles", rest.triangles.size()},
-                      {"welded", asset.vertex_count() - rest.vertices.size()}, {"diagonal", body.diagonal},
+                      {"welded", asset.vertex_count() - rest.vertices.size()},
+                      {"triangles_repeated", body.welded.repeated.count}, {"diagonal", body.diagonal},
                       {"removed_from_earlier_run", removed}};
   report["poses"] = poses;
   report["opened_seams"] = opened_total;

@@ -222,6 +222,24 @@ void add_instances(const aiNode& node, std::vector<std::pair<const aiNode*, unsi
   for (unsigned c = 0; c < node.mNumChildren; ++c) add_instances(*node.mChildren[c], out);
 }
 
+// A skinned mesh (`index`) that nodes other than `first` place too is drawn by each where its skin
+// puts it, the same place: those nodes lose it, and the triangles it would have added are counted
+// as repeated (`at`: where its skin puts its first vertex).
+RepeatedTriangles read_once(const aiScene& scene, unsigned index, const aiNode* first, const Eigen::Vector3d& at) {
+  size_t triangles = 0;
+  const aiMesh& mesh = *scene.mMeshes[index];
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) triangles += std::max(mesh.mFaces[f].mNumIndices, 2u) - 2;
+  RepeatedTriangles out;
+  out.first_at = at;
+  for (const auto& [placing, i] : mesh_instances(*scene.mRootNode)) {
+    if (i != index || placing == first) continue;
+    aiNode& node = *const_cast<aiNode*>(placing);  // the scene is ours to change
+    node.mNumMeshes = unsigned(std::remove(node.mMeshes, node.mMeshes + node.mNumMeshes, index) - node.mMeshes);
+    out.count += triangles;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::map<const aiNode*, Eigen::Matrix4d> node_globals(const aiNode& root, const NodeLocal& local) {
@@ -243,7 +261,8 @@ Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
   return e;
 }
 
-void place_skinned_by_skin(aiScene* scene) {
+RepeatedTriangles place_skinned_by_skin(aiScene* scene) {
+  RepeatedTriangles repeated;
   const std::map<const aiNode*, Eigen::Matrix4d> global = node_globals(*scene->mRootNode);
   std::map<unsigned, const aiNode*> placed_by;  // the first node that places each mesh
   for (const auto& [node, index] : mesh_instances(*scene->mRootNode)) placed_by.emplace(index, node);
@@ -281,13 +300,16 @@ void place_skinned_by_skin(aiScene* scene) {
       apart = std::max(apart, (sum[v] - by_node).norm());
       box.extend(sum[v]);
     }
-    if (!finite || !(apart > 1e-6 * box.diagonal().norm())) continue;
+    if (!finite) continue;
+    repeated.add(read_once(*scene, index, node, mesh.mNumVertices ? sum[0] : Eigen::Vector3d::Zero()));
+    if (!(apart > 1e-6 * box.diagonal().norm())) continue;
     const Eigen::Matrix4d back = g.inverse();
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
       const Eigen::Vector3d local = (back * sum[v].homogeneous()).head<3>();
       mesh.mVertices[v] = aiVector3D(ai_real(local.x()), ai_real(local.y()), ai_real(local.z()));
     }
   }
+  return repeated;
 }
 
 namespace {

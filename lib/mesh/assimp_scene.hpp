@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mesh/gltf_input.hpp"
+#include "mesh/mesh.hpp"
 
 namespace spx {
 
@@ -71,8 +72,10 @@ void face_out_mirrored(aiScene* scene);
 // the joints. Each skinned vertex goes to sum_b w_b (joint b's global * its inverse bind) v / sum_b
 // w_b at the nodes' own transforms (one no joint weighs stays as stored), taken back through its
 // node's inverse, which PreTransformVertices then applies. A mesh both place alike (within 1e-6
-// of its size: the usual file) is left as it is, to the bit.
-void place_skinned_by_skin(aiScene* scene);
+// of its size: the usual file) is left as it is, to the bit. A skinned mesh several nodes place is
+// drawn by each where its skin puts it, in one place: it is read once, at its first node, and the
+// triangles the others would have added are returned as repeated.
+RepeatedTriangles place_skinned_by_skin(aiScene* scene);
 
 // assimp 5.2's FBX importer keeps a joint X's translation, pre-rotation, rotation, post-rotation
 // and scaling as a chain of helper nodes above it ("X_$AssimpFbx$_PreRotation", ...), and yet,

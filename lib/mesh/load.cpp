@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <unordered_set>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -29,6 +30,7 @@ struct RawMesh {
   Triangulation triangulation;  // how its polygons were split (a rest's)
   FannedPolygons fanned;        // those assimp's split left unfinished
   size_t points_and_lines = 0;  // faces left out: no surface
+  RepeatedTriangles skinned_repeats;  // a skinned mesh's other instances, read once
 };
 
 }  // namespace
@@ -56,11 +58,12 @@ RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   // flags.
   aiScene* read = const_cast<aiScene*>(read_scene(importer, path, 0, "mesh"));
   face_out_mirrored(read);
-  place_skinned_by_skin(read);
+  const RepeatedTriangles skinned_repeats = place_skinned_by_skin(read);
   // assimp's steps in its own order, the split apart where there are polygons, to see their faces
   // before it (a split scene's aiProcess_Triangulate does nothing).
   aiScene& placed = *const_cast<aiScene*>(post_processed(importer, aiProcess_PreTransformVertices, path, "mesh"));
   RawMesh raw;
+  raw.skinned_repeats = skinned_repeats;
   raw.points_and_lines = points_and_lines(placed);
   if (has_polygons(placed)) {
     const FaceLists faces = face_lists(placed);
@@ -145,6 +148,35 @@ LoadedMesh load_mesh(const std::string& path) {
   out.mesh.triangles.reserve(out.file_triangles.size());
   for (const auto& t : out.file_triangles)
     out.mesh.triangles.emplace_back(out.weld[t[0]], out.weld[t[1]], out.weld[t[2]]);
+  out.repeated = raw.skinned_repeats;
+  out.repeated.add(drop_repeated_triangles(out.mesh));
+  return out;
+}
+
+namespace {
+
+struct CornersHash {
+  size_t operator()(const std::array<int, 3>& k) const { return size_t(fnv1a(kFnvOffset, k.data(), sizeof k)); }
+};
+
+}  // namespace
+
+RepeatedTriangles drop_repeated_triangles(TriMesh& mesh) {
+  RepeatedTriangles out;
+  std::unordered_set<std::array<int, 3>, CornersHash> seen;
+  seen.reserve(mesh.triangles.size());
+  size_t kept = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    // The least of its three turns names a triangle whichever corner it starts from.
+    const std::array<int, 3> key = std::min({std::array<int, 3>{t[0], t[1], t[2]}, std::array<int, 3>{t[1], t[2], t[0]},
+                                            std::array<int, 3>{t[2], t[0], t[1]}});
+    if (seen.insert(key).second) {
+      mesh.triangles[kept++] = t;
+    } else if (out.count++ == 0) {
+      out.first_at = mesh.vertices[size_t(t[0])];
+    }
+  }
+  mesh.triangles.resize(kept);
   return out;
 }
 
@@ -206,6 +238,7 @@ TriMesh welded_on_its_own(const RawMesh& raw, std::vector<int>& weld) {
   TriMesh own;
   weld = weld_by_position(raw.positions, own.vertices);
   for (const auto& t : raw.triangles) own.triangles.emplace_back(weld[size_t(t[0])], weld[size_t(t[1])], weld[size_t(t[2])]);
+  drop_repeated_triangles(own);  // as the rest's were
   return own;
 }
 
@@ -302,6 +335,13 @@ void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log
     log.warn(file + ": the mesh reader's split left out " + counted(fanned.left_out(), "triangle") +
              " of polygons that cross themselves, and the mesh is open there; split them into triangles in a "
              "modelling tool");
+}
+
+void warn_repeated(const RepeatedTriangles& repeated, const std::string& file, Log& log) {
+  if (repeated.count == 0) return;
+  log.warn(file + ": " + counted(repeated.count, "triangle") + (repeated.count == 1 ? " repeats" : " repeat") +
+           " another's corners (the first at " + num(repeated.first_at.x()) + ", " + num(repeated.first_at.y()) + ", " +
+           num(repeated.first_at.z()) + "): a part placed twice in one place, or faces doubled; each is read once");
 }
 
 std::string stem_of(const std::string& path) { return std::filesystem::path(path).stem().string(); }

@@ -21,6 +21,19 @@ struct TriMesh {
 
 // A mesh as loaded from a file, with what the weld did, so that poses can be checked
 // against exactly the same vertex layout.
+// Triangles that repeat an earlier triangle's corners in the same turn: a part placed twice in one
+// place (a copy left where it was made in a modelling tool, a skinned mesh two nodes place), or
+// faces doubled. As a surface each is the one already there; kept, every edge of theirs would
+// meet four triangles and the body would read as not watertight (and pack worse).
+struct RepeatedTriangles {
+  size_t count = 0;
+  Eigen::Vector3d first_at = Eigen::Vector3d::Zero();  // the first one's first corner
+  void add(const RepeatedTriangles& more) {
+    if (count == 0 && more.count > 0) first_at = more.first_at;
+    count += more.count;
+  }
+};
+
 struct LoadedMesh {
   std::string path;
   TriMesh mesh;
@@ -29,6 +42,7 @@ struct LoadedMesh {
   Triangulation triangulation;                 // how its polygons were split: its poses' are split so
   FannedPolygons fanned;                       // polygons that cross themselves, split as fans
   size_t points_and_lines = 0;                 // faces of 1 or 2 corners in the file, left out
+  RepeatedTriangles repeated;                  // read once (drop_repeated_triangles)
   size_t file_vertex_count() const { return weld.size(); }
   // File vertices merged into another at the same position (face corners, for OBJ through
   // assimp): not the mesh's vertex count, which is mesh.vertices.size().
@@ -36,7 +50,8 @@ struct LoadedMesh {
 };
 
 // Any format assimp reads (OBJ, PLY, STL, OFF, glTF/GLB, FBX, ...). Coincident vertices are
-// welded (seams in glTF, corners unrolled by the OBJ reader). Throws spx::Error naming `path`.
+// welded (seams in glTF, corners unrolled by the OBJ reader), and triangles that then repeat
+// another's corners are read once (`repeated`). Throws spx::Error naming `path`.
 LoadedMesh load_mesh(const std::string& path);
 
 // A file assimp can try: it exists, is not a folder, is not empty, and has an extension assimp
@@ -55,6 +70,11 @@ std::vector<TriMesh> load_poses(const std::vector<std::string>& paths, const Loa
 // appearance; returns the vertex each position became. -0 and +0 weld together.
 std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& welded);
 
+// Removes from `mesh.triangles` each that repeats an earlier one's corners in the same turn (a
+// rotation of them: (b, c, a) repeats (a, b, c)), keeping the first of each, in order. The same
+// corners in the other turn are kept: a sheet's two sides, which the winding number cancels.
+RepeatedTriangles drop_repeated_triangles(TriMesh& mesh);
+
 // How far a vertex read from a mesh file may lie from the file's own: every reader (assimp's, for
 // every format) reads single precision, so up to half the spacing of floats at the mesh's largest
 // coordinate. A mesh far from the origin for its size is read coarser than it was written.
@@ -67,6 +87,9 @@ void check_read_rounding(const TriMesh& mesh, double voxel, const std::string& f
 // Warns, naming `file`, of the polygons its reading split as fans (FannedPolygons), or of the
 // triangles the reader's split left out where it could not be mended.
 void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log);
+
+// Warns, naming `file`, of the triangles read once (RepeatedTriangles), where there were any.
+void warn_repeated(const RepeatedTriangles& repeated, const std::string& file, Log& log);
 
 // Deterministic Wavefront OBJ text.
 std::string to_obj(const TriMesh& mesh, const std::string& comment = {});

@@ -34,6 +34,7 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
   }
   check_read_rounding(loaded.mesh, voxel_size_for(loaded.mesh, options), input, log);
   warn_fanned(loaded.fanned, input, log);
+  warn_repeated(loaded.repeated, input, log);
   if (loaded.points_and_lines > 0)
     log.info(input + ": " + std::to_string(loaded.points_and_lines) +
              (loaded.points_and_lines == 1 ? " point or line among its faces is" : " points and lines among its faces are") +
@@ -81,7 +82,8 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
                     {"read_rounding", read_rounding(loaded.mesh)},
                     {"polygons_fanned", loaded.fanned.polygons},
                     {"triangles_left_out", loaded.fanned.left_out()},
-                    {"points_and_lines_left_out", loaded.points_and_lines}};
+                    {"points_and_lines_left_out", loaded.points_and_lines},
+                    {"triangles_repeated", loaded.repeated.count}};
   report["grid"] = {{"voxel_size", s.voxel_size},
                     {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
                     {"origin_index", {s.origin.x(), s.origin.y(), s.origin.z()}},
