@@ -72,7 +72,8 @@ std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions,
 
 // Removes from `mesh.triangles` each that repeats an earlier one's corners in the same turn (a
 // rotation of them: (b, c, a) repeats (a, b, c)), keeping the first of each, in order. The same
-// corners in the other turn are kept: a sheet's two sides, which the winding number cancels.
+// corners in the other turn are kept: the wall two parts touching face to face share (each part's
+// own face: dropped, the union would open there), or a sheet's two sides.
 RepeatedTriangles drop_repeated_triangles(TriMesh& mesh);
 
 // How far a vertex read from a mesh file may lie from the file's own: every reader (assimp's, for
