@@ -71,8 +71,12 @@ EOF
 sed 's|<p>0 2 1 0 1 3 |<p>0 2 1 0 1 3.5 |' "$out/tet.dae" >"$out/bad.dae"
 "$bin/sdf-build" "$out/tet.dae" -o "$out/tet.vdb" --resolution 16 -q
 check "a COLLADA tetrahedron reads" test -s "$out/tet.vdb"
+# Capped (assimp's reader of such a file ran away with 6 GB), but not under the sanitizers, whose
+# shadow memory the cap refuses (SPX_SANITIZED).
+cap=(bash -c 'ulimit -v 3000000 && exec "$@"' limited)
+[ -n "${SPX_SANITIZED:-}" ] && cap=()
 expect 2 "bad.dae: line 17: <p> holds '3.5', where the COLLADA reader takes whole numbers" "$out/x.vdb" -- \
-  bash -c 'ulimit -v 3000000 && exec "$@"' limited timeout 60 "$bin/sdf-build" "$out/bad.dae" -o "$out/x.vdb"
+  "${cap[@]}" timeout 60 "$bin/sdf-build" "$out/bad.dae" -o "$out/x.vdb"
 expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 0
 expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution abc
 expect 3 "GiB" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 20000
