@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <array>
-#include <unordered_set>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"

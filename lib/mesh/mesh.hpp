@@ -19,8 +19,6 @@ struct TriMesh {
   double diagonal() const { return bounds().diagonal().norm(); }
 };
 
-// A mesh as loaded from a file, with what the weld did, so that poses can be checked
-// against exactly the same vertex layout.
 // Triangles that repeat an earlier triangle's corners in the same turn: a part placed twice in one
 // place (a copy left where it was made in a modelling tool, a skinned mesh two nodes place), or
 // faces doubled. As a surface each is the one already there; kept, every edge of theirs would
@@ -34,6 +32,8 @@ struct RepeatedTriangles {
   }
 };
 
+// A mesh as loaded from a file, with what the weld did, so that poses can be checked
+// against exactly the same vertex layout.
 struct LoadedMesh {
   std::string path;
   TriMesh mesh;
