@@ -85,7 +85,6 @@ Eigen::Matrix4d local_at(const aiNodeAnim* ch, const aiNode* node, double t) {
   return m;
 }
 
-
 std::string mesh_name(const aiScene* scene, unsigned index) {
   const std::string name = scene->mMeshes[index]->mName.C_Str();
   return name.empty() ? "mesh-" + std::to_string(index) : name;

@@ -222,16 +222,19 @@ void add_instances(const aiNode& node, std::vector<std::pair<const aiNode*, unsi
   for (unsigned c = 0; c < node.mNumChildren; ++c) add_instances(*node.mChildren[c], out);
 }
 
-// A skinned mesh (`index`) that nodes other than `first` place too is drawn by each where its skin
-// puts it, the same place: those nodes lose it, and the triangles it would have added are counted
-// as repeated (`at`: where its skin puts its first vertex).
-RepeatedTriangles read_once(const aiScene& scene, unsigned index, const aiNode* first, const Eigen::Vector3d& at) {
+using Instances = std::vector<std::pair<const aiNode*, unsigned>>;
+
+// A skinned mesh (`index`) that nodes other than `first` place too (`instances`: the scene's) is
+// drawn by each where its skin puts it, the same place: those nodes lose it, and the triangles it
+// would have added are counted as repeated (`at`: where its skin puts its first vertex).
+RepeatedTriangles read_once(const aiScene& scene, const Instances& instances, unsigned index, const aiNode* first,
+                            const Eigen::Vector3d& at) {
   size_t triangles = 0;
   const aiMesh& mesh = *scene.mMeshes[index];
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) triangles += std::max(mesh.mFaces[f].mNumIndices, 2u) - 2;
   RepeatedTriangles out;
   out.first_at = at;
-  for (const auto& [placing, i] : mesh_instances(*scene.mRootNode)) {
+  for (const auto& [placing, i] : instances) {
     if (i != index || placing == first) continue;
     aiNode& node = *const_cast<aiNode*>(placing);  // the scene is ours to change
     node.mNumMeshes = unsigned(std::remove(node.mMeshes, node.mMeshes + node.mNumMeshes, index) - node.mMeshes);
@@ -264,8 +267,10 @@ Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
 RepeatedTriangles place_skinned_by_skin(aiScene* scene) {
   RepeatedTriangles repeated;
   const std::map<const aiNode*, Eigen::Matrix4d> global = node_globals(*scene->mRootNode);
+  // (read_once takes a mesh from nodes, which leaves every other mesh's instances as they are.)
+  const Instances instances = mesh_instances(*scene->mRootNode);
   std::map<unsigned, const aiNode*> placed_by;  // the first node that places each mesh
-  for (const auto& [node, index] : mesh_instances(*scene->mRootNode)) placed_by.emplace(index, node);
+  for (const auto& [node, index] : instances) placed_by.emplace(index, node);
   for (const auto& [index, node] : placed_by) {
     aiMesh& mesh = *scene->mMeshes[index];
     const Eigen::Matrix4d& g = global.at(node);
@@ -301,7 +306,7 @@ RepeatedTriangles place_skinned_by_skin(aiScene* scene) {
       box.extend(sum[v]);
     }
     if (!finite) continue;
-    repeated.add(read_once(*scene, index, node, mesh.mNumVertices ? sum[0] : Eigen::Vector3d::Zero()));
+    repeated.add(read_once(*scene, instances, index, node, mesh.mNumVertices ? sum[0] : Eigen::Vector3d::Zero()));
     if (!(apart > 1e-6 * box.diagonal().norm())) continue;
     const Eigen::Matrix4d back = g.inverse();
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
