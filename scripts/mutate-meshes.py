@@ -70,7 +70,8 @@ def seeds(build, data, out):
             ("dae", collada(verts, faces)),
             ("obj", prism_obj(12, 1)),
             ("obj", prism_obj(7, 3)),
-            ("obj", doubled_faces(prism_obj(12, 1)))]
+            ("obj", doubled_faces(prism_obj(12, 1))),
+            ("stl", stl_binary(verts, faces + [tuple(reversed(f)) for f in faces]))]  # given both ways
 
 
 def mutate(data, rng):

@@ -391,6 +391,203 @@ TEST(MeshLoad, RepeatedTrianglesDroppedAsBruteForceDoes) {
   }
 }
 
+// A closed part given both ways (a double-sided export: each face also in the other turn) enclosed
+// nothing: its two sides cancel, so the winding number is 0 within it ("encloses no volume: its
+// triangles face inward", for the car so given). Its outer side is kept, whichever side comes
+// first in the file; a wall two touching parts share and an open sheet's two sides are kept.
+TEST(MeshLoad, ClosedPartGivenBothWaysKeepsItsOuterSide) {
+  const std::string dir = test::temp_dir("double-sided");
+  const TriMesh cube = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  const auto flipped = [](const Eigen::Vector3i& f) { return Eigen::Vector3i(f[2], f[1], f[0]); };
+  // Both sides: the inner one first for every other face, and on vertices of its own.
+  const auto both_ways = [&](const TriMesh& part, double scale) {
+    TriMesh out = part;
+    for (Eigen::Vector3d& v : out.vertices) v *= scale;
+    const int n = int(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), out.vertices.begin(), out.vertices.end());
+    out.triangles.clear();
+    for (size_t t = 0; t < part.triangles.size(); ++t) {
+      const Eigen::Vector3i& f = part.triangles[t];
+      const Eigen::Vector3i inner = flipped(f) + Eigen::Vector3i::Constant(n);
+      if (t % 2) out.triangles.push_back(inner), out.triangles.push_back(f);
+      else out.triangles.push_back(f), out.triangles.push_back(inner);
+    }
+    return out;
+  };
+  const auto welded = [](TriMesh m) {  // as the loader welds
+    std::vector<Eigen::Vector3d> at;
+    const std::vector<int> weld = weld_by_position(m.vertices, at);
+    for (Eigen::Vector3i& f : m.triangles) f = Eigen::Vector3i(weld[size_t(f[0])], weld[size_t(f[1])], weld[size_t(f[2])]);
+    m.vertices = at;
+    return m;
+  };
+  write_file_atomic(dir + "/cube.obj", to_obj(cube));
+  write_file_atomic(dir + "/rest.obj", to_obj(both_ways(cube, 1)));
+  write_file_atomic(dir + "/pose.obj", to_obj(both_ways(cube, 2)));
+  const LoadedMesh single = load_mesh(dir + "/cube.obj"), rest = load_mesh(dir + "/rest.obj");
+  EXPECT_EQ(single.repeated.inner_sides, 0u);
+  EXPECT_EQ(rest.mesh.vertices, single.mesh.vertices);
+  EXPECT_EQ(rest.mesh.triangles, single.mesh.triangles);
+  EXPECT_TRUE(find_defects(rest.mesh).watertight());
+  EXPECT_GT(signed_volume(rest.mesh), 0.99);
+  EXPECT_EQ(rest.repeated.inner_sides, 12u);
+  EXPECT_EQ(rest.repeated.double_sided_parts, 1u);
+  EXPECT_EQ(rest.repeated.count, 0u);
+  const TriMesh pose = load_pose(dir + "/pose.obj", rest);
+  EXPECT_EQ(pose.triangles, rest.mesh.triangles);
+  for (size_t v = 0; v < pose.vertices.size(); ++v) EXPECT_EQ(pose.vertices[v], 2 * rest.mesh.vertices[v]) << v;
+  Log log;
+  warn_repeated(rest.repeated, "rest.obj", log);
+  ASSERT_EQ(log.warnings().size(), 1u);
+  EXPECT_EQ(log.warnings()[0], "rest.obj: 1 closed part given both ways (12 faces also in the other turn, the first at "
+                               "1, 0, 0): the two sides cancel and enclose nothing, so its inner side is dropped");
+
+  // An inside-out cube given both ways: its outer side is the copy's, the second of each pair.
+  TriMesh inside_out = cube;
+  for (Eigen::Vector3i& f : inside_out.triangles) f = flipped(f);
+  TriMesh mesh = welded(both_ways(inside_out, 1));
+  EXPECT_EQ(read_triangles_once(mesh).inner_sides, 12u);
+  EXPECT_GT(signed_volume(mesh), 0.99);
+  EXPECT_TRUE(find_defects(mesh).watertight());
+
+  // Beside a closed part given once: that part as it is, in its place among the triangles.
+  TriMesh two = cube;
+  const TriMesh far = welded(both_ways(cube, 1));
+  const int base = int(two.vertices.size());
+  for (const Eigen::Vector3d& v : far.vertices) two.vertices.push_back(v + Eigen::Vector3d(3, 0, 0));
+  for (const Eigen::Vector3i& f : far.triangles) two.triangles.push_back(f + Eigen::Vector3i::Constant(base));
+  const RepeatedTriangles dropped = drop_inner_sides(two);
+  EXPECT_EQ(dropped.inner_sides, 12u);
+  EXPECT_EQ(dropped.inner_first_at, Eigen::Vector3d(3, 0, 0) + far.vertices[size_t(far.triangles[1][0])]);
+  ASSERT_EQ(two.triangles.size(), 24u);
+  EXPECT_TRUE(std::equal(cube.triangles.begin(), cube.triangles.end(), two.triangles.begin()));
+  EXPECT_NEAR(signed_volume(two), 2.0, 1e-12);
+
+  // Left as they are: two cubes touching face to face (their shared wall is a face and its twin),
+  // a sheet's two sides, and a part with a twin missing.
+  TriMesh wall = cube;
+  const TriMesh next = test::box_mesh({1, 0, 0}, {2, 1, 1});
+  for (const Eigen::Vector3d& v : next.vertices) wall.vertices.push_back(v);
+  for (const Eigen::Vector3i& f : next.triangles) wall.triangles.push_back(f + Eigen::Vector3i::Constant(8));
+  wall = welded(wall);
+  TriMesh sheet;
+  sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0.2}};
+  sheet.triangles = {{0, 1, 2}, {0, 2, 3}, {2, 1, 0}, {3, 2, 0}};
+  TriMesh missing = welded(both_ways(cube, 1));
+  missing.triangles.pop_back();
+  for (TriMesh kept : {wall, sheet, missing}) {
+    const size_t before = kept.triangles.size();
+    EXPECT_EQ(drop_inner_sides(kept).inner_sides, 0u);
+    EXPECT_EQ(kept.triangles.size(), before);
+  }
+}
+
+// drop_inner_sides against the rule read plainly, over every choice of one triangle of each twin:
+// a part all of whose triangles have twins loses one of each where exactly one choice is a closed,
+// consistently oriented surface of positive volume. Random closed polyhedra (tetrahedra and
+// octahedra, jittered), given once or both ways in random orders and turns, some with a stray
+// triangle on one of their edges.
+TEST(MeshLoad, InnerSidesDroppedAsBruteForceDoes) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  const std::vector<Eigen::Vector3i> tetra = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const std::vector<Eigen::Vector3i> octa = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                             {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  const std::vector<Eigen::Vector3d> tetra_at = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const std::vector<Eigen::Vector3d> octa_at = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  size_t rounds_dropping = 0, rounds_keeping = 0;
+  for (int round = 0; round < 300; ++round) {
+    TriMesh mesh;
+    const int parts = 1 + round % 3;
+    for (int p = 0; p < parts; ++p) {
+      const bool is_octa = rng() % 2;
+      const auto& faces = is_octa ? octa : tetra;
+      const auto& at = is_octa ? octa_at : tetra_at;
+      const int base = int(mesh.vertices.size());
+      for (const Eigen::Vector3d& v : at)
+        mesh.vertices.push_back(v + Eigen::Vector3d(4.0 * p + jitter(rng), jitter(rng), jitter(rng)));
+      const bool inside_out = rng() % 2, doubled = rng() % 4 != 0;
+      for (const Eigen::Vector3i& f0 : faces) {
+        Eigen::Vector3i f = f0 + Eigen::Vector3i::Constant(base);
+        if (inside_out) f = Eigen::Vector3i(f[2], f[1], f[0]);
+        mesh.triangles.push_back(f);
+        if (doubled) mesh.triangles.push_back(Eigen::Vector3i(f[1], f[0], f[2]));
+      }
+      if (rng() % 5 == 0) {  // a stray triangle on the part's first edge
+        mesh.vertices.push_back(mesh.vertices[size_t(base)] + Eigen::Vector3d(0, 0, -1));
+        mesh.triangles.emplace_back(base, base + 1, int(mesh.vertices.size()) - 1);
+      }
+    }
+    std::shuffle(mesh.triangles.begin(), mesh.triangles.end(), rng);
+    // The rule, brute force: parts by shared edges, then every choice of one of each twin.
+    const size_t n = mesh.triangles.size();
+    const auto sorted = [&](size_t t) {
+      std::array<int, 3> k = {mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
+      std::sort(k.begin(), k.end());
+      return k;
+    };
+    const auto shares_edge = [&](size_t a, size_t b) {
+      int common = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) common += mesh.triangles[a][i] == mesh.triangles[b][j];
+      return common >= 2;
+    };
+    std::vector<int> part(n, -1);
+    for (size_t s = 0; s < n; ++s) {
+      if (part[s] >= 0) continue;
+      part[s] = int(s);
+      for (bool grew = true; grew;) {
+        grew = false;
+        for (size_t a = 0; a < n; ++a)
+          for (size_t b = 0; b < n; ++b)
+            if (part[a] == int(s) && part[b] < 0 && shares_edge(a, b)) part[b] = int(s), grew = true;
+      }
+    }
+    std::vector<char> drop(n, 0);
+    for (size_t s = 0; s < n; ++s) {
+      if (part[s] != int(s)) continue;
+      std::vector<std::pair<size_t, size_t>> pairs;
+      bool all_twinned = true;
+      for (size_t a = 0; a < n; ++a) {
+        if (part[a] != int(s)) continue;
+        size_t twin = n;
+        for (size_t b = 0; b < n; ++b)
+          if (b != a && sorted(b) == sorted(a)) twin = b;
+        if (twin == n) all_twinned = false;
+        else if (a < twin) pairs.emplace_back(a, twin);
+      }
+      if (!all_twinned) continue;
+      int good = 0;
+      size_t pick = 0;
+      for (size_t choice = 0; choice < (size_t(1) << pairs.size()); ++choice) {
+        std::map<std::pair<int, int>, int> runs;
+        double volume = 0;
+        for (size_t k = 0; k < pairs.size(); ++k) {
+          const Eigen::Vector3i& f = mesh.triangles[(choice >> k) & 1 ? pairs[k].second : pairs[k].first];
+          for (int c = 0; c < 3; ++c) ++runs[{f[c], f[(c + 1) % 3]}];
+          volume += mesh.vertices[size_t(f[0])].dot(mesh.vertices[size_t(f[1])].cross(mesh.vertices[size_t(f[2])])) / 6;
+        }
+        bool closed = true;
+        for (const auto& [edge, count] : runs) closed = closed && count == 1 && runs.count({edge.second, edge.first});
+        if (closed && volume > 1e-9) ++good, pick = choice;
+      }
+      ASSERT_LE(good, 1) << round;
+      if (good == 1)
+        for (size_t k = 0; k < pairs.size(); ++k) drop[(pick >> k) & 1 ? pairs[k].first : pairs[k].second] = 1;
+    }
+    std::vector<Eigen::Vector3i> expected;
+    for (size_t t = 0; t < n; ++t)
+      if (!drop[t]) expected.push_back(mesh.triangles[t]);
+    const size_t dropped = n - expected.size();
+    const RepeatedTriangles got = drop_inner_sides(mesh);
+    ASSERT_EQ(mesh.triangles, expected) << round;
+    EXPECT_EQ(got.inner_sides, dropped) << round;
+    ++(dropped > 0 ? rounds_dropping : rounds_keeping);
+  }
+  EXPECT_GT(rounds_dropping, 100u);  // both outcomes drawn often
+  EXPECT_GT(rounds_keeping, 30u);
+}
+
 // Two cubes touching face to face, each with its own 8 vertices in the file: at rest the 4 of the
 // face they share are one vertex each to the tools (welded by position). A pose that parts them
 // is refused saying so; it was "has 16 distinct vertices and 12 triangles, the rest mesh 12".

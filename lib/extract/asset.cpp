@@ -441,7 +441,7 @@ WeldedBody weld_body(const Asset& asset) {
   WeldedBody body;
   body.weld = weld_by_position(asset.rest(), body.rest.vertices);
   for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
-  body.repeated = drop_repeated_triangles(body.rest);
+  body.repeated = read_triangles_once(body.rest);
   return body;
 }
 

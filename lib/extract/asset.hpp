@@ -135,7 +135,8 @@ class Asset {
 
 // The body welded by position (as pose-extract writes it): file vertex -> welded vertex, and the
 // rest's triangles on welded vertices, those that repeat another's read once (`repeated`: two
-// instances of a skinned mesh, which its skin puts in one place, or faces doubled).
+// instances of a skinned mesh, which its skin puts in one place, or faces doubled; and a closed
+// part given both ways, its inner side dropped).
 struct WeldedBody {
   std::vector<int> weld;
   TriMesh rest;

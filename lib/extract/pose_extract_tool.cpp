@@ -434,7 +434,8 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
   report["output"] = {{"folder", dir}, {"manifest", "poses.json"}, {"rest", manifest.rest},
                       {"vertices", rest.vertices.size()}, {"triangles", rest.triangles.size()},
                       {"welded", asset.vertex_count() - rest.vertices.size()},
-                      {"triangles_repeated", body.welded.repeated.count}, {"diagonal", body.diagonal},
+                      {"triangles_repeated", body.welded.repeated.count},
+                      {"inner_sides_dropped", body.welded.repeated.inner_sides}, {"diagonal", body.diagonal},
                       {"removed_from_earlier_run", removed}};
   report["poses"] = poses;
   report["opened_seams"] = opened_total;

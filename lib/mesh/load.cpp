@@ -149,7 +149,7 @@ LoadedMesh load_mesh(const std::string& path) {
   for (const auto& t : out.file_triangles)
     out.mesh.triangles.emplace_back(out.weld[t[0]], out.weld[t[1]], out.weld[t[2]]);
   out.repeated = raw.skinned_repeats;
-  out.repeated.add(drop_repeated_triangles(out.mesh));
+  out.repeated.add(read_triangles_once(out.mesh));
   return out;
 }
 
@@ -238,7 +238,7 @@ TriMesh welded_on_its_own(const RawMesh& raw, std::vector<int>& weld) {
   TriMesh own;
   weld = weld_by_position(raw.positions, own.vertices);
   for (const auto& t : raw.triangles) own.triangles.emplace_back(weld[size_t(t[0])], weld[size_t(t[1])], weld[size_t(t[2])]);
-  drop_repeated_triangles(own);  // as the rest's were
+  read_triangles_once(own);  // as the rest's were
   return own;
 }
 
@@ -338,6 +338,13 @@ void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log
 }
 
 void warn_repeated(const RepeatedTriangles& repeated, const std::string& file, Log& log) {
+  if (repeated.inner_sides > 0) {
+    const Eigen::Vector3d& at = repeated.inner_first_at;
+    log.warn(file + ": " + counted(repeated.double_sided_parts, "closed part") + " given both ways (" +
+             counted(repeated.inner_sides, "face") + " also in the other turn, the first at " + num(at.x()) + ", " +
+             num(at.y()) + ", " + num(at.z()) + "): the two sides cancel and enclose nothing, so " +
+             (repeated.double_sided_parts == 1 ? "its" : "each one's") + " inner side is dropped");
+  }
   if (repeated.count == 0) return;
   log.warn(file + ": " + counted(repeated.count, "triangle") + (repeated.count == 1 ? " repeats" : " repeat") +
            " another's corners (the first at " + num(repeated.first_at.x()) + ", " + num(repeated.first_at.y()) + ", " +

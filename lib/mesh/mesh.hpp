@@ -23,12 +23,21 @@ struct TriMesh {
 // place (a copy left where it was made in a modelling tool, a skinned mesh two nodes place), or
 // faces doubled. As a surface each is the one already there; kept, every edge of theirs would
 // meet four triangles and the body would read as not watertight (and pack worse).
+// And a closed part given both ways (each face also in the other turn: a double-sided export):
+// its two sides cancel, the winding number is 0 within it and it would enclose nothing, so its
+// inner side (the faces whose turn gives the part a negative volume) is dropped.
 struct RepeatedTriangles {
   size_t count = 0;
   Eigen::Vector3d first_at = Eigen::Vector3d::Zero();  // the first one's first corner
+  size_t inner_sides = 0;                              // triangles dropped as a part's inner side
+  size_t double_sided_parts = 0;
+  Eigen::Vector3d inner_first_at = Eigen::Vector3d::Zero();  // the first such part's first corner
   void add(const RepeatedTriangles& more) {
     if (count == 0 && more.count > 0) first_at = more.first_at;
     count += more.count;
+    if (inner_sides == 0 && more.inner_sides > 0) inner_first_at = more.inner_first_at;
+    inner_sides += more.inner_sides;
+    double_sided_parts += more.double_sided_parts;
   }
 };
 
@@ -42,7 +51,7 @@ struct LoadedMesh {
   Triangulation triangulation;                 // how its polygons were split: its poses' are split so
   FannedPolygons fanned;                       // polygons that cross themselves, split as fans
   size_t points_and_lines = 0;                 // faces of 1 or 2 corners in the file, left out
-  RepeatedTriangles repeated;                  // read once (drop_repeated_triangles)
+  RepeatedTriangles repeated;                  // read once (read_triangles_once)
   size_t file_vertex_count() const { return weld.size(); }
   // File vertices merged into another at the same position (face corners, for OBJ through
   // assimp): not the mesh's vertex count, which is mesh.vertices.size().
@@ -51,7 +60,8 @@ struct LoadedMesh {
 
 // Any format assimp reads (OBJ, PLY, STL, OFF, glTF/GLB, FBX, ...). Coincident vertices are
 // welded (seams in glTF, corners unrolled by the OBJ reader), and triangles that then repeat
-// another's corners are read once (`repeated`). Throws spx::Error naming `path`.
+// another's corners are read once, and a closed part given both ways keeps its outer side
+// (`repeated`). Throws spx::Error naming `path`.
 LoadedMesh load_mesh(const std::string& path);
 
 // A file assimp can try: it exists, is not a folder, is not empty, and has an extension assimp
@@ -75,6 +85,14 @@ std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions,
 // corners in the other turn are kept: the wall two parts touching face to face share (each part's
 // own face: dropped, the union would open there), or a sheet's two sides.
 RepeatedTriangles drop_repeated_triangles(TriMesh& mesh);
+// Removes the inner side of each closed part given both ways: a part (triangles joined by their
+// edges) each of whose triangles has its twin in the other turn, whose one side is a closed,
+// consistently oriented surface of nonzero volume. Of each twin the one facing out is kept, in
+// order. Any other part is left as it is: a wall two parts touching face to face share, or an
+// open sheet's two sides. Returns the counts in `inner_sides` and `double_sided_parts`.
+RepeatedTriangles drop_inner_sides(TriMesh& mesh);
+// Both, in that order: what the tools read once of a welded mesh.
+RepeatedTriangles read_triangles_once(TriMesh& mesh);
 
 // How far a vertex read from a mesh file may lie from the file's own: every reader (assimp's, for
 // every format) reads single precision, so up to half the spacing of floats at the mesh's largest
@@ -89,7 +107,8 @@ void check_read_rounding(const TriMesh& mesh, double voxel, const std::string& f
 // triangles the reader's split left out where it could not be mended.
 void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log);
 
-// Warns, naming `file`, of the triangles read once (RepeatedTriangles), where there were any.
+// Warns, naming `file`, of the triangles read once or dropped (RepeatedTriangles), where there
+// were any.
 void warn_repeated(const RepeatedTriangles& repeated, const std::string& file, Log& log);
 
 // Deterministic Wavefront OBJ text.

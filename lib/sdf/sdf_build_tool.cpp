@@ -83,7 +83,8 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
                     {"polygons_fanned", loaded.fanned.polygons},
                     {"triangles_left_out", loaded.fanned.left_out()},
                     {"points_and_lines_left_out", loaded.points_and_lines},
-                    {"triangles_repeated", loaded.repeated.count}};
+                    {"triangles_repeated", loaded.repeated.count},
+                    {"inner_sides_dropped", loaded.repeated.inner_sides}};
   report["grid"] = {{"voxel_size", s.voxel_size},
                     {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
                     {"origin_index", {s.origin.x(), s.origin.y(), s.origin.z()}},
