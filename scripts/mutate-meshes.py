@@ -57,6 +57,12 @@ def doubled_faces(obj):
     return obj + b"".join(line + b"\n" for line in obj.splitlines() if line.startswith(b"f "))
 
 
+def both_ways(obj):
+    """The OBJ with every face also listed in the other turn, from another corner (a double-sided export)."""
+    return obj + b"".join(b"f " + b" ".join(line.split()[:0:-1][1:] + line.split()[-1:]) + b"\n"
+                          for line in obj.splitlines() if line.startswith(b"f "))
+
+
 def seeds(build, data, out):
     subprocess.run([build + "/apps/sample-gen", "car", "-o", out + "/seeds", "-q"], check=True)
     verts, faces = read_off(data + "/static/decimated-knight.off")
@@ -71,6 +77,7 @@ def seeds(build, data, out):
             ("obj", prism_obj(12, 1)),
             ("obj", prism_obj(7, 3)),
             ("obj", doubled_faces(prism_obj(12, 1))),
+            ("obj", both_ways(prism_obj(12, 1))),
             ("stl", stl_binary(verts, faces + [tuple(reversed(f)) for f in faces]))]  # given both ways
 
 

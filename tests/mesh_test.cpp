@@ -482,6 +482,54 @@ TEST(MeshLoad, ClosedPartGivenBothWaysKeepsItsOuterSide) {
   }
 }
 
+// Polygons that repeat another's corners from another first corner, or in the other turn: split by
+// their own shape, a quad from its second corner takes the other diagonal, and the copies overlapped
+// without repeating a triangle (a 12-gon prism's faces doubled so read 799 037 voxels inside against
+// 774 284). Each is now split as the first was, so that its triangles repeat that one's.
+TEST(MeshLoad, RepeatedPolygonsAreSplitAsTheFirst) {
+  const std::string dir = test::temp_dir("repeated-polygons");
+  const int n = 12;
+  std::string vertices;
+  for (int z = 0; z < 2; ++z)
+    for (int i = 0; i < n; ++i)
+      vertices += "v " + num(std::cos(2 * M_PI * i / n)) + " " + num(std::sin(2 * M_PI * i / n)) + " " + std::to_string(z) + "\n";
+  std::vector<std::vector<int>> faces;  // 1-based, facing out
+  std::vector<int> bottom, top;
+  for (int i = 0; i < n; ++i) bottom.push_back(n - i), top.push_back(n + 1 + i);
+  faces = {bottom, top};
+  for (int i = 0; i < n; ++i) faces.push_back({i + 1, (i + 1) % n + 1, n + (i + 1) % n + 1, n + i + 1});
+  const auto obj = [&](const std::vector<std::vector<int>>& list) {
+    std::string out = vertices;
+    for (const auto& f : list) {
+      out += "f";
+      for (int c : f) out += " " + std::to_string(c);
+      out += "\n";
+    }
+    return out;
+  };
+  std::vector<std::vector<int>> doubled = faces, both = faces;
+  std::mt19937 rng(5);
+  for (auto f : faces) {
+    std::rotate(f.begin(), f.begin() + std::ptrdiff_t(1 + rng() % (f.size() - 1)), f.end());  // from another corner
+    doubled.push_back(f);
+    std::reverse(f.begin(), f.end());  // and in the other turn
+    both.push_back(f);
+  }
+  write_file_atomic(dir + "/prism.obj", obj(faces));
+  write_file_atomic(dir + "/doubled.obj", obj(doubled));
+  write_file_atomic(dir + "/both.obj", obj(both));
+  const LoadedMesh single = load_mesh(dir + "/prism.obj");
+  ASSERT_TRUE(find_defects(single.mesh).watertight());
+  for (const char* name : {"doubled", "both"}) {
+    const LoadedMesh read = load_mesh(dir + "/" + name + ".obj");
+    EXPECT_EQ(read.mesh.vertices, single.mesh.vertices) << name;
+    EXPECT_EQ(read.mesh.triangles, single.mesh.triangles) << name;
+    EXPECT_EQ(read.repeated.count + read.repeated.inner_sides, single.mesh.triangles.size()) << name;
+    const TriMesh pose = load_pose(dir + "/" + name + ".obj", read);  // its poses split so too
+    EXPECT_EQ(pose.triangles, read.mesh.triangles) << name;
+  }
+}
+
 // drop_inner_sides against the rule read plainly, over every choice of one triangle of each twin:
 // a part all of whose triangles have twins loses one of each where exactly one choice is a closed,
 // consistently oriented surface of positive volume. Random closed polyhedra (tetrahedra and

@@ -20,4 +20,12 @@ uint64_t fnv1a_values(uint64_t h, const Vector& v) {
   return fnv1a(h, v.data(), v.size() * sizeof(v[0]));
 }
 
+// A hash's bits spread (SplitMix64's finalizer): summed over a set, the sum names the set
+// whatever its order.
+inline uint64_t mix64(uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
 }  // namespace spx

@@ -8,6 +8,10 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
+#include <unordered_map>
+
+#include "core/hash.hpp"
 
 namespace spx {
 
@@ -146,6 +150,81 @@ FannedPolygons fan_unfinished(Triangulation& split, const aiScene& scene) {
   return fanned;
 }
 
+// A corner's position as the polygon's other copies give it (-0 as 0).
+std::array<float, 3> position(const aiMesh& mesh, unsigned v) {
+  const aiVector3D& p = mesh.mVertices[v];
+  return {p.x + 0.0f, p.y + 0.0f, p.z + 0.0f};
+}
+
+// Polygon q's corners on polygon p's places: to[a] is q's corner where p's corner a lies, from
+// where q repeats p's corner 0, running on (`turned` false) or back; none where q does not
+// repeat p's positions so (n corners each).
+std::optional<std::vector<uint16_t>> corners_on(const aiMesh& pm, const unsigned* p, const aiMesh& qm, const unsigned* q,
+                                               size_t n, bool turned) {
+  std::vector<uint16_t> to(n);
+  for (size_t k = 0; k < n; ++k) {
+    bool all = true;
+    for (size_t a = 0; a < n && all; ++a) {
+      to[a] = uint16_t(turned ? (k + n - a) % n : (k + a) % n);
+      all = position(pm, p[a]) == position(qm, q[to[a]]);
+    }
+    if (all) return to;
+  }
+  return std::nullopt;
+}
+
+// Each polygon that repeats an earlier one's corner positions, from another first corner or in
+// the other turn (faces doubled, a closed part given both ways), split as that one was, its
+// triangles on the same places (in the other turn: turned too). Split by its own shape, a quad
+// from its other first corner or turn takes the other diagonal, and the two overlap without
+// repeating: neither drop_repeated_triangles nor drop_inner_sides would see them. Returns how
+// many were split anew. Polygons are first told apart by a hash of their positions that no
+// rotation or turn changes (a sum), and compared corner by corner only where it is the same.
+size_t split_repeats_alike(Triangulation& split, const aiScene& scene) {
+  struct Polygon {
+    size_t mesh, index;
+    const unsigned* corners;
+    size_t n;
+  };
+  std::unordered_map<uint64_t, std::vector<Polygon>> seen;
+  seen.reserve(split.polygons.size());
+  size_t polygon = 0, resplit = 0;
+  for (size_t m = 0; m < split.faces.meshes.size(); ++m) {
+    const FaceLists::Mesh& lists = split.faces.meshes[m];
+    const aiMesh& mesh = *scene.mMeshes[m];
+    for (size_t f = 0; f + 1 < lists.start.size(); ++f) {
+      const size_t n = lists.start[f + 1] - lists.start[f];
+      if (n <= 3) continue;
+      const Polygon q{m, polygon++, lists.corners.data() + lists.start[f], n};
+      uint64_t key = n;
+      for (size_t k = 0; k < n; ++k) {
+        const std::array<float, 3> at = position(mesh, q.corners[k]);
+        key += mix64(fnv1a(kFnvOffset, at.data(), sizeof at));
+      }
+      std::vector<Polygon>& alike = seen[key];
+      bool repeats = false;
+      for (const Polygon& p : alike) {
+        if (p.n != n) continue;
+        const aiMesh& pm = *scene.mMeshes[p.mesh];
+        for (bool turned : {false, true}) {
+          const auto to = corners_on(pm, p.corners, mesh, q.corners, n, turned);
+          if (!to) continue;
+          std::vector<std::array<uint16_t, 3>> triangles;
+          for (const std::array<uint16_t, 3>& t : split.polygons[p.index])
+            triangles.push_back(turned ? std::array<uint16_t, 3>{(*to)[t[2]], (*to)[t[1]], (*to)[t[0]]}
+                                       : std::array<uint16_t, 3>{(*to)[t[0]], (*to)[t[1]], (*to)[t[2]]});
+          if (triangles != split.polygons[q.index]) split.polygons[q.index] = std::move(triangles), ++resplit;
+          repeats = true;
+          break;
+        }
+        if (repeats) break;
+      }
+      if (!repeats) alike.push_back(q);
+    }
+  }
+  return resplit;
+}
+
 // The triangles a full split of `faces` makes, faces of up to 3 corners counted as one.
 size_t full_split_size(const FaceLists& faces) {
   size_t count = 0;
@@ -172,7 +251,8 @@ Triangulation triangulate(Assimp::Importer& importer, const FaceLists& faces, co
     return split;
   }
   fanned = fan_unfinished(split, scene);
-  if (fanned.polygons > 0) apply_split(scene, faces, split);
+  const size_t resplit = split_repeats_alike(split, scene);
+  if (fanned.polygons > 0 || resplit > 0) apply_split(scene, faces, split);
   return split;
 }
 

@@ -65,7 +65,10 @@ struct FannedPolygons {
 // aiProcess_Triangulate on `importer`'s scene, whose faces are `faces` (`path`, `what`: for its
 // errors), each polygon it left unfinished split instead as a fan from its first corner: a fan
 // uses each edge of its polygon once, as the polygon did, so the mesh stays as closed as the
-// file's. Returns the split, as triangulation_of; `fanned` says what was mended.
+// file's. Each polygon that repeats an earlier one's corner positions, from another first corner
+// or in the other turn (faces doubled, a part given both ways), is split as that one was, so that
+// its triangles repeat that one's (read once after). Returns the split, as triangulation_of;
+// `fanned` says what was mended.
 Triangulation triangulate(Assimp::Importer& importer, const FaceLists& faces, const std::string& path,
                           const std::string& what, FannedPolygons& fanned);
 
