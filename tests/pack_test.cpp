@@ -3,6 +3,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "extract/asset.hpp"
+#include "io/spheres_file.hpp"
 #include "pack/sphere_pack_tool.hpp"
 #include "sdf/sdf_build_tool.hpp"
 #include "mesh/union_distance.hpp"
@@ -80,6 +81,31 @@ TEST(Pack, LimitsAreHonoured) {
   finer.max_spheres = 0;
   finer.min_radius = 0.06;
   EXPECT_GT(pack_mesh(mesh, 80, finer).spheres.size(), r.spheres.size());
+}
+
+// The default method honours --min-radius and --max-radius too, after its centres move off the
+// grid: on the knight (sharp tips, where a centre moved toward the surface shrinks) the tolerance
+// run at 0.005 had chosen spheres down to 0.00044 (the candidates were all 0.005 or more).
+TEST(Pack, CoverHonoursTheRadiusLimits) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string dir = test::temp_dir("cover-limits");
+  const std::string mesh = test::shared_data() + "/static/decimated-knight.off";
+  json sdf_report;
+  sdf_build_files(mesh, dir + "/knight.vdb", {}, Log::silent(), sdf_report);
+  for (size_t budget : {size_t(0), size_t(40)}) {
+    SpherePackOptions opt;
+    opt.pack.min_radius = 0.005;
+    opt.pack.max_radius = 0.05;
+    opt.pack.max_spheres = budget;
+    json report;
+    sphere_pack_files(dir + "/knight.vdb", mesh, dir + "/knight.spheres.json", opt, {}, Log::silent(), report);
+    const SphereSet spheres = read_spheres_file(dir + "/knight.spheres.json").spheres;
+    ASSERT_FALSE(spheres.empty());
+    for (const Sphere& s : spheres) {
+      EXPECT_GE(s.radius, 0.005) << "budget " << budget;
+      EXPECT_LE(s.radius, 0.05) << "budget " << budget;
+    }
+  }
 }
 
 TEST(Pack, CentersAreDeepestFirstAndNotInsideEarlierSpheres) {

@@ -145,11 +145,13 @@ void cover_every_vertex(const SurfaceSamples& samples, size_t vertices,
 void refine_selected(const DenseField& field, const MeshQuery& mesh, const SpherePackOptions& opt,
                      const CoverProblem& problem, const CoverProblem& every, CoverSelection& out, Log& log) {
   StageTimer t(log, "refine");
-  const double max_radius = opt.pack.max_radius;
+  const double max_radius = opt.pack.max_radius, min_radius = opt.pack.min_radius;
   // Budget mode's first aim is the max: the refinement does not trade it for the total.
   const bool budget = out.limited_by == Limit::budget || out.limited_by == Limit::budget_over_tolerance;
+  // No move to where the sphere would be smaller than --min-radius (0: not given) allows.
   const auto radius_at = [&](const Eigen::Vector3d& c) {
-    return mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0;
+    const double r = mesh.inside(c) ? std::min(max_radius, mesh.distance(c)) : 0.0;
+    return r >= min_radius ? r : 0.0;
   };
   const double step = 0.5 * field.shape.voxel_size;
   refine_off_grid(every.samples[0], every.weighted[0], out.spheres, radius_at, out.cover.delta, step, log, budget);
