@@ -20,6 +20,12 @@ uint64_t fnv1a_values(uint64_t h, const Vector& v) {
   return fnv1a(h, v.data(), v.size() * sizeof(v[0]));
 }
 
+// A hash table's hash of a small plain key (an array of corner indices): its bytes.
+struct BytesHash {
+  template <class Key>
+  size_t operator()(const Key& k) const { return size_t(fnv1a(kFnvOffset, &k, sizeof k)); }
+};
+
 // A hash's bits spread (SplitMix64's finalizer): summed over a set, the sum names the set
 // whatever its order.
 inline uint64_t mix64(uint64_t x) {

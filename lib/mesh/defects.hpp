@@ -1,6 +1,8 @@
 #pragma once
 // What is wrong with a mesh, as the sdf-build report names it.
 #include <nlohmann/json.hpp>
+
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,11 @@ MeshDefects find_defects(const TriMesh& mesh);
 
 // The volume enclosed, by the divergence theorem: negative when the mesh is inside out.
 double signed_volume(const TriMesh& mesh);
+// A signed volume that is rounding alone for a body `extent` across (its box's longest side):
+// sides that cancel (faces given both ways) or a flat body.
+inline bool negligible_volume(double volume, double extent) {
+  return !(std::abs(volume) > 1e-12 * extent * extent * extent);
+}
 
 // Triangles with (near) zero area: repeated indices or collinear corners.
 bool is_degenerate(const TriMesh& mesh, int triangle, double diagonal);

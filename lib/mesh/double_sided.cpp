@@ -6,20 +6,17 @@
 
 #include "core/hash.hpp"
 #include "mesh/components.hpp"
+#include "mesh/defects.hpp"
 #include "mesh/mesh.hpp"
 
 namespace spx {
 namespace {
 
-struct SortedHash {
-  size_t operator()(const std::array<int, 3>& k) const { return size_t(fnv1a(kFnvOffset, k.data(), sizeof k)); }
-};
-
 // Each triangle's twin (the same corners in the other turn), -1 where it has none. Triangles with
 // a repeated corner have none.
 std::vector<int> twins_of(const TriMesh& mesh) {
   std::vector<int> twin(mesh.triangles.size(), -1);
-  std::unordered_map<std::array<int, 3>, int, SortedHash> first;
+  std::unordered_map<std::array<int, 3>, int, BytesHash> first;
   first.reserve(mesh.triangles.size());
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Eigen::Vector3i& f = mesh.triangles[t];
@@ -35,16 +32,16 @@ std::vector<int> twins_of(const TriMesh& mesh) {
 
 // Which of each twin faces out, for the parts whose every triangle has a twin and whose one side
 // is a closed surface, oriented consistently: `keep` per triangle (1 kept, 0 dropped, -1 not such
-// a part), and in `found` how many such parts. A part's side is grown from its first triangle across its edges, each neighbour taken
-// in the turn that runs their shared edge the other way.
+// a part), and in `found` how many such parts. A part's side is grown from its first triangle
+// across its edges, each neighbour taken in the turn that runs their shared edge the other way.
 std::vector<int> outer_sides(const TriMesh& mesh, const std::vector<int>& twin, size_t& found) {
   const std::vector<EdgeUse> uses = sorted_edge_uses(mesh);
   const Components parts = components_of(mesh.triangles.size(), uses);
   std::vector<char> fit(parts.count, 1);  // every triangle twinned, every edge between two twins
   for (size_t t = 0; t < twin.size(); ++t)
     if (twin[t] < 0) fit[size_t(parts.of_triangle[t])] = 0;
-  // Across each edge of a fit part's side: a triangle and the one taken with it.
-  std::vector<std::array<int, 2>> with;
+  // Across each edge of a fit part's side: the triangles taken with each.
+  std::vector<std::vector<int>> next(mesh.triangles.size());
   for (size_t k = 0; k < uses.size();) {
     size_t end = k;
     while (end < uses.size() && uses[end].lo == uses[k].lo && uses[end].hi == uses[k].hi) ++end;
@@ -55,12 +52,10 @@ std::vector<int> outer_sides(const TriMesh& mesh, const std::vector<int>& twin, 
       for (size_t a = k; a < end; ++a)
         for (size_t b = k; b < end; ++b)
           if (uses[b].tri != uses[a].tri && uses[b].tri != twin[size_t(uses[a].tri)] && uses[a].forward != uses[b].forward)
-            with.push_back({uses[a].tri, uses[b].tri});
+            next[size_t(uses[a].tri)].push_back(uses[b].tri);
     }
     k = end;
   }
-  std::vector<std::vector<int>> next(mesh.triangles.size());
-  for (const auto& [a, b] : with) next[size_t(a)].push_back(b);
   std::vector<int> keep(mesh.triangles.size(), -1);
   std::vector<char> seeded(parts.count, 0);
   std::vector<int> stack;
@@ -99,8 +94,7 @@ std::vector<int> outer_sides(const TriMesh& mesh, const std::vector<int>& twin, 
   }
   found = 0;
   for (size_t part = 0; part < parts.count; ++part) {
-    const double extent = box[part].sizes().maxCoeff();
-    fit[part] = fit[part] && std::abs(volume[part]) > 1e-12 * extent * extent * extent;
+    fit[part] = fit[part] && !negligible_volume(volume[part], box[part].sizes().maxCoeff());
     found += fit[part] != 0;
   }
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {

@@ -153,17 +153,9 @@ LoadedMesh load_mesh(const std::string& path) {
   return out;
 }
 
-namespace {
-
-struct CornersHash {
-  size_t operator()(const std::array<int, 3>& k) const { return size_t(fnv1a(kFnvOffset, k.data(), sizeof k)); }
-};
-
-}  // namespace
-
 RepeatedTriangles drop_repeated_triangles(TriMesh& mesh) {
   RepeatedTriangles out;
-  std::unordered_set<std::array<int, 3>, CornersHash> seen;
+  std::unordered_set<std::array<int, 3>, BytesHash> seen;
   seen.reserve(mesh.triangles.size());
   size_t kept = 0;
   for (const Eigen::Vector3i& t : mesh.triangles) {

@@ -441,15 +441,16 @@ SdfResult build_sdf(const TriMesh& input, const SdfOptions& opt, Log& log, const
     if (!stats.defects.watertight()) bound_across_holes(w);
     apply_sign(w);
   }
-  const double extent = input.bounds().sizes().maxCoeff();
-  if (stats.interior_voxels == 0 && stats.defects.encloses &&
-      !(std::abs(stats.defects.signed_volume) > 1e-12 * extent * extent * extent))
-    fail_input("", "encloses no volume: each of its edges is run as often one way as the other and its signed volume "
-                   "is 0 (" + num(stats.defects.signed_volume) + "): its faces given both ways (a double-sided export), "
-                   "or flat, so the winding number is nowhere above 1/2; keep one side");
-  if (stats.interior_voxels == 0 && stats.defects.encloses && stats.defects.signed_volume < 0)
-    fail_input("", "encloses no volume: its triangles face inward (signed volume " + num(stats.defects.signed_volume) +
-                       "), so the winding number is -1 within it, and inside is where it exceeds 1/2; flip its faces");
+  if (stats.interior_voxels == 0 && stats.defects.encloses) {
+    const double volume = stats.defects.signed_volume;
+    if (negligible_volume(volume, input.bounds().sizes().maxCoeff()))
+      fail_input("", "encloses no volume: each of its edges is run as often one way as the other and its signed "
+                     "volume is 0 (" + num(volume) + "): its faces given both ways (a double-sided export), or flat, "
+                     "so the winding number is nowhere above 1/2; keep one side");
+    if (volume < 0)
+      fail_input("", "encloses no volume: its triangles face inward (signed volume " + num(volume) +
+                         "), so the winding number is -1 within it, and inside is where it exceeds 1/2; flip its faces");
+  }
   if (stats.interior_voxels == 0)
     fail_input("", "encloses no volume at this resolution (flat, open with no inside, or thinner than a voxel of " +
                        num(shape.voxel_size) + "); try a finer resolution");
