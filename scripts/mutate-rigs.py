@@ -7,7 +7,8 @@ reader goes further. This changes what a reader follows: a member of the skins, 
 clips, the meshes, the accessors and their views (an index moved by one, past its list or
 negative; a list emptied, cut, lengthened or reversed; a member dropped; a name swapped for
 another of glTF's), a channel's target named by a KHR_animation_pointer (its own, another
-object's, a malformed one), a node given a second parent or made its own ancestor, or a value in the data
+object's, a malformed one), a node given a second parent or made its own ancestor, a mesh placed
+again by a node of its own (without a skin, with the same or another, or a skin past the list), or a value in the data
 an accessor holds (a joint index, a weight, a position, a matrix, a key time or a key's value set
 to NaN, an infinity, 0, a huge number). The file stays a well-formed GLB; what assimp and the tools
 make of it is the test. Seeds: RiggedSimple and the rigged elephant from the shared data, and the
@@ -141,6 +142,17 @@ def change_tree(doc, rng):
     return "node %d given child %d" % (a, b)
 
 
+def change_placement(doc, rng):
+    """A mesh placed again by a node of its own: with no skin, the same skin or another."""
+    node = {"mesh": rng.randrange(len(doc["meshes"])), "translation": [rng.choice([0, 3]), 0, 0]}
+    skins = len(doc.get("skins", []))
+    if skins and rng.random() < 0.6:
+        node["skin"] = rng.randrange(skins + 1)
+    doc["nodes"].append(node)
+    doc["scenes"][doc.get("scene", 0)]["nodes"].append(len(doc["nodes"]) - 1)
+    return "mesh %d placed again by a node %s" % (node["mesh"], "with skin %d" % node["skin"] if "skin" in node else "without a skin")
+
+
 def change_to_pointer(doc, rng):
     """A channel's target named by KHR_animation_pointer: its own node and path, or a pointer the
     tools must pass over or refuse (another object's property, a node past the list, a malformed
@@ -165,7 +177,8 @@ def mutate(doc, data, rng):
         try:  # a change before may have left the document so that this one cannot be made
             said.append(change_value(doc, data, rng) if kind < 0.45 else
                         change_member(doc, rng) if kind < 0.9 else
-                        change_to_pointer(doc, rng) if kind < 0.95 else change_tree(doc, rng))
+                        change_to_pointer(doc, rng) if kind < 0.95 else
+                        change_tree(doc, rng) if kind < 0.975 else change_placement(doc, rng))
         except (KeyError, IndexError, TypeError, ValueError, AttributeError):
             pass
     return [s for s in said if s]

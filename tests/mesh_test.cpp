@@ -929,6 +929,113 @@ TEST(MeshLoad, SkinnedMeshIsPlacedByItsSkinAsPoseExtractsRest) {
   }
 }
 
+// glTF skins a node, not a mesh: RiggedSimple's skinned mesh placed again by a node without a
+// skin, 3 along x, is drawn there as stored, unmoved by the clip, and by a node of another skin
+// where that skin puts it. assimp gave the shared mesh the
+// skin's bones, so the copy read where the skin puts the body and was dropped as a repeat ("a part
+// placed twice in one place"): 188 triangles where glTF draws 376.
+TEST(MeshLoad, SkinnedMeshIsDrawnByEachNodesOwnSkinOrNone) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string original = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
+  GltfFile file = read_gltf_file(original);
+  file.doc["nodes"].push_back({{"name", "rigid"}, {"mesh", 0}, {"translation", {3, 0, 0}}});
+  file.doc["scenes"][0]["nodes"].push_back(file.doc["nodes"].size() - 1);
+  const std::string path = test::temp_dir("unskinned-node") + "/rigid.glb";
+  write_file_atomic(path, encode_glb(file));
+  const LoadedMesh single = load_mesh(original), both = load_mesh(path);
+  EXPECT_EQ(both.repeated.count, 0u);
+  ASSERT_EQ(both.mesh.triangles.size(), 2 * single.mesh.triangles.size());
+  // The skinned copy where it was; the rigid one at the stored positions moved 3 along x.
+  const json& positions = file.doc["accessors"][file.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<size_t>()];
+  const Eigen::Vector3d shift(3, 0, 0);
+  const Eigen::AlignedBox3d stored(Eigen::Vector3d(positions["min"][0], positions["min"][1], positions["min"][2]) + shift,
+                                   Eigen::Vector3d(positions["max"][0], positions["max"][1], positions["max"][2]) + shift);
+  const double size = single.mesh.bounds().diagonal().norm();
+  auto nearest = [](const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& in) {
+    double d = INFINITY;
+    for (const Eigen::Vector3d& q : in) d = std::min(d, (p - q).norm());
+    return d;
+  };
+  Eigen::AlignedBox3d rigid;
+  size_t skinned = 0;
+  for (const Eigen::Vector3d& v : both.mesh.vertices)
+    if (nearest(v, single.mesh.vertices) < 1e-6 * size) ++skinned;
+    else rigid.extend(v);
+  EXPECT_EQ(skinned, single.mesh.vertices.size());
+  EXPECT_LT((rigid.min() - stored.min()).norm(), 1e-5 * size) << rigid.min().transpose();
+  EXPECT_LT((rigid.max() - stored.max()).norm(), 1e-5 * size) << rigid.max().transpose();
+  // pose-extract reads the same body, and its clip moves the skinned copy but not the rigid one.
+  const Asset asset(path, "");
+  const WeldedBody body = weld_body(asset);
+  EXPECT_EQ(body.repeated.count, 0u);
+  ASSERT_EQ(body.rest.vertices.size(), both.mesh.vertices.size());
+  for (const Eigen::Vector3d& v : both.mesh.vertices) ASSERT_LT(nearest(v, body.rest.vertices), 1e-6 * size) << v.transpose();
+  const std::vector<Eigen::Vector3d> rest = asset.rest(), bent = asset.at_time(0, asset.clips()[0].end / 2);
+  size_t moved = 0, kept = 0;
+  for (size_t v = 0; v < rest.size(); ++v) {
+    const bool in_rigid = nearest(rest[v], single.mesh.vertices) > 1e-6 * size;
+    if (in_rigid) kept += (bent[v] - rest[v]).norm() < 1e-9 * size;
+    else moved += (bent[v] - rest[v]).norm() > 1e-3 * size;
+  }
+  EXPECT_EQ(kept, asset.vertex_count() / 2);
+  EXPECT_GT(moved, 0u);
+
+  // A second skeleton, the first's joints copied 5 along x and not animated, skins the mesh again
+  // (a crowd): each copy where its own skin puts it. assimp's mesh took the last skin's bones, so
+  // only the copy 5 away was read, and the animated body was lost.
+  file = read_gltf_file(original);
+  json& nodes = file.doc["nodes"];
+  const size_t at = nodes.size();
+  ASSERT_EQ(file.doc["skins"][0]["joints"], json::array({2, 3}));
+  nodes.push_back(nodes[4]);
+  nodes[at]["translation"] = {5, 0, 0};
+  nodes[at]["children"] = {at + 1};
+  nodes.push_back(nodes[2]);
+  nodes[at + 1]["children"] = {at + 2};
+  nodes.push_back(nodes[3]);
+  json skin = file.doc["skins"][0];
+  skin["joints"] = {at + 1, at + 2};
+  skin["skeleton"] = at + 1;
+  file.doc["skins"].push_back(skin);
+  nodes.push_back({{"name", "second"}, {"mesh", 0}, {"skin", 1}});
+  nodes[0]["children"].push_back(at);
+  nodes[0]["children"].push_back(at + 3);
+  const std::string crowd = test::temp_dir("unskinned-node") + "/crowd.glb";
+  write_file_atomic(crowd, encode_glb(file));
+  const LoadedMesh two = load_mesh(crowd);
+  EXPECT_EQ(two.repeated.count, 0u);
+  ASSERT_EQ(two.mesh.triangles.size(), 2 * single.mesh.triangles.size());
+  const Asset crowd_asset(crowd, "");
+  const std::vector<Eigen::Vector3d> two_rest = crowd_asset.rest(), two_bent = crowd_asset.at_time(0, crowd_asset.clips()[0].end / 2);
+  const std::vector<Eigen::Vector3d> one_rest = Asset(original, "").rest();
+  ASSERT_EQ(two_rest.size(), 2 * one_rest.size());
+  for (size_t v = 0; v < one_rest.size(); ++v) {
+    const Eigen::Vector3d& second = two_rest[one_rest.size() + v];
+    EXPECT_LT((two_rest[v] - one_rest[v]).norm(), 1e-9 * size) << "vertex " << v;
+    EXPECT_LT((second - one_rest[v] - Eigen::Vector3d(5, 0, 0)).norm(), 1e-6 * size) << "vertex " << v;
+    EXPECT_LT((two_bent[one_rest.size() + v] - second).norm(), 1e-9 * size) << "vertex " << v << ": its skeleton is still";
+    EXPECT_LT(nearest(second, two.mesh.vertices), 1e-6 * size) << "vertex " << v;
+  }
+}
+
+// Each skin (or none) after the first that places a mesh draws its own copy; nodes of one skin
+// share it, and a mesh one skin alone places is left as it is.
+TEST(MeshLoad, MeshesAreSplitBySkin) {
+  GltfFile file;
+  file.doc = {{"nodes", {{{"mesh", 0}, {"skin", 0}}, {{"mesh", 0}}, {{"mesh", 0}, {"skin", 1}}, {{"mesh", 0}, {"skin", 0}},
+                         {{"mesh", 0}}, {{"mesh", 1}}, {{"mesh", 1}}, {{"children", {0}}}}},
+              {"meshes", {{{"name", "body"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}, {{"name", "prop"}}}}};
+  EXPECT_EQ(meshes_split_by_skin(file), 2u);
+  const json& nodes = file.doc["nodes"];
+  const std::vector<int> want{0, 2, 3, 0, 2, 1, 1};
+  for (size_t n = 0; n < want.size(); ++n) EXPECT_EQ(nodes[n]["mesh"], want[n]) << "node " << n;
+  EXPECT_FALSE(nodes[7].contains("mesh"));
+  ASSERT_EQ(file.doc["meshes"].size(), 4u);
+  EXPECT_EQ(file.doc["meshes"][2], file.doc["meshes"][0]);
+  EXPECT_EQ(file.doc["meshes"][3], file.doc["meshes"][0]);
+  EXPECT_EQ(meshes_split_by_skin(file), 0u) << "split already";
+}
+
 // A mesh instanced by EXT_mesh_gpu_instancing (gltfpack -mi): each instance where renderers draw
 // it, in the node's frame (the node moved by 10 along x). A unit cube three times: as it is; scaled
 // 2 along x, turned a quarter about z (a rotation of normalized shorts) and moved 3 along x;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -371,6 +372,30 @@ size_t instances_as_nodes(GltfFile& file, const std::string& path) {
                                 [](const json& node) { return extension_of(node, kInstancing) != nullptr; });
   if (expanded > 0 && !left) drop_extension(doc, kInstancing);
   return expanded;
+}
+
+size_t meshes_split_by_skin(GltfFile& file) {
+  json& doc = file.doc;
+  if (!doc.contains("nodes") || !doc["nodes"].is_array() || !doc.contains("meshes") || !doc["meshes"].is_array()) return 0;
+  json& meshes = doc["meshes"];
+  const size_t given = meshes.size();
+  // Per mesh, the mesh each skin (-1: none) draws: the first skin met keeps the given one.
+  std::vector<std::map<int64_t, size_t>> drawn(given);
+  size_t copies = 0;
+  for (json& node : doc["nodes"]) {
+    if (!node.is_object() || !node.contains("mesh") || !is_index(node["mesh"])) continue;
+    const size_t mesh = size_t(node["mesh"].get<int64_t>());
+    if (mesh >= given) continue;
+    const int64_t skin = node.contains("skin") && is_index(node["skin"]) ? node["skin"].get<int64_t>() : -1;
+    auto [it, first_of_skin] = drawn[mesh].emplace(skin, mesh);
+    if (first_of_skin && drawn[mesh].size() > 1) {
+      it->second = meshes.size();
+      meshes.push_back(json(meshes[mesh]));  // the same accessors, its own bones (or none)
+      ++copies;
+    }
+    node["mesh"] = it->second;
+  }
+  return copies;
 }
 
 }  // namespace spx
