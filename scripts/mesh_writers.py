@@ -10,6 +10,21 @@ def ply_ascii(verts, faces):
     return (head + body).encode()
 
 
+def ply_strips(verts, faces, binary):
+    """The triangles as strips of one each, restarted by -1 (a run of strips, as scanners write them)."""
+    indices = []
+    for f in faces:
+        indices += ([-1] if indices else []) + list(f)
+    head = ("ply\nformat %s 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+            "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+            % ("binary_little_endian" if binary else "ascii", len(verts)))
+    if binary:
+        body = b"".join(struct.pack("<3f", *v) for v in verts) + struct.pack("<%di" % (len(indices) + 1), len(indices), *indices)
+    else:
+        body = ("".join("%g %g %g\n" % v for v in verts) + " ".join(map(str, [len(indices)] + indices)) + "\n").encode()
+    return head.encode() + body
+
+
 def stl_binary(verts, faces):
     out = bytearray(80) + struct.pack("<I", len(faces))
     for f in faces:

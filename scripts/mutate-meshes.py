@@ -5,7 +5,7 @@ The libFuzzer targets (scripts/fuzz.sh) reach the project's own readers in proce
 what assimp makes of a damaged file and what the tools then do with it, the way a user meets it:
 a download cut short, a byte flipped, a number run into the next. Seeds: the car sample (OBJ and
 its morph-target GLB, made by sample-gen), the knight (OFF) and a binary PLY from the shared data,
-ASCII PLY, both STLs and a COLLADA file written from the knight, and OBJ prisms of polygons (a
+ASCII PLY, PLY triangle strips (ASCII and binary), both STLs and a COLLADA file written from the knight, and OBJ prisms of polygons (a
 12-gon's and a heptagram's, whose ends cross themselves, with quads around). Each run mutates one seed
 (bytes changed, inserted, deleted or copied, a number swapped for an extreme one, the file cut
 short), writes it and runs `sdf-build IN -o OUT --resolution 32 --threads 1 -q` under a time and
@@ -22,7 +22,7 @@ import subprocess
 import sys
 
 import mutation_runs
-from mesh_writers import collada, ply_ascii, stl_ascii, stl_binary
+from mesh_writers import collada, ply_ascii, ply_strips, stl_ascii, stl_binary
 
 EXTREMES = [b"0", b"-1", b"2147483648", b"4294967295", b"1e39", b"nan", b"inf", b"99999999999"]
 TOKENS = [b"-", b"e", b"9", b".", b" ", b"\n", b"/", b"f ", b"v ", b"3 "]
@@ -71,6 +71,8 @@ def seeds(build, data, out):
             ("off", open(data + "/static/decimated-knight.off", "rb").read()),
             ("ply", open(data + "/broken/cube_with_fold.ply", "rb").read()),
             ("ply", ply_ascii(verts, faces)),
+            ("ply", ply_strips(verts, faces, False)),
+            ("ply", ply_strips(verts, faces, True)),
             ("stl", stl_binary(verts, faces)),
             ("stl", stl_ascii(verts, faces)),
             ("dae", collada(verts, faces)),

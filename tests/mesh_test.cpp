@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -1135,6 +1137,155 @@ TEST(MeshLoad, ReadsEveryListedFormat) {
   EXPECT_TRUE(find_defects(load_mesh(test::shared_data() + "/rigged-simple/RiggedSimple.glb").mesh).watertight());
 }
 
+namespace {
+
+// A mesh's triangles as strips: each paired with a neighbour across its second edge where one is
+// left (a, b, c then d, as (a, b, c) and (c, b, d)), else alone.
+std::vector<std::vector<int64_t>> as_strips(const TriMesh& mesh) {
+  std::map<std::pair<int, int>, size_t> by_edge;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) by_edge[{mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3]}] = t;
+  std::vector<bool> used(mesh.triangles.size(), false);
+  std::vector<std::vector<int64_t>> strips;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (used[t]) continue;
+    used[t] = true;
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    std::vector<int64_t> strip{f[0], f[1], f[2]};
+    for (int k = 0; k < 3 && strip.size() == 3; ++k) {
+      const int a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
+      const auto n = by_edge.find({c, b});
+      if (n == by_edge.end() || used[n->second]) continue;
+      used[n->second] = true;
+      const Eigen::Vector3i& g = mesh.triangles[n->second];
+      strip = {a, b, c, g[0] + g[1] + g[2] - b - c};
+    }
+    strips.push_back(strip);
+  }
+  return strips;
+}
+
+// Sorted triangles by their corners' positions, each from its least corner (its turn kept).
+std::vector<std::array<double, 9>> triangles_by_position(const TriMesh& mesh) {
+  std::vector<std::array<double, 9>> out;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    std::array<std::array<double, 3>, 3> c;
+    for (int k = 0; k < 3; ++k) c[size_t(k)] = {mesh.vertices[size_t(t[k])].x(), mesh.vertices[size_t(t[k])].y(), mesh.vertices[size_t(t[k])].z()};
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    out.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+// assimp 5.2 read a PLY's triangle strips as one triangle per strip element: a sphere of 2 208
+// triangles in strips read as 1 (the ASCII file here), refused as enclosing no volume. Its strips are now read as the
+// triangles they stand for, the same as the sphere's faces: ASCII with -1 restarting the strip in
+// one element, binary (little-endian) joined by repeated corners in one run, binary big-endian
+// with one element per strip in uint indices (the restart 4294967295 between two of them).
+TEST(MeshLoad, PlyTriangleStripsReadAsTheirTriangles) {
+  TriMesh sphere = test::uv_sphere(1024.0, 24, 48);
+  for (Eigen::Vector3d& v : sphere.vertices) v = v.array().round();  // whole numbers: every reader reads them exactly
+  const std::vector<std::vector<int64_t>> strips = as_strips(sphere);
+  ASSERT_LT(strips.size(), sphere.triangles.size() * 3 / 4) << "mostly pairs";
+  const std::string dir = test::temp_dir("ply-strips");
+  std::string head = "ply\nformat FORMAT 1.0\ncomment strips\nelement vertex " + std::to_string(sphere.vertices.size()) +
+                     "\nproperty float x\nproperty float y\nproperty float z\n";
+  auto exact = [](const Eigen::Vector3d& v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.0f %.0f %.0f", v.x(), v.y(), v.z());
+    return std::string(text);
+  };
+  auto with_format = [&](const std::string& format) { return std::string(head).replace(head.find("FORMAT"), 6, format); };
+  auto bytes = [](auto value, bool big) {
+    std::string b(sizeof(value), '\0');
+    std::memcpy(b.data(), &value, sizeof(value));
+    if (big) std::reverse(b.begin(), b.end());
+    return b;
+  };
+  // ASCII: one element, the strips restarted by -1.
+  std::string ascii = with_format("ascii") + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  for (const Eigen::Vector3d& v : sphere.vertices) ascii += exact(v) + "\n";
+  std::vector<int64_t> restarted;
+  for (const auto& s : strips) {
+    if (!restarted.empty()) restarted.push_back(-1);
+    restarted.insert(restarted.end(), s.begin(), s.end());
+  }
+  ascii += std::to_string(restarted.size());
+  for (int64_t i : restarted) ascii += " " + std::to_string(i);
+  write_file_atomic(dir + "/ascii.ply", ascii + "\n");
+  // Binary: one run, the strips joined by repeated corners (one more where the next would start odd).
+  std::vector<int64_t> run;
+  for (const auto& s : strips) {
+    if (!run.empty()) {
+      const int64_t last = run.back();
+      run.push_back(last);
+      if (run.size() % 2 == 0) run.push_back(last);
+      run.push_back(s[0]);
+    }
+    run.insert(run.end(), s.begin(), s.end());
+  }
+  for (const bool big : {false, true}) {
+    std::string bin = with_format(big ? "binary_big_endian" : "binary_little_endian");
+    bin += big ? "element tristrips " + std::to_string(strips.size() - 1) + "\nproperty list uchar uint vertex_indices\n"
+               : "element tristrips 1\nproperty list int int vertex_indices\n";
+    bin += "end_header\n";
+    for (const Eigen::Vector3d& v : sphere.vertices)
+      for (int k = 0; k < 3; ++k) bin += bytes(float(v[k]), big);
+    if (!big) {
+      bin += bytes(int32_t(run.size()), false);
+      for (int64_t i : run) bin += bytes(int32_t(i), false);
+    } else {
+      for (size_t s = 0; s + 1 < strips.size(); ++s) {
+        std::vector<int64_t> one = strips[s];
+        if (s == 0) {  // the last strip after a restart in the first element
+          one.push_back(-1);
+          one.insert(one.end(), strips.back().begin(), strips.back().end());
+        }
+        bin += char(one.size());
+        for (int64_t i : one) bin += bytes(i < 0 ? uint32_t(0xFFFFFFFF) : uint32_t(i), true);
+      }
+    }
+    write_file_atomic(dir + (big ? "/big.ply" : "/little.ply"), bin);
+  }
+  std::string faces = with_format("ascii") + "element face " + std::to_string(sphere.triangles.size()) +
+                      "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const Eigen::Vector3d& v : sphere.vertices) faces += exact(v) + "\n";
+  for (const Eigen::Vector3i& t : sphere.triangles) faces += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  write_file_atomic(dir + "/faces.ply", faces);
+  const LoadedMesh given = load_mesh(dir + "/faces.ply");
+  ASSERT_EQ(given.mesh.triangles.size(), sphere.triangles.size());
+  for (const char* name : {"/ascii.ply", "/little.ply", "/big.ply"}) {
+    const LoadedMesh m = load_mesh(dir + name);
+    EXPECT_EQ(m.mesh.triangles.size(), sphere.triangles.size()) << name;
+    const auto read = triangles_by_position(m.mesh), want = triangles_by_position(given.mesh);
+    std::vector<std::array<double, 9>> missing;
+    std::set_difference(want.begin(), want.end(), read.begin(), read.end(), std::back_inserter(missing));
+    EXPECT_TRUE(missing.empty()) << name << ": " << missing.size() << " of the faces' triangles not read, the first from "
+                                 << missing[0][0] << ", " << missing[0][1] << ", " << missing[0][2];
+  }
+  // Exit 2 naming the file: a strip past the vertices; strips beside faces.
+  std::string past = ascii;
+  past.replace(past.rfind(' '), std::string::npos, " 99999\n");
+  write_file_atomic(dir + "/past.ply", past);
+  std::string both = ascii;
+  both.replace(both.find("element tristrips"), 0, "element face 0\nproperty list uchar int vertex_indices\n");
+  write_file_atomic(dir + "/both.ply", both);
+  for (const auto& [name, says] : {std::pair<std::string, std::string>{"/past.ply", "triangle strip 1 names vertex 99999 (counted from 0), past its "},
+                                   {"/both.ply", "holds both faces and triangle strips"}}) {
+    try {
+      load_mesh(dir + name);
+      ADD_FAILURE() << name << " read";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::bad_input) << name;
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(name.substr(1)), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(MeshLoad, BadFilesGiveClassifiedErrors) {
   const std::string dir = test::temp_dir("bad");
   auto code_of = [](const std::string& path) {
@@ -1353,6 +1504,59 @@ TEST(MeshLoad, PlyDataCutShortOrDamagedIsAnError) {
   EXPECT_NE(error_of(ascii(damaged)).find("line 14 (vertex 2 of 8, '1 0 0,5 200'): '0,5' is not a number"),
             std::string::npos)
       << error_of(ascii(damaged));
+  // A byte of no UTF-8 character (a flipped bit) is quoted as '?', so the line stays text (it was
+  // written as it came, which a terminal shows as a broken character); a whole character stays.
+  damaged = lines;
+  damaged[1] = "1 0\xF2.5 \xC3\xA9";
+  EXPECT_NE(error_of(ascii(damaged)).find("(vertex 2 of 8, '1 0?.5 \xC3\xA9'): '0?.5' is not a number"), std::string::npos)
+      << error_of(ascii(damaged));
+}
+
+// Quoted words stay one line of UTF-8 text, as a brute-force reading of UTF-8's rules (RFC 3629)
+// keeps them, over every one- and two-byte string and random longer ones.
+TEST(MeshLoad, QuotedWordsStayUtf8Text) {
+  // Whether bytes [i, i + n) are one character: the code point decoded and checked in full.
+  auto character = [](const std::string& s, size_t i, size_t n) {
+    if (i + n > s.size()) return false;
+    const unsigned c = static_cast<unsigned char>(s[i]);
+    unsigned cp = n == 1 ? c : n == 2 ? c & 0x1F : n == 3 ? c & 0x0F : c & 0x07;
+    if (n == 1) return c < 0x80;
+    if ((c & (0xFF << (7 - n))) != ((0xFF << (8 - n)) & 0xFF)) return false;
+    for (size_t k = 1; k < n; ++k) {
+      const unsigned b = static_cast<unsigned char>(s[i + k]);
+      if ((b & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (b & 0x3F);
+    }
+    const unsigned least[] = {0, 0, 0x80, 0x800, 0x10000};
+    return cp >= least[n] && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
+  };
+  auto expected = [&](const std::string& s) {
+    std::string out = s;
+    for (size_t i = 0; i < s.size();) {
+      size_t n = 1;
+      while (n <= 4 && !character(s, i, n)) ++n;
+      const unsigned c = static_cast<unsigned char>(s[i]);
+      if (n > 4 || c < 0x20 || c == 0x7f) {
+        out[i++] = '?';
+        continue;
+      }
+      i += n;
+    }
+    return out;
+  };
+  std::vector<std::string> cases;
+  for (int a = 0; a < 256; ++a)
+    for (int b = 0; b < 256; ++b) cases.push_back({char(a), char(b)});
+  std::mt19937 rng(7);
+  const std::string pieces[] = {"a", "\xC3\xA9", "\xE2\x82\xAC", "\xF0\x9F\x98\x80", "\xED\xA0\x80", "\xC0\xAF", "\xF4\x90\x80\x80", "\xE0\x80\x80",
+                                "\x80", "\xFF", "\xE2\x82", "\xF0\x9F", "\n"};
+  for (int r = 0; r < 20000; ++r) {
+    std::string s;
+    for (int k = int(rng() % 6); k >= 0; --k) s += pieces[rng() % std::size(pieces)];
+    cases.push_back(s);
+  }
+  for (const std::string& s : cases) ASSERT_EQ(one_line(s), expected(s)) << "bytes of '" << s << "'";
+  EXPECT_EQ(one_line("caf\xC3\xA9 au lait", 4), "caf?...") << "a character cut";
 }
 
 // assimp's OBJ reader skips a vertex line it cannot count (two numbers, seven, ".5"), and every

@@ -22,12 +22,26 @@ inline std::string padded(const std::string& text, size_t width) {
   return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
 }
 
-// Words from a file quoted in a message, which stays one line: a control character shown as '?',
-// and past `most` characters cut, with "...".
+// Words from a file quoted in a message, which stays one line of text: a control character, and
+// a byte of no UTF-8 character (a damaged file's, or a character cut at `most`), shown as '?';
+// past `most` bytes cut, with "...".
 inline std::string one_line(std::string_view words, size_t most = std::string_view::npos) {
   std::string out(words.substr(0, most));
-  for (char& c : out)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  for (size_t i = 0; i < out.size();) {
+    const auto byte = [&](size_t k) { return k < out.size() ? static_cast<unsigned char>(out[k]) : 0u; };
+    const unsigned c = byte(i);
+    // The character's length, and the range its second byte must fall in (no overlong form, no
+    // surrogate, nothing past U+10FFFF); 0 where `c` starts none.
+    const size_t n = c < 0x80 ? 1 : c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+    const unsigned low = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80, high = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
+    bool whole = n > 0 && (n == 1 || (byte(i + 1) >= low && byte(i + 1) <= high));
+    for (size_t k = 2; whole && k < n; ++k) whole = byte(i + k) >= 0x80 && byte(i + k) <= 0xBF;
+    if (!whole || c < 0x20 || c == 0x7f) {
+      out[i++] = '?';
+      continue;
+    }
+    i += n;
+  }
   return words.size() > most ? out + "..." : out;
 }
 

@@ -20,6 +20,7 @@
 #include "mesh/file_checks.hpp"
 #include "mesh/gltf_check.hpp"
 #include "mesh/gltf_input.hpp"
+#include "mesh/ply_strips.hpp"
 
 namespace spx {
 namespace {
@@ -107,6 +108,12 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
       fail_reading(path, what, importer.GetErrorString());
     }
   }
+  if (ext == ".ply")
+    if (const std::optional<std::string> faces = ply_strips_as_faces(path)) {
+      const aiScene* scene = importer.ReadFileFromMemory(faces->data(), faces->size(), 0, "ply");
+      if (scene && scene->mRootNode) return scene;
+      fail_reading(path, what, importer.GetErrorString());
+    }
   const aiScene* scene = importer.ReadFile(path, 0);
   if (scene && scene->mRootNode) return scene;
   const std::string error = importer.GetErrorString();

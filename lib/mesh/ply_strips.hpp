@@ -1,0 +1,21 @@
+#pragma once
+// assimp 5.2 reads a PLY's triangle strips (an element "tristrips", each instance a list of vertex
+// indices in which -1 restarts the strip, as Stanford's scans and older exporters write them) as
+// one triangle per instance: a body of thousands of triangles in one strip read as one triangle,
+// refused as flat ("encloses no volume"). Here such a file is given to assimp as the same PLY with
+// the strips written out as triangles, so that assimp reads it as it reads faces.
+#include <optional>
+#include <string>
+
+namespace spx {
+
+// The PLY at `path` with its "tristrips" element replaced by an element "face" of the strips'
+// triangles (in the same format, ASCII or binary of either byte order; every other element
+// copied as it is), or nullopt where the file has no triangle strips. Triangle k of a strip is
+// (a, b, c) for its three indices in turn, (b, a, c) where k is odd (its turn kept); a triangle
+// with a repeated corner (a strip's stitch) is left out. Exit 2 naming `path` where the strips
+// cannot be followed: an index past the vertices or below -1, data cut short, strips beside an
+// element "face" of its own.
+std::optional<std::string> ply_strips_as_faces(const std::string& path);
+
+}  // namespace spx
