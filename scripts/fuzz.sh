@@ -21,7 +21,7 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
   -o "$out/json_readers"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/gltf_meshopt.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_check.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
   "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -lmeshoptimizer -o "$out/gltf_container"
-"$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/mesh/collada_check.cpp" "$root/lib/core/file_kind.cpp" \
+"$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/ply_strips.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/mesh/collada_check.cpp" "$root/lib/core/file_kind.cpp" \
   -o "$out/mesh_text"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
@@ -51,12 +51,12 @@ doc['buffers'][0]['uri'] = 'data:application/octet-stream;base64,' + base64.b64e
 json.dump(doc, open(sys.argv[2], 'w'))
 " "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/barrel.gltf"
 # Meshes: the barrel's rest mesh as its OBJ, an OFF, an ASCII PLY, a binary PLY (with a list of
-# floats), a binary STL and a COLLADA file.
+# floats), its triangles as PLY strips (ASCII and binary), a binary STL and a COLLADA file.
 cp "$out/seeds/barrel/rest.obj" "$out/corpus-mesh/barrel.obj"
 python3 -c "
 import struct, sys
 sys.path.insert(0, sys.argv[3])
-from mesh_writers import collada
+from mesh_writers import collada, ply_strips
 v, f = [], []
 for line in open(sys.argv[1]):
     w = line.split()
@@ -78,6 +78,8 @@ with open(out + '/barrel-binary.ply', 'wb') as o:
     o.write(b''.join(struct.pack('<3f', *p) for p in v))
     o.write(b''.join(struct.pack('<B%diB2f' % len(t), len(t), *t, 2, 0.5, 0.5) for t in f))
 tris = [(t[0], t[k], t[k + 1]) for t in f for k in range(1, len(t) - 1)]
+for binary, name in ((False, 'barrel-strips.ply'), (True, 'barrel-strips-binary.ply')):
+    open(out + '/' + name, 'wb').write(ply_strips([tuple(p) for p in v], tris, binary))
 with open(out + '/barrel.stl', 'wb') as o:
     o.write(b'solid barrel'.ljust(80, b'\\0') + struct.pack('<I', len(tris)))
     o.write(b''.join(struct.pack('<12fH', 0, 0, 0, *v[a], *v[b], *v[c], 0) for a, b, c in tris))

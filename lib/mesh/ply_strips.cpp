@@ -225,6 +225,11 @@ std::optional<std::string> ply_strips_as_faces(const std::string& path) {
   std::string text(size_t(std::max<std::streamoff>(in.tellg(), 0)), '\0');
   in.seekg(0);
   in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  return ply_text_strips_as_faces(path, text);
+}
+
+std::optional<std::string> ply_text_strips_as_faces(const std::string& path, const std::string& text) {
   // Strips that cannot be followed are an error: assimp reads them wrong even where it can.
   const bool named = text.compare(0, 3, "ply") == 0 && text.find("\nelement tristrips ") < text.find("end_header");
   std::string problem;

@@ -18,4 +18,7 @@ namespace spx {
 // element "face" of its own.
 std::optional<std::string> ply_strips_as_faces(const std::string& path);
 
+// The same on a file's bytes (what a fuzzer drives); `path` names it in errors.
+std::optional<std::string> ply_text_strips_as_faces(const std::string& path, const std::string& text);
+
 }  // namespace spx
