@@ -1184,7 +1184,8 @@ std::vector<std::array<double, 9>> triangles_by_position(const TriMesh& mesh) {
 // triangles in strips read as 1 (the ASCII file here), refused as enclosing no volume. Its strips are now read as the
 // triangles they stand for, the same as the sphere's faces: ASCII with -1 restarting the strip in
 // one element, binary (little-endian) joined by repeated corners in one run, binary big-endian
-// with one element per strip in uint indices (the restart 4294967295 between two of them).
+// with one element per strip in uint indices (the restart 4294967295 between two of them). Its
+// faces given before its vertices, which PLY allows and assimp refused, are read too.
 TEST(MeshLoad, PlyTriangleStripsReadAsTheirTriangles) {
   TriMesh sphere = test::uv_sphere(1024.0, 24, 48);
   for (Eigen::Vector3d& v : sphere.vertices) v = v.array().round();  // whole numbers: every reader reads them exactly
@@ -1257,7 +1258,14 @@ TEST(MeshLoad, PlyTriangleStripsReadAsTheirTriangles) {
   write_file_atomic(dir + "/faces.ply", faces);
   const LoadedMesh given = load_mesh(dir + "/faces.ply");
   ASSERT_EQ(given.mesh.triangles.size(), sphere.triangles.size());
-  for (const char* name : {"/ascii.ply", "/little.ply", "/big.ply"}) {
+  // The faces before the vertices, which PLY allows (assimp refused them): a comment between.
+  const size_t element_face = faces.find("element face"), vertex_lines = faces.find("end_header\n") + 11;
+  const size_t face_lines = vertex_lines + faces.substr(vertex_lines).find("\n3 ") + 1;
+  std::string faces_first = faces.substr(0, faces.find("element vertex")) + faces.substr(element_face, faces.find("end_header") - element_face);
+  faces_first += "comment the vertices next\n" + faces.substr(faces.find("element vertex"), element_face - faces.find("element vertex"));
+  faces_first += "end_header\n" + faces.substr(face_lines) + faces.substr(vertex_lines, face_lines - vertex_lines);
+  write_file_atomic(dir + "/faces-first.ply", faces_first);
+  for (const char* name : {"/ascii.ply", "/little.ply", "/big.ply", "/faces-first.ply"}) {
     const LoadedMesh m = load_mesh(dir + name);
     EXPECT_EQ(m.mesh.triangles.size(), sphere.triangles.size()) << name;
     const auto read = triangles_by_position(m.mesh), want = triangles_by_position(given.mesh);

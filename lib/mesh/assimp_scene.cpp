@@ -20,7 +20,7 @@
 #include "mesh/file_checks.hpp"
 #include "mesh/gltf_check.hpp"
 #include "mesh/gltf_input.hpp"
-#include "mesh/ply_strips.hpp"
+#include "mesh/ply_input.hpp"
 
 namespace spx {
 namespace {
@@ -109,8 +109,8 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
     }
   }
   if (ext == ".ply")
-    if (const std::optional<std::string> faces = ply_strips_as_faces(path)) {
-      const aiScene* scene = importer.ReadFileFromMemory(faces->data(), faces->size(), 0, "ply");
+    if (const std::optional<std::string> readable = ply_for_assimp(path)) {
+      const aiScene* scene = importer.ReadFileFromMemory(readable->data(), readable->size(), 0, "ply");
       if (scene && scene->mRootNode) return scene;
       fail_reading(path, what, importer.GetErrorString());
     }

@@ -1,4 +1,4 @@
-#include "mesh/ply_strips.hpp"
+#include "mesh/ply_input.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -212,56 +212,23 @@ void add_strip_triangles(const std::vector<int64_t>& strip, bool ascii, bool big
   }
 }
 
-}  // namespace
-
-std::optional<std::string> ply_strips_as_faces(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(65536, '\0');
-  in.read(head.data(), std::streamsize(head.size()));
-  head.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
-  if (head.find("tristrips") == std::string::npos) return std::nullopt;  // the header comes first
-  in.clear();
-  in.seekg(0, std::ios::end);
-  std::string text(size_t(std::max<std::streamoff>(in.tellg(), 0)), '\0');
-  in.seekg(0);
-  in.read(text.data(), std::streamsize(text.size()));
-  text.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
-  return ply_text_strips_as_faces(path, text);
-}
-
-std::optional<std::string> ply_text_strips_as_faces(const std::string& path, const std::string& text) {
-  // Strips that cannot be followed are an error: assimp reads them wrong even where it can.
-  const bool named = text.compare(0, 3, "ply") == 0 && text.find("\nelement tristrips ") < text.find("end_header");
-  std::string problem;
-  const std::optional<Header> h = read_header(text, problem);
-  if (!h) {
-    if (named) fail_input(path, problem + ", so its triangle strips cannot be read");
-    return std::nullopt;
-  }
-  const bool ascii = h->format == "ascii", big = h->format == "binary_big_endian";
+// The elements' data as assimp is to read it: each element's instances copied as they are, the
+// strips' written out as faces (`triangles[i]` counts those of element i).
+std::vector<std::string> data_for_assimp(const std::string& path, const std::string& text, const Header& h,
+                                         const std::string& cannot, std::vector<size_t>& triangles) {
+  const bool ascii = h.format == "ascii", big = h.format == "binary_big_endian";
   size_t vertices = 0;
-  bool strips = false, faces = false;
-  for (const Element& e : h->elements) {
+  for (const Element& e : h.elements)
     if (e.name == "vertex") vertices = e.count;
-    strips = strips || e.name == "tristrips";
-    faces = faces || e.name == "face";
-  }
-  if (!strips) return std::nullopt;
-  if (!ascii && !big && h->format != "binary_little_endian")
-    fail_input(path, "its PLY format '" + one_line(h->format, 40) + "' is none of ascii, binary_little_endian and "
-                     "binary_big_endian, so its triangle strips cannot be read");
-  if (faces)
-    fail_input(path, "holds both faces and triangle strips (elements 'face' and 'tristrips'), which assimp cannot read "
-                     "together: write one of them");
-  DataWalk walk(path, text, *h);
-  std::vector<std::string> data(h->elements.size());
-  std::vector<size_t> triangles(h->elements.size(), 0);
+  DataWalk walk(path, text, h);
+  std::vector<std::string> data(h.elements.size());
+  triangles.assign(h.elements.size(), 0);
   std::vector<int64_t> strip;
-  for (size_t i = 0; i < h->elements.size(); ++i) {
-    const Element& e = h->elements[i];
+  for (size_t i = 0; i < h.elements.size(); ++i) {
+    const Element& e = h.elements[i];
     const bool is_strips = e.name == "tristrips";
     if (e.properties.empty() && e.count > 0)
-      fail_input(path, "its PLY element '" + one_line(e.name, 40) + "' has no properties, so its triangle strips cannot be read");
+      fail_input(path, "its PLY element '" + one_line(e.name, 40) + "' has no properties, so " + cannot);
     for (size_t k = 0; k < e.count; ++k) {
       strip.clear();
       const auto [begin, end] = walk.instance(e, k, is_strips ? &strip : nullptr);
@@ -277,18 +244,69 @@ std::optional<std::string> ply_text_strips_as_faces(const std::string& path, con
       add_strip_triangles(strip, ascii, big, data[i], triangles[i]);
     }
   }
+  return data;
+}
+
+}  // namespace
+
+std::optional<std::string> ply_for_assimp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  // The header comes first: only a file whose header may need it is read whole.
+  if (head.find("tristrips") == std::string::npos && head.find("element face") > head.find("element vertex")) return std::nullopt;
+  in.clear();
+  in.seekg(0, std::ios::end);
+  std::string text(size_t(std::max<std::streamoff>(in.tellg(), 0)), '\0');
+  in.seekg(0);
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  return ply_text_for_assimp(path, text);
+}
+
+std::optional<std::string> ply_text_for_assimp(const std::string& path, const std::string& text) {
+  // Strips that cannot be followed are an error: assimp reads them wrong even where it can.
+  const bool named = text.compare(0, 3, "ply") == 0 && text.find("\nelement tristrips ") < text.find("end_header");
+  std::string problem;
+  const std::optional<Header> h = read_header(text, problem);
+  if (!h) {
+    if (named) fail_input(path, problem + ", so its triangle strips cannot be read");
+    return std::nullopt;
+  }
+  size_t vertex = SIZE_MAX, face = SIZE_MAX, strips = SIZE_MAX;
+  for (size_t i = h->elements.size(); i-- > 0;) {  // each the first of its name
+    const std::string& name = h->elements[i].name;
+    if (name == "vertex") vertex = i;
+    if (name == "face") face = i;
+    if (name == "tristrips") strips = i;
+  }
+  const bool faces_first = face < vertex && vertex != SIZE_MAX;
+  if (strips == SIZE_MAX && !faces_first) return std::nullopt;
+  const std::string cannot = strips != SIZE_MAX ? "its triangle strips cannot be read" : "its faces, given before its vertices, cannot be read";
+  if (h->format != "ascii" && h->format != "binary_little_endian" && h->format != "binary_big_endian")
+    fail_input(path, "its PLY format '" + one_line(h->format, 40) + "' is none of ascii, binary_little_endian and "
+                     "binary_big_endian, so " + cannot);
+  if (strips != SIZE_MAX && face != SIZE_MAX)
+    fail_input(path, "holds both faces and triangle strips (elements 'face' and 'tristrips'), which assimp cannot read "
+                     "together: write one of them");
+  std::vector<size_t> triangles;
+  const std::vector<std::string> data = data_for_assimp(path, text, *h, cannot, triangles);
+  // The vertices first (assimp refuses faces before them), the rest in the file's order.
+  std::vector<size_t> order;
+  if (vertex != SIZE_MAX) order.push_back(vertex);
+  for (size_t i = 0; i < h->elements.size(); ++i)
+    if (i != vertex) order.push_back(i);
   std::string out;
   for (const std::string& line : h->lines) out += line + "\n";
-  for (size_t i = 0; i < h->elements.size(); ++i) {
-    const Element& e = h->elements[i];
-    if (e.name != "tristrips") {
-      for (const std::string& line : e.lines) out += line + "\n";
-      continue;
-    }
-    out += "element face " + std::to_string(triangles[i]) + "\nproperty list uchar int vertex_indices\n";
+  for (size_t i : order) {
+    if (h->elements[i].name == "tristrips")
+      out += "element face " + std::to_string(triangles[i]) + "\nproperty list uchar int vertex_indices\n";
+    else
+      for (const std::string& line : h->elements[i].lines) out += line + "\n";
   }
   out += "end_header\n";
-  for (const std::string& d : data) out += d;
+  for (size_t i : order) out += data[i];
   return out;
 }
 
