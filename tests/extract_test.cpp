@@ -26,6 +26,7 @@
 #include "io/skin_file.hpp"
 #include "io/proxy_file.hpp"
 #include "mesh/defects.hpp"
+#include "mesh/gltf_accessors.hpp"
 #include "mesh/gltf_input.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/sphere_pack_tool.hpp"
@@ -305,6 +306,44 @@ TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   }
   EXPECT_LT(worst, 1e-6);
   EXPECT_GT(moved, 0.01);
+}
+
+// A morph target of normals alone (a glTF target with no POSITION, which assimp gives no
+// positions) moves no vertex: pose-extract read through a null pointer there and crashed. The
+// barrel's last target made one: its pose is the rest, the clip's time at it is the rest and
+// half-way to it is half the target before, the other targets are as they were, and pose-extract
+// says so.
+TEST(PoseExtract, MorphTargetOfNormalsAloneMovesNoVertex) {
+  const std::string dir = test::temp_dir("morph-normals");
+  json report;
+  sample_gen_files("barrel", dir, Log::silent(), report);
+  GltfFile file = read_gltf_file(dir + "/barrel-morph.glb");
+  for (json& mesh : file.doc["meshes"])
+    for (json& primitive : mesh["primitives"]) {
+      const size_t count = file.doc["accessors"][primitive["attributes"]["POSITION"].get<size_t>()]["count"];
+      primitive["targets"].back() = json{{"NORMAL", detail::add_float_accessor(file, std::vector<double>(3 * count, 0.0), "VEC3")}};
+    }
+  const std::string path = dir + "/normals.glb";
+  write_file_atomic(path, encode_glb(file));
+  const Asset given(dir + "/barrel-morph.glb", ""), normals(path, "");
+  const size_t last = normals.morph_targets().size() - 1;
+  ASSERT_GE(last, 1u);
+  const std::vector<Eigen::Vector3d> rest = normals.rest(), before = normals.morph_target(last - 1);
+  EXPECT_EQ(normals.morph_target(last), rest);
+  for (size_t k = 0; k < last; ++k) EXPECT_EQ(normals.morph_target(k), given.morph_target(k)) << k;
+  EXPECT_EQ(normals.at_time(0, double(last + 1)), rest);
+  const std::vector<Eigen::Vector3d> half = normals.at_time(0, double(last) + 0.5);
+  double worst = 0;
+  for (size_t v = 0; v < rest.size(); ++v) worst = std::max(worst, (half[v] - (rest[v] + 0.5 * (before[v] - rest[v]))).norm());
+  EXPECT_LT(worst, 1e-6);
+  PoseExtractOptions opt;
+  opt.morph_targets = true;
+  json out;
+  Log log("pose-extract", -1);  // quiet: the warnings kept, not shown
+  pose_extract_files(path, dir + "/ex", opt, log, out);
+  ASSERT_EQ(log.warnings().size(), 1u);
+  EXPECT_NE(log.warnings()[0].find("morph target '" + normals.morph_targets()[last] + "' moves no vertex"), std::string::npos)
+      << log.warnings()[0];
 }
 
 // The vertex lines of a pose file (its first line names the asset it came from).

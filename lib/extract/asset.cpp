@@ -95,6 +95,13 @@ std::string target_name(const aiMesh* mesh, unsigned k) {
   return name.empty() ? "target-" + std::to_string(k) : name;
 }
 
+// Vertex `v` of `mesh`'s morph target `k`: a target that gives no positions (a glTF target of
+// normals alone) moves no vertex.
+Eigen::Vector3d target_position(const aiMesh* mesh, size_t k, unsigned v) {
+  const aiAnimMesh* target = mesh->mAnimMeshes[k];
+  return target->mVertices && v < target->mNumVertices ? to_eigen(target->mVertices[v]) : to_eigen(mesh->mVertices[v]);
+}
+
 std::string list_names(const std::vector<std::string>& names) {
   std::string out;
   for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
@@ -330,12 +337,12 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
     std::vector<Eigen::Vector3d> p(m->mNumVertices);
     for (unsigned v = 0; v < m->mNumVertices; ++v) {
       if (alone >= 0) {
-        p[v] = to_eigen(m->mAnimMeshes[alone]->mVertices[v]);
+        p[v] = target_position(m, size_t(alone), v);
         continue;
       }
       p[v] = to_eigen(m->mVertices[v]);
       for (size_t k = 0; k < w.size(); ++k)
-        if (w[k] != 0.0) p[v] += w[k] * (to_eigen(m->mAnimMeshes[k]->mVertices[v]) - to_eigen(m->mVertices[v]));
+        if (w[k] != 0.0) p[v] += w[k] * (target_position(m, k, v) - to_eigen(m->mVertices[v]));
     }
     if (pose.placed && !inst.bone_joint.empty()) {
       for (unsigned v = 0; v < m->mNumVertices; ++v) {

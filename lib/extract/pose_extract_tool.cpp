@@ -416,10 +416,14 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
                "of each is written");
       opened_total += opened;
     }
+    const double displacement = max_displacement(pose, rest);
+    if (r.target >= 0 && displacement == 0)
+      log.warn(input + ": morph target '" + r.name + "' moves no vertex (it changes normals alone, or nothing), so "
+               "its pose is the rest");
     write_file_atomic(dir + "/" + r.file, to_obj(pose, tag + " " + r.name));
     manifest.poses.push_back({r.name, r.file, r.source});
     poses.push_back({{"name", r.name}, {"file", r.file}, {"source", r.source}, {"opened_seams", opened},
-                     {"max_displacement", max_displacement(pose, rest)}});
+                     {"max_displacement", displacement}});
   }
   if (!opt.animation.empty()) {
     const SkinFile skin = skin_of(asset, body.welded, requests);
