@@ -346,6 +346,84 @@ TEST(PoseExtract, MorphTargetOfNormalsAloneMovesNoVertex) {
       << log.warnings()[0];
 }
 
+// glTF draws a mesh at its default morph weights (the mesh's `weights`, or its node's) where a
+// clip drives none. RiggedSimple given a target that moves every vertex by d, weighted 1 by
+// default, plays its clip as RiggedSimple with d in its stored positions, and that is the clip's
+// rest (pose-extract's rest.obj); at weights zero (what morph targets are blended from) it is as
+// stored. Its node's weights [0] over the mesh's [1] play it as the original. The frames were the
+// original's: the default weights were read as zero, and a node's were not read at all.
+TEST(PoseExtract, DefaultMorphWeightsShapeTheClip) {
+  SPX_REQUIRE_SHARED_DATA();
+  const std::string original = test::shared_data() + "/rigged-simple/RiggedSimple.glb";
+  const std::string dir = test::temp_dir("default-weights");
+  const Eigen::Vector3d d(0.1, 0.05, 0.02);
+  GltfFile weighted = read_gltf_file(original), shifted = weighted;
+  const size_t given = weighted.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+  ASSERT_EQ(weighted.doc["meshes"][0]["primitives"].size(), 1u);
+  const std::vector<double> stored = detail::accessor_values(weighted, weighted.doc["accessors"][given], original);
+  std::vector<double> deltas(stored.size()), moved(stored);
+  for (size_t i = 0; i < stored.size(); ++i) {
+    deltas[i] = d[int(i % 3)];
+    moved[i] += d[int(i % 3)];
+  }
+  auto with_bounds = [](GltfFile& file, size_t accessor, const std::vector<double>& v) {
+    json lo = json::array(), hi = json::array();
+    for (size_t c = 0; c < 3; ++c) {
+      double a = INFINITY, b = -INFINITY;
+      for (size_t i = c; i < v.size(); i += 3) a = std::min(a, v[i]), b = std::max(b, v[i]);
+      lo.push_back(a);
+      hi.push_back(b);
+    }
+    file.doc["accessors"][accessor]["min"] = lo;
+    file.doc["accessors"][accessor]["max"] = hi;
+    return accessor;
+  };
+  const size_t target = with_bounds(weighted, detail::add_float_accessor(weighted, deltas, "VEC3"), deltas);
+  weighted.doc["meshes"][0]["primitives"][0]["targets"] = json::array({{{"POSITION", target}}});
+  weighted.doc["meshes"][0]["weights"] = {1.0};
+  write_file_atomic(dir + "/weighted.glb", encode_glb(weighted));
+  shifted.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] =
+      with_bounds(shifted, detail::add_float_accessor(shifted, moved, "VEC3"), moved);
+  write_file_atomic(dir + "/shifted.glb", encode_glb(shifted));
+  const size_t skinned = [&] {
+    for (size_t n = 0; n < weighted.doc["nodes"].size(); ++n)
+      if (weighted.doc["nodes"][n].contains("skin")) return n;
+    return size_t(0);
+  }();
+  weighted.doc["nodes"][skinned]["weights"] = {0.0};
+  write_file_atomic(dir + "/node-zero.glb", encode_glb(weighted));
+
+  const Asset a(dir + "/weighted.glb", ""), b(dir + "/shifted.glb", ""), plain(original, ""), zero(dir + "/node-zero.glb", "");
+  auto apart = [](const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& y) {
+    double worst = x.size() == y.size() ? 0 : INFINITY;
+    for (size_t v = 0; v < x.size() && v < y.size(); ++v) worst = std::max(worst, (x[v] - y[v]).norm());
+    return worst;
+  };
+  const std::vector<double>& frames = plain.clips()[0].frames;
+  for (size_t f = 0; f < frames.size(); ++f)
+    for (const double t : {frames[f], f + 1 < frames.size() ? (frames[f] + frames[f + 1]) / 2 : frames[f]}) {
+      EXPECT_LT(apart(a.at_time(0, t), b.at_time(0, t)), 1e-6) << "t " << t;
+      EXPECT_LT(apart(zero.at_time(0, t), plain.at_time(0, t)), 1e-9) << "t " << t;
+      EXPECT_GT(apart(a.at_time(0, t), plain.at_time(0, t)), 0.5 * d.norm()) << "t " << t;
+    }
+  EXPECT_LT(apart(a.rest(true), b.rest()), 1e-6);
+  EXPECT_EQ(a.rest(), plain.rest()) << "weights zero: as stored";
+  // pose-extract's clip rest is the shifted one's; its morph targets' rest the stored one.
+  PoseExtractOptions clip;
+  clip.animation = "0";
+  json report;
+  pose_extract_files(dir + "/weighted.glb", dir + "/a", clip, Log::silent(), report);
+  pose_extract_files(dir + "/shifted.glb", dir + "/b", clip, Log::silent(), report);
+  const TriMesh rest_a = load_mesh(dir + "/a/rest.obj").mesh, rest_b = load_mesh(dir + "/b/rest.obj").mesh;
+  EXPECT_LT(apart(rest_a.vertices, rest_b.vertices), 1e-5);
+  PoseExtractOptions morph;
+  morph.morph_targets = true;
+  pose_extract_files(dir + "/weighted.glb", dir + "/m", morph, Log::silent(), report);
+  const TriMesh rest_m = load_mesh(dir + "/m/rest.obj").mesh;
+  ASSERT_EQ(rest_m.vertices.size(), rest_a.vertices.size());
+  EXPECT_GT(apart(rest_m.vertices, rest_a.vertices), 0.5 * d.norm());
+}
+
 // The vertex lines of a pose file (its first line names the asset it came from).
 std::string vertex_lines(const std::string& obj) {
   std::string out, line;

@@ -1020,22 +1020,35 @@ TEST(MeshLoad, SkinnedMeshIsDrawnByEachNodesOwnSkinOrNone) {
   }
 }
 
-// Each skin (or none) after the first that places a mesh draws its own copy; nodes of one skin
-// share it, and a mesh one skin alone places is left as it is.
-TEST(MeshLoad, MeshesAreSplitBySkin) {
+// Each way of drawing a mesh (its skin or none, its node's weights or none) after the first draws
+// its own copy; nodes drawing it alike share one, and a mesh one way alone draws is left as it
+// is. A node's weights become its copy's.
+TEST(MeshLoad, MeshesAreSplitByNode) {
   GltfFile file;
   file.doc = {{"nodes", {{{"mesh", 0}, {"skin", 0}}, {{"mesh", 0}}, {{"mesh", 0}, {"skin", 1}}, {{"mesh", 0}, {"skin", 0}},
-                         {{"mesh", 0}}, {{"mesh", 1}}, {{"mesh", 1}}, {{"children", {0}}}}},
-              {"meshes", {{{"name", "body"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}, {{"name", "prop"}}}}};
-  EXPECT_EQ(meshes_split_by_skin(file), 2u);
+                         {{"mesh", 0}}, {{"mesh", 1}}, {{"mesh", 1}}, {{"children", {0}}},
+                         {{"mesh", 0}, {"weights", {0.5}}}, {{"mesh", 0}, {"weights", {0.5}}}, {{"mesh", 1}, {"weights", {1}}}}},
+              {"meshes", {{{"name", "body"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}}}}, {"weights", {0}}},
+                          {{"name", "prop"}}}}};
+  const json given = file.doc["meshes"];
+  EXPECT_EQ(meshes_split_by_node(file), 6u) << "4 copies, 2 given weights";
   const json& nodes = file.doc["nodes"];
-  const std::vector<int> want{0, 2, 3, 0, 2, 1, 1};
-  for (size_t n = 0; n < want.size(); ++n) EXPECT_EQ(nodes[n]["mesh"], want[n]) << "node " << n;
-  EXPECT_FALSE(nodes[7].contains("mesh"));
-  ASSERT_EQ(file.doc["meshes"].size(), 4u);
-  EXPECT_EQ(file.doc["meshes"][2], file.doc["meshes"][0]);
-  EXPECT_EQ(file.doc["meshes"][3], file.doc["meshes"][0]);
-  EXPECT_EQ(meshes_split_by_skin(file), 0u) << "split already";
+  const std::vector<int> want{0, 2, 3, 0, 2, 1, 1, -1, 4, 4, 5};
+  for (size_t n = 0; n < want.size(); ++n)
+    if (want[n] < 0) EXPECT_FALSE(nodes[n].contains("mesh"));
+    else EXPECT_EQ(nodes[n]["mesh"], want[n]) << "node " << n;
+  ASSERT_EQ(file.doc["meshes"].size(), 6u);
+  EXPECT_EQ(file.doc["meshes"][0], given[0]);
+  EXPECT_EQ(file.doc["meshes"][2], given[0]);
+  EXPECT_EQ(file.doc["meshes"][3], given[0]);
+  json weighed = given[0];
+  weighed["weights"] = {0.5};
+  EXPECT_EQ(file.doc["meshes"][4], weighed);
+  EXPECT_EQ(file.doc["meshes"][1], given[1]);
+  json prop = given[1];
+  prop["weights"] = {1};
+  EXPECT_EQ(file.doc["meshes"][5], prop);
+  EXPECT_EQ(meshes_split_by_node(file), 0u) << "split already";
 }
 
 // A mesh instanced by EXT_mesh_gpu_instancing (gltfpack -mi): each instance where renderers draw

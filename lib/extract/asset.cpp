@@ -34,6 +34,7 @@ struct Asset::Pose {
   double ticks = 0;
   int target = -1;  // a morph target at weight 1 (rest and clips: -1)
   bool placed = true;  // false: as stored, before skin and node transforms
+  bool default_weights = false;  // the meshes' default morph weights where no clip drives them (else 0)
 };
 
 namespace {
@@ -108,10 +109,12 @@ std::string list_names(const std::vector<std::string>& names) {
   return out.empty() ? "none" : out;
 }
 
-// The clip's morph weights for one mesh instance at `t`, one per anim mesh (zero when the
-// clip does not drive them).
-std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, const aiMesh* mesh, double t) {
+// The clip's morph weights for one mesh instance at `t`, one per anim mesh; where the clip does
+// not drive them, the mesh's default weights (`defaults`: what glTF draws then) or zero.
+std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, const aiMesh* mesh, double t,
+                                 bool defaults) {
   std::vector<double> w(mesh->mNumAnimMeshes, 0.0);
+  for (unsigned k = 0; defaults && k < mesh->mNumAnimMeshes; ++k) w[k] = mesh->mAnimMeshes[k]->mWeight;
   for (unsigned c = 0; clip && c < clip->mNumMorphMeshChannels; ++c) {
     const aiMeshMorphAnim* ch = clip->mMorphMeshChannels[c];
     const std::string name = ch->mName.C_Str();
@@ -325,7 +328,7 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
   std::vector<Eigen::Vector3d> out(vertex_count_);
   for (const Instance& inst : instances_) {
     const aiMesh* m = inst.mesh;
-    std::vector<double> w = clip_weights(pose.clip, inst.node, m, pose.ticks);
+    std::vector<double> w = clip_weights(pose.clip, inst.node, m, pose.ticks, pose.default_weights);
     for (size_t k = 0; k < inst.target_of.size(); ++k)
       if (pose.target >= 0) w[k] = inst.target_of[k] == size_t(pose.target) ? 1.0 : 0.0;
     // Morph targets first (glTF applies them before the skin). One target alone takes its
@@ -366,7 +369,11 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
   return out;
 }
 
-std::vector<Eigen::Vector3d> Asset::rest() const { return evaluate(Pose{}); }
+std::vector<Eigen::Vector3d> Asset::rest(bool at_default_weights) const {
+  Pose pose;
+  pose.default_weights = at_default_weights;
+  return evaluate(pose);
+}
 
 std::vector<Eigen::Vector3d> Asset::stored() const {
   Pose pose;
@@ -378,6 +385,7 @@ Asset::Pose Asset::clip_pose(size_t clip, double seconds) const {
   Pose pose;
   pose.clip = scene_->mAnimations[clip];
   pose.ticks = seconds * clips_[clip].ticks_per_second;
+  pose.default_weights = true;
   return pose;
 }
 
@@ -444,9 +452,9 @@ json Asset::inventory() const {
           {"unweighted_vertices", unweighted_}, {"polygons_fanned", fanned_.polygons}};
 }
 
-WeldedBody weld_body(const Asset& asset) {
+WeldedBody weld_body(const Asset& asset, bool at_default_weights) {
   WeldedBody body;
-  body.weld = weld_by_position(asset.rest(), body.rest.vertices);
+  body.weld = weld_by_position(asset.rest(at_default_weights), body.rest.vertices);
   for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
   body.repeated = read_triangles_once(body.rest);
   return body;

@@ -81,15 +81,17 @@ class Asset {
   const FannedPolygons& fanned() const { return fanned_; }
 
   // The bind pose: skinned meshes as stored (glTF ignores a skinned mesh's node transform),
-  // the others placed by their node; morph weights zero.
-  std::vector<Eigen::Vector3d> rest() const;
+  // the others placed by their node; morph weights zero, or with `at_default_weights` the
+  // meshes' default ones (glTF's mesh or node `weights`: what a clip that drives no weights
+  // plays, so the rest a skin deforms).
+  std::vector<Eigen::Vector3d> rest(bool at_default_weights = false) const;
   // The positions as the file stores them (no skin, no node transform, morph weights zero): what
   // the joint matrices act on.
   std::vector<Eigen::Vector3d> stored() const;
   // The rest with morph target `target` (an index into morph_targets()) at weight 1.
   std::vector<Eigen::Vector3d> morph_target(size_t target) const;
   // Clip `clip` at `seconds`: node keys interpolated (linear, rotations by slerp), morph weights
-  // the clip drives, then linear blend skinning with each joint's global transform times its
+  // the clip drives (the meshes' default ones where it drives none), then linear blend skinning with each joint's global transform times its
   // inverse bind matrix.
   std::vector<Eigen::Vector3d> at_time(size_t clip, double seconds) const;
 
@@ -136,13 +138,14 @@ class Asset {
 // The body welded by position (as pose-extract writes it): file vertex -> welded vertex, and the
 // rest's triangles on welded vertices, those that repeat another's read once (`repeated`: two
 // instances of a skinned mesh, which its skin puts in one place, or faces doubled; and a closed
-// part given both ways, its inner side dropped).
+// part given both ways, its inner side dropped). The rest at the default morph weights where
+// asked (a clip's rest), else at zero.
 struct WeldedBody {
   std::vector<int> weld;
   TriMesh rest;
   RepeatedTriangles repeated;
 };
-WeldedBody weld_body(const Asset& asset);
+WeldedBody weld_body(const Asset& asset, bool at_default_weights = false);
 // Per welded vertex its first file vertex: the one whose position (welded_pose) and weights
 // (skin.json, the page) it takes.
 std::vector<size_t> first_file_vertices(const WeldedBody& body);

@@ -226,9 +226,11 @@ struct Body {
   WeldedBody welded;
   double diagonal = 0, seam_tolerance = 0;
 };
-Body read_body(const Asset& asset, const std::string& input, Log& log) {
+// A clip's rest is at the meshes' default morph weights, as every frame of a clip that drives no
+// weights is, so the skin deforms what the clip plays; morph targets are blended from weights 0.
+Body read_body(const Asset& asset, const PoseExtractOptions& opt, const std::string& input, Log& log) {
   check_rest_not_collapsed(asset, input);
-  Body out{weld_body(asset)};
+  Body out{weld_body(asset, !opt.animation.empty())};
   out.diagonal = out.welded.rest.diagonal();
   out.seam_tolerance = 1e-7 * std::max(out.diagonal, 1e-30);
   const TriMesh& rest = out.welded.rest;
@@ -458,7 +460,7 @@ void pose_extract_files(const std::string& input, const std::string& dir, const 
     fail_option("animation", "give --morph-targets or --animation (a clip's name or index): " + input + " holds " +
                                  poses_on_offer(asset));
   report["asset"] = asset.inventory();
-  const Body body = read_body(asset, input, log);
+  const Body body = read_body(asset, opt, input, log);
   std::vector<PoseRequest> requests = opt.morph_targets ? morph_requests(asset) : clip_requests(asset, opt, log);
   if (opt.select > 0) requests = select_frames(asset, body, requests, size_t(opt.select), input, log, report);
   write_poses(asset, body, requests, opt, input, dir, log, report);

@@ -92,7 +92,7 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
     size_t changes = file->decoded_views;
     changes += draco_primitives_decoded(*file, path);
     changes += instances_as_nodes(*file, path);
-    changes += meshes_split_by_skin(*file);  // after the instances: they place meshes too
+    changes += meshes_split_by_node(*file);  // after the instances: they place meshes too
     changes += skins_given_bind_matrices(*file);
     ClipMends mends;
     changes += channels_as_assimp_reads(*file, mends.passed_over);  // before the others read the channels

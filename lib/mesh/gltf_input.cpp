@@ -374,28 +374,34 @@ size_t instances_as_nodes(GltfFile& file, const std::string& path) {
   return expanded;
 }
 
-size_t meshes_split_by_skin(GltfFile& file) {
+size_t meshes_split_by_node(GltfFile& file) {
   json& doc = file.doc;
   if (!doc.contains("nodes") || !doc["nodes"].is_array() || !doc.contains("meshes") || !doc["meshes"].is_array()) return 0;
   json& meshes = doc["meshes"];
-  const size_t given = meshes.size();
-  // Per mesh, the mesh each skin (-1: none) draws: the first skin met keeps the given one.
-  std::vector<std::map<int64_t, size_t>> drawn(given);
-  size_t copies = 0;
+  const json given = meshes;  // copies are of the file's meshes, before any takes a node's weights
+  // Per mesh, the mesh each node's way of drawing it (its skin, -1: none; its weights, "": the
+  // mesh's) draws: the first met keeps the given one.
+  std::vector<std::map<std::pair<int64_t, std::string>, size_t>> drawn(given.size());
+  size_t changes = 0;
   for (json& node : doc["nodes"]) {
     if (!node.is_object() || !node.contains("mesh") || !is_index(node["mesh"])) continue;
     const size_t mesh = size_t(node["mesh"].get<int64_t>());
-    if (mesh >= given) continue;
+    if (mesh >= given.size() || !given[mesh].is_object()) continue;
     const int64_t skin = node.contains("skin") && is_index(node["skin"]) ? node["skin"].get<int64_t>() : -1;
-    auto [it, first_of_skin] = drawn[mesh].emplace(skin, mesh);
-    if (first_of_skin && drawn[mesh].size() > 1) {
+    const bool weighed = node.contains("weights") && node["weights"].is_array();
+    auto [it, first] = drawn[mesh].emplace(std::make_pair(skin, weighed ? node["weights"].dump() : ""), mesh);
+    if (first && drawn[mesh].size() > 1) {
       it->second = meshes.size();
-      meshes.push_back(json(meshes[mesh]));  // the same accessors, its own bones (or none)
-      ++copies;
+      meshes.push_back(given[mesh]);  // the same accessors, its own bones (or none) and weights
+      ++changes;
     }
     node["mesh"] = it->second;
+    if (weighed && meshes[it->second].value("weights", json()) != node["weights"]) {
+      meshes[it->second]["weights"] = node["weights"];
+      ++changes;
+    }
   }
-  return copies;
+  return changes;
 }
 
 }  // namespace spx

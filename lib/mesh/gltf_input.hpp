@@ -3,7 +3,7 @@
 // copies the bytes of an integer accessor into floats where glTF allows integers for
 // floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
 // out wrong), fails on a Draco-compressed mesh with 32-bit indices, places a mesh instanced by a
-// node once, skins every node's copy of a mesh one node skins, turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as
+// node once, skins every node's copy of a mesh one node skins, reads no node's morph weights, turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as
 // linear ones, fails on a channel of KHR_animation_pointer, and ignores the extensions an asset
 // requires. Each function below mends one of
 // those in the document and its binary buffer, which assimp then reads from memory
@@ -43,13 +43,16 @@ size_t draco_primitives_decoded(GltfFile& file, const std::string& path);
 // extension's attributes are not as it says.
 size_t instances_as_nodes(GltfFile& file, const std::string& path);
 
-// glTF skins a node, not a mesh: one mesh placed by a skinned node and by a node without that skin
-// is drawn by each in its own way (the other node places it rigidly, or by its own skin). assimp
-// gives the mesh itself the bones, so every node drew it where the skin does, and a rigid copy
-// beside a character read as the character's triangles twice. Each skin (or none) after the first
-// that places a mesh gets a copy of it (the same primitives and accessors) to place. Returns how
-// many meshes were added (0: the file is as it was).
-size_t meshes_split_by_skin(GltfFile& file);
+// glTF skins a node, not a mesh, and a node's morph weights (`weights`) stand for its mesh's
+// default ones. One mesh placed by a skinned node and by a node without that skin is drawn by
+// each in its own way (the other node places it rigidly, or by a skin of its own). assimp gives
+// the mesh itself the bones, so every node drew it where the skin does, and a rigid copy beside
+// a character read as the character's triangles twice; and it reads no node's weights. Each way
+// of drawing a mesh (a skin or none, and the node's weights or none) after the first gets a copy
+// of it (the same primitives and accessors) to place, and a node's weights become its mesh's
+// (which assimp gives each target, `aiAnimMesh::mWeight`). Returns how many meshes were added
+// or given weights (0: the file is as it was).
+size_t meshes_split_by_node(GltfFile& file);
 
 // Rewrites as floats every integer accessor a reader takes as floating-point data: a mesh's
 // attributes but its joints (JOINTS_n) and application-specific ones ("_NAME"), its morph

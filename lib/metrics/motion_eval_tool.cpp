@@ -134,7 +134,7 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
   check_has_skin(proxy);
   const Asset asset(opt.asset, opt.mesh);
   const size_t clip = asset.find_clip(opt.animation);
-  const WeldedBody body = weld_body(asset);
+  const WeldedBody body = weld_body(asset, true);  // a clip's rest, as pose-extract writes it
   const std::vector<size_t> order_of_vertices = example_order(examples, body, opt.asset);
   const TriMesh& layout = examples.empty() ? body.rest : examples[0];
   const std::vector<size_t> order = asset.joints_named(proxy.skin.joints);
