@@ -1480,6 +1480,14 @@ TEST(PoseExtract, GltfRulesBrokenAreNamedErrors) {
        [poke_float](GltfFile& f) { poke_float(f, 9, 2, 0.5f); }},
       {"animations[0].samplers[3]: key time 1 is not a finite number",
        [poke_float](GltfFile& f) { poke_float(f, 9, 1, std::nanf("")); }},
+      // assimp dropped a short attribute or target whole, and the indices past the last triangle.
+      {"meshes[0].primitives[0].attributes.WEIGHTS_0 (accessor 4) holds 95 elements for the primitive's 96 vertices "
+       "(its POSITION's count)",
+       [](GltfFile& f) { f.doc["accessors"][4]["count"] = 95; }},
+      {"meshes[0].primitives[0].targets[0].POSITION (accessor 13) holds 2 elements for the primitive's 96 vertices",
+       [](GltfFile& f) { f.doc["meshes"][0]["primitives"][0]["targets"] = json::array({{{"POSITION", 13}}}); }},
+      {"meshes[0].primitives[0].indices (accessor 0) holds 563 indices, not a whole number of triangles (3 each)",
+       [](GltfFile& f) { f.doc["accessors"][0]["count"] = 563; }},
   };
   PoseExtractOptions clip;
   clip.animation = "0";

@@ -46,6 +46,7 @@ class Rules {
 
   void check() {
     check_tree();
+    for (size_t m = 0; m < meshes_.size(); ++m) check_mesh(m);
     for (size_t s = 0; s < skins_.size(); ++s) check_skin(s);
     for (size_t n = 0; n < nodes_.size(); ++n) check_weighted_joints(n);
     const json& clips = list_of(file_.doc, "animations");
@@ -113,6 +114,44 @@ class Rules {
       for (size_t steps = 0; up != SIZE_MAX; up = parent[up])
         if (up == n || ++steps > nodes_.size()) fail(at("nodes", n) + " is its own ancestor (its children lead back to it)");
     }
+  }
+
+  // Each primitive's attributes and its targets' hold an element for each of its vertices (its
+  // POSITION's count), and its triangles' indices whole triangles: assimp drops a shorter
+  // attribute whole (a skin's weights: the body unskinned), and the indices past the last triangle.
+  void check_mesh(size_t m) const {
+    const json& primitives = list_of(meshes_[m], "primitives");
+    for (size_t p = 0; p < primitives.size(); ++p) {
+      const std::string where = at(at("meshes", m) + ".primitives", p);
+      const auto attributes = primitives[p].is_object() ? primitives[p].find("attributes") : primitives[p].end();
+      if (attributes == primitives[p].end() || !attributes->is_object()) continue;
+      const size_t position = index(*attributes, "POSITION", accessors_.size(), where + ".attributes", "accessor");
+      if (position == SIZE_MAX) continue;
+      const size_t vertices = count_of(position, where + ".attributes.POSITION");
+      auto check_counts = [&](const json& set, const std::string& in) {
+        if (!set.is_object()) return;
+        for (const auto& [name, value] : set.items()) {
+          const size_t a = index(set, name.c_str(), accessors_.size(), in, "accessor");
+          const size_t n = count_of(a, in + "." + name);
+          if (n < vertices)
+            fail(in + "." + name + " (accessor " + std::to_string(a) + ") holds " + std::to_string(n) + " elements for the " +
+                 "primitive's " + std::to_string(vertices) + " vertices (its POSITION's count)");
+        }
+      };
+      check_counts(*attributes, where + ".attributes");
+      const json& targets = list_of(primitives[p], "targets");
+      for (size_t t = 0; t < targets.size(); ++t) check_counts(targets[t], at(where + ".targets", t));
+      const size_t indices = index(primitives[p], "indices", accessors_.size(), where, "accessor");
+      const json mode = primitives[p].value("mode", json(4));
+      if (indices == SIZE_MAX || mode != 4) continue;
+      const size_t n = count_of(indices, where + ".indices");
+      if (n % 3 != 0)
+        fail(where + ".indices (accessor " + std::to_string(indices) + ") holds " + std::to_string(n) +
+             " indices, not a whole number of triangles (3 each)");
+    }
+  }
+  size_t count_of(size_t a, const std::string& where) const {
+    return gltf_whole_number(accessor(a, where), "count", 0, path_, "an accessor");
   }
 
   void check_skin(size_t s) const {
