@@ -1488,6 +1488,11 @@ TEST(PoseExtract, GltfRulesBrokenAreNamedErrors) {
        [](GltfFile& f) { f.doc["meshes"][0]["primitives"][0]["targets"] = json::array({{{"POSITION", 13}}}); }},
       {"meshes[0].primitives[0].indices (accessor 0) holds 563 indices, not a whole number of triangles (3 each)",
        [](GltfFile& f) { f.doc["accessors"][0]["count"] = 563; }},
+      {"mesh 'Cylinder': joint 'nodes[5]' is no node of the scene's tree (a joint outside the scene the file shows)",
+       [](GltfFile& f) {
+         f.doc["nodes"].push_back(json::object());
+         f.doc["skins"][0]["joints"][1] = 5;
+       }},
   };
   PoseExtractOptions clip;
   clip.animation = "0";

@@ -200,7 +200,9 @@ void Asset::use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& pl
       for (unsigned b = 0; b < m->mNumBones; ++b) {
         const aiBone* bone = m->mBones[b];
         const aiNode* joint = scene_->mRootNode->FindNode(bone->mName);
-        if (!joint) fail_input(path_, "mesh '" + meshes_[i].name + "': joint '" + bone->mName.C_Str() + "' is not a node");
+        if (!joint)
+          fail_input(path_, "mesh '" + meshes_[i].name + "': joint '" + bone->mName.C_Str() +
+                                "' is no node of the scene's tree (a joint outside the scene the file shows)");
         inst.bone_joint.push_back(joint_of(joint, to_eigen(bone->mOffsetMatrix)));
         for (unsigned w = 0; w < bone->mNumWeights; ++w) {
           const aiVertexWeight& vw = bone->mWeights[w];
