@@ -408,6 +408,17 @@ TEST(PoseExtract, DefaultMorphWeightsShapeTheClip) {
     }
   EXPECT_LT(apart(a.rest(true), b.rest()), 1e-6);
   EXPECT_EQ(a.rest(), plain.rest()) << "weights zero: as stored";
+  // sdf-build reads the stored positions, and says the file weighs a target in by default.
+  const LoadedMesh loaded = load_mesh(dir + "/weighted.glb");
+  EXPECT_EQ(loaded.default_weights.targets, 1u);
+  EXPECT_EQ(loaded.default_weights.weight, 1.0);
+  EXPECT_EQ(load_mesh(dir + "/node-zero.glb").default_weights.targets, 0u) << "its node's weights [0] over the mesh's";
+  EXPECT_EQ(load_mesh(original).default_weights.targets, 0u);
+  Log said("sdf-build", -1);
+  warn_default_weights(loaded.default_weights, "weighted.glb", said);
+  ASSERT_EQ(said.warnings().size(), 1u);
+  EXPECT_NE(said.warnings()[0].find("weighted.glb: 1 morph target weighs in by default (the first, '"), std::string::npos)
+      << said.warnings()[0];
   // pose-extract's clip rest is the shifted one's; its morph targets' rest the stored one.
   PoseExtractOptions clip;
   clip.animation = "0";

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -31,7 +32,20 @@ struct RawMesh {
   FannedPolygons fanned;        // those assimp's split left unfinished
   size_t points_and_lines = 0;  // faces left out: no surface
   RepeatedTriangles skinned_repeats;  // a skinned mesh's other instances, read once
+  DefaultWeights default_weights;
 };
+
+DefaultWeights default_weights_of(const aiScene& scene) {
+  DefaultWeights out;
+  std::set<std::string> named;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+    for (unsigned k = 0; k < scene.mMeshes[m]->mNumAnimMeshes; ++k) {
+      const aiAnimMesh& target = *scene.mMeshes[m]->mAnimMeshes[k];
+      if (target.mWeight == 0 || !named.insert(target.mName.C_Str()).second) continue;
+      if (out.targets++ == 0) out.first = target.mName.C_Str(), out.weight = target.mWeight;
+    }
+  return out;
+}
 
 }  // namespace
 
@@ -59,11 +73,13 @@ RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   aiScene* read = const_cast<aiScene*>(read_scene(importer, path, 0, "mesh"));
   face_out_mirrored(read);
   const RepeatedTriangles skinned_repeats = place_skinned_by_skin(read);
+  const DefaultWeights weights = default_weights_of(*read);  // before the placing drops the targets
   // assimp's steps in its own order, the split apart where there are polygons, to see their faces
   // before it (a split scene's aiProcess_Triangulate does nothing).
   aiScene& placed = *const_cast<aiScene*>(post_processed(importer, aiProcess_PreTransformVertices, path, "mesh"));
   RawMesh raw;
   raw.skinned_repeats = skinned_repeats;
+  raw.default_weights = weights;
   raw.points_and_lines = points_and_lines(placed);
   if (has_polygons(placed)) {
     const FaceLists faces = face_lists(placed);
@@ -145,6 +161,7 @@ LoadedMesh load_mesh(const std::string& path) {
   out.triangulation = std::move(raw.triangulation);
   out.fanned = raw.fanned;
   out.points_and_lines = raw.points_and_lines;
+  out.default_weights = raw.default_weights;
   out.mesh.triangles.reserve(out.file_triangles.size());
   for (const auto& t : out.file_triangles)
     out.mesh.triangles.emplace_back(out.weld[t[0]], out.weld[t[1]], out.weld[t[2]]);
@@ -327,6 +344,14 @@ void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log
     log.warn(file + ": the mesh reader's split left out " + counted(fanned.left_out(), "triangle") +
              " of polygons that cross themselves, and the mesh is open there; split them into triangles in a "
              "modelling tool");
+}
+
+void warn_default_weights(const DefaultWeights& weights, const std::string& file, Log& log) {
+  if (weights.targets == 0) return;
+  log.warn(file + ": " + counted(weights.targets, "morph target") + (weights.targets == 1 ? " weighs" : " weigh") +
+           " in by default (the first, '" + weights.first + "', at " + num(weights.weight) + ") where the file is "
+           "drawn; read here at weight 0, its stored positions, as pose-extract --morph-targets' rest is (pose-extract "
+           "--animation writes its rest at those weights, as its clip plays them)");
 }
 
 void warn_repeated(const RepeatedTriangles& repeated, const std::string& file, Log& log) {

@@ -43,6 +43,14 @@ struct RepeatedTriangles {
 
 // A mesh as loaded from a file, with what the weld did, so that poses can be checked
 // against exactly the same vertex layout.
+// Morph targets a file weighs in by default (glTF's mesh or node `weights`), which a reader of
+// the stored positions leaves at 0: how many (by name), and the first with its weight.
+struct DefaultWeights {
+  size_t targets = 0;
+  std::string first;
+  double weight = 0;
+};
+
 struct LoadedMesh {
   std::string path;
   TriMesh mesh;
@@ -52,6 +60,7 @@ struct LoadedMesh {
   FannedPolygons fanned;                       // polygons that cross themselves, split as fans
   size_t points_and_lines = 0;                 // faces of 1 or 2 corners in the file, left out
   RepeatedTriangles repeated;                  // read once (read_triangles_once)
+  DefaultWeights default_weights;              // morph targets weighed in by default, read at 0
   size_t file_vertex_count() const { return weld.size(); }
   // File vertices merged into another at the same position (face corners, for OBJ through
   // assimp): not the mesh's vertex count, which is mesh.vertices.size().
@@ -110,6 +119,10 @@ void warn_fanned(const FannedPolygons& fanned, const std::string& file, Log& log
 // Warns, naming `file`, of the triangles read once or dropped (RepeatedTriangles), where there
 // were any.
 void warn_repeated(const RepeatedTriangles& repeated, const std::string& file, Log& log);
+
+// Warns, naming `file`, that its default morph weights were read as 0, where it has any
+// (sdf-build: a field of a clip's rest is built from pose-extract's rest.obj).
+void warn_default_weights(const DefaultWeights& weights, const std::string& file, Log& log);
 
 // Deterministic Wavefront OBJ text.
 std::string to_obj(const TriMesh& mesh, const std::string& comment = {});

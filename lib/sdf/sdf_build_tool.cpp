@@ -35,6 +35,7 @@ void sdf_build_files(const std::string& input, const std::string& output, const 
   check_read_rounding(loaded.mesh, voxel_size_for(loaded.mesh, options), input, log);
   warn_fanned(loaded.fanned, input, log);
   warn_repeated(loaded.repeated, input, log);
+  warn_default_weights(loaded.default_weights, input, log);
   if (loaded.points_and_lines > 0)
     log.info(input + ": " + std::to_string(loaded.points_and_lines) +
              (loaded.points_and_lines == 1 ? " point or line among its faces is" : " points and lines among its faces are") +
