@@ -480,6 +480,25 @@ TEST(PoseExtract, AnimationPointerToMorphWeightsIsTheWeightsChannel) {
                          "meshes[0] without weights of its own) move no geometry)"),
               std::string::npos)
         << error;
+    // A second node without weights of its own, 5 along x, takes the pointer's channel, and the
+    // first, with its own, stays still. (Split first, the node of its own weights keeping the
+    // mesh, the second placed a copy and the pointer reached no node.)
+    pointed.doc["nodes"].push_back({{"name", "second"}, {"mesh", 0}, {"translation", {5, 0, 0}}});
+    pointed.doc["scenes"][0]["nodes"].push_back(1);
+    write_file_atomic(dir + "/second.glb", encode_glb(pointed));
+    const Asset two(dir + "/second.glb", ""), one(dir + "/plain.glb", "");
+    const std::vector<Eigen::Vector3d> rest = one.rest();
+    for (const double t : one.clips()[0].frames) {
+      const std::vector<Eigen::Vector3d> a = two.at_time(0, t), b = one.at_time(0, t);
+      ASSERT_EQ(a.size(), 2 * b.size());
+      double still = 0, off = 0;
+      for (size_t v = 0; v < b.size(); ++v) {
+        still = std::max(still, (a[v] - rest[v]).norm());
+        off = std::max(off, (a[b.size() + v] - b[v] - Eigen::Vector3d(5, 0, 0)).norm());
+      }
+      EXPECT_EQ(still, 0.0) << "t " << t;
+      EXPECT_LT(off, 1e-9) << "t " << t;
+    }
   }
 }
 

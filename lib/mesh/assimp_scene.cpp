@@ -92,10 +92,12 @@ const aiScene* read_unprocessed(Assimp::Importer& importer, const std::string& p
     size_t changes = file->decoded_views;
     changes += draco_primitives_decoded(*file, path);
     changes += instances_as_nodes(*file, path);
-    changes += meshes_split_by_node(*file);  // after the instances: they place meshes too
     changes += skins_given_bind_matrices(*file);
     ClipMends mends;
     changes += channels_as_assimp_reads(*file, mends.passed_over);  // before the others read the channels
+    // After the instances, which place meshes too, and after a pointer to a mesh's weights has
+    // become its nodes' channels, which a node's own copy of the mesh then keeps.
+    changes += meshes_split_by_node(*file);
     changes += float_accessors(*file, path);
     changes += complete_mirrored_channels(*file, path);
     changes += step_samplers_as_held_keys(*file, path);
