@@ -478,7 +478,8 @@ TriMesh welded_pose(const WeldedBody& body, const std::vector<Eigen::Vector3d>& 
   opened = 0;
   for (size_t i = 0; i < file_positions.size(); ++i) {
     const Eigen::Vector3d& p = file_positions[i];
-    if (!p.allFinite()) fail_input(input, what + ": vertex " + std::to_string(i) + " is not finite (broken skin, keys or morph weights)");
+    if (!p.allFinite())
+      fail_input(input, what + ": vertex " + std::to_string(i) + " is not finite (broken skin, keys or morph weights)");
     const size_t v = size_t(body.weld[i]);
     if (!set[v]) {
       pose.vertices[v] = p;

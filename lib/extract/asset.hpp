@@ -91,8 +91,8 @@ class Asset {
   // The rest with morph target `target` (an index into morph_targets()) at weight 1.
   std::vector<Eigen::Vector3d> morph_target(size_t target) const;
   // Clip `clip` at `seconds`: node keys interpolated (linear, rotations by slerp), morph weights
-  // the clip drives (the meshes' default ones where it drives none), then linear blend skinning with each joint's global transform times its
-  // inverse bind matrix.
+  // the clip drives (the meshes' default ones where it drives none), then linear blend skinning
+  // with each joint's global transform times its inverse bind matrix.
   std::vector<Eigen::Vector3d> at_time(size_t clip, double seconds) const;
 
   // The body's joints, and per file vertex its (joint, weight) pairs, weights summing to 1

@@ -13,6 +13,7 @@
 #include "core/format.hpp"
 #include "mesh/collada_check.hpp"
 #include "mesh/obj_check.hpp"
+#include "mesh/ply_types.hpp"
 
 namespace spx {
 
@@ -187,18 +188,6 @@ class PlyScan : TextScan {
     std::vector<Property> properties;
   };
 
-  static int type_size(const std::string& type, bool& whole) {
-    static const char* const names[][3] = {{"char", "int8", "1"},     {"uchar", "uint8", "1"},   {"short", "int16", "2"},
-                                           {"ushort", "uint16", "2"}, {"int", "int32", "4"},     {"uint", "uint32", "4"},
-                                           {"float", "float32", "4"}, {"double", "float64", "8"}};
-    for (const auto& n : names)
-      if (type == n[0] || type == n[1]) {
-        whole = type.find("float") == std::string::npos && type != "double";
-        return n[2][0] - '0';
-      }
-    return 0;
-  }
-
   // False where the data cannot be followed (a header of words this does not know); throws where
   // the header does not end.
   bool read_header() {
@@ -228,14 +217,16 @@ class PlyScan : TextScan {
   }
   bool read_property(std::vector<Property>& properties) {
     Property p;
-    bool whole = false;
-    std::string type(next_word());
+    std::string_view type = next_word();
     if (type == "list") {
-      p.count_size = type_size(std::string(next_word()), whole);
-      if (!whole) return false;
+      const PlyType count = ply_type(next_word());
+      if (count.size == 0 || count.is_float) return false;
+      p.count_size = count.size;
       type = next_word();
     }
-    p.size = type_size(type, p.whole);
+    const PlyType value = ply_type(type);
+    p.size = value.size;
+    p.whole = !value.is_float;
     properties.push_back(p);
     return p.size > 0;
   }

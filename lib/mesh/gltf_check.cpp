@@ -134,8 +134,8 @@ class Rules {
           const size_t a = index(set, name.c_str(), accessors_.size(), in, "accessor");
           const size_t n = count_of(a, in + "." + name);
           if (n < vertices)
-            fail(in + "." + name + " (accessor " + std::to_string(a) + ") holds " + std::to_string(n) + " elements for the " +
-                 "primitive's " + std::to_string(vertices) + " vertices (its POSITION's count)");
+            fail(in + "." + name + " (accessor " + std::to_string(a) + ") holds " + std::to_string(n) +
+                 " elements for the primitive's " + std::to_string(vertices) + " vertices (its POSITION's count)");
         }
       };
       check_counts(*attributes, where + ".attributes");

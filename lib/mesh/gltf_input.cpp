@@ -376,7 +376,8 @@ size_t instances_as_nodes(GltfFile& file, const std::string& path) {
 
 size_t meshes_split_by_node(GltfFile& file) {
   json& doc = file.doc;
-  if (!doc.contains("nodes") || !doc["nodes"].is_array() || !doc.contains("meshes") || !doc["meshes"].is_array()) return 0;
+  if (!doc.contains("nodes") || !doc["nodes"].is_array() || !doc.contains("meshes") || !doc["meshes"].is_array())
+    return 0;
   json& meshes = doc["meshes"];
   const json given = meshes;  // copies are of the file's meshes, before any takes a node's weights
   // Per mesh, the mesh each node's way of drawing it (its skin, -1: none; its weights, "": the

@@ -3,11 +3,12 @@
 // copies the bytes of an integer accessor into floats where glTF allows integers for
 // floating-point data (a skin weight of 255, normalized: 1, reads as 3.6e-43 and the poses come
 // out wrong), fails on a Draco-compressed mesh with 32-bit indices, places a mesh instanced by a
-// node once, skins every node's copy of a mesh one node skins, reads no node's morph weights, turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as
-// linear ones, fails on a channel of KHR_animation_pointer, and ignores the extensions an asset
-// requires. Each function below mends one of
-// those in the document and its binary buffer, which assimp then reads from memory
-// (mesh/assimp_scene); the clips' mends are in mesh/gltf_clips.cpp, Draco's in mesh/gltf_draco.cpp.
+// node once, skins every node's copy of a mesh one node skins, reads no node's morph weights,
+// turns over a mirrored node that a clip moves, reads STEP keys and cubic splines as linear
+// ones, fails on a channel of KHR_animation_pointer, and ignores the extensions an asset
+// requires. Each function below mends one of those in the document and its binary buffer, which
+// assimp then reads from memory (mesh/assimp_scene); the clips' mends are in
+// mesh/gltf_clips.cpp, Draco's in mesh/gltf_draco.cpp.
 #include <string>
 #include <vector>
 

@@ -41,8 +41,6 @@ struct RepeatedTriangles {
   }
 };
 
-// A mesh as loaded from a file, with what the weld did, so that poses can be checked
-// against exactly the same vertex layout.
 // Morph targets a file weighs in by default (glTF's mesh or node `weights`), which a reader of
 // the stored positions leaves at 0: how many (by name), and the first with its weight.
 struct DefaultWeights {
@@ -51,6 +49,8 @@ struct DefaultWeights {
   double weight = 0;
 };
 
+// A mesh as loaded from a file, with what the weld did, so that poses can be checked
+// against exactly the same vertex layout.
 struct LoadedMesh {
   std::string path;
   TriMesh mesh;

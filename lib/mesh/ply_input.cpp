@@ -10,31 +10,14 @@
 
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "mesh/ply_types.hpp"
 
 namespace spx {
 
 namespace {
 
-struct Type {
-  int size = 0;  // bytes; 0: not a PLY type
-  bool is_signed = false, is_float = false;
-};
-
-Type type_named(const std::string& name) {
-  static const struct {
-    const char *name, *alias;
-    Type type;
-  } types[] = {{"char", "int8", {1, true, false}},     {"uchar", "uint8", {1, false, false}},
-               {"short", "int16", {2, true, false}},   {"ushort", "uint16", {2, false, false}},
-               {"int", "int32", {4, true, false}},     {"uint", "uint32", {4, false, false}},
-               {"float", "float32", {4, true, true}},  {"double", "float64", {8, true, true}}};
-  for (const auto& t : types)
-    if (name == t.name || name == t.alias) return t.type;
-  return {};
-}
-
 struct Property {
-  Type count, value;  // count.size > 0: a list
+  PlyType count, value;  // count.size > 0: a list
 };
 
 struct Element {
@@ -92,11 +75,11 @@ std::optional<Header> read_header(const std::string& text, std::string& problem)
     } else if (w[0] == "property" && !h.elements.empty()) {
       Property p;
       if (w.size() >= 5 && w[1] == "list") {
-        p.count = type_named(w[2]);
-        p.value = type_named(w[3]);
+        p.count = ply_type(w[2]);
+        p.value = ply_type(w[3]);
         if (p.count.size == 0 || p.count.is_float) return unknown("names no whole-number type for the list's count");
       } else if (w.size() >= 3) {
-        p.value = type_named(w[1]);
+        p.value = ply_type(w[1]);
       }
       if (p.value.size == 0) return unknown("names no PLY type");
       h.elements.back().lines.push_back(line);
@@ -154,7 +137,7 @@ class DataWalk {
   }
   // The next value of type `t`, as a whole number (a float's value truncated: only a list's
   // count and indices are kept, and those are whole).
-  int64_t value(const Type& t, const Element& e, size_t k) {
+  int64_t value(const PlyType& t, const Element& e, size_t k) {
     if (ascii_) {
       skip_space();
       const size_t start = at_;
@@ -185,7 +168,8 @@ class DataWalk {
 };
 
 // A strip's triangles, appended to `out` as the format writes a face (a uchar 3, then three int).
-void add_strip_triangles(const std::vector<int64_t>& strip, bool ascii, bool big_endian, std::string& out, size_t& added) {
+void add_strip_triangles(const std::vector<int64_t>& strip, bool ascii, bool big_endian, std::string& out,
+                         size_t& added) {
   auto put = [&](int64_t a, int64_t b, int64_t c) {
     ++added;
     if (ascii) {
@@ -240,7 +224,8 @@ std::vector<std::string> data_for_assimp(const std::string& path, const std::str
       for (int64_t v : strip)
         if (v < -1 || (v >= 0 && size_t(v) >= vertices))
           fail_input(path, "triangle strip " + std::to_string(k + 1) + " names vertex " + std::to_string(v) +
-                               (v < 0 ? ", below -1 (which restarts a strip)" : " (counted from 0), past its " + std::to_string(vertices) + " vertices"));
+                               (v < 0 ? ", below -1 (which restarts a strip)"
+                                      : " (counted from 0), past its " + std::to_string(vertices) + " vertices"));
       add_strip_triangles(strip, ascii, big, data[i], triangles[i]);
     }
   }
@@ -255,7 +240,8 @@ std::optional<std::string> ply_for_assimp(const std::string& path) {
   in.read(head.data(), std::streamsize(head.size()));
   head.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
   // The header comes first: only a file whose header may need it is read whole.
-  if (head.find("tristrips") == std::string::npos && head.find("element face") > head.find("element vertex")) return std::nullopt;
+  if (head.find("tristrips") == std::string::npos && head.find("element face") > head.find("element vertex"))
+    return std::nullopt;
   in.clear();
   in.seekg(0, std::ios::end);
   std::string text(size_t(std::max<std::streamoff>(in.tellg(), 0)), '\0');
@@ -283,7 +269,8 @@ std::optional<std::string> ply_text_for_assimp(const std::string& path, const st
   }
   const bool faces_first = face < vertex && vertex != SIZE_MAX;
   if (strips == SIZE_MAX && !faces_first) return std::nullopt;
-  const std::string cannot = strips != SIZE_MAX ? "its triangle strips cannot be read" : "its faces, given before its vertices, cannot be read";
+  const std::string cannot =
+      strips != SIZE_MAX ? "its triangle strips cannot be read" : "its faces, given before its vertices, cannot be read";
   if (h->format != "ascii" && h->format != "binary_little_endian" && h->format != "binary_big_endian")
     fail_input(path, "its PLY format '" + one_line(h->format, 40) + "' is none of ascii, binary_little_endian and "
                      "binary_big_endian, so " + cannot);
