@@ -1278,7 +1278,17 @@ TEST(MeshLoad, PlyTriangleStripsReadAsTheirTriangles) {
   faces_first += "comment the vertices next\n" + faces.substr(faces.find("element vertex"), element_face - faces.find("element vertex"));
   faces_first += "end_header\n" + faces.substr(face_lines) + faces.substr(vertex_lines, face_lines - vertex_lines);
   write_file_atomic(dir + "/faces-first.ply", faces_first);
-  for (const char* name : {"/ascii.ply", "/little.ply", "/big.ply", "/faces-first.ply"}) {
+  // A value past a line's properties, which the reader passes over (a vertex's colour index left
+  // in the file): the faces and strips after it are read from their own lines. The rewrite read on
+  // into the next line, so every vertex after the first was misread.
+  auto with_extra_values = [](std::string text, size_t from, size_t lines) {
+    for (size_t at = text.find('\n', from); lines-- > 0; at = text.find('\n', at + 3)) text.insert(at, " 7");
+    return text;
+  };
+  write_file_atomic(dir + "/faces-first-extra.ply",
+                    with_extra_values(faces_first, faces_first.size() - (face_lines - vertex_lines), sphere.vertices.size()));
+  write_file_atomic(dir + "/ascii-extra.ply", with_extra_values(ascii, ascii.find("end_header\n") + 11, sphere.vertices.size()));
+  for (const char* name : {"/ascii.ply", "/little.ply", "/big.ply", "/faces-first.ply", "/faces-first-extra.ply", "/ascii-extra.ply"}) {
     const LoadedMesh m = load_mesh(dir + name);
     EXPECT_EQ(m.mesh.triangles.size(), sphere.triangles.size()) << name;
     const auto read = triangles_by_position(m.mesh), want = triangles_by_position(given.mesh);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cstdlib>
 #include <fstream>
 #include <string_view>
@@ -13,7 +12,8 @@
 #include "core/format.hpp"
 #include "mesh/collada_check.hpp"
 #include "mesh/obj_check.hpp"
-#include "mesh/ply_types.hpp"
+#include "mesh/ply_file.hpp"
+#include "mesh/text_words.hpp"
 
 namespace spx {
 
@@ -50,16 +50,6 @@ class TextScan {
   }
   // The line, as a person reads it in an error.
   std::string this_line() const { return one_line(std::string_view(text_).substr(begin_, at_ - begin_), 60); }
-  // The word as a whole number from 0, or -1 where it is not one.
-  static long long whole_number(std::string_view word) {
-    if (word.empty() || word.size() > 18) return -1;
-    long long value = 0;
-    for (char c : word) {
-      if (c < '0' || c > '9') return -1;
-      value = value * 10 + (c - '0');
-    }
-    return value;
-  }
 
   const std::string& path_;
   const std::string& text_;
@@ -136,7 +126,7 @@ class OffScan : TextScan {
   }
   // False where the line holds no face (no corners, or no count).
   bool check_face(unsigned long f, unsigned long vertices) {
-    const long long corners = whole_number(next_word());
+    const long long corners = decimal_whole(next_word());
     if (corners <= 0) return false;
     auto face = [&] { return "face " + std::to_string(f + 1) + " "; };  // built only for an error
     if (corners > 9)
@@ -144,7 +134,7 @@ class OffScan : TextScan {
            "drop it: save the mesh as OBJ or PLY, or split its larger faces");
     for (long long k = 0; k < corners; ++k) {
       const std::string_view word = next_word();
-      const long long index = whole_number(word);
+      const long long index = decimal_whole(word);
       if (word.empty())
         fail(face() + "has " + std::to_string(corners) + " corners but names " + std::to_string(k) + " vertices");
       if (index < 0) fail(face() + "names vertex '" + one_line(word) + "', not a vertex index (a whole number from 0)");
@@ -156,166 +146,20 @@ class OffScan : TextScan {
   }
 };
 
-// A PLY's header, and its data walked element by element as the header lays it out. The PLY
-// reader never returns on a header that does not end (no "end_header" line: a file cut short
-// within its header, or its last line run into the data). Past the header it reads on where the
-// data ends early: an ASCII file's next line, or its last line again, as the missing ones; a
-// binary file's bytes past its end (indices of 168430090, or coordinates of 1e-33). An ASCII
-// line with fewer values than its properties ask it reads with zeros, and a word that is not a
-// number as 0.
-class PlyScan : TextScan {
- public:
-  using TextScan::TextScan;
-
-  void check() {
-    if (!read_header()) return;
-    if (format_ == "ascii") {
-      for (const Element& e : elements_)
-        for (unsigned long k = 0; k < e.count; ++k) check_ascii_line(e, k);
-    } else if (format_ == "binary_little_endian" || format_ == "binary_big_endian") {
-      walk_binary();
-    }
-  }
-
- private:
-  struct Property {
-    int size = 0, count_size = 0;  // count_size > 0: a list, its count of count_size bytes
-    bool whole = false;            // an integer type
-  };
-  struct Element {
-    std::string name;
-    unsigned long count = 0;
-    std::vector<Property> properties;
-  };
-
-  // False where the data cannot be followed (a header of words this does not know); throws where
-  // the header does not end.
-  bool read_header() {
-    bool known = true;
-    while (next_line()) {
-      const std::string_view key = next_word();
-      if (key == "end_header") {
-        if (at_ < text_.size() && text_[at_] == '\r') ++at_;
-        if (at_ < text_.size() && text_[at_] == '\n') ++at_, ++line_number_;
-        data_ = at_;
-        return known && !format_.empty();
-      }
-      if (key == "format") {
-        format_ = next_word();
-      } else if (key == "element") {
-        const std::string name(next_word());
-        const long long count = whole_number(next_word());
-        elements_.push_back({name, count < 0 ? 0 : static_cast<unsigned long>(count), {}});
-        known = known && count >= 0;
-      } else if (key == "property" && !elements_.empty()) {
-        known = known && read_property(elements_.back().properties);
-      } else if (key != "ply" && key != "comment" && key != "obj_info") {
-        known = false;
-      }
-    }
-    fail("its PLY header does not end (no end_header line: a file cut short?)");
-  }
-  bool read_property(std::vector<Property>& properties) {
-    Property p;
-    std::string_view type = next_word();
-    if (type == "list") {
-      const PlyType count = ply_type(next_word());
-      if (count.size == 0 || count.is_float) return false;
-      p.count_size = count.size;
-      type = next_word();
-    }
-    const PlyType value = ply_type(type);
-    p.size = value.size;
-    p.whole = !value.is_float;
-    properties.push_back(p);
-    return p.size > 0;
-  }
-
-  std::string instance(const Element& e, unsigned long k) const {
-    return one_line(e.name) + " " + std::to_string(k + 1) + " of " + std::to_string(e.count);
-  }
-  [[noreturn]] void ends_within(const Element& e, unsigned long k) const {
-    fail("its data ends within " + instance(e, k) + " (a file cut short?)");
-  }
-
-  void check_ascii_line(const Element& e, unsigned long k) {
-    if (!next_line()) fail("its data ends before " + instance(e, k) + " (a file cut short?)");
-    auto where = [&] { return "line " + std::to_string(line_number_) + " (" + instance(e, k) + ", '" + this_line() + "')"; };
-    size_t values = 0;
-    // A number; where `whole` (a list's count, a list of indices), a whole number.
-    auto value = [&](bool whole) {
-      std::string_view word = next_word();
-      if (word.empty())
-        fail(where() + " holds " + std::to_string(values) + " values, fewer than its header asks for: a file cut "
-             "short, or a line broken?");
-      ++values;
-      if (word[0] == '+') word.remove_prefix(1);
-      long long integer = 0;
-      double real = 0;
-      const char* end = word.data() + word.size();
-      const std::from_chars_result read =
-          whole ? std::from_chars(word.data(), end, integer) : std::from_chars(word.data(), end, real);
-      if (read.ec != std::errc() || read.ptr != end)
-        fail(where() + ": '" + one_line(word) + "' is not " + (whole ? "a whole number" : "a number"));
-      return integer;
-    };
-    for (const Property& p : e.properties) {
-      if (p.count_size == 0) {
-        value(false);
-        continue;
-      }
-      const long long n = value(true);
-      if (n < 0) fail(where() + ": a list of " + std::to_string(n) + " values");
-      for (long long i = 0; i < n; ++i) value(p.whole);
-    }
-  }
-
-  unsigned long read_count(size_t at, int size) const {
-    unsigned long value = 0;
-    for (int b = 0; b < size; ++b) {
-      const int shift = 8 * (format_ == "binary_little_endian" ? b : size - 1 - b);
-      value |= static_cast<unsigned long>(static_cast<unsigned char>(text_[at + size_t(b)])) << shift;
-    }
-    return value;
-  }
-  void walk_binary() {
-    size_t at = data_;
-    auto need = [&](size_t bytes, const Element& e, unsigned long k) {
-      if (bytes > text_.size() - std::min(at, text_.size())) ends_within(e, k);
-    };
-    for (const Element& e : elements_) {
-      size_t fixed = 0;
-      bool lists = false;
-      for (const Property& p : e.properties) {
-        fixed += p.count_size ? 0 : size_t(p.size);
-        lists = lists || p.count_size > 0;
-      }
-      if (!lists) {  // one step for the whole element
-        const size_t fit = fixed ? (text_.size() - std::min(at, text_.size())) / fixed : e.count;
-        if (fit < e.count) ends_within(e, fit);
-        at += fixed * e.count;
-        continue;
-      }
-      for (unsigned long k = 0; k < e.count; ++k)
-        for (const Property& p : e.properties) {
-          if (p.count_size == 0) {
-            need(size_t(p.size), e, k);
-            at += size_t(p.size);
-            continue;
-          }
-          need(size_t(p.count_size), e, k);
-          const size_t items = read_count(at, p.count_size);
-          at += size_t(p.count_size);
-          need(items * size_t(p.size), e, k);
-          at += items * size_t(p.size);
-        }
-    }
-  }
-
-  std::string format_;
-  std::vector<Element> elements_;
-  size_t data_ = 0;
-};
+// A PLY's data walked as its header lays it out (mesh/ply_file). The PLY reader never returns on a
+// header that does not end (a file cut short within its header, or its last line run into the
+// data). Past the header it reads on where the data ends early: an ASCII file's next line, or its
+// last line again, as the missing ones; a binary file's bytes past its end (indices of 168430090,
+// or coordinates of 1e-33). An ASCII line with fewer values than its properties ask it reads with
+// zeros, and a word that is not a number as 0. A header this does not know is left to assimp.
+void check_ply(const std::string& path, std::string_view text) {
+  const PlyHeader header = read_ply_header(path, text);
+  const bool walked = header.format == "ascii" || header.format == "binary_little_endian" ||
+                      header.format == "binary_big_endian";
+  if (!header.unknown.empty() || !walked) return;
+  PlyWalk walk(path, text, header);
+  for (const PlyElement& e : header.elements) walk.element(e);
+}
 
 // A binary STL's header and triangle count: the bytes its check reads.
 constexpr size_t kStlHead = 84;
@@ -352,7 +196,7 @@ bool is_checked(const std::string& ext) {
 // `text`: the file's bytes (a binary STL's head alone will do), `size`: the file's size.
 void check_text(const std::string& path, const std::string& ext, const std::string& text, size_t size) {
   if (ext == ".off") OffScan(path, text).check();
-  if (ext == ".ply") PlyScan(path, text).check();
+  if (ext == ".ply") check_ply(path, text);
   if (ext == ".obj") check_obj_text(path, text);
   if (ext == ".stl") check_stl(path, text, size);
   if (ext == ".dae") check_collada_text(path, text);
