@@ -127,10 +127,18 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
   rename_into_place(tmp, path);
 }
 
+void fail_no_such_file(const std::string& path) {
+  if (path.find('\\') != std::string::npos)
+    fail_input(path, "cannot open: no such file (a Windows path? folders here are separated by '/', and '\\' is part "
+                     "of a name)");
+  fail_input(path, "cannot open: no such file");
+}
+
 std::string read_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
+  if (!in && errno == ENOENT) fail_no_such_file(path);
   if (!in) fail_input(path, std::string("cannot open: ") + errno_text());
   std::ostringstream ss;
   ss << in.rdbuf();

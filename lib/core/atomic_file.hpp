@@ -13,4 +13,8 @@ void write_file_atomic(const std::string& path, std::string_view bytes);
 // Reads a whole file; throws Error(bad_input) naming `path` when it cannot.
 std::string read_file(const std::string& path);
 
+// Throws Error(bad_input) naming `path`, which does not exist: "cannot open: no such file", with
+// a word on a Windows path (a '\\' in a name a pipeline wrote on Windows) where it holds one.
+[[noreturn]] void fail_no_such_file(const std::string& path);
+
 }  // namespace spx

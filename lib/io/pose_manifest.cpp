@@ -1,6 +1,7 @@
 #include "io/pose_manifest.hpp"
 
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "core/error.hpp"
@@ -29,11 +30,17 @@ PoseManifest read_pose_manifest(const std::string& path) {
     m.rest = require_string(j, "rest", path);
     const json& poses = require(j, "poses", path);
     if (!poses.is_array()) fail_input(path, "field 'poses' is not an array");
+    std::map<std::string, std::string> listed;  // each file where it lies, as it was written
     for (const json& p : poses) {
       if (!p.is_object()) fail_input(path, "an entry of 'poses' is not an object");
       m.poses.push_back({require_string(p, "name", path), require_string(p, "file", path), p.value("source", json())});
-      for (size_t k = 0; k + 1 < m.poses.size(); ++k)
-        if (m.poses[k].file == m.poses.back().file) fail_input(path, "lists the pose file '" + m.poses[k].file + "' twice");
+      const std::string& file = m.poses.back().file;
+      // The same file however it is written ("front.obj", "./front.obj", its whole path).
+      const std::string where = std::filesystem::absolute(manifest_file_path(path, file)).lexically_normal().string();
+      const auto [earlier, added] = listed.emplace(where, file);
+      if (!added)
+        fail_input(path, "lists the pose file '" + earlier->second + "' twice" +
+                             (earlier->second == file ? "" : " (the second time as '" + file + "')"));
     }
     if (m.poses.empty()) fail_input(path, "lists no poses");
     if (j.contains("skin")) m.skin = require_string(j, "skin", path);

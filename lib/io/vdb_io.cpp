@@ -78,7 +78,7 @@ void write_sdf_vdb(const std::string& path, const DenseField& field,
 LoadedSdf read_sdf_vdb(const std::string& path) {
   openvdb::initialize();
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) fail_input(path, "cannot open: no such file");
+  if (!std::filesystem::exists(path, ec)) fail_no_such_file(path);
   openvdb::GridPtrVecPtr grids;
   try {
     openvdb::io::File file(path);

@@ -12,6 +12,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 #include "core/format.hpp"
@@ -51,7 +52,7 @@ DefaultWeights default_weights_of(const aiScene& scene) {
 
 void check_importable(const std::string& path, const std::string& kind, const std::string& formats) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) fail_input(path, "cannot open: no such file");
+  if (!std::filesystem::exists(path, ec)) fail_no_such_file(path);
   if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not " + kind + " file");
   if (std::filesystem::file_size(path, ec) == 0) fail_input(path, "file is empty");
   const std::string ext = lower_extension(path);

@@ -13,6 +13,8 @@ fail=0 passed=0
 source "$(dirname "$0")/expect.sh"
 
 expect 2 "Error: $out/missing.obj: cannot open" "$out/x.vdb" -- "$bin/sdf-build" "$out/missing.obj" -o "$out/x.vdb"
+# A path a pipeline wrote on Windows: the error says why it is not found here.
+expect 2 "poses\\\\rest.obj: cannot open: no such file (a Windows path?" "$out/x.vdb" -- "$bin/sdf-build" 'poses\rest.obj' -o "$out/x.vdb"
 : >"$out/empty.obj"
 expect 2 "empty.obj: file is empty" "$out/x.vdb" -- "$bin/sdf-build" "$out/empty.obj" -o "$out/x.vdb"
 echo "v 0 0 0" >"$out/mesh.abc"
@@ -362,6 +364,26 @@ m = json.load(open(sys.argv[1])); m['poses'].append(dict(m['poses'][0])); json.d
 " "$out/pm/poses.json" "$out/pm/twice.json"
 expect 2 "twice.json: lists the pose file '.*' twice" "$out/tw.json" -- "$bin/pose-map" --manifest "$out/pm/twice.json" \
   --spheres "$out/s.json" -o "$out/tw.json"
+# The same file written another way ("./dent.obj"): mapped twice without a word before.
+python3 -c "
+import json, sys
+m = json.load(open(sys.argv[1])); again = dict(m['poses'][0]); again['file'] = './' + again['file']; again['name'] += '-again'
+m['poses'].append(again); json.dump(m, open(sys.argv[2], 'w'))
+" "$out/pm/poses.json" "$out/pm/twice2.json"
+expect 2 "twice2.json: lists the pose file '\([^']*\)' twice (the second time as './\1')" "$out/tw.json" -- \
+  "$bin/pose-map" --manifest "$out/pm/twice2.json" --spheres "$out/s.json" -o "$out/tw.json"
+# A manifest written by hand or by another tool: what the schema requires and no more (no
+# generator, no source). It was refused as "missing field 'generator'", which the schema does not
+# ask for.
+python3 -c "
+import json, sys
+m = json.load(open(sys.argv[1]))
+hand = {'format': 'spx.poses', 'version': 1, 'rest': m['rest'], 'poses': [{'name': p['name'], 'file': p['file']} for p in m['poses']]}
+json.dump(hand, open(sys.argv[2], 'w'))
+" "$out/pm/poses.json" "$out/pm/hand.json"
+check "pose-map refused a hand-written manifest (no generator, no source)" \
+  "$bin/pose-map" --manifest "$out/pm/hand.json" --spheres "$out/s.json" -o "$out/hand.proxy.json" -q
+check "proxy-eval refused a hand-written manifest" "$bin/proxy-eval" "$out/hand.proxy.json" --manifest "$out/pm/hand.json" -q
 expect 2 "pm/poses.json: lists [0-9]* poses; .*ok.proxy.json has 1 example pose$" "" -- \
   "$bin/proxy-eval" "$out/ok.proxy.json" --manifest "$out/pm/poses.json"
 # More poses than a .spx holds (the runtime's SPX_MAX_POSES, 256 with the rest): pose-map and
