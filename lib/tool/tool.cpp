@@ -95,6 +95,15 @@ std::vector<const CLI::Option*> Tool::given_files() const {
   return given(flags);
 }
 
+void Tool::check_no_empty_values() const {
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->get_type_size() == 0) continue;  // a flag
+    for (const std::string& value : option->results())
+      if (value.empty())
+        fail_usage(option->get_name(), "is empty (a shell or make variable that was not set?)");
+  }
+}
+
 void Tool::check_output_folders() const {
   namespace fs = std::filesystem;
   // The folders the tool creates, and their parents.
@@ -105,6 +114,9 @@ void Tool::check_output_folders() const {
       created.push_back(p);
   for (const CLI::Option* file : given_files()) {
     const std::string path = file->as<std::string>();
+    std::error_code is_folder;
+    if (fs::is_directory(path, is_folder))
+      fail_usage(file->get_name(), path + " is a folder; give the name of the file to write (a path in it)");
     const fs::path folder = fs::absolute(path).lexically_normal().parent_path();
     std::error_code ec;
     if (fs::is_directory(folder, ec) || std::find(created.begin(), created.end(), folder) != created.end()) continue;
@@ -158,6 +170,7 @@ int Tool::fail_run(ExitCode code, const std::string& message) noexcept {
   std::fprintf(stderr, "Error: %s\n", message.c_str());
   if (report_path_.empty()) return static_cast<int>(code);
   try {
+    check_no_empty_values();  // "" has no absolute path
     check_outputs_apart();  // never over an input, even when the parse stopped before the run checked
     json r = json::object();
     r["status"] = "error";
@@ -195,6 +208,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
                          std::min(threads_, size_t(tbb::info::default_concurrency())));
 
   try {
+    check_no_empty_values();
     check_outputs_apart();
     check_output_folders();
     StageTimer total(log, "total");

@@ -51,7 +51,11 @@ class Tool {
   // The options of `flags` given on the command line; those naming files the tool writes.
   std::vector<const CLI::Option*> given(const std::vector<std::string>& flags) const;
   std::vector<const CLI::Option*> given_files() const;
-  // Fails (exit 4, naming the file) where an output's folder is not there.
+  // Fails (exit 1, naming the option) where a value is the empty string: no file or folder has
+  // that name, and "" has no absolute path to compare.
+  void check_no_empty_values() const;
+  // Fails (exit 4, naming the file) where an output's folder is not there, and (exit 1, naming
+  // the option) where a file output names a folder.
   void check_output_folders() const;
   // Fails (exit 1, naming the flag) where an output is an input's file or another output's: the
   // run would lose what it was given, or write one file twice.

@@ -13,6 +13,15 @@ fail=0 passed=0
 source "$(dirname "$0")/expect.sh"
 
 expect 2 "Error: $out/missing.obj: cannot open" "$out/x.vdb" -- "$bin/sdf-build" "$out/missing.obj" -o "$out/x.vdb"
+# An empty value, as a make variable that was not set gives it (-o $(OUT)): exit 1 naming the
+# option (an empty output or --report was an internal error, exit 5), and an output that names a
+# folder (exit 4, "cannot rename temporary file into place").
+expect 1 "Error: --output: is empty (a shell or make variable that was not set?)" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o ""
+expect 1 "Error: --report: is empty" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --report ""
+expect 1 "Error: input: is empty" "$out/x.vdb" -- "$bin/sdf-build" "" -o "$out/x.vdb"
+expect 1 "Error: --output: is empty" "" -- "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "" --morph-targets
+expect 1 "Error: --manifest: is empty" "$out/p.json" -- "$bin/pose-map" --manifest "" --spheres "$out/s.json" -o "$out/p.json"
+expect 1 "Error: --output: $out/ is a folder; give the name of the file to write" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/"
 # A path a pipeline wrote on Windows: the error says why it is not found here.
 expect 2 "poses\\\\rest.obj: cannot open: no such file (a Windows path?" "$out/x.vdb" -- "$bin/sdf-build" 'poses\rest.obj' -o "$out/x.vdb"
 : >"$out/empty.obj"
