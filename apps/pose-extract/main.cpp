@@ -15,7 +15,9 @@ int main(int argc, char** argv) {
   auto* anim = tool.app.add_option("--animation", opt.animation,
                                    "Poses of this clip (name or index) by linear blend skinning and its morph weights");
   morph->excludes(anim);
-  auto* frames = tool.app.add_option("--frames", opt.frames, "Frames of the clip (its key times, from 0)")
+  std::vector<std::string> frame_words;
+  auto* frames = tool.app.add_option("--frames", frame_words,
+                                     "Frames of the clip (its key times, from 0): a list, ranges too (0,4,10-20)")
                      ->delimiter(',')->needs(anim);
   auto* times = tool.app.add_option("--times", opt.times, "Times in seconds")->delimiter(',')->needs(anim);
   auto* every = tool.app.add_option("--every", opt.every, "Every Nth frame (default: every frame)")
@@ -25,5 +27,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--select", opt.select, "Keep the K frames that best span the clip (farthest-point sampling)")
       ->check(CLI::Range(1, 1 << 30))->needs(anim);
   tool.name_option("morph_targets", "--morph-targets");
-  return tool.run(argc, argv, [&] { spx::pose_extract_files(input, dir, opt, tool.log, tool.report); });
+  return tool.run(argc, argv, [&] {
+    opt.frames = spx::parse_frame_list(frame_words, "--frames");
+    spx::pose_extract_files(input, dir, opt, tool.log, tool.report);
+  });
 }

@@ -5,6 +5,7 @@
 #include <tbb/info.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -268,6 +269,34 @@ Tolerance parse_tolerance(const std::string& text, const std::string& flag) {
   if (used != number.size() || number.empty() || !(t.value > 0) || !std::isfinite(t.value))
     fail_usage(flag, "'" + text + "' is not a positive length or percentage (e.g. 0.05 or 1%)");
   return t;
+}
+
+std::vector<int> parse_frame_list(const std::vector<std::string>& words, const std::string& flag) {
+  // A range this long is past any clip read here: refused before its frames are listed.
+  constexpr long long kLongestRange = 1 << 20;
+  auto index = [&](const std::string& word, const std::string& part) {
+    long long value = -1;
+    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (part.empty() || ec != std::errc() || end != part.data() + part.size() || value < 0 || value > (1 << 30))
+      fail_usage(flag, "'" + word + "' is not a frame (a whole number from 0) or a range of them (10-20)");
+    return value;
+  };
+  std::vector<int> frames;
+  for (const std::string& given : words) {
+    const size_t from = std::min(given.find_first_not_of(' '), given.size());
+    const std::string word = given.substr(from, given.find_last_not_of(' ') + 1 - from);  // "0, 4": spaces around
+    const size_t dash = word.find('-', 1);
+    if (dash == std::string::npos) {
+      frames.push_back(int(index(word, word)));
+      continue;
+    }
+    const long long first = index(word, word.substr(0, dash)), last = index(word, word.substr(dash + 1));
+    if (last < first) fail_usage(flag, "'" + word + "' runs backwards; write it " + std::to_string(last) + "-" + std::to_string(first));
+    if (last - first >= kLongestRange)
+      fail_usage(flag, "'" + word + "' spans " + std::to_string(last - first + 1) + " frames, more than any clip read here");
+    for (long long f = first; f <= last; ++f) frames.push_back(int(f));
+  }
+  return frames;
 }
 
 }  // namespace spx

@@ -88,4 +88,8 @@ CLI::Option* add_cache_limit(CLI::App& app, uint64_t& limit, CLI::Option* cache)
 // "0.05" (mesh units) or "1%" (of the diagonal); empty: not set. A usage error naming `flag`.
 Tolerance parse_tolerance(const std::string& text, const std::string& flag);
 
+// Frames by index from 0, each word a frame ("4") or a range of them, both ends in ("10-20"), in
+// the order given. A usage error naming `flag` for a word that is neither.
+std::vector<int> parse_frame_list(const std::vector<std::string>& words, const std::string& flag);
+
 }  // namespace spx

@@ -467,6 +467,14 @@ expect 1 "\-\-times: 3.5 s is outside the clip" "$px/poses.json" -- "$bin/pose-e
 expect 1 "\-\-times: -1 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times=-1
 expect 1 "\-\-times: 0.5 s is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times 0.5,1,0.5
 expect 1 "\-\-frames: frame 1 is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1,0,1
+# Ranges of frames, both ends in: "3,0-2" is "3,0,1,2" (it was "Could not convert"); a word that is
+# neither a frame nor a range names itself.
+"$bin/pose-extract" "$glb" -o "$out/ranged" --animation 0 --frames 3,0-2 -q
+"$bin/pose-extract" "$glb" -o "$out/listed" --animation 0 --frames 3,0,1,2 -q
+check "--frames 3,0-2 wrote other poses than --frames 3,0,1,2" cmp -s "$out/ranged/poses.json" "$out/listed/poses.json"
+expect 1 "\-\-frames: '3-1' runs backwards; write it 1-3" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 0,3-1
+expect 1 "\-\-frames: '1.5' is not a frame (a whole number from 0) or a range of them (10-20)" "$px/poses.json" -- \
+  "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1.5
 # Neither --morph-targets nor --animation: the error lists what the asset holds to choose from.
 expect 1 "give \-\-morph-targets or \-\-animation .*barrel-morph.glb holds 1 clip: 0 'barrel' (4 frames over 3 s); 3 morph targets" \
   "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px"
