@@ -96,6 +96,23 @@ std::vector<const CLI::Option*> Tool::given_files() const {
   return given(flags);
 }
 
+std::string Tool::conversion_error(const std::string& what) const {
+  // CLI11 says "Could not convert: --resolution = abc"; said as the option and what it takes.
+  const std::string head = "Could not convert: ";
+  const size_t equals = what.find(" = ");
+  if (what.rfind(head, 0) != 0 || equals == std::string::npos) return what;
+  const std::string name = what.substr(head.size(), equals - head.size()), value = what.substr(equals + 3);
+  const CLI::Option* option = app.get_option_no_throw(name);
+  if (!option) return what;
+  const std::string type = option->get_type_name();
+  const std::string takes = type.rfind("UINT", 0) == 0  ? "a whole number from 0"
+                            : type.rfind("INT", 0) == 0 ? "a whole number"
+                            : type.rfind("FLOAT", 0) == 0 ? "a number"
+                                                         : "";
+  if (takes.empty()) return what;
+  return name + ": '" + value + "' is not " + takes + (option->get_items_expected_max() > 1 ? " (or a list of them)" : "");
+}
+
 void Tool::check_no_empty_values() const {
   for (const CLI::Option* option : app.get_options()) {
     if (option->get_type_size() == 0) continue;  // a flag
@@ -195,6 +212,8 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ConversionError& e) {
+    return fail_run(ExitCode::usage, conversion_error(e.what()) + " (see " + name_ + " --help)");
   } catch (const CLI::ParseError& e) {
     return fail_run(ExitCode::usage, std::string(e.what()) + " (see " + name_ + " --help)");
   }

@@ -51,6 +51,8 @@ class Tool {
   // The options of `flags` given on the command line; those naming files the tool writes.
   std::vector<const CLI::Option*> given(const std::vector<std::string>& flags) const;
   std::vector<const CLI::Option*> given_files() const;
+  // CLI11's "Could not convert: --flag = value" said as what the option takes.
+  std::string conversion_error(const std::string& what) const;
   // Fails (exit 1, naming the option) where a value is the empty string: no file or folder has
   // that name, and "" has no absolute path to compare.
   void check_no_empty_values() const;

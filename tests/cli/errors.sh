@@ -22,6 +22,12 @@ expect 1 "Error: input: is empty" "$out/x.vdb" -- "$bin/sdf-build" "" -o "$out/x
 expect 1 "Error: --output: is empty" "" -- "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "" --morph-targets
 expect 1 "Error: --manifest: is empty" "$out/p.json" -- "$bin/pose-map" --manifest "" --spheres "$out/s.json" -o "$out/p.json"
 expect 1 "Error: --output: $out/ is a folder; give the name of the file to write" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/"
+# A value that is not of the option's kind, said as the option and what it takes (CLI11 said
+# "Could not convert: --resolution = abc").
+expect 1 "Error: --resolution: 'abc' is not a whole number (see sdf-build --help)" "$out/x.vdb" -- \
+  "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution abc
+expect 1 "Error: --times: '0.5s' is not a number (or a list of them)" "" -- \
+  "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "$out/t" --animation 0 --times 0.5s
 # A path a pipeline wrote on Windows: the error says why it is not found here.
 expect 2 "poses\\\\rest.obj: cannot open: no such file (a Windows path?" "$out/x.vdb" -- "$bin/sdf-build" 'poses\rest.obj' -o "$out/x.vdb"
 : >"$out/empty.obj"
