@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -84,34 +85,80 @@ std::string temp_path_for(const std::string& path) {
 
 std::string errno_text() { return std::strerror(errno); }
 
-void rename_into_place(const std::string& tmp, const std::string& path) {
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+void rename_into_place(const std::string& tmp, const std::string& target, const std::string& path) {
+  if (std::rename(tmp.c_str(), target.c_str()) != 0) {
     std::string why = errno_text();
     std::remove(tmp.c_str());
     fail_write(path, "cannot rename temporary file into place: " + why);
   }
 }
 
-}  // namespace
+// Where a write to `path` lands. Through its symbolic links: a link a pipeline keeps ("latest")
+// stays a link, and the file it names is replaced. A stream where there is no file to replace: a
+// pipe, a terminal, a descriptor of the process (/dev/stdout, /proc/self/fd/1, even where it is a
+// file the shell opened, perhaps to append to), which a rename would have replaced by a file (and
+// as root, /dev/stdout itself).
+struct Destination {
+  std::string file;
+  bool stream = false;
+};
 
-void write_file_atomic(const std::string& path, std::string_view bytes) {
-  const ListedTemp listed(temp_path_for(path));
-  const std::string& tmp = listed.path();
-  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) fail_write(path, "cannot create output: " + errno_text());
+Destination destination_of(const std::string& path) {
+  namespace fs = std::filesystem;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) return {path, true};
+  fs::path p(path);
+  for (int hop = 0; hop < 40; ++hop) {  // the kernel's own bound on a chain of links
+    std::error_code ec;
+    const std::string folder = fs::weakly_canonical(fs::absolute(p, ec).parent_path(), ec).string();
+    if (folder == "/proc" || folder.rfind("/proc/", 0) == 0) return {path, true};
+    if (!fs::is_symlink(p, ec)) break;
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return {p.string(), false};
+}
+
+// `bytes` written to `fd`; false with errno set where a write fails.
+bool write_all(int fd, std::string_view bytes) {
   const char* p = bytes.data();
   size_t left = bytes.size();
   while (left > 0) {
-    ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      std::string why = errno_text();
-      ::close(fd);
-      std::remove(tmp.c_str());
-      fail_write(path, "write failed: " + why);
-    }
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return false;
     p += n;
     left -= static_cast<size_t>(n);
+  }
+  return true;
+}
+
+void write_stream(const std::string& path, std::string_view bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd < 0) fail_write(path, "cannot open output: " + errno_text());
+  if (!write_all(fd, bytes)) {
+    std::string why = errno_text();
+    ::close(fd);
+    fail_write(path, "write failed: " + why);
+  }
+  ::close(fd);
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, std::string_view bytes) {
+  const Destination to = destination_of(path);
+  if (to.stream) return write_stream(path, bytes);
+  const ListedTemp listed(temp_path_for(to.file));
+  const std::string& tmp = listed.path();
+  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail_write(path, "cannot create output: " + errno_text());
+  if (!write_all(fd, bytes)) {
+    std::string why = errno_text();
+    ::close(fd);
+    std::remove(tmp.c_str());
+    fail_write(path, "write failed: " + why);
   }
   if (::fsync(fd) != 0 && errno != EINVAL) {
     std::string why = errno_text();
@@ -124,7 +171,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
     std::remove(tmp.c_str());
     fail_write(path, "close failed: " + why);
   }
-  rename_into_place(tmp, path);
+  rename_into_place(tmp, to.file, path);
 }
 
 void fail_no_such_file(const std::string& path) {

@@ -7,7 +7,10 @@
 
 namespace spx {
 
-// Writes `bytes` to `path` atomically; throws Error(cannot_write) naming `path`.
+// Writes `bytes` to `path` atomically; throws Error(cannot_write) naming `path`. Where `path` is a
+// symbolic link, the file it names is replaced (the link stays); where it is a pipe, a terminal or
+// a descriptor of the process (/dev/stdout), there is no file to replace: the bytes are written
+// to it as to a stream.
 void write_file_atomic(const std::string& path, std::string_view bytes);
 
 // Reads a whole file; throws Error(bad_input) naming `path` when it cannot.

@@ -122,6 +122,23 @@ check "2 frames after a failed 3: the folder holds $(files)" \
   '[ "$(files)" = "pose-00.obj pose-01.obj poses.json rest.obj skin.json " ]'
 check "a run's list of its files left after its manifest" '[ -z "$(find "$d" -name ".*" -type f)" ]'
 
+# Outputs that are not plain files. A symbolic link a pipeline keeps ("latest") stays a link and
+# the file it names is written; a pipe, and the process's own stdout (a link into /proc, where
+# /dev/stdout points), are written as streams. Each was replaced by a file: the link, the pipe
+# (its reader got nothing), and, as root, /dev/stdout itself.
+mkdir -p "$out/store" && ln -s store/report.json "$out/latest.json"
+"$bin/sdf-build" "$out/in/rest.obj" -o "$out/linked.vdb" --resolution 16 -q --report "$out/latest.json"
+check "a --report through a link replaced the link" '[ -L "$out/latest.json" ] && grep -q "\"status\": \"ok\"" "$out/store/report.json"'
+ln -s /proc/self/fd/1 "$out/own-stdout"
+report=$("$bin/sdf-build" "$out/in/rest.obj" -o "$out/linked.vdb" --resolution 16 -q --report "$out/own-stdout")
+check "a --report to the process's stdout did not reach it" '[ -L "$out/own-stdout" ] && grep -q "\"status\": \"ok\"" <<<"$report"'
+mkfifo "$out/pipe"
+timeout 30 cat "$out/pipe" >"$out/piped.json" &  # bounded: a pipe replaced by a file is never opened
+reader=$!
+"$bin/sdf-build" "$out/in/rest.obj" -o "$out/linked.vdb" --resolution 16 -q --report "$out/pipe"
+wait "$reader"
+check "a --report into a pipe did not reach its reader" '[ -p "$out/pipe" ] && grep -q "\"status\": \"ok\"" "$out/piped.json"'
+
 # make -j1 with each tool on one thread (THREADS=1) and make -j2 on every core give the same
 # bytes (same output folder, so recorded paths match).
 m="make -s -C $src/samples ASSET=car BIN=$bin OUT=$out/make RES=48"
