@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 
 namespace spx {
 namespace {
@@ -79,7 +80,16 @@ std::string temp_path_for(const std::string& path) {
   namespace fs = std::filesystem;
   fs::path target(path);
   fs::path dir = target.parent_path();
-  std::string name = "." + target.filename().string() + ".tmp." + std::to_string(::getpid());
+  const std::string file = target.filename().string(), tail = ".tmp." + std::to_string(::getpid());
+  std::string name = "." + file + tail;
+  // A name near the file system's limit (255 bytes) is still written: its temporary file takes a
+  // part of it and a hash of the whole (it failed with "File name too long").
+  constexpr size_t kLongestName = 255;
+  if (name.size() > kLongestName) {
+    char hash[20];
+    std::snprintf(hash, sizeof hash, "~%016llx", static_cast<unsigned long long>(fnv1a(kFnvOffset, file.data(), file.size())));
+    name = "." + file.substr(0, kLongestName - 1 - std::strlen(hash) - tail.size()) + hash + tail;
+  }
   return (dir / name).string();
 }
 

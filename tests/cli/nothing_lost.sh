@@ -139,6 +139,12 @@ reader=$!
 wait "$reader"
 check "a --report into a pipe did not reach its reader" '[ -p "$out/pipe" ] && grep -q "\"status\": \"ok\"" "$out/piped.json"'
 
+# A name at the file system's limit (255 bytes): its temporary file's name was longer, and the
+# run failed with "File name too long".
+long=$(printf 'a%.0s' $(seq 251)).vdb
+"$bin/sdf-build" "$out/in/rest.obj" -o "$out/$long" --resolution 16 -q
+check "an output named in 255 bytes was not written" '[ -s "$out/$long" ] && ! ls -a "$out" | grep -q "\.tmp\."'
+
 # make -j1 with each tool on one thread (THREADS=1) and make -j2 on every core give the same
 # bytes (same output folder, so recorded paths match).
 m="make -s -C $src/samples ASSET=car BIN=$bin OUT=$out/make RES=48"
