@@ -86,13 +86,14 @@ std::string which_file_it_is(const json& j) {
 
 }  // namespace
 
-void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file) {
+void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file,
+                    bool generator_required) {
   if (!has_format(j, format))
     fail_input(file, "is not a " + what + " file (expected \"format\": \"" + format + "\")" + which_file_it_is(j));
   require_version(j, what, newest, file);
-  // What wrote the file is for a person reading it: a file written by hand or by another tool
-  // (a manifest of poses made elsewhere) need not say.
-  if (j.contains("generator")) require_string(j, "generator", file);
+  // What wrote the file is for a person reading it: a manifest written by hand or by another
+  // tool need not say.
+  if (generator_required || j.contains("generator")) require_string(j, "generator", file);
 }
 
 }  // namespace spx

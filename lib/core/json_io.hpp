@@ -32,7 +32,9 @@ double as_finite_number(const json& v, const std::string& what, const std::strin
 // A string field that must be there.
 std::string require_string(const json& j, const char* key, const std::string& file);
 // The header every file between tools has: "format" (this one), "version" (up to `newest`)
-// and "generator".
-void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file);
+// and "generator" (a string; needed where `generator_required`: not in a file a person or
+// another tool may write, the pose manifest).
+void require_header(const json& j, const char* format, const std::string& what, int newest, const std::string& file,
+                    bool generator_required = true);
 
 }  // namespace spx

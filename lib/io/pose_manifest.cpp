@@ -25,7 +25,7 @@ json manifest_to_json(const PoseManifest& m) {
 
 PoseManifest read_pose_manifest(const std::string& path) {
   return read_json_document(path, "pose manifest", [&](const json& j) {
-    require_header(j, kFormat, "pose manifest", kVersion, path);
+    require_header(j, kFormat, "pose manifest", kVersion, path, false);  // its schema asks no generator
     PoseManifest m;
     m.rest = require_string(j, "rest", path);
     const json& poses = require(j, "poses", path);

@@ -115,7 +115,9 @@ std::string Tool::conversion_error(const std::string& what) const {
 
 void Tool::check_no_empty_values() const {
   for (const CLI::Option* option : app.get_options()) {
-    if (option->get_type_size() == 0) continue;  // a flag
+    // A flag, or an option that may be given bare (precompute-bench's --frames: no sweep), which
+    // CLI11 gives an empty value.
+    if (option->get_type_size() == 0 || option->get_items_expected_min() == 0) continue;
     for (const std::string& value : option->results())
       if (value.empty())
         fail_usage(option->get_name(), "is empty (a shell or make variable that was not set?)");
