@@ -21,7 +21,7 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
   -o "$out/json_readers"
 "$cxx" "${flags[@]}" "$root/tests/fuzz/gltf_container.cpp" "$root/lib/core/gltf_file.cpp" "$root/lib/core/gltf_meshopt.cpp" "$root/lib/mesh/gltf_input.cpp" "$root/lib/mesh/gltf_check.cpp" "$root/lib/mesh/gltf_clips.cpp" "$root/lib/core/json_io.cpp" "$root/lib/core/file_kind.cpp" \
   "$root/lib/core/atomic_file.cpp" "$root/lib/core/base64.cpp" -lmeshoptimizer -o "$out/gltf_container"
-"$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/ply_input.cpp" "$root/lib/mesh/ply_file.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/mesh/collada_check.cpp" "$root/lib/core/file_kind.cpp" \
+"$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/ply_input.cpp" "$root/lib/mesh/ply_file.cpp" "$root/lib/mesh/stl_check.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/mesh/collada_check.cpp" "$root/lib/core/file_kind.cpp" \
   -o "$out/mesh_text"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
 make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
@@ -51,7 +51,8 @@ doc['buffers'][0]['uri'] = 'data:application/octet-stream;base64,' + base64.b64e
 json.dump(doc, open(sys.argv[2], 'w'))
 " "$out/seeds/barrel/barrel-morph.glb" "$out/corpus-gltf/barrel.gltf"
 # Meshes: the barrel's rest mesh as its OBJ, an OFF, an ASCII PLY, a binary PLY (with a list of
-# floats), its triangles as PLY strips (ASCII and binary), a binary STL and a COLLADA file.
+# floats), its triangles as PLY strips (ASCII and binary), a binary and an ASCII STL and a COLLADA
+# file.
 cp "$out/seeds/barrel/rest.obj" "$out/corpus-mesh/barrel.obj"
 python3 -c "
 import struct, sys
@@ -83,6 +84,11 @@ for binary, name in ((False, 'barrel-strips.ply'), (True, 'barrel-strips-binary.
 with open(out + '/barrel.stl', 'wb') as o:
     o.write(b'solid barrel'.ljust(80, b'\\0') + struct.pack('<I', len(tris)))
     o.write(b''.join(struct.pack('<12fH', 0, 0, 0, *v[a], *v[b], *v[c], 0) for a, b, c in tris))
+with open(out + '/barrel-ascii.stl', 'w') as o:
+    o.write('solid barrel\\n')
+    for t in tris:
+        o.write('facet normal 0 0 1\\n outer loop\\n' + ''.join('  vertex %g %g %g\\n' % tuple(v[i]) for i in t) + ' endloop\\nendfacet\\n')
+    o.write('endsolid barrel\\n')
 with open(out + '/barrel.dae', 'wb') as o:
     o.write(collada(v, tris))
 " "$out/seeds/barrel/rest.obj" "$out/corpus-mesh" "$root/scripts"

@@ -1701,6 +1701,77 @@ TEST(MeshLoad, BinaryStlOfAnotherSizeThanItsCountIsNamed) {
   EXPECT_EQ(error_of(text + "endsolid cube\n" + std::string(16, '\0')), "no error");
 }
 
+// assimp's ASCII STL reader reads a coordinate as far as it is a number (a decimal comma's "0,5"
+// as 0, the vertex moved), keeps 3 vertices of a facet of more, and reads a file cut short within
+// a facet as the facets before it: each was a body missing triangles or moved, with only "not
+// watertight" said. Every cut within a facet of the cube, a decimal comma and a facet of 4 vertices are
+// errors naming the facet; what the reader reads right (no endsolid, CRLF, tabs, "nan" normals,
+// two solids) reads as the cube.
+TEST(MeshLoad, AsciiStlTheReaderWouldMisreadIsNamed) {
+  const std::string dir = test::temp_dir("stl-text");
+  const TriMesh cube = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  auto facet = [&](const Eigen::Vector3i& t, const std::string& normal) {
+    std::string f = "facet normal " + normal + "\n outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& v = cube.vertices[size_t(t[k])];
+      f += "  vertex " + num(v.x()) + " " + num(v.y()) + " " + num(v.z()) + "\n";
+    }
+    return f + " endloop\nendfacet\n";
+  };
+  std::string body;
+  for (const auto& t : cube.triangles) body += facet(t, "0 0 0");
+  auto load_text = [&](const std::string& text) {
+    write_file_atomic(dir + "/cube.stl", text);
+    return load_error(dir + "/cube.stl");
+  };
+  auto reads_as_cube = [&](const std::string& text) {
+    write_file_atomic(dir + "/cube.stl", text);
+    const LoadedMesh m = load_mesh(dir + "/cube.stl");
+    EXPECT_EQ(m.mesh.vertices.size(), cube.vertices.size());
+    EXPECT_EQ(m.mesh.triangles.size(), cube.triangles.size());
+    EXPECT_TRUE(find_defects(m.mesh).watertight());
+  };
+  const std::string whole = "solid cube\n" + body + "endsolid cube\n";
+  reads_as_cube(whole);
+  reads_as_cube("solid cube\n" + body);  // no endsolid
+  std::string crlf_tabs = whole;
+  for (size_t at = 0; (at = crlf_tabs.find('\n', at)) != std::string::npos; at += 2) crlf_tabs.replace(at, 1, "\r\n");
+  for (size_t at = 0; (at = crlf_tabs.find(' ', at)) != std::string::npos; ++at) crlf_tabs[at] = '\t';
+  reads_as_cube(crlf_tabs);
+  std::string nan_normals, halves[2];
+  for (size_t i = 0; i < cube.triangles.size(); ++i) {
+    nan_normals += facet(cube.triangles[i], "nan -nan nan");
+    halves[i % 2] += facet(cube.triangles[i], "0 0 0");
+  }
+  reads_as_cube("solid cube\n" + nan_normals + "endsolid cube\n");
+  reads_as_cube("solid a\n" + halves[0] + "endsolid a\nsolid b\n" + halves[1] + "endsolid b\n");
+  // Every cut from a facet's "facet" to its "endfacet" ends within it.
+  size_t cuts = 0;
+  for (size_t k = 1, start = whole.find("facet normal"); start != std::string::npos;
+       ++k, start = whole.find("facet normal", start + 1)) {
+    const size_t end = whole.find("endfacet", start) + 8;
+    for (size_t keep = start + 5; keep < end; ++keep, ++cuts) {
+      const std::string error = load_text(whole.substr(0, keep));
+      ASSERT_NE(error.find("cube.stl: its data ends within facet " + std::to_string(k) + ", begun on line "),
+                std::string::npos)
+          << keep << " bytes: " << error;
+    }
+  }
+  EXPECT_GT(cuts, 12u * 80u);
+  std::string comma = whole;
+  comma.replace(comma.find("vertex 1 0 0"), 12, "vertex 1 0,5 0");
+  EXPECT_NE(load_text(comma).find("cube.stl: line 6 (facet 1): '0,5' is not a coordinate (a decimal comma? the STL "
+                                  "reader would read 0 and move the vertex: write a decimal point)"),
+            std::string::npos)
+      << load_text(comma);
+  std::string four = whole;
+  four.insert(four.find(" endloop"), "  vertex 0.5 0.5 0.5\n");
+  EXPECT_NE(load_text(four).find("cube.stl: facet 1, begun on line 2, has 4 vertices; the STL reader reads a facet as "
+                                 "one triangle (3 vertices) and would drop the others"),
+            std::string::npos)
+      << load_text(four);
+}
+
 TEST(Defects, OpenFlippedAndNonManifold) {
   TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
   TriMesh open = box;

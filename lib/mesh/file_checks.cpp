@@ -13,6 +13,7 @@
 #include "mesh/collada_check.hpp"
 #include "mesh/obj_check.hpp"
 #include "mesh/ply_file.hpp"
+#include "mesh/stl_check.hpp"
 #include "mesh/text_words.hpp"
 
 namespace spx {
@@ -170,9 +171,10 @@ constexpr size_t kStlHead = 84;
 // after its triangles, failed with "Failed to determine STL storage representation", or, where
 // its header opens with "solid" as many exporters write it, was read as text and found no mesh.
 // `head` is the file's first bytes (kStlHead of them, or all where fewer), `size` its size.
-void check_stl(const std::string& path, std::string_view head, size_t size) {
+bool is_binary_stl(std::string_view head) { return head.substr(0, kStlHead).find('\0') != std::string_view::npos; }
+
+void check_binary_stl(const std::string& path, std::string_view head, size_t size) {
   head = head.substr(0, kStlHead);
-  if (head.find('\0') == std::string_view::npos) return;
   if (size < kStlHead)
     fail_input(path, "a binary STL holds at least 84 bytes (its header and triangle count), and this one has " +
                          std::to_string(size) + " (a file cut short?)");
@@ -198,7 +200,8 @@ void check_text(const std::string& path, const std::string& ext, const std::stri
   if (ext == ".off") OffScan(path, text).check();
   if (ext == ".ply") check_ply(path, text);
   if (ext == ".obj") check_obj_text(path, text);
-  if (ext == ".stl") check_stl(path, text, size);
+  if (ext == ".stl" && is_binary_stl(text)) check_binary_stl(path, text, size);
+  if (ext == ".stl" && !is_binary_stl(text)) check_ascii_stl_text(path, text);
   if (ext == ".dae") check_collada_text(path, text);
 }
 
@@ -213,11 +216,16 @@ void check_before_assimp(const std::string& path) {
   if (!is_checked(ext)) return;
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   const size_t size = size_t(std::max<std::streamoff>(in.tellg(), 0));
-  // A binary STL's triangles need not be read: its head tells its kind and the size it must have.
-  std::string text(ext == ".stl" ? std::min(size, kStlHead) : size, '\0');
   in.seekg(0);
-  in.read(text.data(), std::streamsize(text.size()));
-  text.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  auto read_up_to = [&](size_t n) {
+    std::string bytes(n, '\0');
+    in.read(bytes.data(), std::streamsize(n));
+    bytes.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
+    return bytes;
+  };
+  // A binary STL's triangles need not be read: its head tells its kind and the size it must have.
+  std::string text = read_up_to(ext == ".stl" ? std::min(size, kStlHead) : size);
+  if (ext == ".stl" && !is_binary_stl(text)) text += read_up_to(size - text.size());  // an ASCII STL is read whole
   check_text(path, ext, text, size);
 }
 
