@@ -43,12 +43,7 @@ class TextScan {
     skip_line();
     return true;
   }
-  std::string_view next_word() {
-    while (word_ < at_ && (text_[word_] == ' ' || text_[word_] == '\t')) ++word_;
-    const size_t start = word_;
-    while (word_ < at_ && text_[word_] != ' ' && text_[word_] != '\t') ++word_;
-    return std::string_view(text_).substr(start, word_ - start);
-  }
+  std::string_view next_word() { return spx::next_word(std::string_view(text_).substr(0, at_), word_); }
   // The line, as a person reads it in an error.
   std::string this_line() const { return one_line(std::string_view(text_).substr(begin_, at_ - begin_), 60); }
 

@@ -140,14 +140,14 @@ std::pair<size_t, size_t> PlyWalk::ascii_instance(const PlyElement& e, size_t k,
   auto where = [&] {
     return "line " + std::to_string(line_number_) + " (" + instance_name(e, k) + ", '" + one_line(line, 60) + "')";
   };
-  const std::vector<std::string_view> words = words_of(line);
-  size_t values = 0;
+  size_t values = 0, cursor = 0;  // words read, and where the next begins
   // The next value; where `whole` (a list's count, a list of indices), a whole number.
   auto value = [&](bool whole) -> int64_t {
-    if (values == words.size())
+    std::string_view word = next_word(line, cursor);  // no list of a line's words: files have millions of lines
+    if (word.empty())
       fail(where() + " holds " + std::to_string(values) + " values, fewer than its header asks for: a file cut "
            "short, or a line broken?");
-    std::string_view word = words[values++];
+    ++values;
     if (word[0] == '+') word.remove_prefix(1);
     long long integer = 0;
     double real = 0;

@@ -6,15 +6,18 @@
 
 namespace spx {
 
+// The word of `line` from `at` on (empty past its last), `at` moved past it.
+inline std::string_view next_word(std::string_view line, size_t& at) {
+  while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+  const size_t start = at;
+  while (at < line.size() && line[at] != ' ' && line[at] != '\t') ++at;
+  return line.substr(start, at - start);
+}
+
 inline std::vector<std::string_view> words_of(std::string_view line) {
   std::vector<std::string_view> out;
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    const size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-    if (i > start) out.push_back(line.substr(start, i - start));
-  }
+  size_t at = 0;
+  for (std::string_view word = next_word(line, at); !word.empty(); word = next_word(line, at)) out.push_back(word);
   return out;
 }
 
