@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string_view>
@@ -186,8 +187,32 @@ void check_binary_stl(const std::string& path, std::string_view head, size_t siz
                         "wrong count?)");
 }
 
+// A .blend file names the Blender that wrote it in its first 12 bytes ("BLENDER-v402": 4.2);
+// from 3.0 on it may be Zstandard-compressed instead. assimp 5.2's Blender reader (deprecated by
+// its makers) knows the layout up to 2.79: later files fail with a word about its internals
+// ("BlendDNA: Did not find a field named `no` in structure `MVert`") or crash it.
+void check_blend(const std::string& path, std::string_view head) {
+  const std::string advice = "; assimp's Blender reader stops at Blender 2.79 (later files fail or crash it): export "
+                             "glTF 2.0 from Blender (File > Export > glTF 2.0, with its shape keys or animation) and give "
+                             "that";
+  if (head.substr(0, 4) == std::string_view("\x28\xB5\x2F\xFD", 4))
+    fail_unsupported(path, "is a .blend file compressed with Zstandard (Blender 3.0 or later)" + advice);
+  if (head.substr(0, 7) != "BLENDER") return;  // gzip-compressed, or not a .blend: assimp decides
+  // The version after the byte order's 'v' or 'V': 3 digits ("BLENDER-v402"), 4 in Blender 5's
+  // longer header ("BLENDER17-01v0500").
+  const size_t v = head.find_first_of("vV", 7);
+  if (v == std::string_view::npos || v > 12) return;
+  size_t end = v + 1;
+  while (end < head.size() && end < v + 5 && head[end] >= '0' && head[end] <= '9') ++end;
+  const long long version = decimal_whole(head.substr(v + 1, end - v - 1));
+  if (version < 280) return;
+  char name[32];
+  std::snprintf(name, sizeof name, version < 300 ? "%lld.%02lld" : "%lld.%lld", version / 100, version % 100);
+  fail_unsupported(path, "is a .blend file of Blender " + std::string(name) + advice);
+}
+
 bool is_checked(const std::string& ext) {
-  return ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".stl" || ext == ".dae";
+  return ext == ".off" || ext == ".ply" || ext == ".obj" || ext == ".stl" || ext == ".dae" || ext == ".blend";
 }
 
 // `text`: the file's bytes (a binary STL's head alone will do), `size`: the file's size.
@@ -198,6 +223,7 @@ void check_text(const std::string& path, const std::string& ext, const std::stri
   if (ext == ".stl" && is_binary_stl(text)) check_binary_stl(path, text, size);
   if (ext == ".stl" && !is_binary_stl(text)) check_ascii_stl_text(path, text);
   if (ext == ".dae") check_collada_text(path, text);
+  if (ext == ".blend") check_blend(path, text);
 }
 
 }  // namespace
@@ -219,7 +245,7 @@ void check_before_assimp(const std::string& path) {
     return bytes;
   };
   // A binary STL's triangles need not be read: its head tells its kind and the size it must have.
-  std::string text = read_up_to(ext == ".stl" ? std::min(size, kStlHead) : size);
+  std::string text = read_up_to(ext == ".stl" ? std::min(size, kStlHead) : ext == ".blend" ? std::min<size_t>(size, 17) : size);
   if (ext == ".stl" && !is_binary_stl(text)) text += read_up_to(size - text.size());  // an ASCII STL is read whole
   check_text(path, ext, text, size);
 }

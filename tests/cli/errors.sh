@@ -28,6 +28,14 @@ expect 1 "Error: --resolution: 'abc' is not a whole number (see sdf-build --help
   "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution abc
 expect 1 "Error: --times: '0.5s' is not a number (or a list of them)" "" -- \
   "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "$out/t" --animation 0 --times 0.5s
+# A .blend of Blender 2.80 or later (the artist's own file), which assimp's Blender reader fails
+# on with a word about its internals, or crashes on: exit 3 naming the version and the export.
+{ printf 'BLENDER-v402REND'; head -c 400 /dev/zero; } >"$out/scene.blend"
+expect 3 "scene.blend: is a .blend file of Blender 4.2; assimp's Blender reader stops at Blender 2.79 .*export glTF 2.0 from Blender" \
+  "$out/x.vdb" -- "$bin/sdf-build" "$out/scene.blend" -o "$out/x.vdb"
+{ printf '\x28\xb5\x2f\xfd'; head -c 400 /dev/zero; } >"$out/packed.blend"
+expect 3 "packed.blend: is a .blend file compressed with Zstandard (Blender 3.0 or later)" "" -- \
+  "$bin/pose-extract" "$out/packed.blend" -o "$out/pb" --morph-targets
 # A path a pipeline wrote on Windows: the error says why it is not found here.
 expect 2 "poses\\\\rest.obj: cannot open: no such file (a Windows path?" "$out/x.vdb" -- "$bin/sdf-build" 'poses\rest.obj' -o "$out/x.vdb"
 : >"$out/empty.obj"

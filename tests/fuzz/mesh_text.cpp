@@ -1,4 +1,4 @@
-// libFuzzer target: the OFF, PLY, OBJ, STL and COLLADA checks run before assimp
+// libFuzzer target: the OFF, PLY, OBJ, STL, COLLADA and .blend checks run before assimp
 // (mesh/file_checks.hpp) on arbitrary bytes, read as each format, and a PLY made ready for assimp
 // (mesh/ply_input.hpp). Bad input must end in spx::Error with a message of one line, never a
 // crash, a read past the text or another exception.
@@ -12,7 +12,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  for (const char* path : {"fuzz.off", "fuzz.ply", "fuzz.obj", "fuzz.stl", "fuzz.dae"}) {
+  for (const char* path : {"fuzz.off", "fuzz.ply", "fuzz.obj", "fuzz.stl", "fuzz.dae", "fuzz.blend"}) {
     try {
       spx::check_mesh_text(path, text);
       if (std::string(path) == "fuzz.ply") spx::ply_text_for_assimp(path, text);
