@@ -50,6 +50,20 @@ DefaultWeights default_weights_of(const aiScene& scene) {
 
 }  // namespace
 
+namespace {
+
+// Where a format not read here is one artists hand over often, the way from it to one that is.
+std::string way_from(const std::string& ext) {
+  if (ext == ".abc") return "; an Alembic cache: write its frames as OBJ files, one a pose, from the tool that made it";
+  if (ext == ".usd" || ext == ".usda" || ext == ".usdc" || ext == ".usdz")
+    return "; a USD stage: export glTF 2.0 from the tool that made it";
+  if (ext == ".max" || ext == ".ma" || ext == ".mb" || ext == ".c4d" || ext == ".hip" || ext == ".hipnc")
+    return "; a modelling tool's own scene: export glTF 2.0, FBX or OBJ from it";
+  return "";
+}
+
+}  // namespace
+
 void check_importable(const std::string& path, const std::string& kind, const std::string& formats) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail_no_such_file(path);
@@ -57,7 +71,8 @@ void check_importable(const std::string& path, const std::string& kind, const st
   if (std::filesystem::file_size(path, ec) == 0) fail_input(path, "file is empty");
   const std::string ext = lower_extension(path);
   if (ext.empty() || !Assimp::Importer().IsExtensionSupported(ext))
-    fail_unsupported(path, "unknown " + kind.substr(kind.find(' ') + 1) + " format '" + ext + "' (use " + formats + ")");
+    fail_unsupported(path, "unknown " + kind.substr(kind.find(' ') + 1) + " format '" + ext + "' (use " + formats + ")" +
+                               way_from(ext));
 }
 
 namespace {

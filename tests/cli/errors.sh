@@ -36,6 +36,10 @@ expect 3 "scene.blend: is a .blend file of Blender 4.2; assimp's Blender reader 
 { printf '\x28\xb5\x2f\xfd'; head -c 400 /dev/zero; } >"$out/packed.blend"
 expect 3 "packed.blend: is a .blend file compressed with Zstandard (Blender 3.0 or later)" "" -- \
   "$bin/pose-extract" "$out/packed.blend" -o "$out/pb" --morph-targets
+# A format artists hand over that is not read here: the way to one that is.
+echo "abc" >"$out/crash.abc"
+expect 3 "crash.abc: unknown mesh format '.abc' (use .*); an Alembic cache: write its frames as OBJ files" "$out/x.vdb" -- \
+  "$bin/sdf-build" "$out/crash.abc" -o "$out/x.vdb"
 # A path a pipeline wrote on Windows: the error says why it is not found here.
 expect 2 "poses\\\\rest.obj: cannot open: no such file (a Windows path?" "$out/x.vdb" -- "$bin/sdf-build" 'poses\rest.obj' -o "$out/x.vdb"
 : >"$out/empty.obj"
