@@ -87,7 +87,8 @@ std::string temp_path_for(const std::string& path) {
   constexpr size_t kLongestName = 255;
   if (name.size() > kLongestName) {
     char hash[20];
-    std::snprintf(hash, sizeof hash, "~%016llx", static_cast<unsigned long long>(fnv1a(kFnvOffset, file.data(), file.size())));
+    const unsigned long long whole = fnv1a(kFnvOffset, file.data(), file.size());
+    std::snprintf(hash, sizeof hash, "~%016llx", whole);
     name = "." + file.substr(0, kLongestName - 1 - std::strlen(hash) - tail.size()) + hash + tail;
   }
   return (dir / name).string();

@@ -192,9 +192,9 @@ void check_binary_stl(const std::string& path, std::string_view head, size_t siz
 // its makers) knows the layout up to 2.79: later files fail with a word about its internals
 // ("BlendDNA: Did not find a field named `no` in structure `MVert`") or crash it.
 void check_blend(const std::string& path, std::string_view head) {
-  const std::string advice = "; assimp's Blender reader stops at Blender 2.79 (later files fail or crash it): export "
-                             "glTF 2.0 from Blender (File > Export > glTF 2.0, with its shape keys or animation) and give "
-                             "that";
+  const std::string advice =
+      "; assimp's Blender reader stops at Blender 2.79 (later files fail or crash it): export glTF 2.0 from Blender "
+      "(File > Export > glTF 2.0, with its shape keys or animation) and give that";
   if (head.substr(0, 4) == std::string_view("\x28\xB5\x2F\xFD", 4))
     fail_unsupported(path, "is a .blend file compressed with Zstandard (Blender 3.0 or later)" + advice);
   if (head.substr(0, 7) != "BLENDER") return;  // gzip-compressed, or not a .blend: assimp decides
@@ -245,7 +245,10 @@ void check_before_assimp(const std::string& path) {
     return bytes;
   };
   // A binary STL's triangles need not be read: its head tells its kind and the size it must have.
-  std::string text = read_up_to(ext == ".stl" ? std::min(size, kStlHead) : ext == ".blend" ? std::min<size_t>(size, 17) : size);
+  // A .blend's version is in its first 17 bytes.
+  std::string text = read_up_to(ext == ".stl"     ? std::min(size, kStlHead)
+                                : ext == ".blend" ? std::min<size_t>(size, 17)
+                                                  : size);
   if (ext == ".stl" && !is_binary_stl(text)) text += read_up_to(size - text.size());  // an ASCII STL is read whole
   check_text(path, ext, text, size);
 }

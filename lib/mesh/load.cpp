@@ -71,8 +71,8 @@ void check_importable(const std::string& path, const std::string& kind, const st
   if (std::filesystem::file_size(path, ec) == 0) fail_input(path, "file is empty");
   const std::string ext = lower_extension(path);
   if (ext.empty() || !Assimp::Importer().IsExtensionSupported(ext))
-    fail_unsupported(path, "unknown " + kind.substr(kind.find(' ') + 1) + " format '" + ext + "' (use " + formats + ")" +
-                               way_from(ext));
+    fail_unsupported(path, "unknown " + kind.substr(kind.find(' ') + 1) + " format '" + ext + "' (use " + formats +
+                               ")" + way_from(ext));
 }
 
 namespace {

@@ -68,8 +68,10 @@ std::vector<std::string> data_for_assimp(const std::string& path, const std::str
       continue;
     }
     // An unsigned list's restart is its type's all-ones.
-    const auto list = std::find_if(e.properties.begin(), e.properties.end(), [](const PlyProperty& p) { return p.count.size > 0; });
-    if (list == e.properties.end()) fail_input(path, "its triangle strips (element 'tristrips') hold no list of vertex indices");
+    const auto list = std::find_if(e.properties.begin(), e.properties.end(),
+                                   [](const PlyProperty& p) { return p.count.size > 0; });
+    if (list == e.properties.end())
+      fail_input(path, "its triangle strips (element 'tristrips') hold no list of vertex indices");
     const PlyType index = list->value;
     const int64_t all_set = index.is_signed || index.size >= 8 ? -2 : (int64_t(1) << (8 * index.size)) - 1;
     for (size_t k = 0; k < e.count; ++k) {

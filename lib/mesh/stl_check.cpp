@@ -64,7 +64,8 @@ class StlWords {
       for (int k = 0; k < 3; ++k) check_coordinate(which, begun);
     }
     if (vertices != 3)
-      fail(begun + " has " + std::to_string(vertices) + (vertices == 1 ? " vertex" : " vertices") + "; the STL reader reads a facet as one triangle (3 vertices)" +
+      fail(begun + " has " + std::to_string(vertices) + (vertices == 1 ? " vertex" : " vertices") +
+           "; the STL reader reads a facet as one triangle (3 vertices)" +
            (vertices > 3 ? " and would drop the others: split it into triangles" : ""));
   }
 
@@ -76,7 +77,8 @@ class StlWords {
     if (end == word.c_str() + word.size()) return;
     const size_t comma = word.find(',');
     fail("line " + std::to_string(line_) + " (" + which + "): '" + one_line(word, 40) + "' is not a coordinate" +
-         (comma != std::string::npos ? " (a decimal comma? the STL reader would read " + one_line(word.substr(0, comma), 40) +
+         (comma != std::string::npos ? " (a decimal comma? the STL reader would read " +
+                                           one_line(word.substr(0, comma), 40) +
                                            " and move the vertex: write a decimal point)"
                                      : " (a vertex of fewer than 3 numbers?)"));
   }

@@ -110,7 +110,8 @@ std::string Tool::conversion_error(const std::string& what) const {
                             : type.rfind("FLOAT", 0) == 0 ? "a number"
                                                          : "";
   if (takes.empty()) return what;
-  return name + ": '" + value + "' is not " + takes + (option->get_items_expected_max() > 1 ? " (or a list of them)" : "");
+  const bool list = option->get_items_expected_max() > 1;
+  return name + ": '" + value + "' is not " + takes + (list ? " (or a list of them)" : "");
 }
 
 void Tool::check_no_empty_values() const {
@@ -312,9 +313,11 @@ std::vector<int> parse_frame_list(const std::vector<std::string>& words, const s
       continue;
     }
     const long long first = index(word, word.substr(0, dash)), last = index(word, word.substr(dash + 1));
-    if (last < first) fail_usage(flag, "'" + word + "' runs backwards; write it " + std::to_string(last) + "-" + std::to_string(first));
+    if (last < first)
+      fail_usage(flag, "'" + word + "' runs backwards; write it " + std::to_string(last) + "-" + std::to_string(first));
     if (last - first >= kLongestRange)
-      fail_usage(flag, "'" + word + "' spans " + std::to_string(last - first + 1) + " frames, more than any clip read here");
+      fail_usage(flag,
+                 "'" + word + "' spans " + std::to_string(last - first + 1) + " frames, more than any clip read here");
     for (long long f = first; f <= last; ++f) frames.push_back(int(f));
   }
   return frames;
