@@ -45,4 +45,24 @@ inline std::string one_line(std::string_view words, size_t most = std::string_vi
   return words.size() > most ? out + "..." : out;
 }
 
+// `line` with each control character written as its escape (a newline as \n, an escape as \x1b):
+// a message that must stay one line (the error line, a warning) though it quotes a file name that
+// holds a newline.
+inline std::string escape_controls(std::string_view line) {
+  std::string out;
+  for (const char c : line) {
+    const unsigned byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte != 0x7f) out += c;
+    else if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\t') out += "\\t";
+    else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      out += escaped;
+    }
+  }
+  return out;
+}
+
 }  // namespace spx

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <unistd.h>
 
+#include "core/format.hpp"
+
 namespace spx {
 
 Log& Log::silent() {
@@ -44,7 +46,7 @@ void Log::detail(const std::string& msg) const {
 void Log::warn(const std::string& msg) {
   warnings_.push_back(msg);
   if (verbosity_ >= 0) clear_line();
-  if (verbosity_ >= 0) std::fprintf(stderr, "%s: warning: %s\n", tool_.c_str(), msg.c_str());
+  if (verbosity_ >= 0) std::fprintf(stderr, "%s: warning: %s\n", tool_.c_str(), escape_controls(msg).c_str());
 }
 
 void Log::progress(const char* stage, size_t done, size_t total) const {

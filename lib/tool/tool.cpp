@@ -17,6 +17,7 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 
 namespace spx {
 namespace {
@@ -188,7 +189,7 @@ void Tool::add_common_fields(json& r) const {
 
 int Tool::fail_run(ExitCode code, const std::string& message) noexcept {
   Log::clear_transient();
-  std::fprintf(stderr, "Error: %s\n", message.c_str());
+  std::fprintf(stderr, "Error: %s\n", escape_controls(message).c_str());  // one line, whatever a file name holds
   if (report_path_.empty()) return static_cast<int>(code);
   try {
     check_no_empty_values();  // "" has no absolute path

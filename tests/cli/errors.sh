@@ -40,6 +40,12 @@ expect 3 "packed.blend: is a .blend file compressed with Zstandard (Blender 3.0 
 echo "abc" >"$out/crash.abc"
 expect 3 "crash.abc: unknown mesh format '.abc' (use .*); an Alembic cache: write its frames as OBJ files" "$out/x.vdb" -- \
   "$bin/sdf-build" "$out/crash.abc" -o "$out/x.vdb"
+# A file name holding a newline (a script's $(ls) gone wrong): the error stays one line, the
+# newline written as \n (it was split over two lines, the second not starting "Error:").
+said=$("$bin/sdf-build" "$out/no
+such.obj" -o "$out/x.vdb" 2>&1)
+check "an error naming a file with a newline is not one line: $said" [ "$(wc -l <<<"$said")" = 1 ]
+check "an error naming a file with a newline does not write it as \\n: $said" grep -qF 'no\nsuch.obj: cannot open' <<<"$said"
 # A path a pipeline wrote on Windows: the error says why it is not found here.
 expect 2 "poses\\\\rest.obj: cannot open: no such file (a Windows path?" "$out/x.vdb" -- "$bin/sdf-build" 'poses\rest.obj' -o "$out/x.vdb"
 : >"$out/empty.obj"
