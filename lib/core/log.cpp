@@ -28,19 +28,19 @@ void Log::clear_transient() { clear_line(); }
 void Log::info(const std::string& msg) const {
   if (verbosity_ < 0) return;
   clear_line();
-  std::fprintf(stderr, "%s: %s\n", tool_.c_str(), msg.c_str());
+  std::fprintf(stderr, "%s: %s\n", tool_.c_str(), escape_controls(msg).c_str());
 }
 
 void Log::begin(const std::string& stage) const {
   if (verbosity_ < 0 || tool_.empty() || !stderr_is_tty()) return;
-  std::fprintf(stderr, "\r\x1b[K%s: %s...", tool_.c_str(), stage.c_str());
+  std::fprintf(stderr, "\r\x1b[K%s: %s...", tool_.c_str(), escape_controls(stage).c_str());
   std::fflush(stderr);
 }
 
 void Log::detail(const std::string& msg) const {
   if (verbosity_ < 1) return;
   clear_line();
-  std::fprintf(stderr, "%s: %s\n", tool_.c_str(), msg.c_str());
+  std::fprintf(stderr, "%s: %s\n", tool_.c_str(), escape_controls(msg).c_str());
 }
 
 void Log::warn(const std::string& msg) {

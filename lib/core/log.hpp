@@ -1,5 +1,6 @@
 #pragma once
-// Progress and warnings for long steps, on stderr, shared by the library and the tools.
+// Progress and warnings for long steps, on stderr, shared by the library and the tools. Each
+// message is one line: a control character a file name brings is written as its escape.
 #include <chrono>
 #include <string>
 #include <utility>

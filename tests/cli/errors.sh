@@ -46,6 +46,14 @@ said=$("$bin/sdf-build" "$out/no
 such.obj" -o "$out/x.vdb" 2>&1)
 check "an error naming a file with a newline is not one line: $said" [ "$(wc -l <<<"$said")" = 1 ]
 check "an error naming a file with a newline does not write it as \\n: $said" grep -qF 'no\nsuch.obj: cannot open' <<<"$said"
+cp "$out/in/rest.obj" "$out/new
+line.obj"
+said=$("$bin/sdf-build" "$out/new
+line.obj" -o "$out/new
+line.vdb" --resolution 16 2>&1)
+check "the log line naming a file with a newline is not one line: $said" [ "$(wc -l <<<"$said")" = 1 ]
+rm -f "$out/new
+line.vdb"
 # A path a pipeline wrote on Windows: the error says why it is not found here.
 expect 2 "poses\\\\rest.obj: cannot open: no such file (a Windows path?" "$out/x.vdb" -- "$bin/sdf-build" 'poses\rest.obj' -o "$out/x.vdb"
 : >"$out/empty.obj"
