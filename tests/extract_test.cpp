@@ -308,6 +308,32 @@ TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   EXPECT_GT(moved, 0.01);
 }
 
+// Morph targets of one name in one mesh (an exporter's "target" for each): each is its own pose,
+// as with their own names. All were read as one target, every one of them at weight 1, and
+// pose-extract wrote 1 pose for the barrel's 3.
+TEST(PoseExtract, MorphTargetsOfOneNameAreEachTheirOwn) {
+  const std::string dir = test::temp_dir("morph-same-name");
+  json report;
+  sample_gen_files("barrel", dir, Log::silent(), report);
+  GltfFile file = read_gltf_file(dir + "/barrel-morph.glb");
+  const size_t targets = file.doc["meshes"][0]["extras"]["targetNames"].size();
+  ASSERT_EQ(targets, 3u);
+  file.doc["meshes"][0]["extras"]["targetNames"] = std::vector<std::string>(targets, "target");
+  write_file_atomic(dir + "/same.glb", encode_glb(file));
+  const Asset given(dir + "/barrel-morph.glb", ""), same(dir + "/same.glb", "");
+  ASSERT_EQ(same.morph_targets(), std::vector<std::string>(targets, "target"));
+  for (size_t k = 0; k < targets; ++k) EXPECT_EQ(same.morph_target(k), given.morph_target(k)) << k;
+  for (size_t k = 0; k < targets; ++k) EXPECT_EQ(same.at_time(0, double(k + 1)), given.at_time(0, double(k + 1))) << k;
+  PoseExtractOptions opt;
+  opt.morph_targets = true;
+  json out;
+  pose_extract_files(dir + "/same.glb", dir + "/ex", opt, Log::silent(), out);
+  const PoseManifest manifest = read_pose_manifest(dir + "/ex/poses.json");
+  ASSERT_EQ(manifest.poses.size(), targets);
+  EXPECT_EQ(manifest.poses[1].file, "target-2.obj");
+  EXPECT_EQ(manifest.poses[2].file, "target-3.obj");
+}
+
 // A morph target of normals alone (a glTF target with no POSITION, which assimp gives no
 // positions) moves no vertex: pose-extract read through a null pointer there and crashed. The
 // barrel's last target made one: its pose is the rest, the clip's time at it is the rest and

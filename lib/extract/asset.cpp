@@ -172,7 +172,6 @@ void Asset::list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& p
   if (names.empty()) fail_input(path_, "contains no triangle mesh");
   if (std::none_of(meshes_.begin(), meshes_.end(), [](const AssetMesh& m) { return m.used; }))
     fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path_ + " (its meshes: " + list_names(names) + ")");
-
 }
 
 // The used instances: their vertices laid out in turn, their triangles, morph targets and skins.
@@ -183,10 +182,16 @@ void Asset::use_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& pl
     inst.node = placed[i].first;
     inst.mesh = scene_->mMeshes[placed[i].second];
     inst.offset = vertex_count_;
+    // A body split into meshes shares its targets by name; within one mesh, targets of one name
+    // (an exporter's "target" for each) are each their own, matched to another mesh's in order.
+    std::map<std::string, size_t> seen;
     for (const auto& t : meshes_[i].morph_targets) {
-      auto it = std::find(targets_.begin(), targets_.end(), t);
-      inst.target_of.push_back(size_t(it - targets_.begin()));
-      if (it == targets_.end()) targets_.push_back(t);
+      const size_t nth = seen[t]++;
+      size_t k = 0;
+      for (size_t n = 0; k < targets_.size(); ++k)
+        if (targets_[k] == t && n++ == nth) break;
+      if (k == targets_.size()) targets_.push_back(t);
+      inst.target_of.push_back(k);
     }
     const aiMesh* m = inst.mesh;
     for (unsigned f = 0; f < m->mNumFaces; ++f) {

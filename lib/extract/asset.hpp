@@ -68,8 +68,9 @@ class Asset {
   const std::vector<AssetClip>& clips() const { return clips_; }
   // A clip by name, or by index when `which` is a number. Exit 1 naming --animation otherwise.
   size_t find_clip(const std::string& which) const;
-  // The used meshes' morph targets, one entry per distinct name in file order (the primitives
-  // of one glTF mesh share their targets).
+  // The used meshes' morph targets in file order: each of a mesh's its own entry, those of one
+  // name in another mesh matched to them in order (a body split into meshes shares its targets
+  // by name; the primitives of one glTF mesh share their targets).
   const std::vector<std::string>& morph_targets() const { return targets_; }
 
   // The body in the file's vertex layout.
