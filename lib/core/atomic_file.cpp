@@ -194,9 +194,9 @@ void fail_no_such_file(const std::string& path) {
 
 std::string read_file(const std::string& path) {
   std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail_no_such_file(path);
   if (std::filesystem::is_directory(path, ec)) fail_input(path, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
-  if (!in && errno == ENOENT) fail_no_such_file(path);
   if (!in) fail_input(path, std::string("cannot open: ") + errno_text());
   std::ostringstream ss;
   ss << in.rdbuf();

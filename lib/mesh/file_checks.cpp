@@ -161,14 +161,15 @@ void check_ply(const std::string& path, std::string_view text) {
 // A binary STL's header and triangle count: the bytes its check reads.
 constexpr size_t kStlHead = 84;
 
-// A binary STL (a NUL within its first 84 bytes, as its count's high byte or its header's
-// padding, where no ASCII STL holds one) is 84 bytes, then 50 a triangle of the count at byte 80.
+// A NUL within the first 84 bytes (its count's high byte or its header's padding), where no ASCII
+// STL holds one.
+bool is_binary_stl(std::string_view head) { return head.substr(0, kStlHead).find('\0') != std::string_view::npos; }
+
+// A binary STL is 84 bytes, then 50 a triangle of the count at byte 80.
 // The STL reader takes a file as binary only at exactly that size, so one cut short, or with bytes
 // after its triangles, failed with "Failed to determine STL storage representation", or, where
 // its header opens with "solid" as many exporters write it, was read as text and found no mesh.
 // `head` is the file's first bytes (kStlHead of them, or all where fewer), `size` its size.
-bool is_binary_stl(std::string_view head) { return head.substr(0, kStlHead).find('\0') != std::string_view::npos; }
-
 void check_binary_stl(const std::string& path, std::string_view head, size_t size) {
   head = head.substr(0, kStlHead);
   if (size < kStlHead)
@@ -187,7 +188,8 @@ void check_binary_stl(const std::string& path, std::string_view head, size_t siz
                         "wrong count?)");
 }
 
-// A .blend file names the Blender that wrote it in its first 12 bytes ("BLENDER-v402": 4.2);
+// A .blend file names the Blender that wrote it in its first 12 bytes ("BLENDER-v402": 4.2; 17 in
+// Blender 5's longer header);
 // from 3.0 on it may be Zstandard-compressed instead. assimp 5.2's Blender reader (deprecated by
 // its makers) knows the layout up to 2.79: later files fail with a word about its internals
 // ("BlendDNA: Did not find a field named `no` in structure `MVert`") or crash it.
@@ -221,7 +223,7 @@ void check_text(const std::string& path, const std::string& ext, const std::stri
   if (ext == ".ply") check_ply(path, text);
   if (ext == ".obj") check_obj_text(path, text);
   if (ext == ".stl" && is_binary_stl(text)) check_binary_stl(path, text, size);
-  if (ext == ".stl" && !is_binary_stl(text)) check_ascii_stl_text(path, text);
+  else if (ext == ".stl") check_ascii_stl_text(path, text);
   if (ext == ".dae") check_collada_text(path, text);
   if (ext == ".blend") check_blend(path, text);
 }

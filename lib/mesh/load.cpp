@@ -48,10 +48,6 @@ DefaultWeights default_weights_of(const aiScene& scene) {
   return out;
 }
 
-}  // namespace
-
-namespace {
-
 // Where a format not read here is one artists hand over often, the way from it to one that is.
 std::string way_from(const std::string& ext) {
   if (ext == ".abc") return "; an Alembic cache: write its frames as OBJ files, one a pose, from the tool that made it";

@@ -14,6 +14,9 @@ namespace {
 
 bool is_line_end(char c) { return c == '\n' || c == '\r'; }
 
+// A float value as the whole number a list keeps (truncated; 0 for NaN).
+int64_t truncated(double real) { return real == real ? int64_t(std::clamp(real, -9.2e18, 9.2e18)) : 0; }
+
 // A property line's type, or why it names none.
 std::string read_property(const std::vector<std::string_view>& w, PlyProperty& p) {
   if (w.size() >= 5 && w[1] == "list") {
@@ -156,8 +159,7 @@ std::pair<size_t, size_t> PlyWalk::ascii_instance(const PlyElement& e, size_t k,
         whole ? std::from_chars(word.data(), end, integer) : std::from_chars(word.data(), end, real);
     if (word.empty() || read.ec != std::errc() || read.ptr != end)
       fail(where() + ": '" + one_line(word) + "' is not " + (whole ? "a whole number" : "a number"));
-    if (whole) return int64_t(integer);
-    return real == real ? int64_t(std::clamp(real, -9.2e18, 9.2e18)) : 0;
+    return whole ? int64_t(integer) : truncated(real);
   };
   bool listed = false;
   for (const PlyProperty& p : e.properties) {
@@ -217,7 +219,7 @@ int64_t PlyWalk::binary_value(const PlyType& t, const PlyElement& e, size_t k) {
     } else {
       std::memcpy(&real, b, 8);
     }
-    return real == real ? int64_t(std::clamp(real, -9.2e18, 9.2e18)) : 0;
+    return truncated(real);
   }
   uint64_t u = 0;
   for (int i = t.size - 1; i >= 0; --i) u = (u << 8) | b[i];
