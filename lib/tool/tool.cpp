@@ -130,10 +130,20 @@ void Tool::check_output_folders() const {
   namespace fs = std::filesystem;
   // The folders the tool creates, and their parents.
   std::vector<fs::path> created;
-  for (const CLI::Option* folder : given(folder_outputs_))
-    for (fs::path p = fs::absolute(folder->as<std::string>()).lexically_normal(); !p.empty() && p != p.parent_path();
-         p = p.parent_path())
+  for (const CLI::Option* folder : given(folder_outputs_)) {
+    const std::string path = folder->as<std::string>();
+    const fs::path target = fs::absolute(path).lexically_normal();
+    for (fs::path p = target; !p.empty() && p != p.parent_path(); p = p.parent_path()) {
       created.push_back(p);
+      // A file where the folder (or one it goes in) would be fails now, not after the work.
+      std::error_code ec;
+      if (!fs::exists(p, ec)) continue;
+      if (!fs::is_directory(p, ec))
+        fail_write(path, "cannot make the folder: " + p.string() + " is a file" +
+                             (p == target ? "" : ", not a folder the output can go in"));
+      break;
+    }
+  }
   for (const CLI::Option* file : given_files()) {
     const std::string path = file->as<std::string>();
     std::error_code is_folder;

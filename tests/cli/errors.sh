@@ -20,6 +20,13 @@ expect 1 "Error: --output: is empty (a shell or make variable that was not set?)
 expect 1 "Error: --report: is empty" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --report ""
 expect 1 "Error: input: is empty" "$out/x.vdb" -- "$bin/sdf-build" "" -o "$out/x.vdb"
 expect 1 "Error: --output: is empty" "" -- "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "" --morph-targets
+# An output folder where a file is (or in one): refused before the clip is read, the file kept.
+printf 'a file\n' >"$out/px-file"
+expect 4 "px-file: cannot make the folder: .*px-file is a file$" "" -- "$bin/pose-extract" "$out/in/barrel-morph.glb" \
+  -o "$out/px-file" --morph-targets
+expect 4 "px-file/poses: cannot make the folder: .*px-file is a file, not a folder the output can go in" "" -- \
+  "$bin/pose-extract" "$out/in/barrel-morph.glb" -o "$out/px-file/poses" --morph-targets
+check "pose-extract -o wrote over a file" grep -qx "a file" "$out/px-file"
 expect 1 "Error: --manifest: is empty" "$out/p.json" -- "$bin/pose-map" --manifest "" --spheres "$out/s.json" -o "$out/p.json"
 expect 1 "Error: --output: $out/ is a folder; give the name of the file to write" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/"
 # A value that is not of the option's kind, said as the option and what it takes (CLI11 said
@@ -290,7 +297,7 @@ expect 1 "every-vertex: is for the cover method" "$out/n.json" -- "$bin/sphere-p
 expect 1 "cache: is for the cover method" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" -o "$out/n.json" \
   --method greedy --cache "$out/cache"
 printf 'a file\n' >"$out/a-file"
-expect 4 "a-file: cannot make the cache folder" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
+expect 4 "a-file: cannot make the folder: .*a-file is a file" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
   --mesh "$out/in/rest.obj" -o "$out/n.json" --cache "$out/a-file"
 # --cache-limit: a size that is not one (negative, a unit it does not know) or without --cache.
 expect 1 "--cache-limit: must be 0 or more, not -1" "$out/n.json" -- "$bin/sphere-pack" "$out/rest.vdb" \
@@ -372,7 +379,7 @@ expect 2 "huge.mesh: section Vertices claims 100000000000 entries" "$out/o.json"
 # A --cache folder that cannot be made (a file in the way, the rest mesh mistyped): refused before
 # any work, the file kept as it was.
 cp "$out/in/dent.obj" "$out/dent-copy.obj"
-expect 4 "Error: .*dent-copy.obj: cannot make the cache folder" "$out/o.json" -- \
+expect 4 "Error: .*dent-copy.obj: cannot make the folder: .*dent-copy.obj is a file" "$out/o.json" -- \
   "$bin/pose-map" --rest "$out/in/rest.obj" --pose "$out/in/dent.obj" --spheres "$out/s.json" -o "$out/o.json" \
   --cache "$out/dent-copy.obj"
 check "--cache wrote over a file" cmp -s "$out/in/dent.obj" "$out/dent-copy.obj"
