@@ -152,7 +152,8 @@ void Tool::check_output_folders() const {
     const fs::path folder = fs::absolute(path).lexically_normal().parent_path();
     std::error_code ec;
     if (fs::is_directory(folder, ec) || std::find(created.begin(), created.end(), folder) != created.end()) continue;
-    fail_write(path, "cannot create output: its folder " + folder.string() + " is not there");
+    fail_write(path, "cannot create output: its folder " + folder.string() +
+                         (fs::exists(folder, ec) ? " is a file" : " is not there"));
   }
 }
 

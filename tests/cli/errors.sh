@@ -133,6 +133,7 @@ expect 1 "resolution" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$o
 expect 3 "GiB" "$out/x.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/x.vdb" --resolution 20000
 expect 1 "Error:" "" -- "$bin/sdf-build" "$out/in/rest.obj" --no-such-option
 expect 4 "x.vdb: cannot create output: its folder .*/no/such/dir is not there" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/no/such/dir/x.vdb"
+expect 4 "x.vdb: cannot create output: its folder .*/px-file is a file" "" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/px-file/x.vdb"
 # An output's folder that is not there fails before the work, the others not written either.
 expect 4 "r.json: cannot create output: its folder" "$out/y.vdb" -- "$bin/sdf-build" "$out/in/rest.obj" -o "$out/y.vdb" --report "$out/no/r.json"
 expect 4 "c.glb: cannot create output: its folder" "" -- "$bin/proxy-eval" "$out/none.proxy.json" --colors "$out/no/c.glb"
