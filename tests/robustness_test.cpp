@@ -1,4 +1,4 @@
-// Bad and broken input: each case ends in its documented outcome (README "Robustness" table).
+// Bad and broken input: each case ends in its documented outcome (docs/robustness.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -99,7 +99,7 @@ TEST(BrokenData, SpherePackTakesTheMeshTheFieldWasBuiltFrom) {
         << name;
     // The truck is a soup of open parts: at its rims the winding number's 1/2 level, which closes
     // its holes, is placed by the field to a fraction of a voxel, and its smallest spheres cross it
-    // by up to 0.034 voxel (README, Robustness): checked the field's margin in from their surface.
+    // by up to 0.034 voxel (docs/robustness.md): checked the field's margin in from their surface.
     const double voxel = sdf_report["grid"]["voxel_size"].get<double>();
     const double inset = std::string(name) == "broken/truck.obj" ? kFieldMargin * voxel : 0.0;
     expect_in_winding_solid(load_mesh(path).mesh, read_spheres_file(dir + "/spheres.json").spheres, name, inset);

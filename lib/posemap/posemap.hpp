@@ -66,7 +66,7 @@ struct PoseMapOptions {
   // Once, not sphere-pack's twice: each round refines over every frame (the walk's 48 frames at
   // 64 spheres: 116 s without, 199 s with one, 311 s with two), and the second lowered fewer of
   // the rows measured than the first. Not on a skinned body: on the walk no round lowered the
-  // error over the clip between its frames (README, "The polish over every pose").
+  // error over the clip between its frames (docs/pose-map.md, "The polish over every pose").
   int polish_rounds = -1;
 };
 
