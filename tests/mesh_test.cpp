@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -390,6 +391,42 @@ TEST(MeshLoad, RepeatedTrianglesDroppedAsBruteForceDoes) {
     ASSERT_EQ(mesh.triangles, expected) << round;
     EXPECT_EQ(got.count, repeats) << round;
     EXPECT_EQ(got.first_at, first) << round;
+  }
+}
+
+// weld_by_position against the rule read plainly: a position is the vertex of the first equal one
+// before it (-0 equal to +0, a NaN equal to none), vertices numbered in order of first appearance.
+// Random positions from a few values, so that most repeat.
+TEST(MeshLoad, WeldByPositionAsBruteForceDoes) {
+  std::mt19937 rng(11);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> values = {0.0, -0.0, 1.0, -1.0, 1e-300, 2.5, nan};
+  std::uniform_int_distribution<size_t> pick(0, values.size() - 1);
+  for (int round = 0; round < 200; ++round) {
+    std::vector<Eigen::Vector3d> positions(size_t(1 + round % 60));
+    for (Eigen::Vector3d& p : positions) p = {values[pick(rng)], values[pick(rng)], values[pick(rng) % 3]};
+    std::vector<Eigen::Vector3d> expected_welded;
+    std::vector<int> expected(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) {
+      size_t j = 0;
+      while (j < i && !(positions[j] == positions[i])) ++j;  // == is false for NaN, -0 == +0
+      if (j < i) {
+        expected[i] = expected[j];
+      } else {
+        expected[i] = int(expected_welded.size());
+        expected_welded.push_back(positions[i]);
+      }
+    }
+    std::vector<Eigen::Vector3d> welded = {Eigen::Vector3d(7, 7, 7)};  // appended to
+    const std::vector<int> got = weld_by_position(positions, welded);
+    ASSERT_EQ(welded.size(), expected_welded.size() + 1) << round;
+    ASSERT_EQ(got.size(), expected.size()) << round;
+    for (size_t i = 0; i < got.size(); ++i) {
+      ASSERT_EQ(got[i], expected[i] + 1) << round << " position " << i;
+      const Eigen::Vector3d& a = welded[size_t(got[i])];
+      const Eigen::Vector3d& b = positions[i];
+      for (int c = 0; c < 3; ++c) EXPECT_TRUE(a[c] == b[c] || (std::isnan(a[c]) && std::isnan(b[c]))) << round;
+    }
   }
 }
 

@@ -1,13 +1,12 @@
 // A closed part given both ways (drop_inner_sides, mesh.hpp): its outer side kept.
 #include <algorithm>
 #include <array>
-#include <unordered_map>
 #include <vector>
 
-#include "core/hash.hpp"
 #include "mesh/components.hpp"
 #include "mesh/defects.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/sorted_keys.hpp"
 
 namespace spx {
 namespace {
@@ -15,17 +14,21 @@ namespace {
 // Each triangle's twin (the same corners in the other turn), -1 where it has none. Triangles with
 // a repeated corner have none.
 std::vector<int> twins_of(const TriMesh& mesh) {
-  std::vector<int> twin(mesh.triangles.size(), -1);
-  std::unordered_map<std::array<int, 3>, int, BytesHash> first;
-  first.reserve(mesh.triangles.size());
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+  using Corners = std::array<int, 3>;
+  const std::vector<KeyedIndex<Corners>> sorted = sorted_keys<Corners>(mesh.triangles.size(), [&](size_t t) {
     const Eigen::Vector3i& f = mesh.triangles[t];
-    std::array<int, 3> key = {f[0], f[1], f[2]};
+    Corners key = {f[0], f[1], f[2]};
     std::sort(key.begin(), key.end());
-    if (key[0] == key[1] || key[1] == key[2]) continue;
-    const auto [it, fresh] = first.emplace(key, int(t));
-    // Repeats in the same turn were dropped before: another triangle on these corners is the twin.
-    if (!fresh && twin[size_t(it->second)] < 0) twin[size_t(it->second)] = int(t), twin[t] = it->second;
+    return key;
+  });
+  // Repeats in the same turn were dropped before: of the triangles on these corners, the first
+  // two are twins (a third would repeat one of them).
+  std::vector<int> twin(mesh.triangles.size(), -1);
+  for (size_t k = 1; k < sorted.size(); ++k) {
+    const Corners& key = sorted[k].first;
+    if (key != sorted[k - 1].first || key[0] == key[1] || key[1] == key[2]) continue;
+    if (k >= 2 && sorted[k - 2].first == key) continue;  // a third
+    twin[sorted[k].second] = int(sorted[k - 1].second), twin[sorted[k - 1].second] = int(sorted[k].second);
   }
   return twin;
 }

@@ -9,18 +9,16 @@
 #include <cstring>
 #include <filesystem>
 #include <set>
-#include <unordered_map>
-#include <unordered_set>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 #include "core/format.hpp"
-#include "core/hash.hpp"
 #include "core/side_by_side.hpp"
 #include "mesh/assimp_scene.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/pose_match.hpp"
+#include "mesh/sorted_keys.hpp"
 #include "mesh/triangulation.hpp"
 
 namespace spx {
@@ -128,21 +126,6 @@ RawMesh read_raw(const std::string& path, const Triangulation* rest = nullptr) {
   return raw;
 }
 
-struct PositionKey {
-  double x, y, z;
-  bool operator==(const PositionKey& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-struct PositionHash {
-  size_t operator()(const PositionKey& k) const {
-    uint64_t h = kFnvOffset;
-    for (double d : {k.x, k.y, k.z}) {
-      d = d == 0.0 ? 0.0 : d;  // -0 and +0 weld together
-      h = fnv1a(h, &d, sizeof d);
-    }
-    return static_cast<size_t>(h);
-  }
-};
-
 }  // namespace
 
 Eigen::AlignedBox3d TriMesh::bounds() const {
@@ -152,14 +135,32 @@ Eigen::AlignedBox3d TriMesh::bounds() const {
 }
 
 std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& welded) {
+  // Sorted by their bits (+0 for -0), equal positions lie together, the first of each in front.
+  const auto bits = [](double d) {
+    uint64_t b;
+    d += 0.0;  // -0 and +0 weld together
+    std::memcpy(&b, &d, sizeof b);
+    return b;
+  };
+  using Bits = std::array<uint64_t, 3>;
+  const std::vector<KeyedIndex<Bits>> sorted = sorted_keys<Bits>(positions.size(), [&](size_t i) {
+    return Bits{bits(positions[i].x()), bits(positions[i].y()), bits(positions[i].z())};
+  });
+  // Each position's first occurrence (a NaN is equal to none, as in a hash table).
+  std::vector<uint32_t> first(positions.size());
+  for (size_t k = 0; k < sorted.size(); ++k) {
+    const uint32_t i = sorted[k].second;
+    const bool same = k > 0 && positions[i] == positions[sorted[k - 1].second];
+    first[i] = same ? first[sorted[k - 1].second] : i;
+  }
   std::vector<int> weld(positions.size());
-  std::unordered_map<PositionKey, int, PositionHash> seen;
-  seen.reserve(positions.size());
   for (size_t i = 0; i < positions.size(); ++i) {
-    const auto& p = positions[i];
-    auto [it, fresh] = seen.emplace(PositionKey{p.x() + 0.0, p.y() + 0.0, p.z() + 0.0}, static_cast<int>(welded.size()));
-    if (fresh) welded.push_back(p);
-    weld[i] = it->second;
+    if (first[i] == i) {
+      weld[i] = int(welded.size());
+      welded.push_back(positions[i]);
+    } else {
+      weld[i] = weld[first[i]];
+    }
   }
   return weld;
 }
@@ -184,17 +185,20 @@ LoadedMesh load_mesh(const std::string& path) {
 
 RepeatedTriangles drop_repeated_triangles(TriMesh& mesh) {
   RepeatedTriangles out;
-  std::unordered_set<std::array<int, 3>, BytesHash> seen;
-  seen.reserve(mesh.triangles.size());
+  using Corners = std::array<int, 3>;
+  // The least of its three turns names a triangle whichever corner it starts from.
+  const std::vector<KeyedIndex<Corners>> sorted = sorted_keys<Corners>(mesh.triangles.size(), [&](size_t t) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    return std::min({Corners{f[0], f[1], f[2]}, Corners{f[1], f[2], f[0]}, Corners{f[2], f[0], f[1]}});
+  });
+  std::vector<char> repeat(mesh.triangles.size(), 0);
+  for (size_t k = 1; k < sorted.size(); ++k) repeat[sorted[k].second] = sorted[k].first == sorted[k - 1].first;
   size_t kept = 0;
-  for (const Eigen::Vector3i& t : mesh.triangles) {
-    // The least of its three turns names a triangle whichever corner it starts from.
-    const std::array<int, 3> key = std::min({std::array<int, 3>{t[0], t[1], t[2]}, std::array<int, 3>{t[1], t[2], t[0]},
-                                            std::array<int, 3>{t[2], t[0], t[1]}});
-    if (seen.insert(key).second) {
-      mesh.triangles[kept++] = t;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!repeat[t]) {
+      mesh.triangles[kept++] = mesh.triangles[t];
     } else if (out.count++ == 0) {
-      out.first_at = mesh.vertices[size_t(t[0])];
+      out.first_at = mesh.vertices[size_t(mesh.triangles[t][0])];
     }
   }
   mesh.triangles.resize(kept);
