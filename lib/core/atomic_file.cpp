@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <filesystem>
 #include <fstream>
@@ -202,6 +203,25 @@ std::string read_file(const std::string& path) {
   ss << in.rdbuf();
   if (in.bad()) fail_input(path, "read failed");
   return ss.str();
+}
+
+FolderLock::FolderLock(const std::string& dir, const std::function<void()>& waiting) {
+  fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd_ < 0) return;  // the writes that follow say what is wrong with the folder
+  if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+  if (errno == EWOULDBLOCK) {
+    if (waiting) waiting();
+    int held;
+    while ((held = ::flock(fd_, LOCK_EX)) != 0 && errno == EINTR) {
+    }
+    if (held == 0) return;
+  }
+  ::close(fd_);  // no locks here (ENOLCK, EINVAL): written as before
+  fd_ = -1;
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing lets go of the lock
 }
 
 }  // namespace spx

@@ -396,6 +396,8 @@ void write_poses(const Asset& asset, const Body& body, const std::vector<PoseReq
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) fail_write(dir, "cannot create folder: " + ec.message());
+  // From clearing an earlier run's files to this run's manifest, the folder is this run's alone.
+  const FolderLock hold(dir, [&] { log.info(dir + ": another run is writing poses here; waiting for it to finish"); });
   StageTimer write_timer(log, "write");
   const TriMesh& rest = body.welded.rest;
   const std::string tag = "spx pose-extract " + std::filesystem::path(input).filename().string();

@@ -121,6 +121,39 @@ check "a clip's skin past the limit: a manifest left beside the new rest ($(file
 check "2 frames after a failed 3: the folder holds $(files)" \
   '[ "$(files)" = "pose-00.obj pose-01.obj poses.json rest.obj skin.json " ]'
 check "a run's list of its files left after its manifest" '[ -z "$(find "$d" -name ".*" -type f)" ]'
+# Two runs into one folder at once (make -j with two rules writing it): the manifest named poses
+# of the other run (the robot's frames 0-2 and 6-9: 3 of the 4 trials below). A run holds the
+# folder from clearing the earlier files to its manifest: while another holds it (flock here), it
+# waits and writes nothing.
+"$bin/pose-extract" "$out/in/robot.glb" -o "$out/ref-a" --animation 0 --frames 0-2 -q
+"$bin/pose-extract" "$out/in/robot.glb" -o "$out/ref-b" --animation 0 --frames 6-9 -q
+d=$out/together && mkdir -p "$d"
+flock "$d" sleep 6 &
+holder=$!
+sleep 0.5
+"$bin/pose-extract" "$out/in/robot.glb" -o "$d" --animation 0 --frames 0-2 2>"$out/waited.err" &
+waiter=$!
+sleep 1.5
+check "a run wrote its manifest while another held the folder" '[ ! -e "$d/poses.json" ]'
+wait "$holder" "$waiter"
+check "a run that waited for the folder did not say so: $(cat "$out/waited.err")" \
+  'grep -q "another run is writing poses here; waiting for it to finish" "$out/waited.err"'
+check "a run that waited for the folder left $(files)" \
+  '[ "$(files)" = "pose-00.obj pose-01.obj pose-02.obj poses.json rest.obj skin.json " ]'
+# The manifest's files all of its own run, whichever ran last.
+own_run() {
+  local n ref
+  n=$(python3 -c "import json,sys; print(len(json.load(open(sys.argv[1]))['poses']))" "$d/poses.json")
+  [ "$n" = 3 ] && ref=$out/ref-a || ref=$out/ref-b
+  for f in $(cd "$ref" && ls); do cmp -s "$d/$f" "$ref/$f" || return 1; done
+  [ "$(files)" = "$(cd "$ref" && ls | tr '\n' ' ')" ]
+}
+for trial in 1 2 3 4; do
+  "$bin/pose-extract" "$out/in/robot.glb" -o "$d" --animation 0 --frames 0-2 -q &
+  "$bin/pose-extract" "$out/in/robot.glb" -o "$d" --animation 0 --frames 6-9 -q &
+  wait
+  check "two runs at once into one folder, trial $trial: the manifest names another run's files ($(files))" own_run
+done
 
 # Outputs that are not plain files. A symbolic link a pipeline keeps ("latest") stays a link and
 # the file it names is written; a pipe, and the process's own stdout (a link into /proc, where
