@@ -1,7 +1,9 @@
 #pragma once
-// FNV-1a, 64 bit: the one hash for weld keys, deterministic file ids and state digests.
+// FNV-1a, 64 bit: the one hash for deterministic file ids, cache keys and state digests; and a
+// double's bits, for keys that tell values apart exactly.
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace spx {
 
@@ -20,11 +22,12 @@ uint64_t fnv1a_values(uint64_t h, const Vector& v) {
   return fnv1a(h, v.data(), v.size() * sizeof(v[0]));
 }
 
-// A hash table's hash of a small plain key (an array of corner indices): its bytes.
-struct BytesHash {
-  template <class Key>
-  size_t operator()(const Key& k) const { return size_t(fnv1a(kFnvOffset, &k, sizeof k)); }
-};
+// The bits of `v` (-0 and +0 apart, each NaN as its own bits).
+inline uint64_t bits_of(double v) {
+  uint64_t out;
+  std::memcpy(&out, &v, sizeof v);
+  return out;
+}
 
 // A hash's bits spread (SplitMix64's finalizer): summed over a set, the sum names the set
 // whatever its order.

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 #include "core/format.hpp"
+#include "core/hash.hpp"
 #include "core/side_by_side.hpp"
 #include "mesh/assimp_scene.hpp"
 #include "mesh/mesh.hpp"
@@ -135,16 +136,12 @@ Eigen::AlignedBox3d TriMesh::bounds() const {
 }
 
 std::vector<int> weld_by_position(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& welded) {
-  // Sorted by their bits (+0 for -0), equal positions lie together, the first of each in front.
-  const auto bits = [](double d) {
-    uint64_t b;
-    d += 0.0;  // -0 and +0 weld together
-    std::memcpy(&b, &d, sizeof b);
-    return b;
-  };
+  // Sorted by their bits, equal positions lie together, the first of each in front (+ 0.0: -0
+  // and +0 weld together).
   using Bits = std::array<uint64_t, 3>;
   const std::vector<KeyedIndex<Bits>> sorted = sorted_keys<Bits>(positions.size(), [&](size_t i) {
-    return Bits{bits(positions[i].x()), bits(positions[i].y()), bits(positions[i].z())};
+    const Eigen::Vector3d& p = positions[i];
+    return Bits{bits_of(p.x() + 0.0), bits_of(p.y() + 0.0), bits_of(p.z() + 0.0)};
   });
   // Each position's first occurrence (a NaN is equal to none, as in a hash table).
   std::vector<uint32_t> first(positions.size());

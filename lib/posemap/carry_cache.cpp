@@ -28,12 +28,6 @@ void put_value(std::string& bytes, const SkinnedMap::Choice& c) {
 }
 void put_value(std::string& bytes, double v) { cache_put(bytes, v); }
 
-uint64_t bits_of(double v) {
-  uint64_t out;
-  std::memcpy(&out, &v, sizeof v);
-  return out;
-}
-
 }  // namespace
 
 template <size_t Words, class Value>
