@@ -82,6 +82,18 @@ json tolerance_report(const Tolerance& tolerance, double target, bool is_default
           {"met", met},       {"max_error", max_error},    {"spheres", spheres},             {"limited_by", limited_by}};
 }
 
+// The end of the tool's last line: the error measured, and what ended the selection (with the
+// tolerance it met, which a default leaves unsaid otherwise).
+std::string outcome_wording(const PackStats& stats, const Tolerance& in_force, double tolerance, double diagonal) {
+  std::string out;
+  if (stats.max_error >= 0 && diagonal > 0)
+    out += ", max error " + num(stats.max_error) + " (" + num(100 * stats.max_error / diagonal) + "% of the diagonal)";
+  out += stats.stop_is_limit ? "; limited by " + stats.stop_reason : "; " + stats.stop_reason;
+  if (!stats.stop_is_limit && tolerance > 0 && stats.stop_reason.rfind("met ", 0) == 0)
+    out += " " + (in_force.percent ? num(in_force.value) + "% (" + num(tolerance) + ")" : num(tolerance));
+  return out;
+}
+
 // The paper's greedy packing; with a tolerance (`asked`, opt.tolerance as a length), the
 // shortest prefix of the whole sequence that meets it.
 SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const MeshQuery* mesh,
@@ -115,6 +127,7 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
     packed.spheres.resize(keep);
     packed.stats.stop_reason = limit;  // the prefix, not the packing that made the sequence, decides
     const double reached = tr.max_error_by_count.empty() ? 0 : tr.max_error_by_count[keep - 1];
+    packed.stats.max_error = reached;
     if (!tr.met) {
       char msg[400];
       std::snprintf(msg, sizeof msg,
@@ -314,6 +327,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   const std::string limit = limit_wording(limited_by);
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
+  stats.max_error = error.max;
   stats.stop_is_limit = limited_by != Limit::tolerance && limited_by != Limit::default_tolerance;
   stats.min_radius = opt.pack.min_radius;
   stats.max_radius = opt.pack.max_radius;
@@ -446,9 +460,8 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));
 
-  const std::string said = (stats.stop_is_limit ? "limited by " : "") + stats.stop_reason;
   log.info(output + ": " + counted(spheres.size(), "sphere") + ", radii " + num(stats.smallest) + ".." + num(stats.largest) +
-           "; " + said);
+           outcome_wording(stats, in_force, opt.tolerance, mesh ? mesh->surface().diagonal() : 0));
   report["input"] = input;
   report["output"] = output;
   report["method"] = opt.method == PackMethod::cover ? "cover" : "greedy";

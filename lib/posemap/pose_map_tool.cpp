@@ -226,6 +226,19 @@ json pose_map_report(const PoseMapResult& result) {
           {"selection", selection_report(s, proxy)}};
 }
 
+// What ended the selection, for the tool's first line: the tolerance it met over every pose (a
+// default would otherwise go unsaid), or the limit that stopped it.
+std::string selection_outcome(const PoseMapSummary& s, double diagonal) {
+  if (!s.selection) return "";
+  const Limit limit = s.selection->limited_by;
+  const bool met = limit == Limit::tolerance || limit == Limit::default_tolerance;
+  std::string out = std::string(met ? "; " : "; limited by ") + limit_wording(limit);
+  if (met && s.selection_target > 0)
+    out += " " + num(s.selection_target) + " (" + num(100 * s.selection_target / diagonal) +
+           "% of the diagonal) in every pose";
+  return out;
+}
+
 void pose_map_files(const std::string& rest_path, const std::vector<std::string>& pose_paths,
                     const std::string& spheres_path, const std::string& output, const PoseMapOptions& given,
                     const PoseMapTolerances& tolerances, Log& log, json& report, const std::string& skin_path,
@@ -258,7 +271,8 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   write_json_atomic(output, proxy_to_json(result.proxy));
 
   log.info(output + ": " + counted(result.proxy.sphere_count(), "sphere") + " x " +
-           counted(result.proxy.poses.size(), "pose") + ", " + counted(result.proxy.sites.size(), "blend site"));
+           counted(result.proxy.poses.size(), "pose") + ", " + counted(result.proxy.sites.size(), "blend site") +
+           selection_outcome(result.summary, diagonal));
   const int name_width = pose_name_width(result.proxy.poses);
   std::vector<PoseLine> lines;
   for (size_t i = 0; i < result.proxy.poses.size(); ++i) {
