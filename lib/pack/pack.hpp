@@ -34,6 +34,7 @@ struct PackStats {
   double min_radius = 0, max_radius = 0;  // the limits in force
   double smallest = 0, largest = 0;       // radii produced
   double max_error = -1;                  // at the mesh's vertices, where measured (< 0: not)
+  bool met_tolerance = false;             // a tolerance was asked (or the default) and met
   size_t interior_voxels = 0, centers_rejected = 0, centers_refined = 0;
   nlohmann::json to_json() const;
   // smallest and largest from the radii of `spheres` (left at 0 when there are none).

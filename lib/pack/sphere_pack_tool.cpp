@@ -89,7 +89,7 @@ std::string outcome_wording(const PackStats& stats, const Tolerance& in_force, d
   if (stats.max_error >= 0 && diagonal > 0)
     out += ", max error " + num(stats.max_error) + " (" + num(100 * stats.max_error / diagonal) + "% of the diagonal)";
   out += stats.stop_is_limit ? "; limited by " + stats.stop_reason : "; " + stats.stop_reason;
-  if (!stats.stop_is_limit && tolerance > 0 && stats.stop_reason.rfind("met ", 0) == 0)
+  if (stats.met_tolerance)
     out += " " + (in_force.percent ? num(in_force.value) + "% (" + num(tolerance) + ")" : num(tolerance));
   return out;
 }
@@ -128,6 +128,7 @@ SphereSet select_greedy(const LoadedSdf& sdf, const std::string& input, const Me
     packed.stats.stop_reason = limit;  // the prefix, not the packing that made the sequence, decides
     const double reached = tr.max_error_by_count.empty() ? 0 : tr.max_error_by_count[keep - 1];
     packed.stats.max_error = reached;
+    packed.stats.met_tolerance = tr.met && !packed.stats.stop_is_limit;
     if (!tr.met) {
       char msg[400];
       std::snprintf(msg, sizeof msg,
@@ -328,6 +329,7 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
   stats.max_error = error.max;
+  stats.met_tolerance = limited_by == Limit::tolerance || limited_by == Limit::default_tolerance;
   stats.stop_is_limit = limited_by != Limit::tolerance && limited_by != Limit::default_tolerance;
   stats.min_radius = opt.pack.min_radius;
   stats.max_radius = opt.pack.max_radius;
