@@ -92,6 +92,8 @@ size_t cover_out_of_reach(const CoverProblem& problem, const std::vector<uint32_
 // (kNoSolidBeside), which no resolution fills.
 enum class Limit { tolerance, default_tolerance, resolution, reach, motion, flat, budget, budget_over_tolerance, candidates };
 const char* limit_wording(Limit limit);
+// The selection ended by meeting its tolerance (given or the default), not by a limit.
+inline bool met_tolerance(Limit limit) { return limit == Limit::tolerance || limit == Limit::default_tolerance; }
 // Why a surface vertex with no solid on either side of it (MeshQuery::solid_beside) is reached by
 // no sphere at any resolution: the one wording sphere-pack's and pose-map's messages share.
 constexpr const char* kNoSolidBeside =

@@ -329,8 +329,8 @@ SphereSet select_by_cover_reported(const LoadedSdf& sdf, const MeshQuery& mesh, 
   stats.radius_source = "mesh";
   stats.stop_reason = limit;
   stats.max_error = error.max;
-  stats.met_tolerance = limited_by == Limit::tolerance || limited_by == Limit::default_tolerance;
-  stats.stop_is_limit = limited_by != Limit::tolerance && limited_by != Limit::default_tolerance;
+  stats.met_tolerance = met_tolerance(limited_by);
+  stats.stop_is_limit = !stats.met_tolerance;
   stats.min_radius = opt.pack.min_radius;
   stats.max_radius = opt.pack.max_radius;
   report["cover"] = {{"method", "inscribed candidates at near-medial voxels grown to the largest inscribed sphere "

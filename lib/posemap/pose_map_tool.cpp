@@ -231,7 +231,7 @@ json pose_map_report(const PoseMapResult& result) {
 std::string selection_outcome(const PoseMapSummary& s, double diagonal) {
   if (!s.selection) return "";
   const Limit limit = s.selection->limited_by;
-  const bool met = limit == Limit::tolerance || limit == Limit::default_tolerance;
+  const bool met = met_tolerance(limit);
   std::string out = std::string(met ? "; " : "; limited by ") + limit_wording(limit);
   if (met && s.selection_target > 0)
     out += " " + num(s.selection_target) + " (" + num(100 * s.selection_target / diagonal) +
