@@ -17,7 +17,7 @@ bash "$root/scripts/build.sh" >/dev/null
 mkdir -p "$out"
 proxies=()
 for n in 320 114 66; do
-  make -s -C "$root/samples" BIN="$root/build/release/apps" OUT="$out" ASSET=car NAME=car-$n \
+  make -s -C "$root/samples" BIN="$root/build/release/apps" OUT="$out" ASSET=car NAME=car-$n QUIET=1 \
     PACK_FLAGS="--max-spheres $n" "$out/car-$n/car-$n.spx" >/dev/null
   proxies+=(--proxy "$out/car-$n/car-$n.spx")
 done

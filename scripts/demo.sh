@@ -9,7 +9,7 @@ bash "$root/scripts/setup.sh"
 bash "$root/scripts/build.sh" >/dev/null
 assets=("$@")
 [ ${#assets[@]} -gt 0 ] || assets=(car barrel car-morph)
-m="make -s -C $root/samples BIN=$root/build/release/apps OUT=$root/build/samples"
+m="make -s -C $root/samples BIN=$root/build/release/apps OUT=$root/build/samples QUIET=1"  # summary.py says it all
 for asset in "${assets[@]}"; do
   started=$(date +%s)
   case $asset in

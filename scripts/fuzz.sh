@@ -24,7 +24,7 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 "$cxx" "${flags[@]}" "$root/tests/fuzz/mesh_text.cpp" "$root/lib/mesh/file_checks.cpp" "$root/lib/mesh/ply_input.cpp" "$root/lib/mesh/ply_file.cpp" "$root/lib/mesh/stl_check.cpp" "$root/lib/mesh/obj_check.cpp" "$root/lib/mesh/collada_check.cpp" "$root/lib/core/file_kind.cpp" \
   -o "$out/mesh_text"
 # Seeds: the outputs of the car chain, made now by this build's tools (never a stale copy).
-make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48
+make -s -C "$root/samples" ASSET=car BIN="$build/apps" OUT="$out/seeds" RES=48 QUIET=1
 seeds=$out/seeds/car
 cp "$seeds/car.spx" "$out/corpus-spx/"
 cp "$seeds/rest.spheres.json" "$seeds/car.proxy.json" "$seeds/car.json" "$out/corpus-json/"

@@ -9,7 +9,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build/release out=$root/build/samples shots=$root/docs/page
 data=$(cd "$root/../shared/data" && pwd)
-m="make -s -C $root/samples BIN=$build/apps OUT=$out"
+m="make -s -C $root/samples BIN=$build/apps OUT=$out QUIET=1"
 $m ASSET=car >/dev/null
 $m ASSET=barrel >/dev/null
 $m NAME=car-morph ASSET_FILE="$out/car/car-morph.glb" EXTRACT_FLAGS=--morph-targets PAGE_FLAGS="--up z" >/dev/null

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Short report of one chain run from the tools' --report files: spheres, errors, times.
+"""Short report of one chain run from the tools' --report files: spheres, errors, times, warnings.
 
 usage: summary.py FOLDER [--ran-since EPOCH_SECONDS]
 With --ran-since (when make was started), a chain whose outputs were already up to date (no
@@ -59,6 +59,12 @@ def main(folder, ran_since=None):
             when, mark = f"time (* up to date, not run now: the time of the run at {stamp})", {t[0] for t in earlier}
     print(f"{when}: " + ", ".join(f"{name}{'*' if name in mark else ''} {seconds:.2f} s" for name, seconds, _ in times)
           + f"; total {sum(t[1] for t in times):.2f} s")
+    # The tools' warnings, which a make run with QUIET=1 (as the demo's) does not show.
+    warned = [(name, w) for name, stem in steps for w in load(f"{stem}.report.json")["warnings"]]
+    if warned:
+        print(f"warnings ({len(warned)}, from the reports):")
+        for name, w in warned:
+            print(f"  {name}: {w}")
     print(f"outputs: {folder}")
 
 

@@ -6,7 +6,7 @@ set -euo pipefail
 build=$1 src=$2 out=$3
 rm -rf "$out" && mkdir -p "$out"
 for n in 40 120; do
-  make -s -C "$src/samples" BIN="$build/apps" OUT="$out" ASSET=car NAME=car-$n RES=64 \
+  make -s -C "$src/samples" BIN="$build/apps" OUT="$out" ASSET=car NAME=car-$n RES=64 QUIET=1 \
     PACK_FLAGS="--max-spheres $n" "$out/car-$n/car-$n.spx" >/dev/null
 done
 d=$out/car-40

@@ -12,8 +12,9 @@ v() { /usr/bin/python3 "$src/tests/cli/validate_json.py" "$src/schemas" "$@" >/d
 "$bin/sample-gen" car -o "$out/in" -q
 m="make -s -C $src/samples BIN=$bin OUT=$out RES=48"
 started=$(date +%s)
-$m NAME=car-morph ASSET_FILE="$out/in/car-morph.glb" EXTRACT_FLAGS=--morph-targets
+$m NAME=car-morph ASSET_FILE="$out/in/car-morph.glb" EXTRACT_FLAGS=--morph-targets QUIET=1 > "$out/quiet.log" 2>&1
 check "morph-target asset: no .spx" test -s "$out/car-morph/car-morph.spx"
+check "make QUIET=1: a tool printed more than errors" test ! -s "$out/quiet.log"
 check "morph-target asset: poses.json schema" v poses.schema.json "$out/car-morph/poses/poses.json"
 check "morph-target asset: report schema" v pose-extract-report.schema.json "$out/car-morph/extract.report.json"
 check "make would rerun an up-to-date chain" $m NAME=car-morph ASSET_FILE="$out/in/car-morph.glb" -q
@@ -23,6 +24,18 @@ summary_says() { local said; said=$(/usr/bin/python3 "$src/scripts/summary.py" "
 check "summary: a chain that ran is not called up to date" summary_says "$started" "^time: pose-extract"
 check "summary: an up-to-date chain's times are not called this run's" \
   summary_says "$(( $(date +%s) + 1 ))" "^time (nothing ran, every output was up to date"
+# A warning reaches whoever runs make (the tools are not quiet unless QUIET=1), and the demo's
+# summary, whose make is quiet, repeats the reports' warnings: spheres no smaller than 0.5 m miss
+# the car's tolerance.
+$m NAME=car-warn ASSET_FILE="$out/in/car-morph.glb" EXTRACT_FLAGS=--morph-targets PACK_FLAGS="--min-radius 0.5" \
+  > "$out/warn.log" 2>&1
+check "make: a tool's summary line is not shown" grep -q "^sphere-pack: .*rest.spheres.json: [0-9]* spheres" "$out/warn.log"
+check "make: a tool's warning is not shown" grep -q "^sphere-pack: warning: tolerance .* not met" "$out/warn.log"
+summary_warns() { local said; said=$(/usr/bin/python3 "$src/scripts/summary.py" "$1") && grep -q "$2" <<<"$said"; }
+check "summary: the reports' warnings are not repeated" \
+  summary_warns "$out/car-warn" "^  sphere-pack: tolerance .* not met"
+check "summary: a chain with no warning is said to have some" \
+  bash -c '! /usr/bin/python3 "$1" "$2" | grep -q "^warnings"' _ "$src/scripts/summary.py" "$out/car-morph"
 # The poses are the sample's OBJ poses, number for number.
 for p in rest front rear side roof; do
   check "$p.obj differs from the sample's" cmp -s <(grep -v '^#' "$out/in/$p.obj") <(grep -v '^#' "$out/car-morph/poses/$p.obj")
