@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <tuple>
 
 #include <tbb/global_control.h>
 
@@ -815,6 +816,46 @@ TEST(PoseMap, SpacedJointSelectionLeavesNoVertexPastTheTolerance) {
   EXPECT_LE(r.proxy.sphere_count(), every.proxy.sphere_count() + 3);
 }
 
+// sphere-pack's --min-radius, kept in the spheres file, holds for pose-map's selection too: the
+// poses' own candidates and the balls through their vertices had brought spheres below it back.
+// Tolerance and budget (whose refinement moves the centres) alike, and --min-radius given to
+// pose-map instead; every rest sphere at least that large, the smaller candidates counted.
+TEST(PoseMap, SelectionKeepsTheSpheresFilesMinRadius) {
+  const SampleAsset car = make_car();
+  const std::vector<PoseInput> poses = sample_poses(car);
+  SpheresFile file;
+  pack_rest(car.rest, 64, {2, true}, file);
+  auto smallest = [](const PoseMapResult& r) {
+    double least = std::numeric_limits<double>::infinity();
+    for (const Sphere& s : r.proxy.poses[0].spheres) least = std::min(least, s.radius);
+    return least;
+  };
+  const PoseMapResult free = pose_map(car.rest, "car", poses, file, {});
+  const double limit = 0.25;
+  ASSERT_LT(smallest(free), limit) << "no sphere below the limit to keep out on this instance";
+  ASSERT_EQ(free.summary.selection->below_min_radius, 0u);
+  SpheresFile limited = file;
+  limited.min_radius_asked = limit;
+  PoseMapOptions budget;
+  budget.max_spheres = 30;
+  PoseMapOptions asked;
+  asked.min_radius = limit;
+  for (const auto& [what, f, opt] : {std::tuple{"the file's, a tolerance", &limited, PoseMapOptions{}},
+                                     std::tuple{"the file's, a budget", &limited, budget},
+                                     std::tuple{"pose-map's own", &file, asked}}) {
+    const PoseMapResult r = pose_map(car.rest, "car", poses, *f, opt);
+    ASSERT_TRUE(r.summary.selection.has_value()) << what;
+    EXPECT_GE(smallest(r), limit) << what;
+    EXPECT_GT(r.summary.selection->below_min_radius, 0u) << what;
+    EXPECT_EQ(r.summary.selection_min_radius, limit) << what;
+    if (opt.max_spheres > 0) EXPECT_LE(r.proxy.sphere_count(), opt.max_spheres) << what;
+  }
+  PoseMapOptions too_large;
+  too_large.min_radius = 10;
+  too_large.max_radius = 1;
+  EXPECT_THROW(pose_map(car.rest, "car", poses, file, too_large), OptionError);
+}
+
 TEST(PoseMap, JointSelectionNeedsCandidates) {
   const SampleAsset barrel = make_barrel();
   const SpheresFile greedy = test::pack_file(barrel.rest, 32);  // no candidate pool
@@ -1107,6 +1148,23 @@ struct RiggedRun {
     return pose_map(clip.rest.mesh, "rigged", clip.poses, file, opt, Log::silent(), &clip.skin);
   }
 };
+
+// Skinned, the one radius each sphere keeps in every frame is at least the file's --min-radius.
+TEST(PoseMap, SkinnedSelectionKeepsTheSpheresFilesMinRadius) {
+  SPX_REQUIRE_SHARED_DATA();
+  RiggedRun run("skinned-min-radius", 4, 64);
+  const PoseMapResult free = run({});
+  double least = std::numeric_limits<double>::infinity();
+  for (const Sphere& s : free.proxy.poses[0].spheres) least = std::min(least, s.radius);
+  const double limit = 0.15;
+  ASSERT_LT(least, limit) << "no sphere below the limit to keep out on this instance";
+  run.file.min_radius_asked = limit;
+  const PoseMapResult r = run({});
+  ASSERT_TRUE(r.summary.selection.has_value());
+  EXPECT_GT(r.summary.selection->below_min_radius, 0u);
+  for (size_t i = 0; i < r.proxy.poses.size(); ++i)
+    for (const Sphere& s : r.proxy.poses[i].spheres) EXPECT_GE(s.radius, limit) << "frame " << i;
+}
 
 // A cache of pose-map's over three runs: none without it, written by the first run with it,
 // read by the next, which makes nothing again.

@@ -75,6 +75,11 @@ int main(int argc, char** argv) {
                                   "Selection with a tolerance: solve on every vertex of each pose from the start, where "
                                   "a pose far denser than the tolerance is otherwise covered on vertices an eighth of "
                                   "it apart, then checked at every vertex (the same promise; slower and larger)");
+  auto* min_radius = tool.app.add_option("--min-radius", opt.min_radius,
+                                         "Selection: no sphere smaller than this at rest (a rigged body's: its one "
+                                         "radius) (default: the spheres file's --min-radius, where sphere-pack was "
+                                         "given one)")
+                         ->check(spx::kPositive);
   auto* polish = tool.app.add_option("--polish", opt.polish_rounds,
                                      "Selection with --max-spheres: cover again this many times from the refined "
                                      "spheres, keeping a set with no higher max error over the poses and a lower max "
@@ -85,7 +90,8 @@ int main(int argc, char** argv) {
       ->check(spx::kPositive)
       ->needs(fill);
   // --map-given maps the file's spheres as they are: no selection for these to steer.
-  for (CLI::Option* selection : {tolerance_opt, budget, samples, seed, polish, every}) given->excludes(selection);
+  for (CLI::Option* selection : {tolerance_opt, budget, samples, seed, polish, every, min_radius})
+    given->excludes(selection);
   tool.name_option("poses", "--pose");
   return tool.run(argc, argv, [&] {
     const spx::PoseMapTolerances tolerances{spx::parse_tolerance(tolerance, "--tolerance"),

@@ -40,6 +40,7 @@ json spheres_to_json(const SpheresFile& f) {
   j["source"] = {{"sdf", f.sdf}, {"mesh", f.mesh.empty() ? json(nullptr) : json(f.mesh)}};
   j["voxel_size"] = f.voxel_size;
   j["min_radius"] = f.min_radius;
+  if (f.min_radius_asked > 0) j["min_radius_asked"] = f.min_radius_asked;
   j["max_radius"] = std::isfinite(f.max_radius) ? json(f.max_radius) : json(nullptr);
   j["radius_source"] = f.radius_source;
   j["tolerance"] = f.tolerance > 0 ? json(f.tolerance) : json(nullptr);
@@ -64,6 +65,7 @@ SpheresFile spheres_from_json(const json& j, const std::string& path) {
   };
   f.voxel_size = positive("voxel_size");
   f.min_radius = positive("min_radius");
+  if (j.contains("min_radius_asked") && !j["min_radius_asked"].is_null()) f.min_radius_asked = positive("min_radius_asked");
   const json& max_r = require(j, "max_radius", path);
   if (!max_r.is_null()) f.max_radius = as_finite_number(max_r, "field 'max_radius'", path);
   if (!(f.max_radius > 0)) fail_input(path, "field 'max_radius' is not positive");

@@ -11,7 +11,8 @@ namespace spx {
 struct SpheresFile {
   SphereSet spheres;
   double voxel_size = 0;
-  double min_radius = 0;
+  double min_radius = 0;        // the least radius in force: --min-radius, or else the smallest written
+  double min_radius_asked = 0;  // --min-radius as given to sphere-pack (0: none); pose-map's selection keeps to it
   double max_radius = std::numeric_limits<double>::infinity();
   std::string radius_source;  // "mesh" or "field"
   double tolerance = 0;       // the rest-pose max error sphere-pack was asked for (0: none)

@@ -454,6 +454,7 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   file.candidates = pool;
   file.voxel_size = sdf.field.shape.voxel_size;
   file.min_radius = stats.min_radius > 0 ? stats.min_radius : stats.smallest;
+  file.min_radius_asked = opt.pack.min_radius;
   file.max_radius = stats.max_radius;
   file.radius_source = stats.radius_source;
   file.tolerance = opt.tolerance;

@@ -8,14 +8,17 @@
 namespace spx {
 
 size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vector<Eigen::Vector3d>>& samples,
-                     double step, SphereSet& chosen, double delta, Log& log) {
+                     double step, double min_radius, SphereSet& chosen, double delta, Log& log) {
   const size_t count = frames.frame_count();
   std::vector<size_t> weighted(count);
   std::vector<Eigen::Vector3d> centers;
   for (const Sphere& s : chosen) centers.push_back(s.center);
   for (size_t f = 0; f < count; ++f) weighted[f] = frames.frame_surface(f).vertices.size();
   std::vector<SphereSet> spheres = spheres_in_frames(frames, chosen);
-  const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) { return frames.spheres_at(c, out); };
+  // No move to where the rest sphere (skinned: the one radius) is smaller than min_radius.
+  const PoseSpheresAt at = [&](const Eigen::Vector3d& c, std::vector<Sphere>& out) {
+    return frames.spheres_at(c, out) && !(out[0].radius < min_radius);
+  };
   const size_t moves = refine_jointly(samples, weighted, centers, spheres, at, delta, step, log, true);
   std::vector<size_t> order(chosen.size());
   std::iota(order.begin(), order.end(), size_t(0));

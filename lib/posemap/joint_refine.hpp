@@ -10,8 +10,9 @@ namespace spx {
 
 // `chosen` (rest spheres) refined from `step` over every frame's `samples` (the selection's:
 // each frame's vertices first, weighted), no frame's sample leaving `delta` that was within it;
-// then largest first by the rest sphere each becomes. Returns the moves made.
+// then largest first by the rest sphere each becomes; no move makes a rest sphere smaller than
+// `min_radius` (0: none). Returns the moves made.
 size_t refine_chosen(const SelectionFrames& frames, const std::vector<std::vector<Eigen::Vector3d>>& samples,
-                     double step, SphereSet& chosen, double delta, Log& log = Log::silent());
+                     double step, double min_radius, SphereSet& chosen, double delta, Log& log = Log::silent());
 
 }  // namespace spx

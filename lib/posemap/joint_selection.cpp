@@ -103,6 +103,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
     polish(out);
   }
   out.candidates = candidates_.size();
+  out.below_min_radius = below_min_radius_;
   out.from_frames = from_frames_;
   out.touched = vertices_offered(1);
   out.from_touching = balls_offered_[0];
@@ -134,7 +135,7 @@ void JointSelector::take_chosen(const CoverProblem& problem, JointSelection& out
 
 size_t JointSelector::refine(SphereSet& chosen, double delta) {
   for (size_t f = 0; f < frames_.frame_count(); ++f) samples(f);  // over every frame, as drawn here
-  return refine_chosen(frames_, samples_, opt_.refine_step, chosen, delta, log_);
+  return refine_chosen(frames_, samples_, opt_.refine_step, opt_.min_radius, chosen, delta, log_);
 }
 
 void JointSelector::polish(JointSelection& out) {
@@ -290,7 +291,7 @@ JointSelector::Checked JointSelector::check_radii(const std::vector<size_t>& can
   for (size_t n = 0; n < unchecked.size(); ++n) {
     checked_[unchecked[n]] = 1;
     lowered += least[n] < radius_[unchecked[n]];
-    radius_[unchecked[n]] = least[n];
+    radius_[unchecked[n]] = at_least_min_radius(least[n]);
   }
   if (lowered > 0 && cache_) cache_->clear();
   return {unchecked.size(), lowered};
@@ -445,11 +446,16 @@ std::string out_of_reach_wording(const JointSelection& selection, const JointSel
       : skinned ? "which no ball through them or around them keeps reaching in every frame (a skinned sphere keeps "
                   "one radius, the least over the frames, and where the skin folds none does), whatever the resolution"
                 : "which no inscribed ball through them reaches (sharp features)";
+  const std::string small = selection.below_min_radius > 0
+                                ? " (or no candidate of at least the least radius " + num(options.min_radius) +
+                                      ", --min-radius: " + std::to_string(selection.below_min_radius) +
+                                      " smaller ones withdrawn)"
+                                : "";
   const std::string near = selection.out_of_reach_added > 0
                                ? " (" + std::to_string(selection.out_of_reach_added) +
                                      " of the spheres bring them as near as any candidate comes)"
                                : "";
-  return head + ": " + std::to_string(vertices) + " of them vertices, " + why + near + "; " + between;
+  return head + ": " + std::to_string(vertices) + " of them vertices, " + why + small + near + "; " + between;
 }
 
 JointSelection select_jointly(SelectionFrames& frames, const SphereSet& candidates, const JointSelectionOptions& options,

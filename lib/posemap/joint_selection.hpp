@@ -96,6 +96,10 @@ struct JointSelectionOptions {
   // whose worst frame's max is no higher and whose product of it and the frames' mean median is
   // lower is kept.
   int polish_rounds = 1;
+  // No sphere chosen smaller than this at rest (skinned: its one radius), as sphere-pack's
+  // --min-radius keeps its own; a candidate smaller is withdrawn (counted), a refinement's move
+  // that would make one refused. 0: none.
+  double min_radius = 0;
 };
 
 struct JointSelection {
@@ -103,6 +107,7 @@ struct JointSelection {
   CoverResult cover;
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, from_frames = 0, mostly_absent = 0, samples = 0;
+  size_t below_min_radius = 0;  // candidates withdrawn, smaller at rest than min_radius
   size_t touched = 0, from_touching = 0;  // tolerance: samples out of reach offered balls touching them, and those balls
   size_t around = 0, from_around = 0;      // skinned: those still out of reach offered balls around them
   std::vector<size_t> frames;   // the frames selected on, ascending (0: the rest)

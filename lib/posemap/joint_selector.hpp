@@ -113,6 +113,18 @@ class JointSelector {
   std::vector<std::vector<uint32_t>> touch_out_of_reach(
       const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting, double delta, bool cached);
 
+  // Not skinned: the new candidates `more` marked where their rest sphere is smaller than
+  // min_radius; withdraw_small then sets those among a frame's spheres of the candidates from
+  // `first` on to 0 (covering nothing, as a candidate mostly absent).
+  void mark_small(const SphereSet& more);
+  // Skinned: a candidate's one radius, or 0 where it is smaller than min_radius (counted).
+  double at_least_min_radius(double r) {
+    if (!(r > 0 && r < opt_.min_radius)) return r;
+    ++below_min_radius_;
+    return 0;
+  }
+  void withdraw_small(SphereSet& in_frame, size_t first) const;
+
   // Candidate c in frame f as the problem has it.
   Sphere sphere(size_t c, size_t f) const { return one_ ? Sphere{centers_[f][c], radius_[c]} : own_[f][c]; }
 
@@ -209,12 +221,14 @@ class JointSelector {
   std::vector<std::pair<size_t, std::vector<uint32_t>>> layout_;  // the last problem's samples: (frame, which)
   std::vector<std::vector<Eigen::Vector3d>> centers_;  // skinned, per frame: each candidate's centre there
   std::vector<double> radius_;                         // skinned: each candidate's one radius
+  std::vector<char> small_;                            // not skinned: smaller at rest than min_radius (withdrawn)
   std::vector<char> checked_;                          // skinned: its radius checked in every frame
   std::unique_ptr<CoverageCache> cache_;              // skinned, tolerance: the pairs kept from round to round
   size_t from_frames_ = 0;
   size_t spaced_frames_ = 0;  // frames whose working samples are spaced vertices
   size_t balls_offered_[2] = {0, 0};  // tolerance: balls through vertices out of reach, and (skinned) around them
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
+  size_t below_min_radius_ = 0;  // candidates withdrawn, smaller at rest than min_radius
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
 };
 

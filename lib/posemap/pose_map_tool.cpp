@@ -114,6 +114,8 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"candidates_touching_samples", {{"samples", sel.touched}, {"candidates", sel.from_touching}}},
           {"candidates_around_samples", {{"samples", sel.around}, {"candidates", sel.from_around}}},
           {"candidates_mostly_absent", sel.mostly_absent},
+          {"min_radius", s.selection_min_radius > 0 ? json(s.selection_min_radius) : json(nullptr)},
+          {"candidates_below_min_radius", sel.below_min_radius},
           {"samples", sel.samples},
           {"target", s.selection_target > 0 ? json(s.selection_target) : json(nullptr)},
           {"delta", sel.cover.delta},

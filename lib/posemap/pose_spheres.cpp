@@ -81,6 +81,7 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   options.spaced_vertices = !opt_.every_vertex;
   options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
   options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
+  options.min_radius = selection_min_radius(opt_, spheres_);
   Frames frames(*this);
   JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
   if (open_solid_ && selection.vertices_out_of_reach > 0) {
@@ -96,6 +97,7 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   if (selection.out_of_reach() > 0) missed ? log_.warn(why) : log_.detail(why);
   summary.selection = selection;
   summary.selection_target = options.target;
+  summary.selection_min_radius = options.min_radius;
   return selection.chosen;
 }
 

@@ -263,11 +263,14 @@ void PoseMapper::summarize(PoseMapSummary& out) const {
 PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, const std::vector<PoseInput>& poses,
                        const SpheresFile& spheres, const PoseMapOptions& opt, Log& log, const SkinFile* skin) {
   if (std::isnan(opt.max_radius) || opt.max_radius < 0) fail_option("max_radius", "must be a positive number");
+  if (!(opt.min_radius >= 0) || !std::isfinite(opt.min_radius)) fail_option("min_radius", "must be a positive number");
   if (std::isnan(opt.fill_min_radius) || opt.fill_min_radius < 0) fail_option("fill_min_radius", "must be a positive number");
   if (!(opt.tolerance >= 0)) fail_option("tolerance", "must be a positive length");
   if (!(opt.fill_tolerance >= 0)) fail_option("fill_tolerance", "must be a positive length");
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
+  if (selection_min_radius(opt, spheres) > result.proxy.max_radius)
+    fail_option("min_radius", "is larger than the max radius (" + num(result.proxy.max_radius) + ")");
   detail::PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
   mapper.check_poses_face_outward();
   mapper.check_rest_fits_spheres();

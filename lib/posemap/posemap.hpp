@@ -29,6 +29,9 @@ struct PoseInput {
 struct PoseMapOptions {
   TetOptions tets;
   double max_radius = 0;    // 0: the spheres file's
+  // Joint selection: no sphere chosen smaller than this at rest (skinned: its one radius);
+  // 0: the spheres file's min_radius_asked (sphere-pack's --min-radius), else none.
+  double min_radius = 0;
   std::string tet_file;     // use this MEDIT tet mesh instead of meshing
   // A folder the rest's tets (tet_mesh.hpp's cache), each pose's field's depths, voxels and grown
   // candidates (pose_cache.hpp) and a skinned body's carries (carry_cache.hpp) are kept in between
@@ -69,6 +72,12 @@ struct PoseMapOptions {
   // error over the clip between its frames (docs/pose-map.md, "The polish over every pose").
   int polish_rounds = -1;
 };
+
+// The least rest radius the joint selection may choose: asked of pose-map, or else what
+// sphere-pack was given (--min-radius), or else none (0).
+inline double selection_min_radius(const PoseMapOptions& opt, const SpheresFile& spheres) {
+  return opt.min_radius > 0 ? opt.min_radius : spheres.min_radius_asked;
+}
 
 // Gap filling (PoseMapOptions::fill_gaps): how far each pose got.
 struct GapFilling {
@@ -125,6 +134,7 @@ struct PoseMapSummary {
   std::optional<CacheTrim> cache_folder;  // with a cache folder: it after this run's files were written
   std::optional<JointSelection> selection;  // when selected jointly
   double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
+  double selection_min_radius = 0;          // the least rest radius it could choose (0: none)
   std::optional<GapFilling> fill;           // when asked
 };
 

@@ -61,11 +61,31 @@ std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
   return out;
 }
 
+void JointSelector::mark_small(const SphereSet& more) {
+  if (!(opt_.min_radius > 0)) {
+    small_.resize(small_.size() + more.size(), 0);
+    return;
+  }
+  for (const Sphere& s : frames_.spheres_in(more, 0)) {
+    const bool small = s.radius > 0 && s.radius < opt_.min_radius;
+    small_.push_back(small);
+    below_min_radius_ += small;
+  }
+}
+
+void JointSelector::withdraw_small(SphereSet& in_frame, size_t first) const {
+  for (size_t i = 0; i < in_frame.size(); ++i)
+    if (small_[first + i]) in_frame[i].radius = 0;
+}
+
 void JointSelector::add_candidates(const SphereSet& more) {
+  const size_t first = candidates_.size();
   candidates_.insert(candidates_.end(), more.begin(), more.end());
   if (!one_) {
+    mark_small(more);
     for (size_t f : active_) {
-      const SphereSet in = frames_.spheres_in(more, f);
+      SphereSet in = frames_.spheres_in(more, f);
+      withdraw_small(in, first);
       own_[f].insert(own_[f].end(), in.begin(), in.end());
     }
     return;
@@ -75,8 +95,9 @@ void JointSelector::add_candidates(const SphereSet& more) {
     centers_[f].insert(centers_[f].end(), carried.centers[f].begin(), carried.centers[f].end());
   // Held over the clip before any cover sees them: a cover of radii that hold only at the poses
   // would be undone sphere by sphere, each replaced by another not yet held.
-  const std::vector<double> held = frames_.over_clip(carried.influences, carried.radii);
+  std::vector<double> held = frames_.over_clip(carried.influences, carried.radii);
   for (size_t i = 0; i < held.size(); ++i) clip_shrunk_ += held[i] < carried.radii[i];
+  for (double& r : held) r = at_least_min_radius(r);
   radius_.insert(radius_.end(), held.begin(), held.end());
   checked_.resize(radius_.size(), 0);
 }
@@ -84,7 +105,10 @@ void JointSelector::add_candidates(const SphereSet& more) {
 void JointSelector::select_on_whole(const std::vector<size_t>& more) {
   if (more.empty()) return;
   if (!one_)
-    for (size_t f : more) own_[f] = frames_.spheres_in(candidates_, f);
+    for (size_t f : more) {
+      own_[f] = frames_.spheres_in(candidates_, f);
+      withdraw_small(own_[f], 0);
+    }
   for (size_t f : more) {
     extra_[f].clear();
     held_[f].assign(samples(f).size(), 1);

@@ -46,6 +46,23 @@ check "--grid-centers centers are not on voxel centers" '[ "$(py "
 import json,sys
 f=json.load(open(sys.argv[1])); h=f[\"voxel_size\"]
 print(all(abs(c/h-round(c/h))<1e-6 for s in f[\"spheres\"] for c in s[:3]))" "$out/g.json")" = True ]'
+# --min-radius, kept in the spheres file, holds for pose-map's selection too (its own candidates
+# brought spheres down to 0.029 back before); pose-map's --min-radius asks it of a file without.
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/mr.json" -q --min-radius 0.05
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/mr.json" -o "$out/mr.proxy.json" -q \
+  --report "$out/mr.report.json"
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/m0.json" -q
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/m0.json" -o "$out/m0.proxy.json" -q --min-radius 0.05
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/m0.json" -o "$out/m1.proxy.json" -q
+least_rest() { py "import json,sys; print(min(s[3] for s in json.load(open(sys.argv[1]))['poses'][0]['spheres']))" "$1"; }
+check "sphere-pack --min-radius 0.05: not kept in the spheres file" '[ "$(field "$out/mr.json" "r[\"min_radius_asked\"]")" = 0.05 ]'
+check "sphere-pack --min-radius 0.05: pose-map chose a smaller sphere" \
+  'py "import sys; sys.exit(not float(sys.argv[1]) >= 0.05)" "$(least_rest "$out/mr.proxy.json")" &&
+   [ "$(field "$out/mr.report.json" "r[\"selection\"][\"min_radius\"]")" = 0.05 ] &&
+   [ "$(field "$out/mr.report.json" "r[\"selection\"][\"candidates_below_min_radius\"] > 0")" = True ]'
+check "pose-map --min-radius 0.05: a smaller sphere chosen, or none smaller without it" \
+  'py "import sys; sys.exit(not (float(sys.argv[1]) >= 0.05 > float(sys.argv[2])))" \
+     "$(least_rest "$out/m0.proxy.json")" "$(least_rest "$out/m1.proxy.json")"'
 # --cache: the candidates written by a run at one tolerance, read by a run at another (the same
 # folder pose-map keeps its tets in), which writes the spheres a run without it writes.
 "$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/k1.json" -q --tolerance 5% --cache "$out/cache/tools" \
