@@ -2089,7 +2089,8 @@ TEST(PoseMap, BetweenPosesWarningSaysOnlyWhatHappened) {
   const std::string none = between_poses_warning({1315, 98, 0, 12.51}, 134, 185.8);
   EXPECT_EQ(none, "between the poses given, 98 of 134 spheres poke out of the body at some of the clip's 1315 times "
                   "(by up to 12.51, 6.733 % of the diagonal): --hold-over-clip holds them within 0.25 % of the "
-                  "diagonal (--clip-overshoot)");
+                  "diagonal (--clip-overshoot), and more of the clip's frames in the chain (pose-extract --select, "
+                  "--every) bring it down");
   const std::string one = between_poses_warning({17, 1, 1, 2}, 5, 100);
   EXPECT_NE(one.find("1 of 5 spheres pokes out"), std::string::npos) << one;
   EXPECT_NE(one.find("(by up to 2, 2 % of the diagonal; 1 centre leaves it)"), std::string::npos) << one;

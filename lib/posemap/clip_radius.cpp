@@ -332,7 +332,8 @@ std::string between_poses_warning(const ClipOvershoot& out, size_t sphere_count,
          std::to_string(out.times) + " times (by up to " +
          num(out.worst) + ", " + num(100 * out.worst / diagonal) + " % of the diagonal" + centres +
          "): --hold-over-clip holds them within " + num(kDefaultClipOvershootPercent) +
-         " % of the diagonal (--clip-overshoot)";
+         " % of the diagonal (--clip-overshoot), and more of the clip's frames in the chain (pose-extract --select, "
+         "--every) bring it down";
 }
 
 }  // namespace spx
