@@ -104,6 +104,7 @@ JointSelection JointSelector::run(const SphereSet& file_candidates) {
   }
   out.candidates = candidates_.size();
   out.below_min_radius = below_min_radius_;
+  out.largest_below_min = largest_below_min_;
   out.from_frames = from_frames_;
   out.touched = vertices_offered(1);
   out.from_touching = balls_offered_[0];

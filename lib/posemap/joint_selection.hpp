@@ -107,7 +107,8 @@ struct JointSelection {
   CoverResult cover;
   Limit limited_by = Limit::tolerance;
   size_t candidates = 0, from_frames = 0, mostly_absent = 0, samples = 0;
-  size_t below_min_radius = 0;  // candidates withdrawn, smaller at rest than min_radius
+  size_t below_min_radius = 0;     // candidates withdrawn, smaller at rest than min_radius,
+  double largest_below_min = 0;    // the largest of them
   size_t touched = 0, from_touching = 0;  // tolerance: samples out of reach offered balls touching them, and those balls
   size_t around = 0, from_around = 0;      // skinned: those still out of reach offered balls around them
   std::vector<size_t> frames;   // the frames selected on, ascending (0: the rest)

@@ -120,8 +120,12 @@ class JointSelector {
   // Skinned: a candidate's one radius, or 0 where it is smaller than min_radius (counted).
   double at_least_min_radius(double r) {
     if (!(r > 0 && r < opt_.min_radius)) return r;
-    ++below_min_radius_;
+    note_below_min(r);
     return 0;
+  }
+  void note_below_min(double r) {
+    ++below_min_radius_;
+    largest_below_min_ = std::max(largest_below_min_, r);
   }
   void withdraw_small(SphereSet& in_frame, size_t first) const;
 
@@ -228,7 +232,8 @@ class JointSelector {
   size_t spaced_frames_ = 0;  // frames whose working samples are spaced vertices
   size_t balls_offered_[2] = {0, 0};  // tolerance: balls through vertices out of reach, and (skinned) around them
   size_t clip_shrunk_ = 0;  // skinned: candidates whose radius the clip lowered
-  size_t below_min_radius_ = 0;  // candidates withdrawn, smaller at rest than min_radius
+  size_t below_min_radius_ = 0;  // candidates withdrawn, smaller at rest than min_radius,
+  double largest_below_min_ = 0; // the largest of them
   size_t file_count_ = 0;  // the candidates [0, file_count_) are the spheres file's
 };
 

@@ -84,6 +84,9 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   options.min_radius = selection_min_radius(opt_, spheres_);
   Frames frames(*this);
   JointSelection selection = spx::select_jointly(frames, file_candidates, options, log_);
+  if (selection.chosen.empty() && selection.below_min_radius > 0)
+    fail_option("min_radius", num(options.min_radius) + " leaves no sphere: every candidate is smaller at rest (the "
+                              "largest " + num(selection.largest_below_min) + ")");
   if (open_solid_ && selection.vertices_out_of_reach > 0) {
     selection.vertices_with_no_solid =
         std::min(selection.vertices_out_of_reach,

@@ -69,7 +69,7 @@ void JointSelector::mark_small(const SphereSet& more) {
   for (const Sphere& s : frames_.spheres_in(more, 0)) {
     const bool small = s.radius > 0 && s.radius < opt_.min_radius;
     small_.push_back(small);
-    below_min_radius_ += small;
+    if (small) note_below_min(s.radius);
   }
 }
 

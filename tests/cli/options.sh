@@ -63,6 +63,12 @@ check "sphere-pack --min-radius 0.05: pose-map chose a smaller sphere" \
 check "pose-map --min-radius 0.05: a smaller sphere chosen, or none smaller without it" \
   'py "import sys; sys.exit(not (float(sys.argv[1]) >= 0.05 > float(sys.argv[2])))" \
      "$(least_rest "$out/m0.proxy.json")" "$(least_rest "$out/m1.proxy.json")"'
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/m0.json" -o "$out/mbig.proxy.json" -q --min-radius 5 \
+  2>"$out/mbig.err"
+code=$?
+check "pose-map --min-radius past every candidate: not exit 1 naming it, or a proxy of no sphere written" \
+  '[ "$code" = 1 ] && grep -q "min-radius: 5 leaves no sphere: every candidate is smaller at rest" "$out/mbig.err" &&
+   [ ! -e "$out/mbig.proxy.json" ]'
 # --cache: the candidates written by a run at one tolerance, read by a run at another (the same
 # folder pose-map keeps its tets in), which writes the spheres a run without it writes.
 "$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/k1.json" -q --tolerance 5% --cache "$out/cache/tools" \
