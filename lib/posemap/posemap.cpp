@@ -269,8 +269,15 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   if (!(opt.fill_tolerance >= 0)) fail_option("fill_tolerance", "must be a positive length");
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
-  if (selection_min_radius(opt, spheres) > result.proxy.max_radius)
-    fail_option("min_radius", "is larger than the max radius (" + num(result.proxy.max_radius) + ")");
+  // A greedy file's spheres are mapped as given: no selection to keep a least radius.
+  if (opt.min_radius > 0 && spheres.candidates.empty())
+    fail_option("min_radius", "needs a spheres file with candidates (sphere-pack's cover method)");
+  // The selection's least radius past its largest: no candidate could be chosen.
+  const double least = selection_min_radius(opt, spheres);
+  if (!opt.map_given && !spheres.candidates.empty() && least > result.proxy.max_radius) {
+    if (opt.min_radius > 0) fail_option("min_radius", "is larger than the max radius (" + num(result.proxy.max_radius) + ")");
+    fail_option("max_radius", "is smaller than the spheres file's min radius (" + num(least) + ", sphere-pack's --min-radius)");
+  }
   detail::PoseMapper mapper(rest, rest_source, poses, spheres, opt, skin, result.proxy, log);
   mapper.check_poses_face_outward();
   mapper.check_rest_fits_spheres();

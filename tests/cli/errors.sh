@@ -358,7 +358,8 @@ expect 1 "max-radius: must be above 0, not 0" "$out/y.json" -- pm0 --max-radius 
 expect 1 "fill-min-radius: must be above 0, not 0" "$out/y.json" -- pm0 --fill-gaps --fill-min-radius 0
 expect 1 "min-radius: must be above 0, not 0" "$out/y.json" -- pm0 --min-radius 0
 expect 1 "map-given excludes --min-radius" "$out/y.json" -- pm0 --map-given --min-radius 0.01
-expect 1 "min-radius: is larger than the max radius (0.01)" "$out/y.json" -- pm0 --min-radius 0.1 --max-radius 0.01
+expect 1 "min-radius: needs a spheres file with candidates (sphere-pack's cover method)" "$out/y.json" -- \
+  pm0 --min-radius 0.1
 # What proxy-eval's options ask of the proxy is told before the examples are measured.
 expect 1 "color-pose: no pose 5 (there are poses 0..1)" "$out/n.ply" -- ev --colors "$out/n.ply" --color-pose 5
 check "proxy-eval measured the examples before telling --color-pose is past the poses" \

@@ -69,6 +69,19 @@ code=$?
 check "pose-map --min-radius past every candidate: not exit 1 naming it, or a proxy of no sphere written" \
   '[ "$code" = 1 ] && grep -q "min-radius: 5 leaves no sphere: every candidate is smaller at rest" "$out/mbig.err" &&
    [ ! -e "$out/mbig.proxy.json" ]'
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/m0.json" -o "$out/mmax.proxy.json" -q --max-radius 0.01 \
+  --min-radius 0.1 2>"$out/mmax.err"
+code=$?
+check "pose-map --min-radius over --max-radius: not exit 1 naming it" \
+  '[ "$code" = 1 ] && grep -q "min-radius: is larger than the max radius (0.01)" "$out/mmax.err"'
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/mr.json" -o "$out/mmax.proxy.json" -q --max-radius 0.01 \
+  2>"$out/mmax.err"
+code=$?
+check "pose-map --max-radius under the file's --min-radius: not exit 1 naming it" \
+  '[ "$code" = 1 ] && grep -q "max-radius: is smaller than the spheres file.s min radius (0.05" "$out/mmax.err"'
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/mr.json" -o "$out/mmax.proxy.json" -q --max-radius 0.01 \
+  --map-given
+check "pose-map --map-given refused a --max-radius under a min radius it does not select by" '[ -s "$out/mmax.proxy.json" ]'
 # --cache: the candidates written by a run at one tolerance, read by a run at another (the same
 # folder pose-map keeps its tets in), which writes the spheres a run without it writes.
 "$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/k1.json" -q --tolerance 5% --cache "$out/cache/tools" \
