@@ -46,7 +46,8 @@ def main(folder, ran_since=None):
         targets = ", ".join(p["name"] for p in load("extract.report.json")["poses"])
         print(f"poses from the asset by pose-extract: {targets}")
         steps.insert(0, ("pose-extract", "extract"))
-    times = [(name, load(f"{stem}.report.json")["timings_s"]["total"],
+    reports = {name: load(f"{stem}.report.json") for name, stem in steps}
+    times = [(name, reports[name]["timings_s"]["total"],
               os.path.getmtime(os.path.join(folder, f"{stem}.report.json"))) for name, stem in steps]
     # make reruns only what changed: a step whose report is older than this run did not run now.
     earlier = [t for t in times if ran_since is not None and t[2] < ran_since]
@@ -60,7 +61,7 @@ def main(folder, ran_since=None):
     print(f"{when}: " + ", ".join(f"{name}{'*' if name in mark else ''} {seconds:.2f} s" for name, seconds, _ in times)
           + f"; total {sum(t[1] for t in times):.2f} s")
     # The tools' warnings, which a make run with QUIET=1 (as the demo's) does not show.
-    warned = [(name, w) for name, stem in steps for w in load(f"{stem}.report.json")["warnings"]]
+    warned = [(name, w) for name, _ in steps for w in reports[name]["warnings"]]
     if warned:
         print(f"warnings ({len(warned)}, from the reports):")
         for name, w in warned:

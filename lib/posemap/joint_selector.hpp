@@ -113,10 +113,11 @@ class JointSelector {
   std::vector<std::vector<uint32_t>> touch_out_of_reach(
       const std::vector<std::pair<size_t, std::vector<uint32_t>>>& wanting, double delta, bool cached);
 
-  // Not skinned: the new candidates `more` marked where their rest sphere is smaller than
-  // min_radius; withdraw_small then sets those among a frame's spheres of the candidates from
-  // `first` on to 0 (covering nothing, as a candidate mostly absent).
-  void mark_small(const SphereSet& more);
+  // Not skinned: `count` new candidates marked where their rest sphere (`at_rest`, asked only
+  // where min_radius is) is smaller than min_radius; withdraw_small then sets those among a
+  // frame's spheres of the candidates from `first` on to 0 (covering nothing, as a candidate
+  // mostly absent).
+  void mark_small(const SphereSet& at_rest, size_t count);
   // Skinned: a candidate's one radius, or 0 where it is smaller than min_radius (counted).
   double at_least_min_radius(double r) {
     if (!(r > 0 && r < opt_.min_radius)) return r;

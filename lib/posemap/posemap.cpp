@@ -125,9 +125,7 @@ void PoseMapper::build_solids(Log& log) {
   }
 }
 
-bool PoseMapper::selects_jointly() const {
-  return !opt_.map_given && (opt_.tolerance > 0 || opt_.max_spheres > 0 || !spheres_.candidates.empty());
-}
+bool PoseMapper::selects_jointly() const { return spx::selects_jointly(opt_, spheres_); }
 
 void PoseMapper::map_spheres(const SphereSet& rest_spheres) {
   if (proxy_.poses.empty()) {
@@ -269,12 +267,10 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
   if (!(opt.fill_tolerance >= 0)) fail_option("fill_tolerance", "must be a positive length");
   PoseMapResult result;
   result.proxy.max_radius = opt.max_radius > 0 ? opt.max_radius : spheres.max_radius;
-  // A greedy file's spheres are mapped as given: no selection to keep a least radius.
-  if (opt.min_radius > 0 && spheres.candidates.empty())
-    fail_option("min_radius", "needs a spheres file with candidates (sphere-pack's cover method)");
+  const bool joint = selects_jointly(opt, spheres);
   // The selection's least radius past its largest: no candidate could be chosen.
   const double least = selection_min_radius(opt, spheres);
-  if (!opt.map_given && !spheres.candidates.empty() && least > result.proxy.max_radius) {
+  if (joint && !spheres.candidates.empty() && least > result.proxy.max_radius) {
     if (opt.min_radius > 0) fail_option("min_radius", "is larger than the max radius (" + num(result.proxy.max_radius) + ")");
     fail_option("max_radius", "is smaller than the spheres file's min radius (" + num(least) + ", sphere-pack's --min-radius)");
   }
@@ -291,9 +287,10 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
                          mapper.list_pose_candidates_beside_tets(beside);
                        });
   log.join(beside);
-  const bool joint = mapper.selects_jointly();
+  // What the selection asks needs the cover method's candidates (a greedy file's spheres are
+  // mapped as given).
   if (joint && spheres.candidates.empty())
-    fail_option(opt.max_spheres > 0 ? "max_spheres" : "tolerance",
+    fail_option(opt.max_spheres > 0 ? "max_spheres" : opt.tolerance > 0 ? "tolerance" : "min_radius",
                 "needs a spheres file with candidates (sphere-pack's cover method)");
   {
     StageTimer t(log, "map");

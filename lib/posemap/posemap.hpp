@@ -73,6 +73,13 @@ struct PoseMapOptions {
   int polish_rounds = -1;
 };
 
+// Whether pose-map selects one set over every pose (asked, or a spheres file with candidates)
+// rather than mapping the file's spheres as given.
+inline bool selects_jointly(const PoseMapOptions& opt, const SpheresFile& spheres) {
+  return !opt.map_given &&
+         (opt.tolerance > 0 || opt.max_spheres > 0 || opt.min_radius > 0 || !spheres.candidates.empty());
+}
+
 // The least rest radius the joint selection may choose: asked of pose-map, or else what
 // sphere-pack was given (--min-radius), or else none (0).
 inline double selection_min_radius(const PoseMapOptions& opt, const SpheresFile& spheres) {

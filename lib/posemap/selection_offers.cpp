@@ -61,12 +61,12 @@ std::vector<std::vector<uint32_t>> JointSelector::touch_out_of_reach(
   return out;
 }
 
-void JointSelector::mark_small(const SphereSet& more) {
+void JointSelector::mark_small(const SphereSet& at_rest, size_t count) {
   if (!(opt_.min_radius > 0)) {
-    small_.resize(small_.size() + more.size(), 0);
+    small_.resize(small_.size() + count, 0);
     return;
   }
-  for (const Sphere& s : frames_.spheres_in(more, 0)) {
+  for (const Sphere& s : at_rest) {
     const bool small = s.radius > 0 && s.radius < opt_.min_radius;
     small_.push_back(small);
     if (small) note_below_min(s.radius);
@@ -82,9 +82,11 @@ void JointSelector::add_candidates(const SphereSet& more) {
   const size_t first = candidates_.size();
   candidates_.insert(candidates_.end(), more.begin(), more.end());
   if (!one_) {
-    mark_small(more);
+    // The rest's spheres, asked once: they decide which are smaller than the least radius.
+    const SphereSet at_rest = opt_.min_radius > 0 || is_active(0) ? frames_.spheres_in(more, 0) : SphereSet();
+    mark_small(at_rest, more.size());
     for (size_t f : active_) {
-      SphereSet in = frames_.spheres_in(more, f);
+      SphereSet in = f == 0 ? at_rest : frames_.spheres_in(more, f);
       withdraw_small(in, first);
       own_[f].insert(own_[f].end(), in.begin(), in.end());
     }
