@@ -1267,10 +1267,10 @@ TEST(PoseExtract, FarthestPosesIsWithinTwiceTheBestCover) {
 // Several meshes: merged into one body by default (the report lists them), one by --mesh.
 TEST(PoseExtract, SeveralMeshesMergeOrOneIsPicked) {
   const std::string dir = test::temp_dir("two-meshes");
+  test::box_and_ball_glb(dir);
   const TriMesh box = test::box_mesh({0, 0, 0}, {1, 1, 1});
   TriMesh ball = test::uv_sphere(0.5, 8, 16);
   for (auto& v : ball.vertices) v += Eigen::Vector3d(3, 0, 0);
-  write_file_atomic(dir + "/pair.glb", encode_scene({{"box", box, {}}, {"ball", ball, {}}}, ".glb"));
   const Asset merged(dir + "/pair.glb", "");
   ASSERT_EQ(merged.meshes().size(), 2u);
   const size_t file_vertices = merged.meshes()[0].vertices + merged.meshes()[1].vertices;

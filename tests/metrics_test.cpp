@@ -2,11 +2,15 @@
 
 #include <random>
 
+#include "core/atomic_file.hpp"
 #include "core/pose_lines.hpp"
+#include "extract/asset.hpp"
+#include "io/scene.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
 #include "metrics/motion_eval.hpp"
 #include "metrics/proxy_eval.hpp"
+#include "metrics/rest_match.hpp"
 #include "metrics/simplex_fit.hpp"
 #include "mesh/union_distance.hpp"
 #include "synthetic/synthetic.hpp"
@@ -325,6 +329,28 @@ TEST(MotionEval, EveryFrameMeasuredAsTheExactWindingNumberSays) {
                                {{0.0625, 0.25, 0.375}, 0.375}};
     EXPECT_GT(expect_frames_measured_exactly(meshes, spheres), 0u);
   }
+}
+
+// A proxy of one mesh of an asset of several: the other meshes, whose boxes hold no centre, are
+// named in a warning with the --mesh whose box holds every centre; a proxy of both names none,
+// nor does an asset of one mesh.
+TEST(RestMatch, MeshesHoldingNoSphereAreNamedWithTheMeshThatHoldsThemAll) {
+  const std::string dir = test::temp_dir("meshes-without-spheres");
+  test::box_and_ball_glb(dir);
+  write_file_atomic(dir + "/box.glb", encode_scene({{"box", test::box_mesh({0, 0, 0}, {1, 1, 1}), {}}}, ".glb"));
+  ProxyModel in_box;
+  in_box.poses.push_back({"rest", "rest.obj", {{{0.3, 0.3, 0.3}, 0.2}, {{0.7, 0.6, 0.5}, 0.25}, {{9, 9, 9}, 0}}, {}});
+  ProxyModel in_both = in_box;
+  in_both.poses[0].spheres.push_back({{3, 0, 0}, 0.4});
+  const Asset pair(dir + "/pair.glb", ""), one(dir + "/box.glb", "");
+  Log log("proxy-eval", -1);
+  EXPECT_EQ(warn_meshes_without_spheres(in_box, pair, "left bare", log), std::vector<std::string>{"ball"});
+  ASSERT_EQ(log.warnings().size(), 1u);
+  EXPECT_EQ(log.warnings()[0], "1 of the 2 meshes of " + dir + "/pair.glb hold no sphere of the proxy ('ball'): left "
+                               "bare; a proxy of one mesh (pose-extract --mesh) takes --mesh box");
+  EXPECT_TRUE(warn_meshes_without_spheres(in_both, pair, "left bare", log).empty());
+  EXPECT_TRUE(warn_meshes_without_spheres(in_box, one, "left bare", log).empty());
+  EXPECT_EQ(log.warnings().size(), 1u);
 }
 
 }  // namespace

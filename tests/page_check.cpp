@@ -3,9 +3,9 @@
 // the one blend_global_xyzr, blend_local_normalized or skin gives for the page's own inputs
 // (its weights, painted site weights, joint matrices), within float rounding; the page's max
 // error as opened is the vertex-to-union distance the tools measure (the rest mesh against the
-// rest spheres, or with the asset the clip's first frame as Asset::at_time poses it), and its
+// rest spheres, or with the asset, or its one mesh, the clip's first frame as Asset::at_time poses it), and its
 // joint matrices there are the asset's.
-// usage: page_check PROXY.spx RUN.page.json PAGE.html [ASSET]
+// usage: page_check PROXY.spx RUN.page.json PAGE.html [ASSET [MESH]]
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -77,7 +77,7 @@ std::vector<float> runtime_spheres(const spx::Proxy& proxy, const json& sample, 
 
 // The tools' max |vertex-to-union distance| (in % of the diagonal) for what the page opened on.
 double opened_max_error(const json& data, const std::vector<float>& xyzr, const std::string& asset,
-                        const json& opened) {
+                        const std::string& mesh, const json& opened) {
   spx::SphereSet spheres;
   for (size_t j = 0; j + 3 < xyzr.size(); j += 4)
     spheres.push_back({Eigen::Vector3d(xyzr[j], xyzr[j + 1], xyzr[j + 2]), double(xyzr[j + 3])});
@@ -86,7 +86,7 @@ double opened_max_error(const json& data, const std::vector<float>& xyzr, const 
     const std::vector<float> rest = unpacked(data["body"]["poses"][0]);
     for (size_t i = 0; i + 2 < rest.size(); i += 3) vertices.emplace_back(rest[i], rest[i + 1], rest[i + 2]);
   } else {
-    const spx::Asset rig(asset, "");
+    const spx::Asset rig(asset, mesh);
     const spx::WeldedBody body = spx::weld_body(rig);
     size_t opened_points = 0;
     vertices = spx::welded_pose(body, rig.at_time(0, 0.0), 1e-6, opened_points, "frame 0", asset).vertices;
@@ -106,14 +106,14 @@ double opened_max_error(const json& data, const std::vector<float>& xyzr, const 
 
 int main(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: page_check PROXY.spx RUN.page.json PAGE.html [ASSET]\n");
+    std::fprintf(stderr, "usage: page_check PROXY.spx RUN.page.json PAGE.html [ASSET [MESH]]\n");
     return 2;
   }
   spx::Proxy proxy;
   if (spx::load_file(argv[1], &proxy) != spx::SPX_OK) return std::printf("FAIL: cannot load %s\n", argv[1]), 1;
   const json run = json::parse(spx::read_file(argv[2]));
   const json data = page_data(argv[3]);
-  const std::string asset = argc > 4 ? argv[4] : "";
+  const std::string asset = argc > 4 ? argv[4] : "", mesh = argc > 5 ? argv[5] : "";
   const json& shown = run["dataset"];
   expect(shown["spheres"] == std::to_string(proxy.sphere_count()), "data-spheres is the .spx's sphere count");
   expect(shown["poses"] == std::to_string(proxy.pose_count()), "data-poses is the .spx's pose count");
@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
   if (data.is_null()) expect(false, std::string(argv[3]) + " holds no page data");
   else if (!data["body"].is_null()) {
     const json& opened = run["samples"][0];
-    const double tools = opened_max_error(data, floats(opened["xyzr"]), asset, opened);
+    const double tools = opened_max_error(data, floats(opened["xyzr"]), asset, mesh, opened);
     const double page = std::stod(shown["maxError"].get<std::string>());
     expect(std::abs(tools - page) <= 1e-4 * std::max(tools, 1.0),
            "data-max-error as opened (" + std::to_string(page) + " %) is the tools' measure (" + std::to_string(tools) + " %)");

@@ -17,6 +17,7 @@
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_query.hpp"
 #include "pack/pack.hpp"
+#include "io/scene.hpp"
 #include "io/spheres_file.hpp"
 #include "sdf/sdf.hpp"
 #include "synthetic/synthetic.hpp"
@@ -107,6 +108,15 @@ inline TriMesh uv_sphere(double radius, int rings = 24, int sectors = 48) {
     profile.emplace_back(radius * std::cos(phi), radius * std::sin(phi));
   }
   return lathe(profile, -radius, radius, sectors);
+}
+
+// Two meshes in one glb, `dir`/pair.glb (its path): "box", the unit box, and "ball", a ball of
+// radius 0.5 at (3, 0, 0).
+inline std::string box_and_ball_glb(const std::string& dir) {
+  TriMesh ball = uv_sphere(0.5, 8, 16);
+  for (auto& v : ball.vertices) v += Eigen::Vector3d(3, 0, 0);
+  write_file_atomic(dir + "/pair.glb", encode_scene({{"box", box_mesh({0, 0, 0}, {1, 1, 1}), {}}, {"ball", ball, {}}}, ".glb"));
+  return dir + "/pair.glb";
 }
 
 // OBJ text of a polygon mesh (faces of any number of corners, counted from 0).

@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
   tool.app.add_option("--asset", opt.asset, "With --physics: the body's glTF/GLB, written with the colliders (a "
                                             "skinned proxy's spheres on their heaviest joints); with .html: the "
                                             "skinned body and its clips, played");
+  tool.app.add_option("--mesh", opt.mesh, "With .html and --asset: one mesh (or node) of it by name, as pose-extract "
+                                          "--mesh took it");
   tool.app.add_option("--up", opt.up, "With .html: the up axis, y or z (default: y with --asset or --manifest, "
                                       "else z)");
   tool.name_option("poses", "--pose");

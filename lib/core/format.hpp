@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace spx {
 
@@ -16,6 +17,13 @@ inline std::string num(double v) {
 
 // "1 pose", "3 poses": a count and its noun, which takes an s unless the count is one.
 inline std::string counted(size_t n, const std::string& noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); }
+
+// "'a', 'b', 'c'" (names a file gives, in a message), or "none".
+inline std::string quoted_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+  return out.empty() ? "none" : out;
+}
 
 // `text` padded with spaces to `width` characters (a column of names); longer text is kept whole.
 inline std::string padded(const std::string& text, size_t width) {

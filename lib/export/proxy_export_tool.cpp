@@ -76,11 +76,13 @@ std::string page(const ProxyModel& proxy, const std::string& input, const std::s
     if (proxy.skin.empty())
       fail_usage("--asset", "with .html plays a skinned proxy's clips; " + input +
                                 " has no skin: give its examples with --rest/--pose or --manifest");
-    const Asset rig(options.asset, "");
+    const Asset rig(options.asset, options.mesh);
     const WeldedBody body = weld_body(rig);
     check_rest_holds(proxy, body.rest, options.asset);
     add_skinned_body(data, proxy, rig, body);
     page["body"] = "asset";
+    page["mesh"] = options.mesh.empty() ? json(nullptr) : json(options.mesh);
+    page["meshes_without_spheres"] = warn_meshes_without_spheres(proxy, rig, "the page shows them uncovered", log);
     page["influences_cut"] = data["body"]["influences_cut"];
     for (const json& c : data["clips"])
       page["clips"].push_back({{"name", c["name"]}, {"frames", c["frames"]}, {"seconds", c["seconds"]}});
@@ -105,6 +107,8 @@ void proxy_export_files(const std::string& input, const std::string& output, con
     fail_usage("--physics", "writes glTF physics shapes: the output must be .glb, not '" + ext + "'");
   if (!options.asset.empty() && !options.physics && ext != ".html")
     fail_usage("--asset", "needs --physics (a .glb) or a .html page");
+  if (!options.mesh.empty() && (options.asset.empty() || options.physics))
+    fail_usage("--mesh", "is for a .html page with --asset");
   if (!options.asset.empty() && !options.rest.empty())
     fail_usage("--asset", "gives the body: leave out --rest/--pose/--manifest");
   if (!options.up.empty() && ext != ".html") fail_usage("--up", "is for a .html page");

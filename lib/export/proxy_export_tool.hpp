@@ -19,6 +19,7 @@ struct ExportOptions {
   // into `asset` (a glTF of the body, which comes along) when given.
   bool physics = false;
   std::string asset;
+  std::string mesh;  // .html with `asset`: one mesh (or node) of it by name, as pose-extract --mesh
   // .html: the ground plane's normal, "y" or "z" (empty: y with an asset or a manifest, z with
   // meshes given by --rest).
   std::string up;

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
+#include "core/format.hpp"
 #include "mesh/assimp_scene.hpp"
 
 namespace spx {
@@ -103,12 +104,6 @@ Eigen::Vector3d target_position(const aiMesh* mesh, size_t k, unsigned v) {
   return target->mVertices && v < target->mNumVertices ? to_eigen(target->mVertices[v]) : to_eigen(mesh->mVertices[v]);
 }
 
-std::string list_names(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
-  return out.empty() ? "none" : out;
-}
-
 // The clip's morph weights for one mesh instance at `t`, one per anim mesh; where the clip does
 // not drive them, the mesh's default weights (`defaults`: what glTF draws then) or zero.
 std::vector<double> clip_weights(const aiAnimation* clip, const aiNode* node, const aiMesh* mesh, double t,
@@ -171,7 +166,7 @@ void Asset::list_meshes(const std::vector<std::pair<const aiNode*, unsigned>>& p
   }
   if (names.empty()) fail_input(path_, "contains no triangle mesh");
   if (std::none_of(meshes_.begin(), meshes_.end(), [](const AssetMesh& m) { return m.used; }))
-    fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path_ + " (its meshes: " + list_names(names) + ")");
+    fail_option("mesh", "no mesh or node named '" + wanted + "' in " + path_ + " (its meshes: " + quoted_names(names) + ")");
 }
 
 // The used instances: their vertices laid out in turn, their triangles, morph targets and skins.
@@ -309,7 +304,7 @@ size_t Asset::find_clip(const std::string& which) const {
     if (i < clips_.size()) return i;
     fail_option("animation", "no clip " + which + " in " + path_ + " (it has clips 0.." + std::to_string(clips_.size() - 1) + ")");
   }
-  fail_option("animation", "no clip named '" + which + "' in " + path_ + " (its clips: " + list_names(names) + ")");
+  fail_option("animation", "no clip named '" + which + "' in " + path_ + " (its clips: " + quoted_names(names) + ")");
 }
 
 std::vector<Eigen::Matrix4d> Asset::joint_matrices(const Pose& pose) const {

@@ -6,11 +6,13 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "extract/asset.hpp"
 #include "io/pose_manifest.hpp"
 #include "mesh/pose_match.hpp"
 #include "metrics/motion_chart.hpp"
 #include "metrics/motion_eval.hpp"
+#include "metrics/rest_match.hpp"
 
 namespace spx {
 namespace {
@@ -45,6 +47,35 @@ ClipTimes clip_times(const AssetClip& clip, const MotionToolOptions& opt) {
   return out;
 }
 
+// The clip asked for; without --animation, the one the manifest's poses came from (by its index
+// and name), else the asset's only clip.
+size_t clip_to_measure(const Asset& asset, const MotionToolOptions& opt, Log& log) {
+  if (!opt.animation.empty()) return asset.find_clip(opt.animation);
+  const std::vector<AssetClip>& clips = asset.clips();
+  size_t clip = clips.size();
+  std::string why = "the asset's only clip";
+  if (!opt.manifest.empty())
+    for (const ManifestPose& p : read_pose_manifest(opt.manifest).poses) {
+      const int i = p.source.value("clip_index", -1);
+      if (p.source.value("kind", "") == "animation" && i >= 0 && size_t(i) < clips.size() &&
+          clips[size_t(i)].name == p.source.value("clip", "")) {
+        clip = size_t(i), why = "the clip " + opt.manifest + "'s poses came from";
+        break;
+      }
+    }
+  if (clip == clips.size() && clips.size() == 1) clip = 0;
+  if (clip == clips.size()) {
+    if (clips.empty()) return asset.find_clip("");  // names the asset: it has none
+    std::vector<std::string> names;
+    for (size_t i = 0; i < clips.size(); ++i)
+      names.push_back(clips[i].name.empty() ? std::to_string(i) : clips[i].name);
+    fail_option("animation", "names the clip to measure: " + asset.path() + " has " + counted(clips.size(), "clip") +
+                                 " (" + one_line(quoted_names(names), 200) + ")");
+  }
+  log.info("clip '" + clips[clip].name + "' (" + why + "; --animation names another)");
+  return clip;
+}
+
 // The times of the clip's frames the proxy was made from, from its poses.json.
 std::vector<double> seen_times(const std::string& manifest_path, size_t clip) {
   std::vector<double> seen;
@@ -58,7 +89,9 @@ std::vector<double> seen_times(const std::string& manifest_path, size_t clip) {
 // The asset's welded vertex of each example vertex: the examples are read back from OBJ in their
 // own order, matched to the asset's by their triangles (mesh/pose_match). Examples given must be
 // the asset's own welded rest and poses.
-std::vector<size_t> example_order(const std::vector<TriMesh>& examples, const WeldedBody& body, const std::string& asset) {
+// `hint` ends the message (which mesh the poses may be of).
+std::vector<size_t> example_order(const std::vector<TriMesh>& examples, const WeldedBody& body, const std::string& asset,
+                                  const std::string& hint) {
   const auto& rest = body.rest.vertices;
   std::vector<size_t> order(rest.size());
   for (size_t v = 0; v < order.size(); ++v) order[v] = v;
@@ -66,7 +99,7 @@ std::vector<size_t> example_order(const std::vector<TriMesh>& examples, const We
   const auto& given = examples[0].vertices;
   if (given.size() != rest.size())
     fail_input(asset, "has " + std::to_string(rest.size()) + " welded vertices, the rest mesh " +
-                          std::to_string(given.size()) + ": not the asset the poses came from");
+                          std::to_string(given.size()) + ": not the asset the poses came from" + hint);
   const std::vector<int> to_example = match_pose_vertices(examples[0], body.rest, asset);
   double worst = 0;
   for (size_t v = 0; v < rest.size(); ++v) {
@@ -75,7 +108,7 @@ std::vector<size_t> example_order(const std::vector<TriMesh>& examples, const We
   }
   if (worst > 1e-5 * body.rest.diagonal())
     fail_input(asset, "its bind pose is not the rest mesh (a vertex " + std::to_string(worst) +
-                          " away): not the asset the poses came from");
+                          " away): not the asset the poses came from" + hint);
   return order;
 }
 
@@ -133,9 +166,16 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
                          Log& log) {
   check_has_skin(proxy);
   const Asset asset(opt.asset, opt.mesh);
-  const size_t clip = asset.find_clip(opt.animation);
+  const size_t clip = clip_to_measure(asset, opt, log);
+  const std::vector<std::string> uncovered = warn_meshes_without_spheres(proxy, asset, "their error is measured", log);
   const WeldedBody body = weld_body(asset, true);  // a clip's rest, as pose-extract writes it
-  const std::vector<size_t> order_of_vertices = example_order(examples, body, opt.asset);
+  size_t used = 0;
+  for (const AssetMesh& m : asset.meshes()) used += m.used;
+  const std::string hint = opt.mesh.empty() && used > 1 ? " (its " + std::to_string(used) +
+                                                               " meshes merged: poses of one mesh, pose-extract --mesh, "
+                                                               "need the same --mesh here)"
+                                                             : "";
+  const std::vector<size_t> order_of_vertices = example_order(examples, body, opt.asset, hint);
   const TriMesh& layout = examples.empty() ? body.rest : examples[0];
   const std::vector<size_t> order = asset.joints_named(proxy.skin.joints);
   const ClipTimes times = clip_times(asset.clips()[clip], opt);
@@ -179,10 +219,11 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
     }
   }
   if (!r.blend) log.info("best-fit blend not measured: give the examples (--manifest) to compare with it");
-  json out = {{"asset", opt.asset}, {"clip", asset.clips()[clip].name}, {"clip_index", clip},
+  json out = {{"asset", opt.asset}, {"mesh", opt.mesh.empty() ? json(nullptr) : json(opt.mesh)},
+              {"clip", asset.clips()[clip].name}, {"clip_index", clip},
               {"times", times.time.size()}, {"diagonal", diagonal}, {"spheres", proxy.sphere_count()},
               {"joints", proxy.skin.joints.size()}, {"runtime", {{"skin_us_median", r.skin_us}}},
-              {"summary", summary}, {"frames", rows}};
+              {"summary", summary}, {"frames", rows}, {"meshes_without_spheres", uncovered}};
   if (tolerance > 0) out["tolerance"] = tolerance;
   if (!opt.chart.empty()) {
     write_file_atomic(opt.chart, motion_chart_svg(r, diagonal, tolerance, asset.clips()[clip].name));

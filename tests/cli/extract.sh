@@ -208,5 +208,77 @@ for line in open(sys.argv[1]):
     "$bin/pose-map" --manifest "$r/poses/poses.json" --spheres "$out/tiny.spheres.json" -o "$out/bad.proxy.json"
   set -e
 fi
+
+# One mesh of an asset of several (MESH=, pose-extract --mesh): the robot's right forearm. Its
+# page and proxy-eval take the same --mesh; without it, they name the meshes the proxy leaves
+# uncovered and the --mesh that takes its one, and proxy-eval's error on the poses names --mesh.
+"$bin/sample-gen" robot -o "$out/in" -q
+$m NAME=arm ASSET_FILE="$out/in/robot.glb" EXTRACT_FLAGS="--animation 0 --select 3" MESH=r_forearm QUIET=1
+a=$out/arm robot=$out/in/robot.glb
+n_arm=$(grep -c '^v ' "$a/poses/rest.obj")
+check "one mesh: the page shows that mesh alone, with no warning" /usr/bin/python3 - "$a/export.html.report.json" "$n_arm" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+p = r["page"]
+assert p["mesh"] == "r_forearm" and p["vertices"] == int(sys.argv[2]) and p["meshes_without_spheres"] == [], p
+assert not r["warnings"], r["warnings"]
+PY
+check "one mesh: page report schema" v proxy-export-report.schema.json "$a/export.html.report.json"
+"$bin/proxy-export" "$a/arm.proxy.json" -o "$a/whole.html" --asset "$robot" --report "$a/whole.json" 2> "$a/whole.log"
+check "one mesh, the page without --mesh: the meshes left uncovered and --mesh not named" grep -q \
+  "warning: 11 of the 13 meshes of .*robot.glb hold no sphere of the proxy ('head', .*'torso'.*): the page shows them uncovered; a proxy of one mesh (pose-extract --mesh) takes --mesh r_forearm$" \
+  "$a/whole.log"
+check "one mesh, the page without --mesh: the whole robot, the uncovered meshes in the report" /usr/bin/python3 - \
+  "$a/whole.json" "$n_arm" <<'PY'
+import json, sys
+p = json.load(open(sys.argv[1]))["page"]
+assert p["mesh"] is None and p["vertices"] > 10 * int(sys.argv[2]), p
+assert len(p["meshes_without_spheres"]) == 11 and "r_forearm" not in p["meshes_without_spheres"], p
+PY
+# proxy-eval with the same --mesh: the clip the manifest's poses came from without --animation.
+"$bin/proxy-eval" "$a/arm.proxy.json" --manifest "$a/poses/poses.json" --asset "$robot" --mesh r_forearm \
+  --report "$a/motion.json" > "$a/motion.log" 2>&1
+check "one mesh: proxy-eval says which clip it measures without --animation" \
+  grep -q "clip 'robot' (the clip .*poses.json's poses came from; --animation names another)" "$a/motion.log"
+check "one mesh: proxy-eval report schema" v proxy-eval-report.schema.json "$a/motion.json"
+check "one mesh: proxy-eval measured that mesh, no sphere out at the frames seen" /usr/bin/python3 - "$a/motion.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+m = r["motion"]
+assert m["mesh"] == "r_forearm" and m["meshes_without_spheres"] == [] and m["clip"] == "robot", m["mesh"]
+assert not r["warnings"], r["warnings"]
+seen = [f["skinned"] for f in m["frames"] if f["seen"]]
+assert len(seen) == 3 and all(s["overshoot"] <= 1e-6 * m["diagonal"] for s in seen), seen
+PY
+"$bin/proxy-eval" "$a/arm.proxy.json" --asset "$robot" > "$a/whole-eval.log" 2>&1
+check "one mesh, proxy-eval without --mesh: the meshes measured uncovered are named" grep -q \
+  "warning: 11 of the 13 meshes .* their error is measured; a proxy of one mesh (pose-extract --mesh) takes --mesh r_forearm" \
+  "$a/whole-eval.log"
+check "one mesh, proxy-eval without --animation: the asset's only clip" grep -q "clip 'robot' (the asset's only clip" \
+  "$a/whole-eval.log"
+# The robot with a second clip: without --animation (and no manifest) proxy-eval asks for one.
+/usr/bin/python3 - "$robot" "$a/two-clips.glb" <<'PY'
+import json, struct, sys
+b = open(sys.argv[1], "rb").read()
+n = struct.unpack_from("<I", b, 12)[0]
+doc = json.loads(b[20:20 + n])
+doc["animations"].append(dict(doc["animations"][0], name="again"))
+text = json.dumps(doc).encode()
+text += b" " * (-len(text) % 4)
+rest = b[20 + n:]
+open(sys.argv[2], "wb").write(b[:8] + struct.pack("<III", 12 + 8 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest)
+PY
+set +e
+expect 1 "--animation: names the clip to measure: .*two-clips.glb has 2 clips ('robot', 'again')" "" -- \
+  "$bin/proxy-eval" "$a/arm.proxy.json" --asset "$a/two-clips.glb" --mesh r_forearm
+expect 2 "robot.glb: has 1582 welded vertices, the rest mesh $n_arm: not the asset the poses came from (its 13 meshes merged: poses of one mesh, pose-extract --mesh, need the same --mesh here)" "" -- \
+  "$bin/proxy-eval" "$a/arm.proxy.json" --manifest "$a/poses/poses.json" --asset "$robot"
+expect 1 "--mesh: is for a .html page with --asset" "$a/x.glb" -- "$bin/proxy-export" "$a/arm.proxy.json" -o "$a/x.glb" \
+  --mesh r_forearm
+expect 1 "--mesh: is for a .html page with --asset" "$a/x.glb" -- "$bin/proxy-export" "$a/arm.proxy.json" -o "$a/x.glb" \
+  --physics --asset "$robot" --mesh r_forearm
+expect 1 "--mesh: no mesh or node named 'wheel' in .*robot.glb" "$a/x.html" -- "$bin/proxy-export" "$a/arm.proxy.json" \
+  -o "$a/x.html" --asset "$robot" --mesh wheel
+set -e
 echo "$passed passed, $fail failed"
 [ "$fail" = 0 ]

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # proxy-export -o OUT.html in a real browser: the car and the barrel with their example meshes,
-# the morph-target car from pose-extract's manifest, and the skinned RiggedSimple proxy in its
-# asset. web/page-test.mjs (headless Chromium, playwright-core) opens each page, moves a slider,
-# paints a dent or scrubs and plays the clip, takes screenshots and fails on any console error;
+# the morph-target car from pose-extract's manifest, the skinned RiggedSimple proxy in its
+# asset, and the robot's forearm alone in the robot (--mesh). web/page-test.mjs (headless
+# Chromium, playwright-core) opens each page, moves a slider, paints a dent or scrubs and plays the clip, takes screenshots and fails on any console error;
 # tests/page_check compares what the page computed with the runtime header and the tools' error.
 # Bad input: one error line and the documented exit code, no page left.
 # usage: page.sh BUILD_DIR SOURCE_DIR OUT_DIR EXTRACT_OUT SHARED_DATA
@@ -27,9 +27,11 @@ page() {  # page NAME PROXY.json [proxy-export options...]
   check "$name: report schema" /usr/bin/python3 "$src/tests/cli/validate_json.py" "$src/schemas" \
     proxy-export-report.schema.json "$out/$name.report.json" >/dev/null
   check "$name: in the browser" node "$src/web/page-test.mjs" "$out/$name.html" "$out" "$name"
-  local asset=""
-  [ "${1:-}" = --asset ] && asset=$2
-  check "$name: against the runtime" "$build/tests/page_check" "$out/$name.spx" "$out/$name.page.json" "$out/$name.html" $asset
+  local asset=() # the asset, and its one mesh when given
+  [ "${1:-}" = --asset ] && asset=("$2")
+  [ "${3:-}" = --mesh ] && asset+=("$4")
+  check "$name: against the runtime" "$build/tests/page_check" "$out/$name.spx" "$out/$name.page.json" "$out/$name.html" \
+    "${asset[@]}"
 }
 poses() {  # the example meshes of a generated sample folder, as --rest/--pose
   local dir=$1; shift
@@ -42,6 +44,7 @@ page barrel "$build/tests/cli-out/barrel/a/asset.proxy.json" $(poses "$build/tes
 page car-morph "$ex/car-morph/car-morph.proxy.json" --manifest "$ex/car-morph/poses/poses.json" --up z
 page rigged "$ex/rigged/rigged.proxy.json" --asset "$data/rigged-simple/RiggedSimple.glb"
 page spheres-alone "$ex/rigged/rigged.proxy.json"
+page arm "$ex/arm/arm.proxy.json" --asset "$ex/in/robot.glb" --mesh r_forearm
 # Twice: the same bytes.
 "$bin/proxy-export" "$ex/rigged/rigged.proxy.json" -o "$out/again.html" --asset "$data/rigged-simple/RiggedSimple.glb" -q
 check "two runs differ" cmp -s "$out/rigged.html" "$out/again.html"
