@@ -68,11 +68,12 @@ size_t clip_to_measure(const Asset& asset, const MotionToolOptions& opt, Log& lo
     if (clips.empty()) return asset.find_clip("");  // names the asset: it has none
     std::vector<std::string> names;
     for (size_t i = 0; i < clips.size(); ++i)
-      names.push_back(clips[i].name.empty() ? std::to_string(i) : clips[i].name);
+      names.push_back(clips[i].name.empty() ? std::to_string(i) + " (unnamed)" : clips[i].name);
     fail_option("animation", "names the clip to measure: " + asset.path() + " has " + counted(clips.size(), "clip") +
                                  " (" + one_line(quoted_names(names), 200) + ")");
   }
-  log.info("clip '" + clips[clip].name + "' (" + why + "; --animation names another)");
+  const std::string named = clips[clip].name.empty() ? std::to_string(clip) + " (unnamed)" : "'" + clips[clip].name + "'";
+  log.info("clip " + named + " (" + why + "; --animation names another)");
   return clip;
 }
 

@@ -1,6 +1,7 @@
 #include "posemap/pose_map_tool.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -229,12 +230,20 @@ json pose_map_report(const PoseMapResult& result) {
 }
 
 // What ended the selection, for the tool's first line: the tolerance it met over every pose (a
-// default would otherwise go unsaid), or the limit that stopped it.
-std::string selection_outcome(const PoseMapSummary& s, double diagonal) {
+// default would otherwise go unsaid), or the limit that stopped it after the max error it left
+// and the pose of it, as sphere-pack says it.
+std::string selection_outcome(const PoseMapSummary& s, const std::vector<ProxyPose>& poses, double diagonal) {
   if (!s.selection) return "";
   const Limit limit = s.selection->limited_by;
   const bool met = met_tolerance(limit);
-  std::string out = std::string(met ? "; " : "; limited by ") + limit_wording(limit);
+  std::string out;
+  size_t worst = s.errors.size();
+  for (size_t i = 0; i < s.errors.size(); ++i)
+    if (std::isfinite(s.errors[i].max) && (worst == s.errors.size() || s.errors[i].max > s.errors[worst].max)) worst = i;
+  if (!met && worst < s.errors.size() && worst < poses.size())
+    out += ", max error " + num(s.errors[worst].max) + " (" + num(100 * s.errors[worst].max / diagonal) +
+           "% of the diagonal) in " + (worst == 0 ? "the rest" : "pose " + poses[worst].name);
+  out += std::string(met ? "; " : "; limited by ") + limit_wording(limit);
   if (met && s.selection_target > 0)
     out += " " + num(s.selection_target) + " (" + num(100 * s.selection_target / diagonal) +
            "% of the diagonal) in every pose";
@@ -274,7 +283,7 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
 
   log.info(output + ": " + counted(result.proxy.sphere_count(), "sphere") + " x " +
            counted(result.proxy.poses.size(), "pose") + ", " + counted(result.proxy.sites.size(), "blend site") +
-           selection_outcome(result.summary, diagonal));
+           selection_outcome(result.summary, result.proxy.poses, diagonal));
   const int name_width = pose_name_width(result.proxy.poses);
   std::vector<PoseLine> lines;
   for (size_t i = 0; i < result.proxy.poses.size(); ++i) {

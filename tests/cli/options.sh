@@ -277,7 +277,7 @@ cp "${poses[0]}" "$deep/$long_name.obj"
 "$bin/proxy-eval" "$deep/p.json" --rest "$rest" --pose "$deep/$long_name.obj" 2>>"$out/deep.log"
 check "a deep output path cut sdf-build's line short" "grep -q '^sdf-build: $deep/rest.vdb: [0-9]* triangles -> .* inside\$' '$out/deep.log'"
 check "a deep output path cut sphere-pack's line short" "grep -q '^sphere-pack: $deep/s.json: 1 sphere, radii .*; limited by max_spheres\$' '$out/deep.log'"
-check "a deep output path cut pose-map's line short" "grep -q '^pose-map: $deep/p.json: 1 sphere x 2 poses, 1 blend site; limited by max_spheres\$' '$out/deep.log'"
+check "a deep output path cut pose-map's line short" "grep -q '^pose-map: $deep/p.json: 1 sphere x 2 poses, 1 blend site, max error [0-9.e+-]* ([0-9.e+-]*% of the diagonal) in \\(the rest\\|pose $long_name\\); limited by max_spheres\$' '$out/deep.log'"
 check "a long pose name cut pose-map's pose line short" "grep -q '^pose-map:   $long_name error median .*, [0-9]* centres\\? outside\$' '$out/deep.log'"
 check "a long pose name cut proxy-eval's pose line short" "grep -q '^proxy-eval: $long_name median .* coverage [0-9.]*\$' '$out/deep.log'"
 
