@@ -350,6 +350,14 @@ TEST(RestMatch, MeshesHoldingNoSphereAreNamedWithTheMeshThatHoldsThemAll) {
                                "bare; a proxy of one mesh (pose-extract --mesh) takes --mesh box");
   EXPECT_TRUE(warn_meshes_without_spheres(in_both, pair, "left bare", log).empty());
   EXPECT_TRUE(warn_meshes_without_spheres(in_box, one, "left bare", log).empty());
+  // Two meshes of one name are one, as --mesh takes them together.
+  TriMesh ball = test::uv_sphere(0.5, 8, 16);
+  for (auto& v : ball.vertices) v += Eigen::Vector3d(3, 0, 0);
+  write_file_atomic(dir + "/named-once.glb",
+                    encode_scene({{"part", test::box_mesh({0, 0, 0}, {1, 1, 1}), {}}, {"part", ball, {}}}, ".glb"));
+  const Asset named_once(dir + "/named-once.glb", "");
+  ASSERT_EQ(named_once.meshes().size(), 2u);
+  EXPECT_TRUE(warn_meshes_without_spheres(in_box, named_once, "left bare", log).empty());
   EXPECT_EQ(log.warnings().size(), 1u);
 }
 

@@ -32,27 +32,33 @@ double check_rest_holds(const ProxyModel& proxy, const TriMesh& rest, const std:
 
 std::vector<std::string> warn_meshes_without_spheres(const ProxyModel& proxy, const Asset& asset,
                                                      const std::string& effect, Log& log) {
+  // One box per name, as --mesh takes a name (a glTF mesh's primitives, a mesh placed twice).
   const std::vector<Eigen::Vector3d> rest = asset.rest(true);
-  std::vector<std::string> none, every;
-  size_t used = 0, first = 0, spheres = 0;
+  std::vector<std::string> names;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  size_t first = 0;
   for (const AssetMesh& m : asset.meshes()) {
     if (!m.used) continue;
-    ++used;
-    Eigen::AlignedBox3d box;
-    for (size_t v = first; v < first + m.vertices && v < rest.size(); ++v) box.extend(rest[v]);
+    const size_t k = size_t(std::find(names.begin(), names.end(), m.name) - names.begin());
+    if (k == names.size()) names.push_back(m.name), boxes.emplace_back();
+    for (size_t v = first; v < first + m.vertices && v < rest.size(); ++v) boxes[k].extend(rest[v]);
     first += m.vertices;
+  }
+  std::vector<std::string> none, every;
+  size_t spheres = 0;
+  for (const Sphere& s : proxy.poses.at(0).spheres) spheres += s.radius > 0;
+  for (size_t k = 0; k < names.size(); ++k) {
+    Eigen::AlignedBox3d box = boxes[k];
     // A hair wider than the box: a centre on a flat part's face is in it.
     const double slack = 1e-6 * (box.isEmpty() ? 0.0 : box.diagonal().norm());
     box.min().array() -= slack, box.max().array() += slack;
     size_t held = 0;
-    spheres = 0;
-    for (const Sphere& s : proxy.poses.at(0).spheres)
-      if (s.radius > 0) ++spheres, held += box.contains(s.center);
-    if (held == 0) none.push_back(m.name);
-    if (held == spheres) every.push_back(m.name);
+    for (const Sphere& s : proxy.poses.at(0).spheres) held += s.radius > 0 && box.contains(s.center);
+    if (held == 0) none.push_back(names[k]);
+    if (held == spheres) every.push_back(names[k]);
   }
-  if (used < 2 || none.empty() || spheres == 0) return {};
-  log.warn(std::to_string(none.size()) + " of the " + std::to_string(used) + " meshes of " + asset.path() +
+  if (names.size() < 2 || none.empty() || spheres == 0) return {};
+  log.warn(std::to_string(none.size()) + " of the " + std::to_string(names.size()) + " meshes of " + asset.path() +
            " hold no sphere of the proxy (" + one_line(quoted_names(none), 200) + "): " + effect +
            (every.empty() ? "" : "; a proxy of one mesh (pose-extract --mesh) takes --mesh " + every.front()) +
            (every.size() > 1 ? " (or " + one_line(quoted_names({every.begin() + 1, every.end()}), 200) + ")" : ""));

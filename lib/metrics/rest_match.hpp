@@ -18,10 +18,11 @@ double check_rest_holds(const ProxyModel& proxy, const TriMesh& rest, const std:
 
 class Asset;
 
-// For a body of several meshes: the used meshes of `asset` whose rest box holds no centre of the
-// proxy's rest spheres, which a proxy made from one of the others (pose-extract --mesh) leaves
-// uncovered. When there are some, a warning names them, says `effect` ("the page shows them
-// uncovered") and names --mesh with the meshes whose box holds every centre. Returns their names.
+// For a body of several meshes: the used meshes of `asset` (those of one name as one, the unit
+// --mesh takes) whose rest box holds no centre of the proxy's rest spheres, which a proxy made
+// from one of the others (pose-extract --mesh) leaves uncovered. When there are some, a warning
+// names them, says `effect` ("the page shows them uncovered") and names --mesh with the meshes
+// whose box holds every centre. Returns their names.
 std::vector<std::string> warn_meshes_without_spheres(const ProxyModel& proxy, const Asset& asset,
                                                      const std::string& effect, Log& log);
 
