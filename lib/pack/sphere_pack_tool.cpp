@@ -400,9 +400,11 @@ std::string mesh_for_field(const std::string& given, const LoadedSdf& sdf, const
     tried.push_back(beside.lexically_normal().generic_string());
   }
   if (tried.empty() || tried.front() != recorded->second) tried.push_back(recorded->second);
-  for (const std::string& path : tried) {
+  for (std::string path : tried) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) continue;
+    // The same file as given to sdf-build (an absolute path, say) is named as it was given.
+    if (path != recorded->second && std::filesystem::equivalent(path, recorded->second, ec)) path = recorded->second;
     log.info("using the mesh " + input + " was built from: " + path + " (--mesh not given)");
     return path;
   }

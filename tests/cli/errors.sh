@@ -187,6 +187,11 @@ cp "$out/in/rest.obj" "$out/away/meshes/body.obj"
 if (cd / && "$bin/sphere-pack" "$out/away/fields/body.vdb" -o "$out/away/s.json" --max-spheres 4 -q) &&
   /usr/bin/python3 -c "import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))['source']['mesh'].endswith('away/meshes/body.obj') else 1)" "$out/away/s.json"; then
   passed=$((passed + 1)); else echo "FAIL: sphere-pack from another folder did not find the field's mesh beside the field"; fail=$((fail + 1)); fi
+# A mesh given to sdf-build by its absolute path is named so (not as seen from the field's folder).
+(cd "$out/away/fields" && "$bin/sdf-build" "$out/away/meshes/body.obj" -o abs.vdb --resolution 32 -q)
+said=$(cd "$out/away/fields" && "$bin/sphere-pack" abs.vdb -o abs.json --max-spheres 4 2>&1)
+if grep -q "^sphere-pack: using the mesh abs.vdb was built from: $out/away/meshes/body.obj (--mesh not given)$" <<<"$said"; then
+  passed=$((passed + 1)); else echo "FAIL: sphere-pack named the field's mesh otherwise than sdf-build was given it: $said"; fail=$((fail + 1)); fi
 mv "$out/away" "$out/moved"
 if (cd "$out/moved/fields" && "$bin/sphere-pack" body.vdb -o s.json --max-spheres 4 -q) && [ -s "$out/moved/fields/s.json" ]; then
   passed=$((passed + 1)); else echo "FAIL: sphere-pack did not find the field's mesh after both were moved together"; fail=$((fail + 1)); fi
