@@ -66,15 +66,21 @@ int main(int argc, char** argv) {
   auto* given = tool.app.add_flag("--map-given", opt.map_given,
                                   "Map the spheres file's spheres as they are (the paper's S_1..S_e) instead of "
                                   "selecting");
-  auto* samples = tool.app.add_option("--samples", opt.area_samples,
-                                      "Selection: surface samples per pose besides every vertex")
-                      ->capture_default_str()
+  // Not given: the spheres file's, as sphere-pack drew its samples.
+  size_t area_samples = 0;
+  uint64_t seed_value = 0;
+  bool every_vertex = false;
+  auto* samples = tool.app.add_option("--samples", area_samples,
+                                      "Selection: surface samples per pose besides every vertex (default: as "
+                                      "sphere-pack's --samples, 4000 unless it was given one)")
                       ->check(CLI::Range(size_t(0), size_t(1000000)));
-  auto* seed = tool.app.add_option("--seed", opt.seed, "Selection: seed of the surface samples")->capture_default_str();
-  auto* every = tool.app.add_flag("--every-vertex", opt.every_vertex,
+  auto* seed = tool.app.add_option("--seed", seed_value, "Selection: seed of the surface samples (default: as "
+                                                         "sphere-pack's --seed, 1 unless it was given one)");
+  auto* every = tool.app.add_flag("--every-vertex", every_vertex,
                                   "Selection with a tolerance: solve on every vertex of each pose from the start, where "
                                   "a pose far denser than the tolerance is otherwise covered on vertices an eighth of "
-                                  "it apart, then checked at every vertex (the same promise; slower and larger)");
+                                  "it apart, then checked at every vertex (the same promise; slower and larger; "
+                                  "default: as sphere-pack was given --every-vertex)");
   auto* min_radius = tool.app.add_option("--min-radius", opt.min_radius,
                                          "Selection: no sphere smaller than this at rest (a rigged body's: its one "
                                          "radius) (default: the spheres file's --min-radius, where sphere-pack was "
@@ -98,6 +104,9 @@ int main(int argc, char** argv) {
                                             spx::parse_tolerance(fill_tolerance, "--fill-tolerance"),
                                             spx::parse_tolerance(clip_overshoot, "--clip-overshoot")};
     spx::rest_and_poses(manifest, rest, poses, &skin);
+    if (samples->count()) opt.area_samples = area_samples;
+    if (seed->count()) opt.seed = seed_value;
+    if (every->count()) opt.every_vertex = every_vertex;
     // The proxy must reach a host: a clip too long for a .spx is refused before minutes of work.
     spx::check_spx_pose_count(poses.size() + 1, manifest.empty() ? "--pose" : manifest);
     spx::pose_map_files(rest, poses, spheres, output, opt, tolerances, tool.log, tool.report, skin,

@@ -45,6 +45,9 @@ json spheres_to_json(const SpheresFile& f) {
   j["radius_source"] = f.radius_source;
   j["tolerance"] = f.tolerance > 0 ? json(f.tolerance) : json(nullptr);
   if (f.max_spheres > 0) j["max_spheres"] = f.max_spheres;
+  if (!f.sampling.is_default())
+    j["sampling"] = {{"area_samples", f.sampling.area_samples}, {"seed", f.sampling.seed},
+                     {"every_vertex", f.sampling.every_vertex}};
   j["spheres"] = sphere_array_to_json(f.spheres);
   if (!f.candidates.empty()) j["candidates"] = sphere_array_to_json(f.candidates);
   return j;
@@ -80,6 +83,17 @@ SpheresFile spheres_from_json(const json& j, const std::string& path) {
     const json& m = j["max_spheres"];
     if (!m.is_number_integer() || m.get<long long>() < 1) fail_input(path, "field 'max_spheres' is not a positive integer");
     f.max_spheres = size_t(m.get<long long>());
+  }
+  if (j.contains("sampling")) {
+    const json& s = j["sampling"];
+    if (!s.is_object()) fail_input(path, "field 'sampling' is not an object");
+    const json& area = require(s, "area_samples", path), &seed = require(s, "seed", path);
+    const json& every = require(s, "every_vertex", path);
+    if (!area.is_number_unsigned() || area.get<uint64_t>() > 1000000)
+      fail_input(path, "field 'sampling.area_samples' is not an integer from 0 to 1000000");
+    if (!seed.is_number_unsigned()) fail_input(path, "field 'sampling.seed' is not a non-negative integer");
+    if (!every.is_boolean()) fail_input(path, "field 'sampling.every_vertex' is not true or false");
+    f.sampling = {size_t(area.get<uint64_t>()), seed.get<uint64_t>(), every.get<bool>()};
   }
   const json& source = require(j, "source", path);
   f.sdf = require_string(source, "sdf", path);

@@ -9,6 +9,7 @@
 
 #include "core/cache_folder.hpp"
 #include "core/log.hpp"
+#include "io/spheres_file.hpp"
 #include "pack/cover.hpp"
 #include "pack/pack.hpp"
 
@@ -24,7 +25,7 @@ struct SpherePackOptions {
   PackMethod method = PackMethod::cover;
   PackOptions pack;         // radius limits and the budget (pack.max_spheres) for both methods
   double tolerance = 0;     // the max vertex error asked for, a length (0: none; both methods)
-  size_t area_samples = 4000;   // cover: surface samples besides every vertex
+  size_t area_samples = kDefaultAreaSamples;  // cover: surface samples besides every vertex
   bool tangent_candidates = true;  // cover: one candidate tangent at every sample besides the voxels'
   uint64_t seed = 1;
   // Cover: a mesh whose vertices lie much closer together than the delta is covered on vertices

@@ -461,6 +461,7 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   file.radius_source = stats.radius_source;
   file.tolerance = opt.tolerance;
   file.max_spheres = opt.pack.max_spheres;
+  if (opt.method == PackMethod::cover) file.sampling = {opt.area_samples, opt.seed, !opt.spaced_vertices};
   file.sdf = input;
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));

@@ -79,7 +79,7 @@ struct JointSelectionOptions {
   double reach = 0;          // frame candidates are offered within this of a bare sample
   double spacing = 0;        // skinned: a frame candidate within this of one offered (at rest) is not
   bool field_bounds_radii = false;  // an open mesh: its fields bound every radius across its holes
-  size_t area_samples = 4000;
+  size_t area_samples = kDefaultAreaSamples;
   uint64_t seed = 1;
   // Tolerance mode: a frame selected on whose vertices lie much closer together than the
   // tolerance is covered on those kCoverSpacing x it apart, then every vertex checked (false:

@@ -118,6 +118,8 @@ json selection_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"min_radius", s.selection_min_radius > 0 ? json(s.selection_min_radius) : json(nullptr)},
           {"candidates_below_min_radius", sel.below_min_radius},
           {"samples", sel.samples},
+          {"sampling", {{"area_samples", s.selection_sampling.area_samples}, {"seed", s.selection_sampling.seed},
+                        {"every_vertex", s.selection_sampling.every_vertex}}},
           {"target", s.selection_target > 0 ? json(s.selection_target) : json(nullptr)},
           {"delta", sel.cover.delta},
           {"lower_bound", sel.cover.lower_bound},

@@ -76,9 +76,10 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   // Not on open parts: half a voxel is much of a wall there (the robot's walk lost 50 samples).
   options.spacing = open_solid_ ? 0.0 : kFrameCandidateSpacing * field_options().voxel_size;
   options.field_bounds_radii = open_solid_;
-  options.area_samples = opt_.area_samples;
-  options.seed = opt_.seed;
-  options.spaced_vertices = !opt_.every_vertex;
+  const CoverSampling sampling = selection_sampling(opt_, spheres_);
+  options.area_samples = sampling.area_samples;
+  options.seed = sampling.seed;
+  options.spaced_vertices = !sampling.every_vertex;
   options.refine_step = clip_ ? 0.0 : 0.5 * field_options().voxel_size;  // as sphere-pack; not a held clip's radii
   options.polish_rounds = opt_.polish_rounds >= 0 ? opt_.polish_rounds : skinned_ ? 0 : 1;
   options.min_radius = selection_min_radius(opt_, spheres_);
@@ -101,6 +102,7 @@ SphereSet PoseMapper::select_jointly(const SphereSet& file_candidates, PoseMapSu
   summary.selection = selection;
   summary.selection_target = options.target;
   summary.selection_min_radius = options.min_radius;
+  summary.selection_sampling = sampling;
   return selection.chosen;
 }
 

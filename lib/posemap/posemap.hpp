@@ -61,9 +61,12 @@ struct PoseMapOptions {
   // its depth plus `clip_overshoot` (a length; at the poses themselves, the depth alone).
   bool hold_over_clip = false;
   double clip_overshoot = 0;
-  size_t area_samples = 4000;
-  uint64_t seed = 1;
-  bool every_vertex = false;  // JointSelectionOptions::spaced_vertices off
+  // Joint selection: each pose's surface samples (their count besides every vertex, their seed)
+  // and every vertex from the start (JointSelectionOptions::spaced_vertices off); not given, the
+  // spheres file's sampling (sphere-pack's), the defaults for a file without one.
+  std::optional<size_t> area_samples;
+  std::optional<uint64_t> seed;
+  std::optional<bool> every_vertex;
   // Joint selection with a budget: covered and refined again this many times from the refined
   // spheres (JointSelectionOptions::polish_rounds); -1: once, and not at all for a skinned body.
   // Once, not sphere-pack's twice: each round refines over every frame (the walk's 48 frames at
@@ -84,6 +87,12 @@ inline bool selects_jointly(const PoseMapOptions& opt, const SpheresFile& sphere
 // sphere-pack was given (--min-radius), or else none (0).
 inline double selection_min_radius(const PoseMapOptions& opt, const SpheresFile& spheres) {
   return opt.min_radius > 0 ? opt.min_radius : spheres.min_radius_asked;
+}
+
+// The joint selection's sampling: each part as asked of pose-map, or else the spheres file's.
+inline CoverSampling selection_sampling(const PoseMapOptions& opt, const SpheresFile& spheres) {
+  return {opt.area_samples.value_or(spheres.sampling.area_samples), opt.seed.value_or(spheres.sampling.seed),
+          opt.every_vertex.value_or(spheres.sampling.every_vertex)};
 }
 
 // Gap filling (PoseMapOptions::fill_gaps): how far each pose got.
@@ -142,6 +151,7 @@ struct PoseMapSummary {
   std::optional<JointSelection> selection;  // when selected jointly
   double selection_target = 0;              // its tolerance (a length; 0: a budget alone)
   double selection_min_radius = 0;          // the least rest radius it could choose (0: none)
+  CoverSampling selection_sampling;         // each pose's samples it drew
   std::optional<GapFilling> fill;           // when asked
 };
 

@@ -46,12 +46,30 @@ check "--grid-centers centers are not on voxel centers" '[ "$(py "
 import json,sys
 f=json.load(open(sys.argv[1])); h=f[\"voxel_size\"]
 print(all(abs(c/h-round(c/h))<1e-6 for s in f[\"spheres\"] for c in s[:3]))" "$out/g.json")" = True ]'
+# sphere-pack's --samples, --seed and --every-vertex, kept in the spheres file (the defaults are
+# not written), are how pose-map's selection draws each pose's samples unless given its own: the
+# same proxy as the same options given to pose-map, and its report says which it drew.
+"$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/sd.json" -q --samples 300 --seed 5 --every-vertex
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/sd.json" -o "$out/sd.proxy.json" -q \
+  --report "$out/sd.report.json"
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/sd.json" -o "$out/sd-given.proxy.json" -q \
+  --samples 300 --seed 5 --every-vertex
+"$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/sd.json" -o "$out/sd-own.proxy.json" -q \
+  --samples 200 --report "$out/sd-own.report.json"
+sampled() { field "$1" "$2 == {'area_samples': $3, 'seed': $4, 'every_vertex': $5}"; }
+check "sphere-pack --samples 300 --seed 5 --every-vertex: not kept in the spheres file" \
+  '[ "$(sampled "$out/sd.json" "r[\"sampling\"]" 300 5 True)" = True ]'
+check "pose-map did not draw as the spheres file's sphere-pack did" 'cmp -s "$out/sd.proxy.json" "$out/sd-given.proxy.json" &&
+   [ "$(sampled "$out/sd.report.json" "r[\"selection\"][\"sampling\"]" 300 5 True)" = True ]'
+check "pose-map --samples 200 did not win over the spheres file's (the rest kept)" \
+  '[ "$(sampled "$out/sd-own.report.json" "r[\"selection\"][\"sampling\"]" 200 5 True)" = True ]'
 # --min-radius, kept in the spheres file, holds for pose-map's selection too (its own candidates
 # brought spheres down to 0.029 back before); pose-map's --min-radius asks it of a file without.
 "$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/mr.json" -q --min-radius 0.05
 "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/mr.json" -o "$out/mr.proxy.json" -q \
   --report "$out/mr.report.json"
 "$bin/sphere-pack" "$out/b3.vdb" --mesh "$rest" -o "$out/m0.json" -q
+check "sphere-pack at the default sampling wrote it" '[ "$(field "$out/m0.json" "\"sampling\" in r")" = False ]'
 "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/m0.json" -o "$out/m0.proxy.json" -q --min-radius 0.05
 "$bin/pose-map" --rest "$rest" "${pose_args[@]}" --spheres "$out/m0.json" -o "$out/m1.proxy.json" -q
 least_rest() { py "import json,sys; print(min(s[3] for s in json.load(open(sys.argv[1]))['poses'][0]['spheres']))" "$1"; }
