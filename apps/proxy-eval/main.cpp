@@ -34,7 +34,10 @@ int main(int argc, char** argv) {
   auto* asset_opt = tool.app.add_option("--asset", m.asset, "Rigged asset the proxy was made from: measure the runtime's "
                                         "skin over a clip of it (every frame asked for and half-way between)");
   tool.app.add_option("--mesh", m.mesh, "With --asset: one mesh (or node) by name, as pose-extract --mesh")->needs(asset_opt);
-  tool.app.add_option("--animation", m.animation, "With --asset: the clip, by name or index")->needs(asset_opt);
+  tool.app.add_option("--animation", m.animation,
+                      "With --asset: the clip, by name or index (default: the clip the manifest's poses came from, "
+                      "or the asset's only one)")
+      ->needs(asset_opt);
   tool.app.add_option("--every", m.every, "With --asset: every Nth frame of the clip")->capture_default_str()->needs(asset_opt);
   tool.app.add_option("--times", m.times, "With --asset: these times in seconds instead")->needs(asset_opt);
   tool.app.add_option("--between", m.between, "With --asset: also this many times evenly between consecutive ones "
