@@ -37,6 +37,29 @@ PackResult pack_mesh(const TriMesh& mesh, int resolution, const PackOptions& opt
   return pack_spheres(sdf.field, opt, exact ? &query : nullptr);
 }
 
+// Spheres too small to collide with are counted and named with the least of them; radius 0 (a
+// sphere absent) is no sphere, and one just at the share is not tiny.
+TEST(Pack, TinySpheresAreSaid) {
+  Log log("sphere-pack", -1);
+  json tiny = warn_tiny_spheres({1e-7, 0.5, 0.0, 1.0, 1e-3}, 10, "", log);
+  EXPECT_EQ(tiny["count"], 1);
+  EXPECT_DOUBLE_EQ(tiny["below"].get<double>(), 1e-3);
+  ASSERT_EQ(log.warnings().size(), 1u);
+  EXPECT_EQ(log.warnings()[0], "1 of the 4 spheres is under 0.01% of the diagonal (down to 1e-07): a sharp tip's or a "
+                               "fold's own ball, too small for a host to collide with; --min-radius keeps them out (the "
+                               "tolerance may then be missed at those tips)");
+  tiny = warn_tiny_spheres({2e-4, 3e-4, 1.0}, 10, "sphere-pack's or pose-map's", log);
+  EXPECT_EQ(tiny["count"], 2);
+  ASSERT_EQ(log.warnings().size(), 2u);
+  EXPECT_NE(log.warnings()[1].find("2 of the 3 spheres are under 0.01% of the diagonal (down to 0.0002): sharp tips' "
+                                   "or folds' own balls, too small for a host to collide with; sphere-pack's or "
+                                   "pose-map's --min-radius"),
+            std::string::npos)
+      << log.warnings()[1];
+  EXPECT_EQ(warn_tiny_spheres({1e-3, 1.0}, 10, "", log)["count"], 0);
+  EXPECT_EQ(log.warnings().size(), 2u);
+}
+
 TEST(Pack, SpheresInsideTheSamples) {
   for (const SampleAsset& a : {make_car(), make_barrel()}) expect_inside(a.rest, pack_mesh(a.rest, 96).spheres, a.name);
 }

@@ -4,10 +4,28 @@
 #include <queue>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/tolerance.hpp"
 #include "mesh/union_distance.hpp"
 
 namespace spx {
+
+nlohmann::json warn_tiny_spheres(const std::vector<double>& radii, double diagonal, const std::string& where, Log& log) {
+  const double below = kTinyRadiusShare * diagonal;
+  size_t tiny = 0, positive = 0;
+  double least = below;
+  for (double r : radii)
+    if (r > 0) ++positive, tiny += r < below, least = std::min(least, r);
+  if (tiny > 0) {
+    const bool one = tiny == 1;
+    log.warn(std::to_string(tiny) + " of the " + std::to_string(positive) + " spheres " + (one ? "is" : "are") +
+             " under " + num(100 * kTinyRadiusShare) + "% of the diagonal (down to " + num(least) + "): " +
+             (one ? "a sharp tip's or a fold's own ball" : "sharp tips' or folds' own balls") +
+             ", too small for a host to collide with; " + (where.empty() ? "" : where + " ") +
+             "--min-radius keeps them out (the tolerance may then be missed at those tips)");
+  }
+  return {{"count", tiny}, {"below", below}};
+}
 
 void check_radius_limits(const PackOptions& opt, double default_min_radius) {
   if (opt.min_radius < 0 || !std::isfinite(opt.min_radius)) fail_option("min_radius", "must be a positive number");

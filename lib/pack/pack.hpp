@@ -5,6 +5,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/log.hpp"
 #include "core/sphere.hpp"
@@ -50,6 +51,15 @@ struct PackResult {
   SphereSet spheres;
   PackStats stats;
 };
+
+// A sphere this small a share of the diagonal is no collider a host can use (0.2 mm on a 2 m
+// body): a sharp tip's or a fold's own ball, which a cover keeps where it is the nearest.
+constexpr double kTinyRadiusShare = 1e-4;
+
+// Warns of the radii (each sphere's largest) under kTinyRadiusShare of `diagonal`: how many, the
+// least, and that --min-radius keeps them out (`where`: whose --min-radius). Returns the report's
+// {"count", "below"}.
+nlohmann::json warn_tiny_spheres(const std::vector<double>& radii, double diagonal, const std::string& where, Log& log);
 
 // Usage errors for a negative or non-finite min radius, a max radius that is not positive or
 // below the min radius (`default_min_radius` where none is given).

@@ -466,6 +466,9 @@ void sphere_pack_files(const std::string& input, const std::string& given_mesh, 
   file.mesh = mesh_path;
   write_json_atomic(output, spheres_to_json(file));
 
+  std::vector<double> radii;
+  for (const Sphere& s : spheres) radii.push_back(s.radius);
+  report["tiny_spheres"] = mesh ? warn_tiny_spheres(radii, mesh->surface().diagonal(), "", log) : json(nullptr);
   log.info(output + ": " + counted(spheres.size(), "sphere") + ", radii " + num(stats.smallest) + ".." + num(stats.largest) +
            outcome_wording(stats, in_force, opt.tolerance, mesh ? mesh->surface().diagonal() : 0));
   report["input"] = input;

@@ -283,6 +283,12 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   });
   write_json_atomic(output, proxy_to_json(result.proxy));
 
+  // Each sphere's largest radius over the poses (a skinned one's one radius).
+  std::vector<double> largest(result.proxy.sphere_count(), 0.0);
+  for (const ProxyPose& pose : result.proxy.poses)
+    for (size_t s = 0; s < largest.size(); ++s) largest[s] = std::max(largest[s], pose.spheres[s].radius);
+  const json tiny = warn_tiny_spheres(largest, diagonal, selects_jointly(options, spheres) ? "sphere-pack's or pose-map's"
+                                                                                         : "sphere-pack's", log);
   log.info(output + ": " + counted(result.proxy.sphere_count(), "sphere") + " x " +
            counted(result.proxy.poses.size(), "pose") + ", " + counted(result.proxy.sites.size(), "blend site") +
            selection_outcome(result.summary, result.proxy.poses, diagonal));
@@ -303,6 +309,7 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   }
   print_pose_lines(lines, log, "  ");
   report.update(pose_map_report(result));
+  report["tiny_spheres"] = tiny;
   report["output"] = output;
   if (!skin_path.empty()) report["skin"] = skin_path;
 }

@@ -56,6 +56,15 @@ check "proxy-eval --manifest: the rest and 4 poses" \
 if [ -n "$data" ] && [ -e "$data/rigged-simple/RiggedSimple.glb" ]; then
   $m NAME=rigged ASSET_FILE="$data/rigged-simple/RiggedSimple.glb" EXTRACT_FLAGS="--animation 0 --select 2"
   check "skinned clip: no .spx" test -s "$out/rigged/rigged.spx"
+  # RiggedSimple's fold keeps balls of a millionth of its diagonal: said, and counted (none on the car).
+  check "skinned clip: pose-map did not say which spheres are too small to collide with" /usr/bin/python3 - \
+    "$out/rigged/posemap.report.json" "$out/car-morph/posemap.report.json" "$out/car-morph/pack.report.json" <<'PY'
+import json, sys
+rigged, car, car_pack = (json.load(open(f)) for f in sys.argv[1:4])
+t = rigged["tiny_spheres"]
+assert t["count"] >= 1 and any("too small for a host to collide with" in w for w in rigged["warnings"]), t
+assert car["tiny_spheres"]["count"] == 0 == car_pack["tiny_spheres"]["count"], car["tiny_spheres"]
+PY
   check "skinned clip: poses.json schema" v poses.schema.json "$out/rigged/poses/poses.json"
   check "skinned clip: report schema" v pose-extract-report.schema.json "$out/rigged/extract.report.json"
   check "skinned clip: 2 poses kept" /usr/bin/python3 -c \
