@@ -292,19 +292,23 @@ void Asset::read_clips(const ClipMends& mends) {
 
 Asset::~Asset() = default;
 
+std::vector<std::string> Asset::clip_labels() const {
+  std::vector<std::string> labels;
+  for (size_t i = 0; i < clips_.size(); ++i)
+    labels.push_back(clips_[i].name.empty() ? std::to_string(i) + " (unnamed)" : clips_[i].name);
+  return labels;
+}
+
 size_t Asset::find_clip(const std::string& which) const {
   if (clips_.empty()) fail_input(path_, "has no animation clips (--animation needs one)");
-  std::vector<std::string> names;
-  for (size_t i = 0; i < clips_.size(); ++i) {
+  for (size_t i = 0; i < clips_.size(); ++i)
     if (clips_[i].name == which) return i;
-    names.push_back(clips_[i].name.empty() ? std::to_string(i) + " (unnamed)" : clips_[i].name);
-  }
   if (!which.empty() && std::all_of(which.begin(), which.end(), ::isdigit)) {
     const size_t i = std::stoul(which);
     if (i < clips_.size()) return i;
     fail_option("animation", "no clip " + which + " in " + path_ + " (it has clips 0.." + std::to_string(clips_.size() - 1) + ")");
   }
-  fail_option("animation", "no clip named '" + which + "' in " + path_ + " (its clips: " + quoted_names(names) + ")");
+  fail_option("animation", "no clip named '" + which + "' in " + path_ + " (its clips: " + quoted_names(clip_labels()) + ")");
 }
 
 std::vector<Eigen::Matrix4d> Asset::joint_matrices(const Pose& pose) const {

@@ -68,6 +68,8 @@ class Asset {
   const std::vector<AssetClip>& clips() const { return clips_; }
   // A clip by name, or by index when `which` is a number. Exit 1 naming --animation otherwise.
   size_t find_clip(const std::string& which) const;
+  // Each clip's name in messages: its own, or "<index> (unnamed)".
+  std::vector<std::string> clip_labels() const;
   // The used meshes' morph targets in file order: each of a mesh's its own entry, those of one
   // name in another mesh matched to them in order (a body split into meshes shares its targets
   // by name; the primitives of one glTF mesh share their targets).

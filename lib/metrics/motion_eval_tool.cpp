@@ -47,41 +47,38 @@ ClipTimes clip_times(const AssetClip& clip, const MotionToolOptions& opt) {
   return out;
 }
 
-// The clip asked for; without --animation, the one the manifest's poses came from (by its index
-// and name), else the asset's only clip.
-size_t clip_to_measure(const Asset& asset, const MotionToolOptions& opt, Log& log) {
+// The clip asked for; without --animation, the one the manifest's poses (`posed`) came from (by
+// its index and name), else the asset's only clip.
+size_t clip_to_measure(const Asset& asset, const MotionToolOptions& opt, const std::vector<ManifestPose>& posed,
+                       Log& log) {
   if (!opt.animation.empty()) return asset.find_clip(opt.animation);
   const std::vector<AssetClip>& clips = asset.clips();
   size_t clip = clips.size();
   std::string why = "the asset's only clip";
-  if (!opt.manifest.empty())
-    for (const ManifestPose& p : read_pose_manifest(opt.manifest).poses) {
-      const int i = p.source.value("clip_index", -1);
-      if (p.source.value("kind", "") == "animation" && i >= 0 && size_t(i) < clips.size() &&
-          clips[size_t(i)].name == p.source.value("clip", "")) {
-        clip = size_t(i), why = "the clip " + opt.manifest + "'s poses came from";
-        break;
-      }
+  for (const ManifestPose& p : posed) {
+    const int i = p.source.value("clip_index", -1);
+    if (p.source.value("kind", "") == "animation" && i >= 0 && size_t(i) < clips.size() &&
+        clips[size_t(i)].name == p.source.value("clip", "")) {
+      clip = size_t(i), why = "the clip " + opt.manifest + "'s poses came from";
+      break;
     }
+  }
   if (clip == clips.size() && clips.size() == 1) clip = 0;
   if (clip == clips.size()) {
     if (clips.empty()) return asset.find_clip("");  // names the asset: it has none
-    std::vector<std::string> names;
-    for (size_t i = 0; i < clips.size(); ++i)
-      names.push_back(clips[i].name.empty() ? std::to_string(i) + " (unnamed)" : clips[i].name);
     fail_option("animation", "names the clip to measure: " + asset.path() + " has " + counted(clips.size(), "clip") +
-                                 " (" + one_line(quoted_names(names), 200) + ")");
+                                 " (" + one_line(quoted_names(asset.clip_labels()), 200) + ")");
   }
-  const std::string named = clips[clip].name.empty() ? std::to_string(clip) + " (unnamed)" : "'" + clips[clip].name + "'";
+  const std::string label = asset.clip_labels()[clip];
+  const std::string named = clips[clip].name.empty() ? label : "'" + label + "'";
   log.info("clip " + named + " (" + why + "; --animation names another)");
   return clip;
 }
 
-// The times of the clip's frames the proxy was made from, from its poses.json.
-std::vector<double> seen_times(const std::string& manifest_path, size_t clip) {
+// The times of the clip's frames the proxy was made from, from its poses.json's poses (`posed`).
+std::vector<double> seen_times(const std::vector<ManifestPose>& posed, size_t clip) {
   std::vector<double> seen;
-  if (manifest_path.empty()) return seen;
-  for (const ManifestPose& p : read_pose_manifest(manifest_path).poses)
+  for (const ManifestPose& p : posed)
     if (p.source.value("kind", "") == "animation" && p.source.value("clip_index", -1) == int(clip))
       seen.push_back(p.source.value("time", -1.0));
   return seen;
@@ -167,7 +164,10 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
                          Log& log) {
   check_has_skin(proxy);
   const Asset asset(opt.asset, opt.mesh);
-  const size_t clip = clip_to_measure(asset, opt, log);
+  // The manifest's poses, read once: which clip they came from, and its frames the proxy saw.
+  const std::vector<ManifestPose> posed = opt.manifest.empty() ? std::vector<ManifestPose>{}
+                                                               : read_pose_manifest(opt.manifest).poses;
+  const size_t clip = clip_to_measure(asset, opt, posed, log);
   const std::vector<std::string> uncovered = warn_meshes_without_spheres(proxy, asset, "their error is measured", log);
   const WeldedBody body = weld_body(asset, true);  // a clip's rest, as pose-extract writes it
   size_t used = 0;
@@ -180,7 +180,7 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
   const TriMesh& layout = examples.empty() ? body.rest : examples[0];
   const std::vector<size_t> order = asset.joints_named(proxy.skin.joints);
   const ClipTimes times = clip_times(asset.clips()[clip], opt);
-  const std::vector<double> seen = seen_times(opt.manifest, clip);
+  const std::vector<double> seen = seen_times(posed, clip);
   const double diagonal = body.rest.diagonal(), seam = 1e-7 * diagonal;
   const auto frame = [&](size_t i) {
     MotionFrame f;
