@@ -3,6 +3,7 @@
  * at every site, normalised once). tests/cli/bindings.sh compares every line with runtime-demo,
  * which calls the C++ header directly.
  *   c_api_check FILE.spx W0 W1 ...
+ *   c_api_check FILE.spx --morph W1 W2 ...   (split layout and xyzr, as runtime-demo --morph prints it)
  *   c_api_check FILE.spx --skin M...   (the skin, as runtime-demo --skin prints it) */
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,6 +33,29 @@ int main(int argc, char** argv) {
       fprintf(stderr, "Error: skin: %s\n", spx_status_string(s));
     }
     free(m), free(out);
+    spx_free(proxy);
+    return s != SPX_C_OK;
+  }
+  if (strcmp(argv[2], "--morph") == 0) {
+    const uint32_t count = (uint32_t)(argc - 3);
+    float* w = malloc(sizeof(float) * (count > 0 ? count : 1));
+    float* c = malloc(sizeof(float) * 3 * n);
+    float* r = malloc(sizeof(float) * n);
+    float* xyzr = malloc(sizeof(float) * 4 * n);
+    for (uint32_t i = 0; i < count; ++i) w[i] = strtof(argv[i + 3], NULL);
+    s = spx_blend_morph(proxy, w, count, c, r);
+    if (s == SPX_C_OK) s = spx_blend_morph_xyzr(proxy, w, count, xyzr);
+    if (s == SPX_C_OK) {
+      printf("# %u spheres, %u poses:", n, p);
+      for (uint32_t i = 0; i < p; ++i) printf(" %s", spx_pose_name(proxy, i));
+      printf("\n# x y z r\n");
+      for (uint32_t j = 0; j < n; ++j) printf("%.9g %.9g %.9g %.9g\n", c[3 * j], c[3 * j + 1], c[3 * j + 2], r[j]);
+      for (uint32_t j = 0; j < n; ++j)
+        printf("%.9g %.9g %.9g %.9g\n", xyzr[4 * j], xyzr[4 * j + 1], xyzr[4 * j + 2], xyzr[4 * j + 3]);
+    } else {
+      fprintf(stderr, "Error: morph blend: %s\n", spx_status_string(s));
+    }
+    free(w), free(c), free(r), free(xyzr);
     spx_free(proxy);
     return s != SPX_C_OK;
   }

@@ -434,4 +434,17 @@ TEST(SphereSet, BlendWritesTheRuntimeResult) {
   // A weight vector of the wrong length leaves the shape as it was.
   EXPECT_EQ(spx::bullet::blend_global(shape, proxy, w, 1), spx::SPX_ERR_WEIGHT_COUNT);
   EXPECT_FALSE(shape.active(4));
+  EXPECT_EQ(spx::bullet::blend_morph(shape, proxy, w, 2), spx::SPX_ERR_WEIGHT_COUNT) << "no weight for the rest";
+  EXPECT_FALSE(shape.active(4));
+  // The morph blend: the dent at 0.5 moves the spheres half-way and keeps sphere 4 (half its radius).
+  const float half[1] = {0.5f};
+  ASSERT_EQ(spx::bullet::blend_morph(shape, proxy, half, 1, origin), spx::SPX_OK);
+  ASSERT_EQ(spx::blend_morph(proxy, half, 1, c.data(), r.data()), spx::SPX_OK);
+  for (int s = 0; s < 5; ++s) {
+    EXPECT_TRUE(shape.active(s));
+    EXPECT_EQ(shape.getChildTransform(s).getOrigin(),
+              btVector3(c[3 * size_t(s)], c[3 * size_t(s) + 1], c[3 * size_t(s) + 2]) - origin);
+    EXPECT_EQ(static_cast<const btSphereShape*>(shape.getChildShape(s))->getRadius(), r[size_t(s)]);
+  }
+  EXPECT_FLOAT_EQ(c[1], 0.25f);
 }

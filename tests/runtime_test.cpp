@@ -453,6 +453,73 @@ TEST(Runtime, XyzrBlendsEqualTheSplitLayout) {
   }
 }
 
+// The morph blend is the mesh's morph-target sum: rest + sum_i w_i (S_i - rest), computed here
+// in double, for weights a host gives blend shapes (past 1, negative, two at once); one target
+// at 1 alone gives its example to the bit; convex weights give blend_global's spheres at
+// (1 - their sum, weights...); both layouts agree to the bit.
+TEST(Runtime, MorphBlendAddsTheExamplesDifferencesAsMorphTargetsDo) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u(-0.5f, 1.5f);
+  for (size_t poses : {1, 2, 4, 7}) {
+    Proxy proxy;
+    ASSERT_EQ(load(encode_spx(small_proxy(23, poses, 5)), &proxy), SPX_OK);
+    const uint32_t n = proxy.sphere_count(), p = proxy.pose_count(), k = p - 1;
+    std::vector<float> c(3 * n), r(n), xyzr(4 * n);
+    for (int trial = 0; trial < 20; ++trial) {
+      std::vector<float> w(k);
+      for (auto& x : w) x = u(rng);
+      ASSERT_EQ(blend_morph(proxy, w.data(), k, c.data(), r.data()), SPX_OK);
+      ASSERT_EQ(blend_morph_xyzr(proxy, w.data(), k, xyzr.data()), SPX_OK);
+      for (uint32_t j = 0; j < n; ++j) {
+        const float* rest = proxy.pose_spheres(0) + 4 * j;
+        double expect[4] = {rest[0], rest[1], rest[2], rest[3]};
+        for (uint32_t i = 1; i < p; ++i)
+          for (int a = 0; a < 4; ++a) expect[a] += double(w[i - 1]) * (proxy.pose_spheres(i)[4 * j + a] - double(rest[a]));
+        for (int a = 0; a < 3; ++a) ASSERT_NEAR(c[3 * j + a], expect[a], 2e-5) << poses << " poses, sphere " << j;
+        ASSERT_NEAR(r[j], std::max(expect[3], 0.0), 2e-5) << poses << " poses, sphere " << j;
+        for (int a = 0; a < 3; ++a) ASSERT_EQ(xyzr[4 * j + a], c[3 * j + a]);
+        ASSERT_EQ(xyzr[4 * j + 3], r[j]);
+      }
+    }
+    for (uint32_t i = 1; i < p; ++i) {
+      std::vector<float> w(k, 0.0f);
+      w[i - 1] = 1;
+      ASSERT_EQ(blend_morph_xyzr(proxy, w.data(), k, xyzr.data()), SPX_OK);
+      for (uint32_t a = 0; a < 4 * n; ++a) ASSERT_EQ(xyzr[a], proxy.pose_spheres(i)[a]) << "target " << i << " alone";
+    }
+    // Convex morph weights: the global blend with the rest at 1 less their sum.
+    if (k > 0) {
+      std::vector<float> w(k, 0.5f / float(k)), full(p);
+      full[0] = 0.5f;
+      for (uint32_t i = 1; i < p; ++i) full[i] = w[i - 1];
+      std::vector<float> g(4 * n);
+      ASSERT_EQ(blend_global_xyzr(proxy, full.data(), p, g.data()), SPX_OK);
+      ASSERT_EQ(blend_morph_xyzr(proxy, w.data(), k, xyzr.data()), SPX_OK);
+      for (uint32_t a = 0; a < 4 * n; ++a) ASSERT_NEAR(xyzr[a], g[a], 1e-6f);
+    }
+    // No weights (the rest only) is the rest; a weight not finite or a wrong count is refused
+    // and leaves the output untouched.
+    if (k == 0) {
+      ASSERT_EQ(blend_morph_xyzr(proxy, nullptr, 0, xyzr.data()), SPX_OK);
+      for (uint32_t a = 0; a < 4 * n; ++a) ASSERT_EQ(xyzr[a], proxy.pose_spheres(0)[a]);
+      continue;
+    }
+    std::vector<float> w(k, 0.25f);
+    std::fill(xyzr.begin(), xyzr.end(), -7.0f);
+    w[0] = std::nanf("");
+    EXPECT_EQ(blend_morph_xyzr(proxy, w.data(), k, xyzr.data()), SPX_ERR_BAD_WEIGHTS);
+    w[0] = std::numeric_limits<float>::infinity();
+    EXPECT_EQ(blend_morph(proxy, w.data(), k, c.data(), r.data()), SPX_ERR_BAD_WEIGHTS);
+    w[0] = -16777216.0f;
+    EXPECT_EQ(blend_morph_xyzr(proxy, w.data(), k, xyzr.data()), SPX_ERR_BAD_WEIGHTS) << "the rest's 1 lost in float";
+    for (float v : xyzr) EXPECT_EQ(v, -7.0f) << "failed blends leave the output untouched";
+    w[0] = 0.25f;
+    EXPECT_EQ(blend_morph_xyzr(proxy, w.data(), p, xyzr.data()), SPX_ERR_WEIGHT_COUNT) << "one per pose, rest included";
+    EXPECT_EQ(blend_morph_xyzr(proxy, nullptr, k, xyzr.data()), SPX_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(blend_morph(Proxy(), w.data(), k, c.data(), r.data()), SPX_ERR_EMPTY);
+  }
+}
+
 // The skeleton's rule in linear time against walking every joint's parents (at most as many
 // steps as joints): the first joint whose walk meets a parent out of range or does not reach a
 // root. Random forests with a few parents re-pointed (cycles, self-parents, out of range).

@@ -61,6 +61,12 @@ int spx_blend_local(const spx_proxy* p, const float* w, size_t count, float* cen
 int spx_blend_global_xyzr(const spx_proxy* p, const float* w, uint32_t count, float* xyzr) {
   return spx::blend_global_xyzr(get(p), w, count, xyzr);
 }
+int spx_blend_morph(const spx_proxy* p, const float* w, uint32_t count, float* centers, float* radii) {
+  return spx::blend_morph(get(p), w, count, centers, radii);
+}
+int spx_blend_morph_xyzr(const spx_proxy* p, const float* w, uint32_t count, float* xyzr) {
+  return spx::blend_morph_xyzr(get(p), w, count, xyzr);
+}
 int spx_normalize_site_weights(const spx_proxy* p, const float* w, size_t count, float* normalized) {
   return spx::normalize_site_weights(get(p), w, count, normalized);
 }

@@ -52,6 +52,11 @@ SPX_C_API int spx_blend_global(const spx_proxy* proxy, const float* weights, uin
 SPX_C_API int spx_blend_local(const spx_proxy* proxy, const float* site_weights, size_t weight_count, float* centers,
                     float* radii);
 SPX_C_API int spx_blend_global_xyzr(const spx_proxy* proxy, const float* weights, uint32_t weight_count, float* xyzr);
+/* A morph-target body: one weight per example after the rest (spx_pose_count - 1), added as the
+ * mesh adds its morph targets (spx::blend_morph). */
+SPX_C_API int spx_blend_morph(const spx_proxy* proxy, const float* weights, uint32_t weight_count, float* centers,
+                    float* radii);
+SPX_C_API int spx_blend_morph_xyzr(const spx_proxy* proxy, const float* weights, uint32_t weight_count, float* xyzr);
 SPX_C_API int spx_normalize_site_weights(const spx_proxy* proxy, const float* site_weights, size_t weight_count,
                                float* normalized);
 SPX_C_API int spx_blend_local_normalized(const spx_proxy* proxy, const float* normalized, size_t weight_count, float* xyzr);

@@ -73,6 +73,16 @@ PYBIND11_MODULE(spx, m) {
           },
           py::arg("weights"), "One weight per pose; returns x y z r per sphere, shape (sphere_count, 4)")
       .def(
+          "blend_morph",
+          [](const spx::Proxy& p, const FloatArray& weights) {
+            py::array_t<float> out({size_t(p.sphere_count()), size_t(4)});
+            check(spx::blend_morph_xyzr(p, weights.data(), uint32_t(weights.size()), out.mutable_data()), "blend_morph");
+            return out;
+          },
+          py::arg("weights"),
+          "A morph-target body: one weight per example after the rest, added as the mesh adds its morph targets; "
+          "returns x y z r per sphere, shape (sphere_count, 4)")
+      .def(
           "blend_local",
           [](const spx::Proxy& p, const FloatArray& site_weights) {
             std::vector<float> normalized(size_t(site_weights.size()));

@@ -396,6 +396,13 @@ Status blend_local(SphereSetShape& shape, const Proxy& proxy, const float* site_
   });
 }
 
+Status blend_morph(SphereSetShape& shape, const Proxy& proxy, const float* morph_weights, uint32_t weight_count,
+                   const btVector3& origin) {
+  return blend_into(shape, proxy, origin, [&](float* c, float* r) {
+    return spx::blend_morph(proxy, morph_weights, weight_count, c, r);
+  });
+}
+
 void register_sphere_set_algorithms(btCollisionDispatcher& dispatcher) {
   // The functions must outlive every dispatcher they are registered with.
   static std::mutex mutex;

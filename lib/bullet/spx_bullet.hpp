@@ -6,6 +6,7 @@
 //   spx::bullet::SphereSetShape shape(proxy.sphere_count());        // one per body
 //   spx::bullet::blend_global(shape, proxy, weights, n, com);       // whenever weights change
 //   spx::bullet::blend_local(shape, proxy, site_weights, count, com);
+//   spx::bullet::blend_morph(shape, proxy, morph_weights, n - 1, com);   // a morph-target body
 //
 // SphereSetShape is a btCompoundShape of btSphereShape children that the registered
 // algorithms recognise by its name. Against a static plane every sphere is tested in one flat
@@ -67,6 +68,8 @@ class SphereSetShape : public btCompoundShape {
 Status blend_global(SphereSetShape& shape, const Proxy& proxy, const float* weights, uint32_t weight_count,
                     const btVector3& origin = btVector3(0, 0, 0));
 Status blend_local(SphereSetShape& shape, const Proxy& proxy, const float* site_weights, size_t weight_count,
+                   const btVector3& origin = btVector3(0, 0, 0));
+Status blend_morph(SphereSetShape& shape, const Proxy& proxy, const float* morph_weights, uint32_t weight_count,
                    const btVector3& origin = btVector3(0, 0, 0));
 // A rigged body's spheres skinned by the frame's joint matrices (spx::skin) into the shape.
 Status skin(SphereSetShape& shape, const Proxy& proxy, const float* joint_matrices, int joint_count,

@@ -6,6 +6,7 @@
 //   spx::Proxy proxy;
 //   if (spx::load_file("car.spx", &proxy) != spx::SPX_OK) ...
 //   spx::blend_global(proxy, weights, proxy.pose_count(), centers, radii);   // each frame
+//   spx::blend_morph(proxy, morph_weights, proxy.pose_count() - 1, centers, radii);   // blend shapes
 //   spx::skin(proxy, joint_matrices, proxy.joint_count(), xyzr);   // each frame, a rigged body
 //
 // Two output layouts: centers (x y z per sphere) + radii, or xyzr (x y z r per sphere, the
@@ -31,6 +32,9 @@
 // pose_count() finite entries; negative entries are clamped to 0, and the rest are divided by
 // their sum, which must be positive. Anything else is rejected with SPX_ERR_BAD_WEIGHTS or
 // SPX_ERR_WEIGHT_COUNT and the output buffers are left untouched. Radii are never negative.
+// The morph blend (blend_morph) instead takes one weight per example after the rest, as a host
+// weighs its mesh's morph targets, and adds them as the mesh adds its targets (no clamping, no
+// normalising; the rest weighs 1 less their sum).
 //
 // Skin (a rigged body's proxy, has_skin()): each sphere follows the body's skeleton by linear
 // blend skinning of its center with up to 4 joints, exactly as a host skins its mesh, and keeps
@@ -95,7 +99,7 @@ enum Status {
   SPX_ERR_BAD_SIZES,         // header sizes, counts or offsets inconsistent; flags or reserved set
   SPX_ERR_CHECKSUM,          // CRC-32 mismatch: corrupt bytes
   SPX_ERR_BAD_DATA,          // non-finite value, negative radius or site index out of range
-  SPX_ERR_WEIGHT_COUNT,      // weight vector length is not pose_count()
+  SPX_ERR_WEIGHT_COUNT,      // weight vector length is not pose_count() (pose_count() - 1 for blend_morph)
   SPX_ERR_BAD_WEIGHTS,       // non-finite weights, or no positive weight
   SPX_ERR_EMPTY,             // the proxy holds nothing (not loaded)
   SPX_ERR_BAD_SKIN,          // skin section damaged: joint index out of range, weights or centers not finite, counts
@@ -533,16 +537,12 @@ inline Status load_file(const char* path, Proxy* out) {
   return status;
 }
 
-// One weight per example (pose_count() of them). Writes 3 floats per sphere to `centers`
-// and one to `radii`.
-inline Status blend_global(const Proxy& proxy, const float* weights, uint32_t weight_count, float* centers,
-                           float* radii) {
-  if (proxy.empty()) return SPX_ERR_EMPTY;
-  if (!weights || !centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
+namespace detail {
+
+// The blend at full weights `w` (pose_count() of them, the rest's first) into centers + radii;
+// radii below 0 become 0.
+inline void blend_split(const Proxy& proxy, const float* w, float* centers, float* radii) {
   const uint32_t p = proxy.pose_count(), n = proxy.sphere_count();
-  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
-  float w[SPX_MAX_POSES];
-  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
   for (uint32_t j = 0; j < n; ++j) {
     const float* s = proxy.pose_spheres(0) + size_t(j) * 4;
     centers[3 * j] = w[0] * s[0];
@@ -562,6 +562,58 @@ inline Status blend_global(const Proxy& proxy, const float* weights, uint32_t we
     }
   }
   for (uint32_t j = 0; j < n; ++j) radii[j] = radii[j] > 0 ? radii[j] : 0.0f;
+}
+
+// Morph weights (one per example after the rest) as full weights: the rest's is 1 less their
+// sum, so the weights sum to 1 and one target at 1 alone gives its example exactly. False when
+// one is not finite, or their magnitudes add up to 2^24 or more (there a float's 1 - sum has
+// lost the rest).
+inline bool morph_to_full(const float* morph, uint32_t p, float* w) {
+  double sum = 0, magnitude = 0;
+  for (uint32_t i = 1; i < p; ++i) {
+    if (!finite(morph[i - 1])) return false;
+    w[i] = morph[i - 1];
+    sum += w[i];
+    magnitude += w[i] < 0 ? -w[i] : w[i];
+  }
+  if (!(magnitude < 16777216.0)) return false;
+  w[0] = float(1.0 - sum);
+  return true;
+}
+
+}  // namespace detail
+
+// One weight per example (pose_count() of them). Writes 3 floats per sphere to `centers`
+// and one to `radii`.
+inline Status blend_global(const Proxy& proxy, const float* weights, uint32_t weight_count, float* centers,
+                           float* radii) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!weights || !centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
+  const uint32_t p = proxy.pose_count();
+  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
+  float w[SPX_MAX_POSES];
+  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
+  detail::blend_split(proxy, w, centers, radii);
+  return SPX_OK;
+}
+
+// A morph-target (blend-shape) body's blend: one weight per example after the rest
+// (pose_count() - 1 of them; `weights` may be null when there are none), each the weight the
+// host gives that example's morph target. Each sphere is the rest's plus the weighted
+// differences of the examples' from it, as glTF and every engine add morph targets to a mesh:
+// two targets at 1 add both deformations. Any finite weight is taken, negative or past 1, as
+// the mesh takes it; radii below 0 become 0. With weights of sum at most 1 and none negative it
+// is blend_global at (1 - their sum, weights...). SPX_ERR_BAD_WEIGHTS for a weight not finite,
+// or magnitudes adding up to 2^24 or more.
+inline Status blend_morph(const Proxy& proxy, const float* weights, uint32_t weight_count, float* centers,
+                          float* radii) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  const uint32_t p = proxy.pose_count();
+  if ((!weights && p > 1) || !centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
+  if (weight_count != p - 1) return SPX_ERR_WEIGHT_COUNT;
+  float w[SPX_MAX_POSES];
+  if (!detail::morph_to_full(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
+  detail::blend_split(proxy, w, centers, radii);
   return SPX_OK;
 }
 
@@ -606,15 +658,11 @@ inline Status blend_local(const Proxy& proxy, const float* site_weights, size_t 
 #define SPX_RESTRICT
 #endif
 
-// The global blend into xyzr (4 floats per sphere: x, y, z, r). Same weights policy and result
-// as blend_global; `xyzr` must not overlap the proxy.
-inline Status blend_global_xyzr(const Proxy& proxy, const float* weights, uint32_t weight_count, float* xyzr) {
-  if (proxy.empty()) return SPX_ERR_EMPTY;
-  if (!weights || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
+namespace detail {
+
+// The blend at full weights `w` (pose_count(), the rest's first) into xyzr; radii below 0 become 0.
+inline void blend_xyzr(const Proxy& proxy, const float* w, float* xyzr) {
   const uint32_t p = proxy.pose_count();
-  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
-  float w[SPX_MAX_POSES];
-  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
   const size_t m = size_t(proxy.sphere_count()) * 4;
   float* SPX_RESTRICT out = xyzr;
   {
@@ -629,6 +677,33 @@ inline Status blend_global_xyzr(const Proxy& proxy, const float* weights, uint32
     for (size_t k = 0; k < m; ++k) out[k] += wi * s[k];
   }
   for (size_t k = 3; k < m; k += 4) out[k] = out[k] > 0 ? out[k] : 0.0f;
+}
+
+}  // namespace detail
+
+// The global blend into xyzr (4 floats per sphere: x, y, z, r). Same weights policy and result
+// as blend_global; `xyzr` must not overlap the proxy.
+inline Status blend_global_xyzr(const Proxy& proxy, const float* weights, uint32_t weight_count, float* xyzr) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!weights || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
+  const uint32_t p = proxy.pose_count();
+  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
+  float w[SPX_MAX_POSES];
+  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
+  detail::blend_xyzr(proxy, w, xyzr);
+  return SPX_OK;
+}
+
+// The morph-target blend into xyzr: same weights and result as blend_morph; `xyzr` must not
+// overlap the proxy.
+inline Status blend_morph_xyzr(const Proxy& proxy, const float* weights, uint32_t weight_count, float* xyzr) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  const uint32_t p = proxy.pose_count();
+  if ((!weights && p > 1) || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
+  if (weight_count != p - 1) return SPX_ERR_WEIGHT_COUNT;
+  float w[SPX_MAX_POSES];
+  if (!detail::morph_to_full(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
+  detail::blend_xyzr(proxy, w, xyzr);
   return SPX_OK;
 }
 

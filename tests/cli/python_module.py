@@ -22,8 +22,9 @@ def expect(ok, what):
         failed += 1
 
 
-def header_blend(weights):
-    out = subprocess.run([demo, path] + [repr(float(w)) for w in weights], check=True, capture_output=True, text=True)
+def header_blend(weights, *flags):
+    out = subprocess.run([demo, path, *flags] + [repr(float(w)) for w in weights], check=True, capture_output=True,
+                         text=True)
     rows = [line.split() for line in out.stdout.splitlines() if not line.startswith("#")]
     return np.array(rows, dtype=np.float64).astype(np.float32)
 
@@ -47,6 +48,15 @@ for trial in range(6):
         expect(np.array_equal(got, proxy.pose(trial)), f"weight one on pose {trial} returns S_{trial}")
     local = proxy.blend_local(np.tile(w, (s, 1)))
     expect(np.array_equal(local, ref), f"blend_local with the same weights at every site, trial {trial}")
+for morph in ([0] * (p - 1), [1] + [0] * (p - 2), [1, 1] + [0] * (p - 3), rng.random(p - 1) * 2 - 0.5):
+    w = np.array(morph, dtype=np.float32)
+    got = proxy.blend_morph(w)
+    expect(np.array_equal(got, header_blend(w, "--morph")), f"blend_morph at {w}")
+try:
+    proxy.blend_morph(np.zeros(p, dtype=np.float32))
+    expect(False, "a morph blend given the rest's weight too must raise")
+except ValueError as e:
+    expect("weight count" in str(e), f"message: {e}")
 try:
     proxy.blend_global(np.ones(p + 1, dtype=np.float32))
     expect(False, "a wrong weight count must raise")
