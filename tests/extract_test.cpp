@@ -285,7 +285,8 @@ TEST(PoseExtract, MorphTargetRoundTripBlendsAsTheObjPoses) {
 }
 
 // The sample's clip drives the morph weights: weight 1 on target k alone at t = k + 1 s, halfway
-// between two targets at t = k + 1.5 s.
+// between two targets at t = k + 1.5 s, every target at 1 a second after the last. The weights
+// the clip gives (Asset::morph_weights) make the same mesh through Asset::morphed, to the bit.
 TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   const std::string dir = test::temp_dir("morph-clip");
   json report;
@@ -293,7 +294,8 @@ TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   const Asset asset(dir + "/barrel-morph.glb", "");
   ASSERT_EQ(asset.clips().size(), 1u);
   EXPECT_EQ(asset.clips()[0].morph_channels, 1u);
-  EXPECT_EQ(asset.clips()[0].frames.size(), 4u);
+  const size_t targets = asset.morph_targets().size();
+  EXPECT_EQ(asset.clips()[0].frames.size(), targets + 2);
   const auto rest = asset.rest();
   for (size_t k = 0; k < asset.morph_targets().size(); ++k)
     EXPECT_EQ(asset.at_time(0, double(k + 1)), asset.morph_target(k)) << k;
@@ -306,6 +308,18 @@ TEST(PoseExtract, ClipDrivenMorphWeightsAreApplied) {
   }
   EXPECT_LT(worst, 1e-6);
   EXPECT_GT(moved, 0.01);
+  const auto all = asset.at_time(0, double(targets + 1));
+  worst = 0;
+  for (size_t v = 0; v < rest.size(); ++v) {
+    Eigen::Vector3d sum = rest[v];
+    for (size_t k = 0; k < targets; ++k) sum += asset.morph_target(k)[v] - rest[v];
+    worst = std::max(worst, (all[v] - sum).norm());
+  }
+  EXPECT_LT(worst, 1e-6) << "every target at 1: the sum of their moves";
+  EXPECT_EQ(asset.morph_weights(0, double(targets + 1)), std::vector<double>(targets, 1.0));
+  EXPECT_EQ(asset.morph_weights(0, 1.5), (std::vector<double>{0.5, 0.5, 0.0}));
+  for (double t : {0.0, 0.75, 1.5, 2.0, 3.25, 4.0})
+    EXPECT_EQ(asset.morphed(asset.morph_weights(0, t)), asset.at_time(0, t)) << t << " s";
 }
 
 // Morph targets of one name in one mesh (an exporter's "target" for each): each is its own pose,
@@ -491,7 +505,7 @@ TEST(PoseExtract, AnimationPointerToMorphWeightsIsTheWeightsChannel) {
     return out;
   };
   const std::vector<std::string> plain = poses(barrel, "plain");
-  ASSERT_EQ(plain.size(), 4u);
+  ASSERT_EQ(plain.size(), 5u);
   for (const char* pointer : {"/nodes/0/weights", "/meshes/0/weights"}) {
     GltfFile pointed = barrel;
     pointed.doc["animations"][0]["channels"][0]["target"] = {

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 
 #include "core/atomic_file.hpp"
@@ -328,6 +329,63 @@ TEST(MotionEval, EveryFrameMeasuredAsTheExactWindingNumberSays) {
                                {{1.25, 0.125, 0}, 0.0625},   {{-0.8125, 0.875, 0.875}, 0.25}, {{1.625, 0.25, 0.25}, 0.125},
                                {{0.0625, 0.25, 0.375}, 0.375}};
     EXPECT_GT(expect_frames_measured_exactly(meshes, spheres), 0u);
+  }
+}
+
+// A morph-target body's proxy follows the morph weights as the mesh adds its targets: a ball
+// whose two targets move it right and up, and a proxy whose examples move its spheres as much.
+// At any weights (two at 1, past 1, negative) the mesh is the rest moved, and the morph blend's
+// spheres move with it: the rest's error in every frame. The global blend (the rest at 1 less
+// the weights' sum) agrees at convex weights and falls behind where the targets add up.
+TEST(MotionEval, MorphWeightsMoveTheSpheresAsTheMeshAddsItsTargets) {
+  const TriMesh ball = test::uv_sphere(1.0, 12, 24);
+  const Eigen::Vector3d right(0.5, 0, 0), up(0, 0.5, 0);
+  const SphereSet rest = {{{0, 0, 0}, 0.75}, {{0.5, 0.25, 0}, 0.375}, {{-0.25, -0.5, 0.25}, 0.25}};
+  ProxyModel proxy;
+  proxy.poses.push_back({"rest", "rest.obj", rest, {}});
+  for (const auto& [name, d] : {std::pair<const char*, Eigen::Vector3d>{"right", right}, {"up", up}}) {
+    SphereSet moved = rest;
+    for (Sphere& sp : moved) sp.center += d;
+    proxy.poses.push_back({name, std::string(name) + ".obj", moved, {}});
+  }
+  proxy.sites = {Eigen::Vector3d::Zero()};
+  proxy.sphere_sites.assign(rest.size(), 0);
+  const std::vector<std::array<float, 2>> weights = {{0, 0}, {1, 0}, {0, 1}, {0.5f, 0.5f}, {1, 1}, {2, -0.5f}};
+  auto frame = [&](size_t i) {
+    MotionFrame f;
+    f.time = double(i);
+    f.mesh = ball;
+    for (Eigen::Vector3d& v : f.mesh.vertices) v += double(weights[i][0]) * right + double(weights[i][1]) * up;
+    f.morph_weights = {weights[i][0], weights[i][1]};
+    return f;
+  };
+  const MotionResult r = evaluate_motion(proxy, weights.size(), frame, {}, Log::silent());
+  EXPECT_EQ(r.runtimes, (std::vector<int>{kMorph, kGlobal}));
+  ASSERT_EQ(r.rows.size(), weights.size());
+  const FrameError& at_rest = r.rows[0].error[kMorph];
+  EXPECT_GT(at_rest.max, 0.1);
+  for (size_t i = 0; i < weights.size(); ++i) {
+    const FrameError& e = r.rows[i].error[kMorph];
+    EXPECT_NEAR(e.max, at_rest.max, 1e-6) << "frame " << i;
+    EXPECT_NEAR(e.median, at_rest.median, 1e-6) << "frame " << i;
+    EXPECT_EQ(e.overshoot, 0.0) << "frame " << i;
+    EXPECT_EQ(e.outside, 0u) << "frame " << i;
+  }
+  EXPECT_NEAR(r.rows[3].error[kGlobal].max, at_rest.max, 1e-6) << "convex weights: the global blend too";
+  EXPECT_GT(r.rows[4].error[kGlobal].max, at_rest.max + 0.1) << "two targets at 1: half of each";
+  EXPECT_GT(r.rows[4].error[kGlobal].overshoot, 0.0);
+  // A frame of the wrong weight count is refused, naming it.
+  auto short_frame = [&](size_t i) {
+    MotionFrame f = frame(i);
+    f.morph_weights.pop_back();
+    return f;
+  };
+  try {
+    evaluate_motion(proxy, 1, short_frame, {}, Log::silent());
+    ADD_FAILURE() << "one weight for two examples must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1 morph weights; the proxy has 2 examples after the rest"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,10 +1,10 @@
 // What the proxy page computed in the browser (web/page-test.mjs wrote it) against the runtime
 // header and the tools: the counts on <body> are the .spx's; every sphere the page showed is
-// the one blend_global_xyzr, blend_local_normalized or skin gives for the page's own inputs
-// (its weights, painted site weights, joint matrices), within float rounding; the page's max
-// error as opened is the vertex-to-union distance the tools measure (the rest mesh against the
-// rest spheres, or with the asset, or its one mesh, the clip's first frame as Asset::at_time poses it), and its
-// joint matrices there are the asset's.
+// the one blend_global_xyzr, blend_local_normalized, blend_morph_xyzr or skin gives for the page's
+// own inputs (its weights, painted site weights, morph weights, joint matrices), within float
+// rounding; the page's max error as opened is the vertex-to-union distance the tools measure (the
+// rest mesh against the rest spheres, or with the asset, or its one mesh, the clip's first frame
+// as Asset::at_time poses it), and its joint matrices there are the asset's.
 // usage: page_check PROXY.spx RUN.page.json PAGE.html [ASSET [MESH]]
 #include <cstdio>
 #include <cstring>
@@ -60,6 +60,10 @@ std::vector<float> runtime_spheres(const spx::Proxy& proxy, const json& sample, 
     const std::vector<float> w = floats(sample["weights"]);
     s = spx::blend_global_xyzr(proxy, w.data(), uint32_t(w.size()), out.data());
     how = "blend_global_xyzr";
+  } else if (sample.contains("morphWeights")) {
+    const std::vector<float> w = floats(sample["morphWeights"]);
+    s = spx::blend_morph_xyzr(proxy, w.data(), uint32_t(w.size()), out.data());
+    how = "blend_morph_xyzr";
   } else if (sample.contains("siteWeights")) {
     const std::vector<float> w = floats(sample["siteWeights"]);
     std::vector<float> normalized(w.size());

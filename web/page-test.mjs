@@ -1,7 +1,7 @@
 // The proxy page in a real browser (Debian's chromium, headless, driven by playwright-core):
 // loads it from the file system, waits for it to be drawn, moves what a person moves (a blend
-// slider and a click on the body for a blended proxy; the clip's scrubber and play for a skinned
-// one), checks the readout follows, takes screenshots and fails on any console error or page
+// slider and a click on the body for a blended proxy; two targets' sliders for a morph-target
+// body's; the clip's scrubber and play for a skinned one), checks the readout follows, takes screenshots and fails on any console error or page
 // exception. What the page computed at each step (the runtime's inputs and its spheres) goes to
 // OUT/NAME.page.json, which tests/page_check compares with the runtime header.
 //   node page-test.mjs PAGE.html OUT_DIR NAME
@@ -73,6 +73,17 @@ if (first.mode === 'blend' && Number(first.poses) > 1) {
     samples.push({ what: 'painted', ...painted });
     await shot('-local');
   }
+} else if (first.mode === 'morph') {
+  // Two targets all the way, as a host adds them: the spheres and the error move.
+  await page.locator('input[data-pose="1"]').fill('1');
+  await page.locator('input[data-pose="2"]').fill('1');
+  const moved = await dataset();
+  const s = await state();
+  check(s.morphWeights[0] === 1 && s.morphWeights[1] === 1 && s.morphWeights.slice(2).every((w) => w === 0),
+    `the sliders set the morph weights (${s.morphWeights})`);
+  check(moved.maxError !== first.maxError, `the readout moves with the sliders (${first.maxError} -> ${moved.maxError} %)`);
+  samples.push({ what: 'targets 1 and 2 at 1', ...s });
+  await shot('-morph');
 } else if (first.mode === 'clip') {
   // Half-way through the first clip by the scrubber, then played for a while.
   const max = Number(await page.locator('#spx-scrubber').getAttribute('max'));

@@ -15,6 +15,7 @@
 #include "extract/asset.hpp"
 #include "io/scene.hpp"
 #include "metrics/proxy_eval_tool.hpp"
+#include "io/pose_manifest.hpp"
 #include "io/proxy_file.hpp"
 
 namespace spx {
@@ -89,6 +90,10 @@ std::string page(const ProxyModel& proxy, const std::string& input, const std::s
   } else if (!options.rest.empty()) {
     add_blended_body(data, proxy, load_pose_meshes(options.rest, options.poses, proxy, input, log, options.manifest));
     page["body"] = "examples";
+    // Morph targets are played as the host plays them: a slider per target, added up.
+    const bool morph = !options.manifest.empty() && poses_are_morph_targets(read_pose_manifest(options.manifest));
+    data["morph"] = morph;
+    page["morph_targets"] = morph;
   } else {
     log.warn("no body given: the page shows the spheres alone (--rest/--pose, --manifest or --asset adds the body "
              "and its error)");

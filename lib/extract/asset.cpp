@@ -36,6 +36,7 @@ struct Asset::Pose {
   int target = -1;  // a morph target at weight 1 (rest and clips: -1)
   bool placed = true;  // false: as stored, before skin and node transforms
   bool default_weights = false;  // the meshes' default morph weights where no clip drives them (else 0)
+  const std::vector<double>* weights = nullptr;  // or these, one per target of the body
 };
 
 namespace {
@@ -335,8 +336,10 @@ std::vector<Eigen::Vector3d> Asset::evaluate(const Pose& pose) const {
   for (const Instance& inst : instances_) {
     const aiMesh* m = inst.mesh;
     std::vector<double> w = clip_weights(pose.clip, inst.node, m, pose.ticks, pose.default_weights);
-    for (size_t k = 0; k < inst.target_of.size(); ++k)
+    for (size_t k = 0; k < inst.target_of.size(); ++k) {
       if (pose.target >= 0) w[k] = inst.target_of[k] == size_t(pose.target) ? 1.0 : 0.0;
+      if (pose.weights) w[k] = (*pose.weights)[inst.target_of[k]];
+    }
     // Morph targets first (glTF applies them before the skin). One target alone takes its
     // stored positions exactly, so a target written from an OBJ pose reads back bit for bit.
     int alone = -1;
@@ -401,6 +404,25 @@ std::vector<Eigen::Vector3d> Asset::morph_target(size_t target) const {
   return evaluate(pose);
 }
 
+std::vector<Eigen::Vector3d> Asset::morphed(const std::vector<double>& weights) const {
+  if (weights.size() != targets_.size()) fail_usage("morphed", "one weight per morph target");
+  Pose pose;
+  pose.weights = &weights;
+  return evaluate(pose);
+}
+
+std::vector<double> Asset::morph_weights(size_t clip, double seconds) const {
+  const Pose pose = clip_pose(clip, seconds);
+  std::vector<double> out(targets_.size(), 0.0);
+  std::vector<char> given(targets_.size(), 0);
+  for (const Instance& inst : instances_) {
+    const std::vector<double> w = clip_weights(pose.clip, inst.node, inst.mesh, pose.ticks, true);
+    for (size_t k = 0; k < inst.target_of.size(); ++k)
+      if (!given[inst.target_of[k]]) out[inst.target_of[k]] = w[k], given[inst.target_of[k]] = 1;
+  }
+  return out;
+}
+
 std::vector<Eigen::Vector3d> Asset::at_time(size_t clip, double seconds) const {
   return evaluate(clip_pose(clip, seconds));
 }
@@ -456,43 +478,6 @@ json Asset::inventory() const {
   }
   return {{"meshes", meshes}, {"skins", skinned}, {"clips", clips}, {"morph_targets", targets_},
           {"unweighted_vertices", unweighted_}, {"polygons_fanned", fanned_.polygons}};
-}
-
-WeldedBody weld_body(const Asset& asset, bool at_default_weights) {
-  WeldedBody body;
-  body.weld = weld_by_position(asset.rest(at_default_weights), body.rest.vertices);
-  for (const auto& t : asset.triangles()) body.rest.triangles.emplace_back(body.weld[t[0]], body.weld[t[1]], body.weld[t[2]]);
-  body.repeated = read_triangles_once(body.rest);
-  return body;
-}
-
-std::vector<size_t> first_file_vertices(const WeldedBody& body) {
-  std::vector<size_t> first(body.rest.vertices.size(), SIZE_MAX);
-  for (size_t v = 0; v < body.weld.size(); ++v)
-    if (first[size_t(body.weld[v])] == SIZE_MAX) first[size_t(body.weld[v])] = v;
-  return first;
-}
-
-TriMesh welded_pose(const WeldedBody& body, const std::vector<Eigen::Vector3d>& file_positions, double tolerance,
-                    size_t& opened, const std::string& what, const std::string& input) {
-  TriMesh pose;
-  pose.triangles = body.rest.triangles;
-  pose.vertices.assign(body.rest.vertices.size(), Eigen::Vector3d::Constant(std::nan("")));
-  std::vector<char> set(pose.vertices.size(), 0);
-  opened = 0;
-  for (size_t i = 0; i < file_positions.size(); ++i) {
-    const Eigen::Vector3d& p = file_positions[i];
-    if (!p.allFinite())
-      fail_input(input, what + ": vertex " + std::to_string(i) + " is not finite (broken skin, keys or morph weights)");
-    const size_t v = size_t(body.weld[i]);
-    if (!set[v]) {
-      pose.vertices[v] = p;
-      set[v] = 1;
-    } else if ((pose.vertices[v] - p).norm() > tolerance) {
-      ++opened;
-    }
-  }
-  return pose;
 }
 
 }  // namespace spx

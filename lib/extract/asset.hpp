@@ -93,6 +93,13 @@ class Asset {
   std::vector<Eigen::Vector3d> stored() const;
   // The rest with morph target `target` (an index into morph_targets()) at weight 1.
   std::vector<Eigen::Vector3d> morph_target(size_t target) const;
+  // The rest (node transforms at rest, no clip) with each morph target at its weight in
+  // `weights` (one per morph_targets() entry): what a host's blend shapes make of the mesh.
+  std::vector<Eigen::Vector3d> morphed(const std::vector<double>& weights) const;
+  // The weight clip `clip` gives each morph target at `seconds` (one per morph_targets() entry;
+  // the meshes' default weights where it drives none). A target shared by several meshes takes
+  // the first one's.
+  std::vector<double> morph_weights(size_t clip, double seconds) const;
   // Clip `clip` at `seconds`: node keys interpolated (linear, rotations by slerp), morph weights
   // the clip drives (the meshes' default ones where it drives none), then linear blend skinning
   // with each joint's global transform times its inverse bind matrix.
@@ -138,7 +145,7 @@ class Asset {
   size_t vertex_count_ = 0, unweighted_ = 0;
 };
 
-// The body welded by position (as pose-extract writes it): file vertex -> welded vertex, and the
+// The body welded by position (as pose-extract writes it; extract/welded_body.cpp): file vertex -> welded vertex, and the
 // rest's triangles on welded vertices, those that repeat another's read once (`repeated`: two
 // instances of a skinned mesh, which its skin puts in one place, or faces doubled; and a closed
 // part given both ways, its inner side dropped). The rest at the default morph weights where

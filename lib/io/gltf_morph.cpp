@@ -48,11 +48,13 @@ std::string encode_morph_glb(const MorphAsset& asset) {
     for (size_t v = 0; v < n; ++v) d.push_back(displacement(asset, t, v));
     targets.push_back({{"POSITION", b.add_vec3(d)}});
   }
-  // The clip: key 0 all zero, key j + 1 weight 1 on target j.
+  // The clip: key 0 all zero, key j + 1 weight 1 on target j, then (two targets or more) every
+  // target at 1 at once, as a mesh adds them.
   std::vector<float> times, weights;
-  for (size_t key = 0; k && key <= k; ++key) {
+  const size_t last = k > 1 ? k + 1 : k;
+  for (size_t key = 0; k && key <= last; ++key) {
     times.push_back(float(key));
-    for (size_t t = 0; t < k; ++t) weights.push_back(key == t + 1 ? 1.0f : 0.0f);
+    for (size_t t = 0; t < k; ++t) weights.push_back(key == t + 1 || key == k + 1 ? 1.0f : 0.0f);
   }
   const int input = k ? b.add_floats(times, true) : -1, output = k ? b.add_floats(weights, false) : -1;
 

@@ -16,7 +16,8 @@ struct MorphAsset {
 };
 
 // One mesh, one node and one clip named after the asset. The clip drives the weights: all zero
-// at t = 0 s, then weight 1 on target k alone at t = k + 1 s (linear in between).
+// at t = 0 s, then weight 1 on target k alone at t = k + 1 s, then with two targets or more every
+// target at 1 at once, one second after the last (linear in between).
 std::string encode_morph_glb(const MorphAsset& asset);
 
 // The positions a glTF reader gets back: the single-precision base, and the base plus the

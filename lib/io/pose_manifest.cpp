@@ -1,5 +1,6 @@
 #include "io/pose_manifest.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -46,6 +47,12 @@ PoseManifest read_pose_manifest(const std::string& path) {
     if (j.contains("skin")) m.skin = require_string(j, "skin", path);
     return m;
   });
+}
+
+bool poses_are_morph_targets(const PoseManifest& manifest) {
+  return !manifest.poses.empty() && std::all_of(manifest.poses.begin(), manifest.poses.end(), [](const ManifestPose& p) {
+           return p.source.is_object() && p.source.value("kind", "") == "morph-target";
+         });
 }
 
 std::string manifest_file_path(const std::string& manifest_path, const std::string& file) {

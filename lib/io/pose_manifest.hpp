@@ -25,6 +25,9 @@ struct PoseManifest {
 json manifest_to_json(const PoseManifest& manifest);
 // Exit 2 naming `path` and the field when the document is not a manifest.
 PoseManifest read_pose_manifest(const std::string& path);
+// Whether every pose is a morph target of the asset (pose-extract --morph-targets): a host plays
+// such a proxy by the targets' weights (spx::blend_morph). False for no pose.
+bool poses_are_morph_targets(const PoseManifest& manifest);
 // `file` of a manifest at `manifest_path`, as a path usable from the working folder.
 std::string manifest_file_path(const std::string& manifest_path, const std::string& file);
 

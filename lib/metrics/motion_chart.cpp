@@ -9,8 +9,10 @@ namespace spx {
 namespace {
 
 constexpr double kWidth = 900, kLeft = 70, kRight = 20, kPanel = 240, kGap = 60, kTop = 40;
-const char* const kColour[kMotionRuntimes] = {"#1f77b4", "#ff7f0e", "#7f7f7f"};
-const char* const kLabel[kMotionRuntimes] = {"skinned (spx::skin)", "rigid per bone", "best-fit blend of the examples"};
+// The host's runtime blue, the other a host could use orange, the best-fit blend grey.
+const char* const kColour[kMotionRuntimes] = {"#1f77b4", "#ff7f0e", "#7f7f7f", "#1f77b4", "#ff7f0e"};
+const char* const kLabel[kMotionRuntimes] = {"skinned (spx::skin)", "rigid per bone", "best-fit blend of the examples",
+                                             "morph blend (spx::blend_morph)", "global blend, rest at 1 - sum"};
 
 // A round step giving about 5 ticks up to `top`.
 double tick_step(double top) {
@@ -70,11 +72,12 @@ std::string motion_chart_svg(const MotionResult& r, double diagonal, double tole
   const double scale = 100 / diagonal;
   double t0 = 0, t1 = 1, worst = tolerance * 1.5 * scale, worst_over = 0.5;
   if (!r.rows.empty()) t0 = r.rows.front().time, t1 = r.rows.back().time;
-  const int shown = r.blend ? kMotionRuntimes : kBestBlend;
-  // The axes fit the skinned and rigid spheres; the blend, far worse between examples, is clipped.
+  const bool blend = r.measured(kBestBlend);
+  // The axes fit the host's runtimes; the best-fit blend, far worse between examples, is clipped.
   double blend_worst = 0, blend_worst_over = 0;
   for (const MotionRow& row : r.rows) {
-    for (int k = 0; k < kBestBlend; ++k) {
+    for (int k : r.runtimes) {
+      if (k == kBestBlend) continue;
       worst = std::max(worst, scale * row.error[size_t(k)].max);
       worst_over = std::max(worst_over, scale * row.error[size_t(k)].overshoot);
     }
@@ -96,22 +99,23 @@ std::string motion_chart_svg(const MotionResult& r, double diagonal, double tole
   }
   hline(s, over, 0.5, "2 3", "0.5%", kWidth - kRight - 4);
   char note[200];
-  if (r.blend && (blend_worst > error.top || blend_worst_over > over.top)) {
+  if (blend && (blend_worst > error.top || blend_worst_over > over.top)) {
     std::snprintf(note, sizeof note, "best-fit blend clipped: up to %.1f%% error, %.1f%% overshoot", blend_worst,
                   blend_worst_over);
     s << "<text x='" << kLeft << "' y='42' fill='" << kColour[kBestBlend] << "'>" << note
       << "</text>\n";
   }
-  for (int k = shown - 1; k >= 0; --k) {
-    series(s, error, r, k, scale, false);
-    series(s, over, r, k, scale, true);
+  for (auto k = r.runtimes.rbegin(); k != r.runtimes.rend(); ++k) {  // the host's drawn last, on top
+    series(s, error, r, *k, scale, false);
+    series(s, over, r, *k, scale, true);
   }
+  const int host = r.runtimes.empty() ? kSkinned : r.runtimes.front();
   for (const MotionRow& row : r.rows)  // the frames the proxy was made from
     if (row.seen)
-      s << "<circle cx='" << error.x(row.time) << "' cy='" << error.y(scale * row.error[kSkinned].max)
-        << "' r='2.5' fill='" << kColour[kSkinned] << "'/>\n";
+      s << "<circle cx='" << error.x(row.time) << "' cy='" << error.y(scale * row.error[size_t(host)].max)
+        << "' r='2.5' fill='" << kColour[host] << "'/>\n";
   double lx = kLeft;
-  for (int k = 0; k < shown; ++k) {
+  for (int k : r.runtimes) {
     s << "<line x1='" << lx << "' y1='" << height - 20 << "' x2='" << lx + 24 << "' y2='" << height - 20
       << "' stroke-width='3' stroke='" << kColour[k] << "'/><text x='" << lx + 30 << "' y='" << height - 16 << "'>"
       << kLabel[k] << "</text>\n";

@@ -19,8 +19,13 @@
 namespace spx {
 
 const char* motion_runtime_name(int runtime) {
-  static const char* names[kMotionRuntimes] = {"skinned", "rigid_per_bone", "best_fit_blend"};
+  static const char* names[kMotionRuntimes] = {"skinned", "rigid_per_bone", "best_fit_blend", "morph_blend",
+                                               "global_blend"};
   return names[runtime];
+}
+
+bool MotionResult::measured(int runtime) const {
+  return std::find(runtimes.begin(), runtimes.end(), runtime) != runtimes.end();
 }
 
 namespace {
@@ -135,33 +140,64 @@ struct ExampleFit {
   }
 };
 
+// A morph-target body's frame as a host without blend_morph would blend it: the global blend at
+// the morph weights, the rest at 1 less their sum (then clamped and normalised by its policy).
+std::vector<float> global_weights(const std::vector<float>& morph) {
+  std::vector<float> w(morph.size() + 1);
+  double sum = 0;
+  for (size_t i = 0; i < morph.size(); ++i) w[i + 1] = morph[i], sum += morph[i];
+  w[0] = float(1 - sum);
+  return w;
+}
+
 MotionRow measure_motion_frame(const Proxy& runtime, const MotionFrame& frame, const ExampleFit* fit,
                                const ClipTopology& clip) {
   MotionRow row;
   row.time = frame.time, row.seen = frame.seen, row.between = frame.between;
   const FrameBody body(frame.mesh, clip);
-  const std::vector<float> matrices = host_matrices(frame.joints);
   std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
-  const Status status = skin(runtime, matrices.data(), int(frame.joints.size()), xyzr.data());
-  if (status != SPX_OK) fail_input("", std::string("the runtime cannot skin the proxy: ") + status_string(status));
-  row.error[kSkinned] = measure_frame(body, from_xyzr(xyzr));
-  row.error[kRigid] = measure_frame(body, from_xyzr(rigid_per_bone(runtime, matrices)));
+  auto must = [](Status status, const char* what) {
+    if (status != SPX_OK) fail_input("", std::string("the runtime cannot ") + what + ": " + status_string(status));
+  };
+  if (runtime.has_skin()) {
+    const std::vector<float> matrices = host_matrices(frame.joints);
+    must(skin(runtime, matrices.data(), int(frame.joints.size()), xyzr.data()), "skin the proxy");
+    row.error[kSkinned] = measure_frame(body, from_xyzr(xyzr));
+    row.error[kRigid] = measure_frame(body, from_xyzr(rigid_per_bone(runtime, matrices)));
+  } else {
+    const std::vector<float>& w = frame.morph_weights;
+    must(blend_morph_xyzr(runtime, w.data(), uint32_t(w.size()), xyzr.data()), "blend the proxy by morph weights");
+    row.error[kMorph] = measure_frame(body, from_xyzr(xyzr));
+    const std::vector<float> global = global_weights(w);
+    must(blend_global_xyzr(runtime, global.data(), uint32_t(global.size()), xyzr.data()), "blend the proxy globally");
+    row.error[kGlobal] = measure_frame(body, from_xyzr(xyzr));
+  }
   if (fit) {
     const Eigen::VectorXd w = fit->weights(frame.mesh);
     row.blend_weights.assign(w.data(), w.data() + w.size());
     for (float& x : row.blend_weights) x = std::max(x, 0.0f);
-    if (blend_global_xyzr(runtime, row.blend_weights.data(), uint32_t(w.size()), xyzr.data()) != SPX_OK)
-      fail_input("", "the runtime cannot blend the proxy at the best-fit weights");
+    must(blend_global_xyzr(runtime, row.blend_weights.data(), uint32_t(w.size()), xyzr.data()),
+         "blend the proxy at the best-fit weights");
     row.error[kBestBlend] = measure_frame(body, from_xyzr(xyzr));
   }
   return row;
+}
+
+// The frame's joints or weights fit the proxy, or exit 3 naming the time.
+void check_frame_fits(const Proxy& runtime, const MotionFrame& f) {
+  const std::string at = "frame at " + std::to_string(f.time) + " s has ";
+  if (runtime.has_skin() && f.joints.size() != runtime.joint_count())
+    fail_input("", at + std::to_string(f.joints.size()) + " joint matrices; the proxy's skin has " +
+                       std::to_string(runtime.joint_count()));
+  if (!runtime.has_skin() && f.morph_weights.size() + 1 != runtime.pose_count())
+    fail_input("", at + std::to_string(f.morph_weights.size()) + " morph weights; the proxy has " +
+                       std::to_string(runtime.pose_count() - 1) + " examples after the rest");
 }
 
 }  // namespace
 
 MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const std::function<MotionFrame(size_t)>& frame,
                              const std::vector<TriMesh>& examples, Log& log) {
-  if (proxy.skin.empty()) fail_input("", "the proxy has no skin: a clip is measured on a rigged body's proxy");
   if (!examples.empty() && examples.size() != proxy.poses.size())
     fail_option("poses", "the proxy has " + std::to_string(proxy.poses.size()) + " poses, " +
                              std::to_string(examples.size()) + " example meshes were given");
@@ -171,16 +207,15 @@ MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const 
   if (status != SPX_OK) fail_input("", std::string("runtime cannot load the proxy: ") + status_string(status));
   const ExampleFit fit(examples);
   MotionResult result;
-  result.blend = !examples.empty();
+  result.runtimes = runtime.has_skin() ? std::vector<int>{kSkinned, kRigid} : std::vector<int>{kMorph, kGlobal};
+  if (!examples.empty()) result.runtimes.push_back(kBestBlend);
   result.rows.resize(frame_count);
   if (frame_count == 0) return result;
   const MotionFrame first_frame = frame(0);
   const ClipTopology clip(first_frame.mesh);
   auto measure = [&](const MotionFrame& f) {
-    if (f.joints.size() != runtime.joint_count())
-      fail_input("", "frame at " + std::to_string(f.time) + " s has " + std::to_string(f.joints.size()) +
-                         " joint matrices; the proxy's skin has " + std::to_string(runtime.joint_count()));
-    return measure_motion_frame(runtime, f, result.blend ? &fit : nullptr, clip);
+    check_frame_fits(runtime, f);
+    return measure_motion_frame(runtime, f, examples.empty() ? nullptr : &fit, clip);
   };
   // In batches, so progress is reported from one thread; every row lands in its own slot.
   const size_t batch = 16;
@@ -189,9 +224,14 @@ MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const 
     tbb::parallel_for(first, std::min(frame_count, first + batch),
                       [&](size_t i) { result.rows[i] = i == 0 ? measure(first_frame) : measure(frame(i)); });
   }
-  const std::vector<float> first_matrices = host_matrices(first_frame.joints);
   std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
-  result.skin_us = median_call_us([&] { skin(runtime, first_matrices.data(), int(first_matrices.size() / 16), xyzr.data()); });
+  if (runtime.has_skin()) {
+    const std::vector<float> m = host_matrices(first_frame.joints);
+    result.host_us = median_call_us([&] { skin(runtime, m.data(), int(m.size() / 16), xyzr.data()); });
+  } else {
+    const std::vector<float>& w = first_frame.morph_weights;
+    result.host_us = median_call_us([&] { blend_morph_xyzr(runtime, w.data(), uint32_t(w.size()), xyzr.data()); });
+  }
   return result;
 }
 

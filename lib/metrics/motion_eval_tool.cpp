@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -117,7 +118,7 @@ json frame_error_json(const FrameError& e) {
 
 // Per runtime and group of frames: how many, the max error's median and worst, the worst
 // overshoot and the frames with a centre outside.
-json summary_json(const MotionResult& r, int runtime, const std::function<bool(const MotionRow&)>& in_group,
+json group_summary_json(const MotionResult& r, int runtime, const std::function<bool(const MotionRow&)>& in_group,
                   double diagonal, double tolerance) {
   std::vector<double> maxima;
   double overshoot = 0;
@@ -155,21 +156,101 @@ void log_summary(const json& s, const char* runtime, const char* group, Log& log
 
 }  // namespace
 
-void check_has_skin(const ProxyModel& proxy) {
-  if (proxy.skin.empty())
-    fail_option("asset", "the proxy has no skin: --asset measures a rigged body's proxy over a clip");
+std::vector<size_t> example_targets(const ProxyModel& proxy, const Asset& asset) {
+  if (!proxy.skin.empty()) return {};
+  const std::vector<std::string>& targets = asset.morph_targets();
+  std::map<std::string, size_t> taken;  // per name, how many examples took one already
+  std::vector<size_t> out;
+  for (size_t i = 1; i < proxy.poses.size(); ++i) {
+    const std::string& name = proxy.poses[i].name;
+    size_t nth = taken[name]++, k = 0;
+    for (; k < targets.size(); ++k)
+      if (targets[k] == name && nth-- == 0) break;
+    if (k == targets.size())
+      fail_option("asset", "the proxy has no skin and its example '" + name + "' is no morph target of " + asset.path() +
+                               " (" + (targets.empty() ? std::string("it has none")
+                                                       : counted(targets.size(), "target") + ": " +
+                                                             one_line(quoted_names(targets), 200)) +
+                               "): --asset measures a rigged body's proxy, or a morph-target body's "
+                               "(pose-extract --morph-targets), over a clip");
+    out.push_back(k);
+  }
+  return out;
 }
 
-json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& examples, const MotionToolOptions& opt,
-                         Log& log) {
-  check_has_skin(proxy);
-  const Asset asset(opt.asset, opt.mesh);
+namespace {
+
+// A morph-target body's weights at each time: the clip's, of every target of the asset.
+std::vector<std::vector<double>> clip_morph_weights(const Asset& asset, size_t clip, const ClipTimes& times) {
+  std::vector<std::vector<double>> out;
+  for (double t : times.time) out.push_back(asset.morph_weights(clip, t));
+  return out;
+}
+
+// The targets the clip weighs (anywhere past 1e-6) that have no example in the proxy, named in a
+// warning: there the mesh moves and the proxy cannot follow.
+std::vector<std::string> warn_targets_without_examples(const Asset& asset, const std::vector<size_t>& examples,
+                                                       const std::vector<std::vector<double>>& weights, Log& log) {
+  std::vector<std::string> out;
+  for (size_t k = 0; k < asset.morph_targets().size(); ++k) {
+    const bool weighed = std::any_of(weights.begin(), weights.end(), [&](const auto& w) { return std::abs(w[k]) > 1e-6; });
+    if (weighed && std::find(examples.begin(), examples.end(), k) == examples.end())
+      out.push_back(asset.morph_targets()[k]);
+  }
+  if (!out.empty())
+    log.warn(asset.path() + ": the clip weighs " + counted(out.size(), "morph target") + " the proxy has no example of (" +
+             one_line(quoted_names(out), 200) + "): the mesh moves there and the proxy cannot follow");
+  return out;
+}
+
+json row_json(const MotionResult& r, const MotionRow& row) {
+  json j = {{"time", row.time}, {"seen", row.seen}, {"between", row.between}};
+  for (int k : r.runtimes) j[motion_runtime_name(k)] = frame_error_json(row.error[size_t(k)]);
+  return j;
+}
+
+// Per runtime measured and group of frames, summarised and logged.
+json summary_json(const MotionResult& r, double diagonal, double tolerance, Log& log) {
+  const std::pair<const char*, std::function<bool(const MotionRow&)>> groups[] = {
+      {"frames_seen", [](const MotionRow& row) { return row.seen; }},
+      {"frames_unseen", [](const MotionRow& row) { return !row.seen && !row.between; }},
+      {"between_frames", [](const MotionRow& row) { return row.between; }},
+      {"all", [](const MotionRow&) { return true; }}};
+  json summary;
+  for (int k : r.runtimes)
+    for (const auto& g : groups) {
+      summary[motion_runtime_name(k)][g.first] = group_summary_json(r, k, g.second, diagonal, tolerance);
+      log_summary(summary[motion_runtime_name(k)][g.first], motion_runtime_name(k), g.first, log);
+    }
+  if (!r.measured(kBestBlend)) log.info("best-fit blend not measured: give the examples (--manifest) to compare with it");
+  return summary;
+}
+
+// A frame the proxy was made from: the rest (every weight 0) or one of its examples (its target
+// at 1, every other 0).
+bool is_example(const std::vector<double>& w, const std::vector<size_t>& examples) {
+  size_t ones = 0, at = 0;
+  for (size_t k = 0; k < w.size(); ++k) {
+    if (w[k] == 1.0) ++ones, at = k;
+    else if (w[k] != 0.0) return false;
+  }
+  return ones == 0 || (ones == 1 && std::find(examples.begin(), examples.end(), at) != examples.end());
+}
+
+}  // namespace
+
+json proxy_motion_report(const ProxyModel& proxy, const Asset& asset, const std::vector<TriMesh>& examples,
+                         const MotionToolOptions& opt, Log& log) {
+  const bool skinned = !proxy.skin.empty();
+  const std::vector<size_t> targets = example_targets(proxy, asset);
   // The manifest's poses, read once: which clip they came from, and its frames the proxy saw.
   const std::vector<ManifestPose> posed = opt.manifest.empty() ? std::vector<ManifestPose>{}
                                                                : read_pose_manifest(opt.manifest).poses;
   const size_t clip = clip_to_measure(asset, opt, posed, log);
   const std::vector<std::string> uncovered = warn_meshes_without_spheres(proxy, asset, "their error is measured", log);
-  const WeldedBody body = weld_body(asset, true);  // a clip's rest, as pose-extract writes it
+  // The rest as pose-extract writes it: a clip's (the default morph weights), or with every
+  // morph target at 0 where the examples are the targets.
+  const WeldedBody body = weld_body(asset, skinned);
   size_t used = 0;
   for (const AssetMesh& m : asset.meshes()) used += m.used;
   const std::string hint = opt.mesh.empty() && used > 1 ? " (its " + std::to_string(used) +
@@ -178,53 +259,59 @@ json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& ex
                                                              : "";
   const std::vector<size_t> order_of_vertices = example_order(examples, body, opt.asset, hint);
   const TriMesh& layout = examples.empty() ? body.rest : examples[0];
-  const std::vector<size_t> order = asset.joints_named(proxy.skin.joints);
+  const std::vector<size_t> order = skinned ? asset.joints_named(proxy.skin.joints) : std::vector<size_t>{};
   const ClipTimes times = clip_times(asset.clips()[clip], opt);
   const std::vector<double> seen = seen_times(posed, clip);
+  const std::vector<std::vector<double>> weights = skinned ? std::vector<std::vector<double>>{}
+                                                           : clip_morph_weights(asset, clip, times);
+  const std::vector<std::string> unfollowed = skinned ? std::vector<std::string>{}
+                                                      : warn_targets_without_examples(asset, targets, weights, log);
   const double diagonal = body.rest.diagonal(), seam = 1e-7 * diagonal;
   const auto frame = [&](size_t i) {
     MotionFrame f;
     f.time = times.time[i];
     f.between = times.between[i];
-    f.seen = std::any_of(seen.begin(), seen.end(), [&](double t) { return std::abs(t - f.time) < 1e-4; });
     size_t opened = 0;
     const std::string what = "clip '" + asset.clips()[clip].name + "' at " + std::to_string(f.time) + " s";
-    const TriMesh welded = welded_pose(body, asset.at_time(clip, f.time), seam, opened, what, opt.asset);
+    std::vector<Eigen::Vector3d> positions;
+    if (skinned) {
+      f.seen = std::any_of(seen.begin(), seen.end(), [&](double t) { return std::abs(t - f.time) < 1e-4; });
+      positions = asset.at_time(clip, f.time);
+      const std::vector<Eigen::Matrix4d> all = asset.joint_matrices(clip, f.time);
+      for (size_t j : order) f.joints.push_back(all[j]);
+    } else {
+      f.seen = is_example(weights[i], targets);
+      positions = asset.morphed(weights[i]);
+      for (size_t k : targets) f.morph_weights.push_back(float(weights[i][k]));
+    }
+    const TriMesh welded = welded_pose(body, positions, seam, opened, what, opt.asset);
     f.mesh.triangles = layout.triangles;
     for (size_t v : order_of_vertices) f.mesh.vertices.push_back(welded.vertices[v]);
-    const std::vector<Eigen::Matrix4d> all = asset.joint_matrices(clip, f.time);
-    for (size_t j : order) f.joints.push_back(all[j]);
     return f;
   };
   const MotionResult r = evaluate_motion(proxy, times.time.size(), frame, examples, log);
 
   const double tolerance = opt.tolerance.length(diagonal);
   json rows = json::array();
-  for (const MotionRow& row : r.rows) {
-    json j = {{"time", row.time}, {"seen", row.seen}, {"between", row.between}};
-    for (int k = 0; k < kMotionRuntimes; ++k)
-      if (k != kBestBlend || r.blend) j[motion_runtime_name(k)] = frame_error_json(row.error[size_t(k)]);
-    rows.push_back(j);
+  for (size_t i = 0; i < r.rows.size(); ++i) {
+    rows.push_back(row_json(r, r.rows[i]));
+    if (!skinned) rows.back()["morph_weights"] = weights[i];
   }
-  const std::pair<const char*, std::function<bool(const MotionRow&)>> groups[] = {
-      {"frames_seen", [](const MotionRow& row) { return row.seen; }},
-      {"frames_unseen", [](const MotionRow& row) { return !row.seen && !row.between; }},
-      {"between_frames", [](const MotionRow& row) { return row.between; }},
-      {"all", [](const MotionRow&) { return true; }}};
-  json summary;
-  for (int k = 0; k < kMotionRuntimes; ++k) {
-    if (k == kBestBlend && !r.blend) continue;
-    for (const auto& g : groups) {
-      summary[motion_runtime_name(k)][g.first] = summary_json(r, k, g.second, diagonal, tolerance);
-      log_summary(summary[motion_runtime_name(k)][g.first], motion_runtime_name(k), g.first, log);
-    }
-  }
-  if (!r.blend) log.info("best-fit blend not measured: give the examples (--manifest) to compare with it");
   json out = {{"asset", opt.asset}, {"mesh", opt.mesh.empty() ? json(nullptr) : json(opt.mesh)},
               {"clip", asset.clips()[clip].name}, {"clip_index", clip},
               {"times", times.time.size()}, {"diagonal", diagonal}, {"spheres", proxy.sphere_count()},
-              {"joints", proxy.skin.joints.size()}, {"runtime", {{"skin_us_median", r.skin_us}}},
-              {"summary", summary}, {"frames", rows}, {"meshes_without_spheres", uncovered}};
+              {"summary", summary_json(r, diagonal, tolerance, log)}, {"frames", rows},
+              {"meshes_without_spheres", uncovered}};
+  if (skinned) {
+    out["joints"] = proxy.skin.joints.size();
+    out["runtime"] = {{"skin_us_median", r.host_us}};
+  } else {
+    json named = json::array();
+    for (size_t k : targets) named.push_back(asset.morph_targets()[k]);
+    out["morph_targets"] = named;
+    out["morph_targets_without_examples"] = unfollowed;
+    out["runtime"] = {{"blend_morph_us_median", r.host_us}};
+  }
   if (tolerance > 0) out["tolerance"] = tolerance;
   if (!opt.chart.empty()) {
     write_file_atomic(opt.chart, motion_chart_svg(r, diagonal, tolerance, asset.clips()[clip].name));

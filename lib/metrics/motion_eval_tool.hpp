@@ -1,6 +1,7 @@
 #pragma once
-// proxy-eval --asset A.glb --animation N: a rigged body's proxy measured over a clip of its asset
-// (metrics/motion_eval.hpp), every frame asked for and half-way between them.
+// proxy-eval --asset A.glb --animation N: a rigged body's proxy, or a morph-target body's,
+// measured over a clip of its asset (metrics/motion_eval.hpp), every frame asked for and half-way
+// between them.
 #include <string>
 #include <vector>
 
@@ -11,6 +12,8 @@
 #include "mesh/mesh.hpp"
 
 namespace spx {
+
+class Asset;
 
 struct MotionToolOptions {
   std::string asset;           // the rigged asset (glTF, FBX, ... through assimp)
@@ -24,12 +27,17 @@ struct MotionToolOptions {
   Tolerance tolerance;         // the target the errors are compared with (ratios in the report)
 };
 
-// A proxy a clip can be measured on, or spx::Error (exit 1, the option "asset"): it has a skin.
-void check_has_skin(const ProxyModel& proxy);
+// A proxy without a skin is measured over a clip by its morph weights: its examples after the
+// rest are the asset's morph targets of their names (pose-extract --morph-targets names them so),
+// one name taken as often as the asset has it, in order. Returns each example's target (empty
+// for a proxy with a skin), or spx::Error (exit 1, the option "asset") naming an example that is
+// none.
+std::vector<size_t> example_targets(const ProxyModel& proxy, const Asset& asset);
 
-// Measures `proxy` over the clip (checked by check_has_skin first); `examples` (rest first, on the asset's welded vertices, or
-// empty) give the best-fit blend beside it. Returns the report's "motion" object.
-json proxy_motion_report(const ProxyModel& proxy, const std::vector<TriMesh>& examples, const MotionToolOptions& options,
-                         Log& log);
+// Measures `proxy` over the clip of `asset` (opened with options.mesh); `examples` (rest first,
+// on the asset's welded vertices, or empty) give the best-fit blend beside it. Returns the
+// report's "motion" object.
+json proxy_motion_report(const ProxyModel& proxy, const Asset& asset, const std::vector<TriMesh>& examples,
+                         const MotionToolOptions& options, Log& log);
 
 }  // namespace spx

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -9,6 +10,7 @@
 #include "core/format.hpp"
 #include "core/pose_lines.hpp"
 #include "core/subject.hpp"
+#include "extract/asset.hpp"
 #include "io/pose_manifest.hpp"
 #include "io/scene.hpp"
 #include "io/spx_writer.hpp"
@@ -131,7 +133,6 @@ void evaluate_examples(const ProxyModel& proxy, const std::string& proxy_path, c
 void check_options_against(const ProxyModel& proxy, const EvalToolOptions& opt) {
   if (!opt.colors.empty() && lower_extension(opt.colors) == ".ply")
     check_pose_number(pose_drawn(opt), proxy.poses.size());
-  if (!opt.motion.asset.empty()) check_has_skin(proxy);
 }
 
 }  // namespace
@@ -149,6 +150,12 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
   const ProxyModel proxy = read_proxy_file(proxy_path);
   check_spx_pose_count(proxy.poses.size(), proxy_path);  // measured as a host loads it, before the work
   check_options_against(proxy, opt);
+  // The clip's asset, opened (and the proxy checked against it) before the examples' work.
+  std::unique_ptr<Asset> asset;
+  if (!opt.motion.asset.empty()) {
+    asset = std::make_unique<Asset>(opt.motion.asset, opt.motion.mesh);
+    example_targets(proxy, *asset);
+  }
   std::vector<TriMesh> meshes;
   if (!rest_path.empty()) {
     {
@@ -161,9 +168,9 @@ void proxy_eval_files(const std::string& proxy_path, const std::string& rest_pat
       log.info("a host plays this proxy by its skin, not by blends of its poses: --asset (the rigged asset) "
                "and --animation measure it over the clip as the host skins it");
   }
-  if (!opt.motion.asset.empty()) {
+  if (asset) {
     StageTimer t(log, "motion");
-    report["motion"] = about_file(proxy_path, [&] { return proxy_motion_report(proxy, meshes, opt.motion, log); });
+    report["motion"] = about_file(proxy_path, [&] { return proxy_motion_report(proxy, *asset, meshes, opt.motion, log); });
   }
   report["input"] = proxy_path;
   report["sphere_count"] = proxy.sphere_count();

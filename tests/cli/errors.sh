@@ -513,7 +513,7 @@ expect 1 "\-\-animation: no clip named 'Walk'" "$px/poses.json" -- "$bin/pose-ex
 expect 1 "\-\-animation: no clip 4 " "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 4
 expect 1 "\-\-mesh: no mesh or node named 'lid'" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --mesh lid --morph-targets
 expect 1 "\-\-frames: frame 9 is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1,9
-expect 1 "\-\-times: 3.5 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation barrel --times 3.5
+expect 1 "\-\-times: 4.5 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation barrel --times 4.5
 expect 1 "\-\-times: -1 s is outside the clip" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times=-1
 expect 1 "\-\-times: 0.5 s is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --times 0.5,1,0.5
 expect 1 "\-\-frames: frame 1 is asked twice" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1,0,1
@@ -526,7 +526,7 @@ expect 1 "\-\-frames: '3-1' runs backwards; write it 1-3" "$px/poses.json" -- "$
 expect 1 "\-\-frames: '1.5' is not a frame (a whole number from 0) or a range of them (10-20)" "$px/poses.json" -- \
   "$bin/pose-extract" "$glb" -o "$px" --animation 0 --frames 1.5
 # Neither --morph-targets nor --animation: the error lists what the asset holds to choose from.
-expect 1 "give \-\-morph-targets or \-\-animation .*barrel-morph.glb holds 1 clip: 0 'barrel' (4 frames over 3 s); 3 morph targets" \
+expect 1 "give \-\-morph-targets or \-\-animation .*barrel-morph.glb holds 1 clip: 0 'barrel' (5 frames over 4 s); 3 morph targets" \
   "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px"
 expect 1 "\-\-select" "$px/poses.json" -- "$bin/pose-extract" "$glb" -o "$px" --animation 0 --select 0
 expect 1 "\-\-manifest" "$out/o.json" -- "$bin/pose-map" --manifest "$out/in/rest.obj" --rest "$out/in/rest.obj" \

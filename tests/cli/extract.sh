@@ -52,6 +52,33 @@ check "proxy-eval: a proxy without a skin is played by its blends, and no line s
   bash -c '! grep -q "by its skin\|host skins" "$1"' _ "$out/eval.log"
 check "proxy-eval --manifest: the rest and 4 poses" \
   /usr/bin/python3 -c "import json,sys; sys.exit(len(json.load(open(sys.argv[1]))['poses']) != 5)" "$out/eval.json"
+# Over the asset's clip of morph weights, as a host plays it: each crumple in turn, then all four
+# at once. The morph blend at the crumples is the proxy's error there, and it holds better than
+# the global blend where the crumples add up.
+"$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --manifest "$out/car-morph/poses/poses.json" \
+  --asset "$out/in/car-morph.glb" --tolerance 2% --chart "$out/morph-clip.svg" --report "$out/morph-clip.json" \
+  > "$out/morph-clip.log" 2>&1
+check "proxy-eval --asset of morph targets: report schema" v proxy-eval-report.schema.json "$out/morph-clip.json"
+check "proxy-eval --asset of morph targets: no chart" grep -q "morph blend (spx::blend_morph)" "$out/morph-clip.svg"
+check "proxy-eval --asset of morph targets: the clip's frames measured as the morph weights say" /usr/bin/python3 - \
+  "$out/morph-clip.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+m, poses = r["motion"], {p["name"]: p for p in r["poses"]}
+assert m["morph_targets"] == ["front", "rear", "side", "roof"] and m["morph_targets_without_examples"] == [], m["morph_targets"]
+s = m["summary"]
+assert (s["morph_blend"]["frames_seen"]["frames"], s["morph_blend"]["frames_unseen"]["frames"], m["times"]) == (5, 1, 11), s
+for f in m["frames"]:
+    w = f["morph_weights"]
+    if f["seen"]:  # the rest or one crumple: the proxy's own spheres there
+        name = "rest" if not any(w) else ["front", "rear", "side", "roof"][w.index(1)]
+        want = poses[name]["max"]
+        assert abs(f["morph_blend"]["max"] - want) <= 1e-6 * want, (f, poses[name])
+last = m["frames"][-1]
+assert last["morph_weights"] == [1, 1, 1, 1] and not last["seen"], last
+assert last["morph_blend"]["max"] < last["global_blend"]["max"], last
+assert last["morph_blend"]["overshoot"] < last["global_blend"]["overshoot"], last
+PY
 
 if [ -n "$data" ] && [ -e "$data/rigged-simple/RiggedSimple.glb" ]; then
   $m NAME=rigged ASSET_FILE="$data/rigged-simple/RiggedSimple.glb" EXTRACT_FLAGS="--animation 0 --select 2"

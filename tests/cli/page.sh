@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # proxy-export -o OUT.html in a real browser: the car and the barrel with their example meshes,
-# the morph-target car from pose-extract's manifest, the skinned RiggedSimple proxy in its
+# the morph-target car from pose-extract's manifest (a slider per target, two added), the skinned RiggedSimple proxy in its
 # asset, and the robot's forearm alone in the robot (--mesh). web/page-test.mjs (headless
 # Chromium, playwright-core) opens each page, moves a slider, paints a dent or scrubs and plays the clip, takes screenshots and fails on any console error;
 # tests/page_check compares what the page computed with the runtime header and the tools' error.

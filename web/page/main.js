@@ -1,6 +1,7 @@
 // The proxy page: reads the data proxy-export wrote into the page, draws the body and its spheres,
-// and plays them: sliders per example and local-blend painting for a blended proxy, a clip list,
-// play/pause and a scrubber for a skinned one. The readout and <body data-*> say what is shown.
+// and plays them: sliders per example and local-blend painting for a blended proxy, a slider per
+// morph target for a morph-target body's, a clip list, play/pause and a scrubber for a skinned
+// one. The readout and <body data-*> say what is shown.
 import { Box3, Triangle, Vector3 } from 'three';
 import * as M from './model.js';
 import { View, boxCorners, errorColor } from './view.js';
@@ -46,8 +47,9 @@ class Page {
     this.m = M.decode(data);
     const m = this.m;
     this.xyzr = new Float32Array(4 * m.n);
-    this.mode = m.skin && m.clips.length && m.body && m.body.rest ? 'clip' : 'blend';
+    this.mode = m.skin && m.clips.length && m.body && m.body.rest ? 'clip' : m.morph ? 'morph' : 'blend';
     this.weights = Array.from({ length: m.poses }, (_, i) => (i === 0 ? 1 : 0));
+    this.morphWeights = Array.from({ length: m.poses - 1 }, () => 0);
     this.local = false;
     this.siteWeights = null;
     this.clip = 0;
@@ -97,6 +99,13 @@ class Page {
       this.matrices = M.proxyMatrices(m, c, this.frame);
       M.skinSpheres(m, this.matrices, this.xyzr);
       if (m.body) M.skinBody(m.body, c, this.frame, this.positions);
+      return true;
+    }
+    if (this.mode === 'morph') {
+      const w = M.morphToFull(this.morphWeights);
+      if (!w) return false;
+      M.blendMorph(m, this.morphWeights, this.xyzr);
+      if (m.body) M.blendBody(m.body, w, this.positions);  // the rest plus each target's move
       return true;
     }
     if (this.local) {
@@ -155,6 +164,7 @@ class Page {
         el('div', {}, el('span', { class: 'poke' }), ' the union pokes out (and the spheres that do)')));
     }
     if (this.mode === 'clip') panel.append(...this.clipControls());
+    else if (this.mode === 'morph') panel.append(...this.morphControls());
     else if (m.poses > 1) panel.append(...this.blendControls());
     document.body.append(panel);
   }
@@ -185,6 +195,18 @@ class Page {
         el('label', {}, 'strength', this.paintStrength),
         el('button', { onclick: () => { this.setLocal(true); this.update(); } }, 'reset to the sliders'));
     }
+    return out;
+  }
+
+  // A morph-target body: one slider per target, added as the host's blend shapes add them.
+  morphControls() {
+    const m = this.m, out = [el('h2', {}, 'morph targets (spx::blend_morph)')];
+    this.morphWeights.forEach((w, i) => {
+      const label = el('span', { class: 'w' }, w.toFixed(2));
+      const input = el('input', { type: 'range', min: 0, max: 1, step: 0.01, value: w, 'data-pose': i + 1,
+        oninput: () => { this.morphWeights[i] = Number(input.value); label.textContent = this.morphWeights[i].toFixed(2); this.update(); } });
+      out.push(el('label', {}, el('span', { style: 'width:90px;overflow:hidden' }, m.poseNames[i + 1]), input, label));
+    });
     return out;
   }
 
@@ -280,6 +302,7 @@ class Page {
   state() {
     const s = { mode: this.mode, xyzr: Array.from(this.xyzr), stats: this.stats || null };
     if (this.mode === 'clip') Object.assign(s, { clip: this.clip, frame: this.frame, matrices: Array.from(this.matrices) });
+    else if (this.mode === 'morph') s.morphWeights = this.morphWeights.slice();
     else if (this.local) s.siteWeights = Array.from(this.siteWeights);
     else s.weights = this.weights.slice();
     return s;

@@ -1,5 +1,5 @@
 // The proxy and its body as the page holds them, and the runtime's arithmetic on them: the
-// global and local blends and the skin as spx_runtime.h does them (same weights policy, same
+// global, local and morph blends and the skin as spx_runtime.h does them (same weights policy, same
 // layouts), the body blended or skinned the way the host deforms its mesh, and the paper's
 // error: each vertex's distance to the sphere-union surface.
 
@@ -27,6 +27,7 @@ export function decode(data) {
     skin: null,
     body: null,
     clips: [],
+    morph: Boolean(data.morph), // the examples are morph targets: played by blend_morph
   };
   m.siteCount = m.sites.length / 3;
   if (data.skin) {
@@ -71,10 +72,8 @@ export function normalize(w) {
   return Float32Array.from(w, (x) => (x > 0 ? x : 0) / sum);
 }
 
-// blend_global_xyzr: one weight per pose.
-export function blendGlobal(m, weights, out) {
-  const w = normalize(weights);
-  if (!w) return false;
+// The blend at full weights `w` (one per pose, the rest's first), radii below 0 made 0.
+function blendFull(m, w, out) {
   const k = m.n * 4;
   out.fill(0);
   for (let i = 0; i < m.poses; ++i) {
@@ -83,6 +82,34 @@ export function blendGlobal(m, weights, out) {
     for (let j = 0; j < k; ++j) out[j] += w[i] * s[j];
   }
   for (let j = 3; j < k; j += 4) out[j] = out[j] > 0 ? out[j] : 0;
+}
+
+// blend_global_xyzr: one weight per pose.
+export function blendGlobal(m, weights, out) {
+  const w = normalize(weights);
+  if (!w) return false;
+  blendFull(m, w, out);
+  return true;
+}
+
+// Morph weights (one per example after the rest) as full weights, the rest's 1 less their sum;
+// null where blend_morph refuses them (a weight not finite, magnitudes adding up to 2^24).
+export function morphToFull(morph) {
+  let sum = 0, magnitude = 0;
+  for (const x of morph) {
+    if (!Number.isFinite(x)) return null;
+    sum += x;
+    magnitude += Math.abs(x);
+  }
+  if (!(magnitude < 16777216)) return null;
+  return Float32Array.from([1 - sum, ...morph]);
+}
+
+// blend_morph_xyzr: the examples' differences from the rest added at the morph weights.
+export function blendMorph(m, morph, out) {
+  const w = morphToFull(morph);
+  if (!w) return false;
+  blendFull(m, w, out);
   return true;
 }
 
