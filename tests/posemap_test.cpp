@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <random>
 #include <tuple>
 
@@ -28,6 +29,7 @@
 #include "mesh/split.hpp"
 #include "mesh/union_distance.hpp"
 #include "pack/pack.hpp"
+#include "posemap/blend_hold.hpp"
 #include "posemap/carry_cache.hpp"
 #include "posemap/clip_radius.hpp"
 #include "posemap/gap_filling.hpp"
@@ -721,6 +723,60 @@ TEST(PoseMap, JointSelectionOnTheCarSample) {
   const SampleAsset car = make_car();
   const std::vector<PoseInput> poses = sample_poses(car);
   expect_joint_selection(car.rest, poses, "car");
+}
+
+// --hold-over-blends on the car sample, its crumples taken as morph targets: at every blend held
+// (two examples half and half, two or more crumples added) no sphere pokes out of the blended
+// body, where without it some do; the centres stay and no radius grows. blends_to_hold against
+// counting: 10 pairs of the 5 poses and the 11 sets of two or more of the 4 crumples, each
+// summing to 1.
+TEST(PoseMap, HeldOverBlendsNoSpherePokesOutBetweenTheExamples) {
+  const std::vector<std::vector<double>> blends = blends_to_hold(5, true);
+  ASSERT_EQ(blends.size(), 21u);
+  ASSERT_EQ(blends_to_hold(5, false).size(), 10u);
+  for (const auto& w : blends) EXPECT_NEAR(std::accumulate(w.begin(), w.end(), 0.0), 1.0, 1e-12);
+  const SampleAsset car = make_car();
+  const std::vector<PoseInput> poses = sample_poses(car);
+  SpheresFile file;
+  pack_rest(car.rest, 96, {2, true}, file);
+  PoseMapOptions opt;
+  const PoseMapResult free = pose_map(car.rest, "car", poses, file, opt);
+  opt.hold_over_blends = opt.morph_targets = true;
+  const PoseMapResult held = pose_map(car.rest, "car", poses, file, opt);
+  ASSERT_TRUE(held.summary.blend_hold.has_value());
+  EXPECT_EQ(held.summary.blend_hold->blends, 21u);
+  ASSERT_EQ(free.proxy.sphere_count(), held.proxy.sphere_count());
+  const double rounding = 1e-9 * car.rest.diagonal();
+  double poked = 0;
+  for (const auto& w : blends) {
+    TriMesh mesh = car.rest;
+    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+      mesh.vertices[v] = w[0] * car.rest.vertices[v];
+      for (size_t i = 1; i < w.size(); ++i) mesh.vertices[v] += w[i] * poses[i - 1].mesh.vertices[v];
+    }
+    const MeshQuery q(mesh);
+    for (const PoseMapResult* r : {&free, &held})
+      for (size_t j = 0; j < r->proxy.sphere_count(); ++j) {
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        double radius = 0;
+        for (size_t i = 0; i < w.size(); ++i) {
+          c += w[i] * r->proxy.poses[i].spheres[j].center;
+          radius += w[i] * r->proxy.poses[i].spheres[j].radius;
+        }
+        if (!(radius > 0)) continue;
+        const double over = radius + q.signed_distance(c);
+        if (r == &free) poked = std::max(poked, over);
+        else EXPECT_LE(over, rounding) << "sphere " << j << " pokes out at a blend";
+      }
+  }
+  EXPECT_GT(poked, 1e-3 * car.rest.diagonal()) << "without the hold, some sphere pokes out at a blend";
+  EXPECT_NEAR(held.summary.blend_hold->overshoot, poked, rounding);
+  EXPECT_GT(held.summary.blend_hold->shrunk, 0u);
+  for (size_t i = 0; i < held.proxy.poses.size(); ++i)
+    for (size_t j = 0; j < held.proxy.sphere_count(); ++j) {
+      EXPECT_EQ(held.proxy.poses[i].spheres[j].center, free.proxy.poses[i].spheres[j].center);
+      EXPECT_LE(held.proxy.poses[i].spheres[j].radius, free.proxy.poses[i].spheres[j].radius);
+    }
 }
 
 // Budget mode's polish over every pose: the refined spheres offered to the cover again and the

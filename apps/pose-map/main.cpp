@@ -58,6 +58,12 @@ int main(int argc, char** argv) {
   auto* hold = tool.app.add_flag("--hold-over-clip", opt.hold_over_clip,
                                  "Rigged: each sphere's one radius also holds at every frame of the clip and half-way "
                                  "between (the skin's clip), not only at the poses");
+  auto* blends = tool.app.add_flag("--hold-over-blends", opt.hold_over_blends,
+                                   "Blended examples: each sphere's radii scaled down where it pokes out at the blends "
+                                   "a host plays between them (every two examples half and half; morph targets from "
+                                   "pose-extract --morph-targets also two or more at 1 at once), not only at the "
+                                   "examples")
+                    ->excludes(hold);
   std::string clip_overshoot;
   tool.app.add_option("--clip-overshoot", clip_overshoot,
                       "With --hold-over-clip: how far a sphere may poke out at the clip's times between the poses "
@@ -104,6 +110,8 @@ int main(int argc, char** argv) {
                                             spx::parse_tolerance(fill_tolerance, "--fill-tolerance"),
                                             spx::parse_tolerance(clip_overshoot, "--clip-overshoot")};
     spx::rest_and_poses(manifest, rest, poses, &skin);
+    if (blends->count() && !manifest.empty())
+      opt.morph_targets = spx::poses_are_morph_targets(spx::read_pose_manifest(manifest));
     if (samples->count()) opt.area_samples = area_samples;
     if (seed->count()) opt.seed = seed_value;
     if (every->count()) opt.every_vertex = every_vertex;

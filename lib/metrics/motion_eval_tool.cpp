@@ -14,6 +14,7 @@
 #include "metrics/motion_chart.hpp"
 #include "metrics/motion_eval.hpp"
 #include "metrics/rest_match.hpp"
+#include "runtime/spx_runtime.h"
 
 namespace spx {
 namespace {
@@ -180,10 +181,18 @@ std::vector<size_t> example_targets(const ProxyModel& proxy, const Asset& asset)
 
 namespace {
 
-// A morph-target body's weights at each time: the clip's, of every target of the asset.
+// A morph-target body's weights at each time: the clip's, of every target of the asset. Exit 2
+// naming the asset where the runtime would refuse them (not finite, or adding up past 2^24).
 std::vector<std::vector<double>> clip_morph_weights(const Asset& asset, size_t clip, const ClipTimes& times) {
   std::vector<std::vector<double>> out;
-  for (double t : times.time) out.push_back(asset.morph_weights(clip, t));
+  for (double t : times.time) {
+    out.push_back(asset.morph_weights(clip, t));
+    std::vector<float> w(out.back().begin(), out.back().end()), full(w.size() + 1);
+    if (!detail::morph_to_full(w.data(), uint32_t(full.size()), full.data()))
+      fail_input(asset.path(), "clip '" + asset.clips()[clip].name + "' at " + std::to_string(t) +
+                                   " s weighs its morph targets (" + one_line(json(out.back()).dump(), 120) +
+                                   ") past what a host's blend can add: a weight not finite, or adding up past 2^24");
+  }
   return out;
 }
 

@@ -156,6 +156,58 @@ json fill_report(const PoseMapSummary& s, const ProxyModel& proxy) {
           {"errors_before", error_list(fill.errors_before)}};
 }
 
+// The pose of the largest max error (the rest is 0), or errors.size() where none is finite.
+size_t worst_pose(const std::vector<ErrorStats>& errors) {
+  size_t worst = errors.size();
+  for (size_t i = 0; i < errors.size(); ++i)
+    if (std::isfinite(errors[i].max) && (worst == errors.size() || errors[i].max > errors[worst].max)) worst = i;
+  return worst;
+}
+
+// "max error X (Y% of the diagonal) in pose P" of the worst pose.
+std::string worst_error_words(const PoseMapSummary& s, const std::vector<ProxyPose>& poses, double diagonal) {
+  const size_t worst = worst_pose(s.errors);
+  if (worst >= s.errors.size() || worst >= poses.size()) return "";
+  return "max error " + num(s.errors[worst].max) + " (" + num(100 * s.errors[worst].max / diagonal) +
+         "% of the diagonal) in " + (worst == 0 ? "the rest" : "pose " + poses[worst].name);
+}
+
+// Whether --hold-over-blends took the examples past the tolerance the selection met.
+bool hold_broke_tolerance(const PoseMapSummary& s) {
+  const size_t worst = worst_pose(s.errors);
+  return s.blend_hold && s.selection && met_tolerance(s.selection->limited_by) && s.selection_target > 0 &&
+         worst < s.errors.size() && s.errors[worst].max > s.selection_target * (1 + 1e-9);
+}
+
+// A blend's weights by pose name, those not 0.
+json blend_weights_json(const std::vector<double>& w, const ProxyModel& proxy) {
+  json out = json::object();
+  for (size_t i = 0; i < w.size() && i < proxy.poses.size(); ++i)
+    if (w[i] != 0) out[proxy.poses[i].name] = w[i];
+  return out;
+}
+
+json blend_hold_report(const PoseMapSummary& s, const ProxyModel& proxy) {
+  if (!s.blend_hold) return nullptr;
+  const BlendHold& h = *s.blend_hold;
+  return {{"blends", h.blends}, {"spheres_shrunk", h.shrunk}, {"spheres_emptied", h.emptied},
+          {"least_scale", h.least_scale}, {"overshoot_before", h.overshoot},
+          {"worst_blend", h.worst.empty() ? json(nullptr) : blend_weights_json(h.worst, proxy)},
+          {"tolerance_kept", s.selection_target > 0 ? json(!hold_broke_tolerance(s)) : json(nullptr)}};
+}
+
+// What the hold over the blends did, in a line.
+std::string blend_hold_line(const BlendHold& h, const ProxyModel& proxy, double diagonal) {
+  std::string at;
+  const json worst = blend_weights_json(h.worst, proxy);
+  for (const auto& [name, w] : worst.items())
+    at += (at.empty() ? "" : " + ") + name + " " + num(w.get<double>());
+  return "held over " + counted(h.blends, "blend") + " between the examples: " + counted(h.shrunk, "sphere") +
+         " scaled down" + (h.shrunk ? " (the least to " + num(h.least_scale) + "x)" : "") + ", " +
+         std::to_string(h.emptied) + " emptied; before, the union poked out by up to " + num(h.overshoot) + " (" +
+         num(100 * h.overshoot / diagonal) + "% of the diagonal)" + (at.empty() ? "" : " at " + at);
+}
+
 json pose_cache_json(const std::vector<PoseCacheUse>& caches, size_t i) {
   if (i >= caches.size() || caches[i].file.empty()) return nullptr;
   const PoseCacheUse& c = caches[i];
@@ -228,6 +280,7 @@ json pose_map_report(const PoseMapResult& result) {
           {"site_count", proxy.sites.size()},
           {"poses", poses},
           {"fill_gaps", fill_report(s, proxy)},
+          {"hold_over_blends", blend_hold_report(s, proxy)},
           {"selection", selection_report(s, proxy)}};
 }
 
@@ -239,16 +292,12 @@ std::string selection_outcome(const PoseMapSummary& s, const std::vector<ProxyPo
   const Limit limit = s.selection->limited_by;
   const bool met = met_tolerance(limit);
   std::string out;
-  size_t worst = s.errors.size();
-  for (size_t i = 0; i < s.errors.size(); ++i)
-    if (std::isfinite(s.errors[i].max) && (worst == s.errors.size() || s.errors[i].max > s.errors[worst].max)) worst = i;
-  if (!met && worst < s.errors.size() && worst < poses.size())
-    out += ", max error " + num(s.errors[worst].max) + " (" + num(100 * s.errors[worst].max / diagonal) +
-           "% of the diagonal) in " + (worst == 0 ? "the rest" : "pose " + poses[worst].name);
+  if (!met && !worst_error_words(s, poses, diagonal).empty()) out += ", " + worst_error_words(s, poses, diagonal);
   out += std::string(met ? "; " : "; limited by ") + limit_wording(limit);
   if (met && s.selection_target > 0)
     out += " " + num(s.selection_target) + " (" + num(100 * s.selection_target / diagonal) +
            "% of the diagonal) in every pose";
+  if (hold_broke_tolerance(s)) out += " before --hold-over-blends; " + worst_error_words(s, poses, diagonal) + " after";
   return out;
 }
 
@@ -292,6 +341,12 @@ void pose_map_files(const std::string& rest_path, const std::vector<std::string>
   log.info(output + ": " + counted(result.proxy.sphere_count(), "sphere") + " x " +
            counted(result.proxy.poses.size(), "pose") + ", " + counted(result.proxy.sites.size(), "blend site") +
            selection_outcome(result.summary, result.proxy.poses, diagonal));
+  if (result.summary.blend_hold) log.info(blend_hold_line(*result.summary.blend_hold, result.proxy, diagonal));
+  if (hold_broke_tolerance(result.summary))
+    log.warn("--hold-over-blends: " + worst_error_words(result.summary, result.proxy.poses, diagonal) +
+             ", past the tolerance " + num(result.summary.selection_target) +
+             " the selection met: the radii scaled down keep every sphere inside the blends between the examples, "
+             "and cover less at the examples");
   const int name_width = pose_name_width(result.proxy.poses);
   std::vector<PoseLine> lines;
   for (size_t i = 0; i < result.proxy.poses.size(); ++i) {

@@ -84,6 +84,10 @@ class PoseMapper {
   // in every pose (as the selection held its candidates: the same radii, bit for bit).
   void hold_over_clip(size_t first, size_t n, std::vector<std::vector<char>>& cause);
 
+  // --hold-over-blends: the written spheres' radii scaled down where they poke out at the blends
+  // between the examples (posemap/blend_hold.hpp).
+  BlendHold hold_over_blends();
+
   // The paper's future work: pack what each pose's mapped spheres leave uncovered, and map the
   // new spheres back to the rest pose through the inverse map.
   GapFilling fill_gaps();

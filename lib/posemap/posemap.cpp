@@ -53,6 +53,9 @@ void PoseMapper::solve_map() {
   if (skin_) skinned_ = std::make_unique<SkinnedMap>(*skin_, *f_);
   // A clip that also drives morph weights is more than its skin: its frames cannot be rebuilt.
   if (opt_.hold_over_clip && !skin_) fail_option("hold_over_clip", "needs poses with a rig (pose-extract --animation)");
+  if (opt_.hold_over_blends && skin_)
+    fail_option("hold_over_blends", "is for blended examples: a rigged body's proxy follows its skin (--hold-over-clip "
+                                    "holds it over the clip)");
   if (opt_.hold_over_clip && skin_->clip.empty()) fail_option("hold_over_clip", "the skin has no clip (an older skin.json)");
   if (opt_.hold_over_clip && skin_->morph_channels > 0)
     log_.warn("the clip also drives morph weights: skinned radii hold at the poses, not between them");
@@ -210,6 +213,13 @@ void PoseMapper::attach_skin() {
   if (skinned_) proxy_.skin = skinned_->proxy_skin(proxy_.poses[0].spheres, influences_);
 }
 
+BlendHold PoseMapper::hold_over_blends() {
+  StageTimer t(log_, "blend-hold");
+  std::vector<const TriMesh*> meshes{&rest_};
+  for (const PoseInput& p : poses_) meshes.push_back(&p.mesh);
+  return spx::hold_over_blends(proxy_, meshes, blends_to_hold(meshes.size(), opt_.morph_targets));
+}
+
 void PoseMapper::check_between_poses(PoseMapSummary& out) const {
   if (!skinned_ || clip_ || skin_->clip.empty() || skin_->morph_channels > 0) return;
   StageTimer t(log_, "clip-check");
@@ -302,6 +312,7 @@ PoseMapResult pose_map(const TriMesh& rest, const std::string& rest_source, cons
     mapper.map_spheres(rest_spheres);
   }
   if (opt.fill_gaps) result.summary.fill = mapper.fill_gaps();
+  if (opt.hold_over_blends) result.summary.blend_hold = mapper.hold_over_blends();
   mapper.assign_blend_sites();
   mapper.attach_skin();
   mapper.check_between_poses(result.summary);

@@ -15,6 +15,7 @@
 #include "io/spheres_file.hpp"
 #include "io/proxy_file.hpp"
 #include "io/skin_file.hpp"
+#include "posemap/blend_hold.hpp"
 #include "posemap/clip_radius.hpp"
 #include "posemap/joint_selection.hpp"
 #include "posemap/tet_mesh.hpp"
@@ -61,6 +62,11 @@ struct PoseMapOptions {
   // its depth plus `clip_overshoot` (a length; at the poses themselves, the depth alone).
   bool hold_over_clip = false;
   double clip_overshoot = 0;
+  // Blended examples: each sphere's radii scaled down where it pokes out at the blends a host
+  // plays between them (posemap/blend_hold.hpp): every two examples half and half, and with
+  // `morph_targets` (the examples are morph targets, which a host adds) two or more at 1 at once.
+  bool hold_over_blends = false;
+  bool morph_targets = false;
   // Joint selection: each pose's surface samples (their count besides every vertex, their seed)
   // and every vertex from the start (JointSelectionOptions::spaced_vertices off); not given, the
   // spheres file's sampling (sphere-pack's), the defaults for a file without one.
@@ -153,6 +159,7 @@ struct PoseMapSummary {
   double selection_min_radius = 0;          // the least rest radius it could choose (0: none)
   CoverSampling selection_sampling;         // each pose's samples it drew
   std::optional<GapFilling> fill;           // when asked
+  std::optional<BlendHold> blend_hold;      // when asked
 };
 
 struct PoseMapResult {

@@ -100,7 +100,7 @@ enum Status {
   SPX_ERR_CHECKSUM,          // CRC-32 mismatch: corrupt bytes
   SPX_ERR_BAD_DATA,          // non-finite value, negative radius or site index out of range
   SPX_ERR_WEIGHT_COUNT,      // weight vector length is not pose_count() (pose_count() - 1 for blend_morph)
-  SPX_ERR_BAD_WEIGHTS,       // non-finite weights, or no positive weight
+  SPX_ERR_BAD_WEIGHTS,       // non-finite weights, no positive weight, or morph weights adding up past 2^24
   SPX_ERR_EMPTY,             // the proxy holds nothing (not loaded)
   SPX_ERR_BAD_SKIN,          // skin section damaged: joint index out of range, weights or centers not finite, counts
   SPX_ERR_NO_SKIN,           // skin() on a proxy without a skin
@@ -122,7 +122,7 @@ inline const char* status_string(Status s) {
     case SPX_ERR_CHECKSUM: return "checksum mismatch (corrupt file)";
     case SPX_ERR_BAD_DATA: return "invalid values in file";
     case SPX_ERR_WEIGHT_COUNT: return "weight count does not match pose count";
-    case SPX_ERR_BAD_WEIGHTS: return "weights are not finite or have no positive entry";
+    case SPX_ERR_BAD_WEIGHTS: return "weights are not finite, none is positive, or (morph) they add up past 2^24";
     case SPX_ERR_EMPTY: return "proxy is empty";
     case SPX_ERR_BAD_SKIN: return "skin section is damaged";
     case SPX_ERR_NO_SKIN: return "proxy has no skin";

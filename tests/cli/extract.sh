@@ -79,6 +79,39 @@ assert last["morph_weights"] == [1, 1, 1, 1] and not last["seen"], last
 assert last["morph_blend"]["max"] < last["global_blend"]["max"], last
 assert last["morph_blend"]["overshoot"] < last["global_blend"]["overshoot"], last
 PY
+# Held over the blends (the crumples taken two and more at once, as morph targets add): no sphere
+# pokes out anywhere in the clip, at the price of the examples' error, which pose-map says.
+"$bin/pose-map" --manifest "$out/car-morph/poses/poses.json" --spheres "$out/car-morph/rest.spheres.json" \
+  -o "$out/held.proxy.json" --hold-over-blends --report "$out/held.report.json" > "$out/held.log" 2>&1
+check "pose-map --hold-over-blends: report schema" v pose-map-report.schema.json "$out/held.report.json"
+check "pose-map --hold-over-blends: the tolerance lost at the examples is not said" \
+  grep -q "warning: --hold-over-blends: max error .* past the tolerance" "$out/held.log"
+"$bin/proxy-eval" "$out/held.proxy.json" --manifest "$out/car-morph/poses/poses.json" --asset "$out/in/car-morph.glb" \
+  --report "$out/held-clip.json" > /dev/null 2>&1
+check "pose-map --hold-over-blends: a sphere pokes out over the morph clip" /usr/bin/python3 - \
+  "$out/held-clip.json" "$out/held.report.json" <<'PY'
+import json, sys
+m, held = json.load(open(sys.argv[1]))["motion"], json.load(open(sys.argv[2]))["hold_over_blends"]
+assert held["blends"] == 21 and held["overshoot_before"] > 0 and held["tolerance_kept"] is False, held
+worst = m["summary"]["morph_blend"]["all"]["percent_of_diagonal"]["overshoot_worst"]  # the .spx's float32 alone
+assert worst < 1e-4 and m["summary"]["morph_blend"]["all"]["frames_with_centers_outside"] == 0, m["summary"]["morph_blend"]
+PY
+# A clip weighing a target at 1e30: no host's blend adds that; the asset is named, not the proxy.
+/usr/bin/python3 - "$out/in/car-morph.glb" "$out/huge-weight.glb" <<'PY'
+import json, struct, sys
+b = bytearray(open(sys.argv[1], "rb").read())
+n = struct.unpack_from("<I", b, 12)[0]
+doc = json.loads(bytes(b[20:20 + n]))
+acc = doc["accessors"][doc["animations"][0]["samplers"][0]["output"]]
+at = 20 + n + 8 + doc["bufferViews"][acc["bufferView"]].get("byteOffset", 0) + acc.get("byteOffset", 0)
+struct.pack_into("<f", b, at + 4 * 5, 1e30)  # key 1's weight of target 1
+open(sys.argv[2], "wb").write(b)
+PY
+set +e
+expect 2 "huge-weight.glb: clip 'car' at 0.500000 s weighs its morph targets (.*) past what a host's blend can add" \
+  "" -- "$bin/proxy-eval" "$out/car-morph/car-morph.proxy.json" --asset "$out/huge-weight.glb" \
+  --report "$out/huge.json"
+set -e
 
 if [ -n "$data" ] && [ -e "$data/rigged-simple/RiggedSimple.glb" ]; then
   $m NAME=rigged ASSET_FILE="$data/rigged-simple/RiggedSimple.glb" EXTRACT_FLAGS="--animation 0 --select 2"
@@ -211,6 +244,12 @@ PY
     expect 2 "car-morph.glb: has no joint" "" -- "$host" "$r/rigged.spx" --asset "$out/in/car-morph.glb"
     expect 2 "rigged.proxy.json: .*spx" "" -- "$host" "$r/rigged.proxy.json" --asset "$rig"
   fi
+  # A rigged body's proxy follows its skin: no blends to hold it over.
+  expect 1 "hold-over-blends: is for blended examples" "$out/bad.proxy.json" -- "$bin/pose-map" \
+    --manifest "$r/poses/poses.json" --spheres "$r/rest.spheres.json" -o "$out/bad.proxy.json" --hold-over-blends
+  expect 1 "hold-over-blends.*excludes.*hold-over-clip\|hold-over-clip.*excludes.*hold-over-blends" "$out/bad.proxy.json" -- \
+    "$bin/pose-map" --manifest "$r/poses/poses.json" --spheres "$r/rest.spheres.json" -o "$out/bad.proxy.json" \
+    --hold-over-blends --hold-over-clip
   # pose-map refuses a rig that does not fit its poses, naming the file and the field.
   pm() { "$bin/pose-map" --rest "$r/poses/rest.obj" "$@" --spheres "$r/rest.spheres.json" -o "$out/bad.proxy.json"; }
   poses=(--pose "$r/poses/pose-00.obj" --pose "$r/poses/pose-01.obj")
