@@ -17,17 +17,23 @@ or twice, writes it and runs `pose-extract IN -o OUT -q --threads 1` with `--ani
 2` (or `--morph-targets`) under a time limit.
 
 With `--tool sdf-build` each run is `sdf-build IN -o OUT.vdb --resolution 32 -q --threads 1`
-instead: the mesh a rigged file gives where its skin places it, with the same changes.
+instead: the mesh a rigged file gives where its skin places it, with the same changes. With
+`--tool proxy-eval` the seeds are RiggedSimple and the car's morph targets, each first taken
+through the chain (the samples Makefile at 32 cells) to its proxy, and each run is `proxy-eval
+PROXY --asset IN --every 4 --chart OUT.svg` on the changed asset: the clip played as a host plays
+it, by the skin or by the morph weights (it passes with the chart written and nothing said but
+warnings).
 
 A run passes when it exits 0 with poses.json (the field) written and nothing said (sdf-build may
 warn), or exits 1-3 with exactly one `Error:` line and no poses.json (field). Anything else (a signal, an abort, a hang, several lines) is
 kept as OUT_DIR/failed-RUN.glb and listed; the script then exits 1.
 
 usage: mutate-rigs.py BUILD_DIR DATA_DIR OUT_DIR [--runs N] [--seed S] [--timeout SECONDS]
-                      [--tool pose-extract|sdf-build]
+                      [--tool pose-extract|sdf-build|proxy-eval]
 """
 import copy
 import json
+import os
 import struct
 import subprocess
 import sys
@@ -186,14 +192,18 @@ def mutate(doc, data, rng):
 
 def main():
     a = mutation_runs.arguments(__doc__, lambda ap: ap.add_argument(
-        "--tool", choices=["pose-extract", "sdf-build"], default="pose-extract"))
+        "--tool", choices=["pose-extract", "sdf-build", "proxy-eval"], default="pose-extract"))
     for sample in ("robot", "car"):
         subprocess.run([a.build + "/apps/sample-gen", sample, "-o", a.out + "/seeds/" + sample, "-q"], check=True)
     clip = ["--animation", "0", "--select", "2"]
-    seeds = [(read_glb(a.data + "/rigged-simple/RiggedSimple.glb"), clip),
+    rigged, morph = a.data + "/rigged-simple/RiggedSimple.glb", a.out + "/seeds/car/car-morph.glb"
+    seeds = [(read_glb(rigged), clip),
              (read_glb(a.data + "/elephant/elephant-rigged.glb"), clip),
              (read_glb(a.out + "/seeds/robot/robot.glb"), clip),
-             (read_glb(a.out + "/seeds/car/car-morph.glb"), ["--morph-targets"])]
+             (read_glb(morph), ["--morph-targets"])]
+    if a.tool == "proxy-eval":  # each seed's proxy, through the chain: the run's options name it
+        seeds = [(read_glb(rigged), [chain_proxy(a, "rigged", rigged, clip)]),
+                 (read_glb(morph), [chain_proxy(a, "car-morph", morph, ["--morph-targets"])])]
     args = []  # the chosen seed's options, for the same run's command
 
     def next_input(rng):
@@ -211,7 +221,20 @@ def main():
         field = a.out + "/in.vdb"
         command = lambda path: ([a.build + "/apps/sdf-build", path, "-o", field, "--resolution", "32", "-q",
                                  "--threads", "1"], field)
-    return mutation_runs.run_all("mutate-rigs", a, next_input, command, a.tool if a.tool == "sdf-build" else None)
+    if a.tool == "proxy-eval":
+        chart = a.out + "/clip.svg"
+        command = lambda path: ([a.build + "/apps/proxy-eval", args[0], "--asset", path, "--every", "4", "--chart",
+                                 chart, "--report", a.out + "/eval.json", "-q", "--threads", "1"], chart)
+    return mutation_runs.run_all("mutate-rigs", a, next_input, command, None if a.tool == "pose-extract" else a.tool)
+
+
+def chain_proxy(a, name, asset, extract_flags):
+    """The proxy the samples Makefile makes of `asset` at 32 cells."""
+    subprocess.run(["make", "-s", "-C", os.path.dirname(os.path.abspath(__file__)) + "/../samples",
+                    "BIN=" + a.build + "/apps", "OUT=" + a.out + "/chain", "RES=32", "QUIET=1", "NAME=" + name,
+                    "ASSET_FILE=" + os.path.abspath(asset), "EXTRACT_FLAGS=" + " ".join(extract_flags),
+                    "%s/chain/%s/%s.proxy.json" % (a.out, name, name)], check=True)
+    return "%s/chain/%s/%s.proxy.json" % (a.out, name, name)
 
 
 if __name__ == "__main__":

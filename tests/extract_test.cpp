@@ -1438,9 +1438,9 @@ TEST(PoseExtract, AnimationPointerChannelsAreHonouredOrPassedOverByName) {
   EXPECT_EQ(extract(only_colour, "second", report), poses);
 }
 
-// A joint scaled to nothing in the rest collapses the part it moves: the rest was welded into
-// another body (RiggedSimple's 96 vertices into 65) and every pose warned that the welded
-// vertices parted. A joint scaled small, not flat, is a body still.
+// A joint scaled to nothing (or past a float's range) in the rest collapses the part it moves:
+// the rest was welded into another body (RiggedSimple's 96 vertices into 65) and every pose
+// warned that the welded vertices parted. A joint scaled small, not flat, is a body still.
 TEST(PoseExtract, RestThatCollapsesAJointIsAnError) {
   SPX_REQUIRE_SHARED_DATA();
   const std::string dir = test::temp_dir("extract-collapsed-rest");
@@ -1455,7 +1455,7 @@ TEST(PoseExtract, RestThatCollapsesAJointIsAnError) {
     pose_extract_files(dir + "/" + name + ".glb", dir + "/" + name, clip, Log::silent(), report);
   };
   const std::string said = "the rest (the nodes' own transforms, the asset without a clip) collapses 32 vertices: joint ";
-  for (const json& scale : {json{0, 0, 0}, json{1, 0, 1}}) {
+  for (const json& scale : {json{0, 0, 0}, json{1, 0, 1}, json{1e300, 1, 1}}) {  // the last: infinite as a float
     const std::string error = test::bad_input_error([&] { run([&](GltfFile& f) { f.doc["nodes"][3]["scale"] = scale; }, "flat"); });
     EXPECT_NE(error.find("flat.glb: " + said), std::string::npos) << error;
   }

@@ -9,6 +9,7 @@
 #include "io/scene.hpp"
 #include "mesh/mesh_query.hpp"
 #include "mesh/winding_number.hpp"
+#include "metrics/motion_chart.hpp"
 #include "metrics/motion_eval.hpp"
 #include "metrics/proxy_eval.hpp"
 #include "metrics/rest_match.hpp"
@@ -386,6 +387,26 @@ TEST(MotionEval, MorphWeightsMoveTheSpheresAsTheMeshAddsItsTargets) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("1 morph weights; the proxy has 2 examples after the rest"), std::string::npos)
         << e.what();
+  }
+}
+
+// The chart of a clip whose numbers are not finite (a diagonal past a float's range, errors of
+// NaN) or all 0 still ends, with finite axes: its ticks looped for ever on a top of NaN.
+TEST(MotionChart, NumbersNotFiniteOrZeroStillDrawAChart) {
+  MotionResult r;
+  r.runtimes = {kSkinned, kRigid};
+  for (double t : {0.0, 0.5}) {
+    MotionRow row;
+    row.time = t;
+    row.error[kSkinned].max = t > 0 ? std::nan("") : 0.0;
+    row.error[kRigid].overshoot = INFINITY;
+    r.rows.push_back(row);
+  }
+  for (double diagonal : {double(INFINITY), std::nan(""), 1.0}) {
+    const std::string svg = motion_chart_svg(r, diagonal, 0.0, "clip");
+    EXPECT_NE(svg.find("</svg>"), std::string::npos);
+    EXPECT_EQ(svg.find("nan"), std::string::npos) << diagonal;
+    EXPECT_EQ(svg.find("inf"), std::string::npos) << diagonal;
   }
 }
 

@@ -160,6 +160,13 @@ WeldedBody weld_body(const Asset& asset, bool at_default_weights = false);
 // (skin.json, the page) it takes.
 std::vector<size_t> first_file_vertices(const WeldedBody& body);
 
+// A joint whose rest matrix is flat (a node scaled to 0, or an inverse bind matrix of zeros)
+// collapses the vertices it alone weighs: the rest would be another body (the part gone, its
+// vertices welded into one, and each pose's parted again). Exit 2 naming `input` and the joints.
+void check_rest_not_collapsed(const Asset& asset, const std::string& input);
+// Every rest vertex finite, or exit 2 naming `input` and the first that is not.
+void check_rest_finite(const WeldedBody& body, const std::string& input);
+
 // A pose on the welded vertices (each takes its first file vertex's position); `opened` counts
 // rest-welded points that part in this pose. A vertex that is not finite fails naming `input`.
 TriMesh welded_pose(const WeldedBody& body, const std::vector<Eigen::Vector3d>& file_positions, double tolerance,

@@ -189,38 +189,6 @@ std::string poses_on_offer(const Asset& asset) {
          (targets > 0 ? "; " + counted(targets, "morph target") : std::string("; no morph targets"));
 }
 
-// A joint whose rest matrix is flat (a node scaled to 0, or an inverse bind matrix of zeros)
-// collapses the vertices it alone weighs: the rest would be another body (the part gone, its
-// vertices welded into one, and each pose's parted again). Exit 2 naming the joints.
-void check_rest_not_collapsed(const Asset& asset, const std::string& input) {
-  const std::vector<Eigen::Matrix4d> rest = asset.rest_joint_matrices();
-  std::vector<char> flat(rest.size(), 0);
-  for (size_t j = 0; j < rest.size(); ++j) {
-    const Eigen::Matrix3d m = rest[j].topLeftCorner<3, 3>();
-    const double size = m.colwise().norm().maxCoeff();
-    flat[j] = !(std::abs(m.determinant()) > 1e-9 * size * size * size);
-  }
-  if (std::none_of(flat.begin(), flat.end(), [](char f) { return f; })) return;
-  size_t collapsed = 0;
-  std::set<size_t> named;
-  for (const auto& weights : asset.vertex_joints()) {
-    const bool all_flat = !weights.empty() && std::all_of(weights.begin(), weights.end(), [&](const auto& jw) {
-      return jw.second == 0 || flat[size_t(jw.first)];
-    });
-    if (!all_flat) continue;
-    ++collapsed;
-    for (const auto& [j, w] : weights)
-      if (w != 0) named.insert(size_t(j));
-  }
-  if (collapsed == 0) return;
-  std::string joints = named.size() > 1 ? "joints " : "joint ";
-  for (size_t j : named) joints += (j == *named.begin() ? "'" : ", '") + asset.joints()[j].name + "'";
-  fail_input(input, "the rest (the nodes' own transforms, the asset without a clip) collapses " +
-                        std::to_string(collapsed) + (collapsed == 1 ? " vertex: " : " vertices: ") + joints +
-                        " scaled to nothing there (a node's scale of 0, or an inverse bind matrix of zeros); the rest "
-                        "is the body the proxy is packed in, and must show all of it");
-}
-
 // The body and what the report and the log say of it.
 struct Body {
   WeldedBody welded;
@@ -231,6 +199,7 @@ struct Body {
 Body read_body(const Asset& asset, const PoseExtractOptions& opt, const std::string& input, Log& log) {
   check_rest_not_collapsed(asset, input);
   Body out{weld_body(asset, !opt.animation.empty())};
+  check_rest_finite(out.welded, input);
   out.diagonal = out.welded.rest.diagonal();
   out.seam_tolerance = 1e-7 * std::max(out.diagonal, 1e-30);
   const TriMesh& rest = out.welded.rest;

@@ -14,7 +14,7 @@ const char* const kColour[kMotionRuntimes] = {"#1f77b4", "#ff7f0e", "#7f7f7f", "
 const char* const kLabel[kMotionRuntimes] = {"skinned (spx::skin)", "rigid per bone", "best-fit blend of the examples",
                                              "morph blend (spx::blend_morph)", "global blend, rest at 1 - sum"};
 
-// A round step giving about 5 ticks up to `top`.
+// A round step giving about 5 ticks up to `top` (positive and finite: the panels make it so).
 double tick_step(double top) {
   const double raw = top / 5, p = std::pow(10.0, std::floor(std::log10(raw)));
   for (double m : {1.0, 2.0, 5.0, 10.0})
@@ -52,7 +52,9 @@ void series(std::ostringstream& s, const Panel& p, const MotionResult& r, int ru
   char b[64];
   for (const MotionRow& row : r.rows) {
     const FrameError& e = row.error[size_t(runtime)];
-    std::snprintf(b, sizeof b, "%.1f,%.1f ", p.x(row.time), p.y(scale * (overshoot ? e.overshoot : e.max)));
+    const double v = scale * (overshoot ? e.overshoot : e.max);
+    if (!std::isfinite(v)) continue;  // no point for a value not measured
+    std::snprintf(b, sizeof b, "%.1f,%.1f ", p.x(row.time), p.y(v));
     s << b;
   }
   s << "'/>\n";
@@ -84,7 +86,12 @@ std::string motion_chart_svg(const MotionResult& r, double diagonal, double tole
     blend_worst = std::max(blend_worst, scale * row.error[kBestBlend].max);
     blend_worst_over = std::max(blend_worst_over, scale * row.error[kBestBlend].overshoot);
   }
-  const Panel error{kTop + 30, t0, t1, worst * 1.05}, over{kTop + 30 + kPanel + kGap, t0, t1, worst_over * 1.05};
+  // A panel's top and span positive and finite, whatever the values (an axis of NaN or of 0 would
+  // never end its ticks).
+  const auto usable = [](double v, double fallback) { return v > 0 && std::isfinite(v) ? v : fallback; };
+  if (!(t1 - t0 > 0) || !std::isfinite(t1 - t0)) t0 = 0, t1 = 1;
+  const Panel error{kTop + 30, t0, t1, usable(worst * 1.05, 1.0)},
+      over{kTop + 30 + kPanel + kGap, t0, t1, usable(worst_over * 1.05, 1.0)};
   const double height = over.y0 + kPanel + 70;
   std::ostringstream s;
   s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kWidth << "' height='" << height

@@ -151,19 +151,26 @@ std::vector<float> global_weights(const std::vector<float>& morph) {
 }
 
 MotionRow measure_motion_frame(const Proxy& runtime, const MotionFrame& frame, const ExampleFit* fit,
-                               const ClipTopology& clip) {
+                               const ClipTopology& clip, const std::string& source) {
   MotionRow row;
   row.time = frame.time, row.seen = frame.seen, row.between = frame.between;
   const FrameBody body(frame.mesh, clip);
   std::vector<float> xyzr(4 * size_t(runtime.sphere_count()));
-  auto must = [](Status status, const char* what) {
+  // The runtime's spheres, or exit 2 naming the frame: a host's float arithmetic overflows on
+  // joint matrices or weights this large, and nothing could be measured there.
+  auto must = [&](Status status, const char* what) {
     if (status != SPX_OK) fail_input("", std::string("the runtime cannot ") + what + ": " + status_string(status));
+    if (!std::all_of(xyzr.begin(), xyzr.end(), [](float v) { return std::isfinite(v); }))
+      fail_input(source, "at " + std::to_string(frame.time) + " s the runtime's spheres are not finite (" + what +
+                             " in float, as a host does, overflows): the asset's motion is past a host's numbers");
   };
   if (runtime.has_skin()) {
     const std::vector<float> matrices = host_matrices(frame.joints);
     must(skin(runtime, matrices.data(), int(frame.joints.size()), xyzr.data()), "skin the proxy");
     row.error[kSkinned] = measure_frame(body, from_xyzr(xyzr));
-    row.error[kRigid] = measure_frame(body, from_xyzr(rigid_per_bone(runtime, matrices)));
+    xyzr = rigid_per_bone(runtime, matrices);
+    must(SPX_OK, "fix each sphere to its heaviest joint");
+    row.error[kRigid] = measure_frame(body, from_xyzr(xyzr));
   } else {
     const std::vector<float>& w = frame.morph_weights;
     must(blend_morph_xyzr(runtime, w.data(), uint32_t(w.size()), xyzr.data()), "blend the proxy by morph weights");
@@ -197,7 +204,7 @@ void check_frame_fits(const Proxy& runtime, const MotionFrame& f) {
 }  // namespace
 
 MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const std::function<MotionFrame(size_t)>& frame,
-                             const std::vector<TriMesh>& examples, Log& log) {
+                             const std::vector<TriMesh>& examples, Log& log, const std::string& source) {
   if (!examples.empty() && examples.size() != proxy.poses.size())
     fail_option("poses", "the proxy has " + std::to_string(proxy.poses.size()) + " poses, " +
                              std::to_string(examples.size()) + " example meshes were given");
@@ -215,7 +222,7 @@ MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const 
   const ClipTopology clip(first_frame.mesh);
   auto measure = [&](const MotionFrame& f) {
     check_frame_fits(runtime, f);
-    return measure_motion_frame(runtime, f, examples.empty() ? nullptr : &fit, clip);
+    return measure_motion_frame(runtime, f, examples.empty() ? nullptr : &fit, clip, source);
   };
   // In batches, so progress is reported from one thread; every row lands in its own slot.
   const size_t batch = 16;

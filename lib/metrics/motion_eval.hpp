@@ -7,6 +7,7 @@
 // global blend at those weights (the rest at 1 less their sum) and the best-fit blend.
 #include <array>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/log.hpp"
@@ -56,8 +57,9 @@ struct MotionResult {
 // `examples` are the proxy's poses as meshes on the frames' vertices (rest first), or empty to
 // leave out the best-fit blend. A proxy with a skin is skinned by the frames' joint matrices,
 // one without is blended by their morph weights. Exit 3 when the frames' joints or weights do
-// not fit the proxy.
+// not fit the proxy; exit 2 naming `source` (the frames' asset) where the runtime's spheres are
+// not finite at a frame.
 MotionResult evaluate_motion(const ProxyModel& proxy, size_t frame_count, const std::function<MotionFrame(size_t)>& frame,
-                             const std::vector<TriMesh>& examples, Log& log);
+                             const std::vector<TriMesh>& examples, Log& log, const std::string& source = "");
 
 }  // namespace spx

@@ -235,6 +235,15 @@ json summary_json(const MotionResult& r, double diagonal, double tolerance, Log&
   return summary;
 }
 
+// The rest as pose-extract writes and checks it: a clip's (the default morph weights), or with
+// every morph target at 0 where the examples are the targets.
+WeldedBody checked_rest(const Asset& asset, bool skinned, const std::string& path) {
+  check_rest_not_collapsed(asset, path);
+  WeldedBody body = weld_body(asset, skinned);
+  check_rest_finite(body, path);
+  return body;
+}
+
 // A frame the proxy was made from: the rest (every weight 0) or one of its examples (its target
 // at 1, every other 0).
 bool is_example(const std::vector<double>& w, const std::vector<size_t>& examples) {
@@ -257,9 +266,7 @@ json proxy_motion_report(const ProxyModel& proxy, const Asset& asset, const std:
                                                                : read_pose_manifest(opt.manifest).poses;
   const size_t clip = clip_to_measure(asset, opt, posed, log);
   const std::vector<std::string> uncovered = warn_meshes_without_spheres(proxy, asset, "their error is measured", log);
-  // The rest as pose-extract writes it: a clip's (the default morph weights), or with every
-  // morph target at 0 where the examples are the targets.
-  const WeldedBody body = weld_body(asset, skinned);
+  const WeldedBody body = checked_rest(asset, skinned, opt.asset);
   size_t used = 0;
   for (const AssetMesh& m : asset.meshes()) used += m.used;
   const std::string hint = opt.mesh.empty() && used > 1 ? " (its " + std::to_string(used) +
@@ -298,7 +305,7 @@ json proxy_motion_report(const ProxyModel& proxy, const Asset& asset, const std:
     for (size_t v : order_of_vertices) f.mesh.vertices.push_back(welded.vertices[v]);
     return f;
   };
-  const MotionResult r = evaluate_motion(proxy, times.time.size(), frame, examples, log);
+  const MotionResult r = evaluate_motion(proxy, times.time.size(), frame, examples, log, opt.asset);
 
   const double tolerance = opt.tolerance.length(diagonal);
   json rows = json::array();
