@@ -779,6 +779,34 @@ TEST(PoseMap, HeldOverBlendsNoSpherePokesOutBetweenTheExamples) {
     }
 }
 
+// A sphere whose centre leaves the body at a blend is emptied (radius 0 in every pose) and
+// counted, not kept poking out: two boxes apart, the same in both examples, a sphere in the one
+// at rest and in the other in the pose, whose centre half-way lies between them. A sphere that
+// stays inside is left as it was. Past 8 morph targets only pairs of targets are held.
+TEST(PoseMap, BlendHoldEmptiesASphereWhoseCentreLeavesTheBody) {
+  TriMesh body = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  const TriMesh other = test::box_mesh({3, 0, 0}, {4, 1, 1});
+  for (const Eigen::Vector3i& t : other.triangles) body.triangles.push_back(t + Eigen::Vector3i::Constant(8));
+  body.vertices.insert(body.vertices.end(), other.vertices.begin(), other.vertices.end());
+  ProxyModel proxy;
+  proxy.poses.push_back({"rest", "rest.obj", {{{0.5, 0.5, 0.5}, 0.25}, {{0.5, 0.5, 0.5}, 0.4}}, {}});
+  proxy.poses.push_back({"moved", "moved.obj", {{{3.5, 0.5, 0.5}, 0.25}, {{0.5, 0.5, 0.5}, 0.4}}, {}});
+  const BlendHold held = hold_over_blends(proxy, {&body, &body}, blends_to_hold(2, false));
+  EXPECT_EQ(held.blends, 1u);
+  EXPECT_EQ(held.emptied, 1u);
+  EXPECT_EQ(held.shrunk, 0u);
+  EXPECT_NEAR(held.overshoot, 0.25 + 1.0, 1e-9) << "half-way, the centre is 1 from either box";
+  for (const ProxyPose& p : proxy.poses) {
+    EXPECT_EQ(p.spheres[0].radius, 0.0) << p.name;
+    EXPECT_EQ(p.spheres[1].radius, 0.4) << p.name;
+  }
+  // 10 targets: the 55 pairs of the 11 poses half and half, and the 45 pairs of targets at 1.
+  const std::vector<std::vector<double>> many = blends_to_hold(11, true);
+  ASSERT_EQ(many.size(), 100u);
+  EXPECT_EQ(many.back()[0], -1.0);
+  EXPECT_EQ(std::count(many.back().begin(), many.back().end(), 1.0), 2);
+}
+
 // Budget mode's polish over every pose: the refined spheres offered to the cover again and the
 // new cover refined. On the car sample at 64 spheres a polished set is kept: its worst pose's max
 // vertex error is lower than the first refinement's (no polish), by the same measure the tool

@@ -141,12 +141,11 @@ struct ExampleFit {
 };
 
 // A morph-target body's frame as a host without blend_morph would blend it: the global blend at
-// the morph weights, the rest at 1 less their sum (then clamped and normalised by its policy).
+// the morph weights, the rest at 1 less their sum (as blend_morph makes them full; then clamped
+// and normalised by the global blend's policy).
 std::vector<float> global_weights(const std::vector<float>& morph) {
   std::vector<float> w(morph.size() + 1);
-  double sum = 0;
-  for (size_t i = 0; i < morph.size(); ++i) w[i + 1] = morph[i], sum += morph[i];
-  w[0] = float(1 - sum);
+  detail::morph_to_full(morph.data(), uint32_t(w.size()), w.data());
   return w;
 }
 

@@ -581,20 +581,42 @@ inline bool morph_to_full(const float* morph, uint32_t p, float* w) {
   return true;
 }
 
+// The global blends' weights (pose_count() of them) checked and normalised into `w`.
+inline Status global_weights(const Proxy& proxy, const float* weights, uint32_t weight_count, float* w) {
+  if (!weights) return SPX_ERR_INVALID_ARGUMENT;
+  if (weight_count != proxy.pose_count()) return SPX_ERR_WEIGHT_COUNT;
+  return normalize(weights, weight_count, w) ? SPX_OK : SPX_ERR_BAD_WEIGHTS;
+}
+
+// The morph blends' weights (pose_count() - 1 of them; null when there are none) checked and
+// made full weights in `w`.
+inline Status morph_weights(const Proxy& proxy, const float* weights, uint32_t weight_count, float* w) {
+  const uint32_t p = proxy.pose_count();
+  if (!weights && p > 1) return SPX_ERR_INVALID_ARGUMENT;
+  if (weight_count != p - 1) return SPX_ERR_WEIGHT_COUNT;
+  return morph_to_full(weights, p, w) ? SPX_OK : SPX_ERR_BAD_WEIGHTS;
+}
+
+// A global or morph blend into centers + radii: the proxy and the outputs checked, then the
+// caller's weights made full by `full` (global_weights or morph_weights), then the blend.
+template <class FullWeights>
+inline Status blend_split_with(const Proxy& proxy, const float* weights, uint32_t weight_count, float* centers,
+                               float* radii, FullWeights full) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
+  float w[SPX_MAX_POSES];
+  const Status status = full(proxy, weights, weight_count, w);
+  if (status == SPX_OK) blend_split(proxy, w, centers, radii);
+  return status;
+}
+
 }  // namespace detail
 
 // One weight per example (pose_count() of them). Writes 3 floats per sphere to `centers`
 // and one to `radii`.
 inline Status blend_global(const Proxy& proxy, const float* weights, uint32_t weight_count, float* centers,
                            float* radii) {
-  if (proxy.empty()) return SPX_ERR_EMPTY;
-  if (!weights || !centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
-  const uint32_t p = proxy.pose_count();
-  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
-  float w[SPX_MAX_POSES];
-  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
-  detail::blend_split(proxy, w, centers, radii);
-  return SPX_OK;
+  return detail::blend_split_with(proxy, weights, weight_count, centers, radii, detail::global_weights);
 }
 
 // A morph-target (blend-shape) body's blend: one weight per example after the rest
@@ -607,14 +629,7 @@ inline Status blend_global(const Proxy& proxy, const float* weights, uint32_t we
 // or magnitudes adding up to 2^24 or more.
 inline Status blend_morph(const Proxy& proxy, const float* weights, uint32_t weight_count, float* centers,
                           float* radii) {
-  if (proxy.empty()) return SPX_ERR_EMPTY;
-  const uint32_t p = proxy.pose_count();
-  if ((!weights && p > 1) || !centers || !radii) return SPX_ERR_INVALID_ARGUMENT;
-  if (weight_count != p - 1) return SPX_ERR_WEIGHT_COUNT;
-  float w[SPX_MAX_POSES];
-  if (!detail::morph_to_full(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
-  detail::blend_split(proxy, w, centers, radii);
-  return SPX_OK;
+  return detail::blend_split_with(proxy, weights, weight_count, centers, radii, detail::morph_weights);
 }
 
 // The paper's local blend: `site_weights` holds pose_count() weights for each blend site
@@ -679,32 +694,30 @@ inline void blend_xyzr(const Proxy& proxy, const float* w, float* xyzr) {
   for (size_t k = 3; k < m; k += 4) out[k] = out[k] > 0 ? out[k] : 0.0f;
 }
 
+// A global or morph blend into xyzr, checked as blend_split_with checks.
+template <class FullWeights>
+inline Status blend_xyzr_with(const Proxy& proxy, const float* weights, uint32_t weight_count, float* xyzr,
+                              FullWeights full) {
+  if (proxy.empty()) return SPX_ERR_EMPTY;
+  if (!xyzr) return SPX_ERR_INVALID_ARGUMENT;
+  float w[SPX_MAX_POSES];
+  const Status status = full(proxy, weights, weight_count, w);
+  if (status == SPX_OK) blend_xyzr(proxy, w, xyzr);
+  return status;
+}
+
 }  // namespace detail
 
 // The global blend into xyzr (4 floats per sphere: x, y, z, r). Same weights policy and result
 // as blend_global; `xyzr` must not overlap the proxy.
 inline Status blend_global_xyzr(const Proxy& proxy, const float* weights, uint32_t weight_count, float* xyzr) {
-  if (proxy.empty()) return SPX_ERR_EMPTY;
-  if (!weights || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
-  const uint32_t p = proxy.pose_count();
-  if (weight_count != p) return SPX_ERR_WEIGHT_COUNT;
-  float w[SPX_MAX_POSES];
-  if (!detail::normalize(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
-  detail::blend_xyzr(proxy, w, xyzr);
-  return SPX_OK;
+  return detail::blend_xyzr_with(proxy, weights, weight_count, xyzr, detail::global_weights);
 }
 
 // The morph-target blend into xyzr: same weights and result as blend_morph; `xyzr` must not
 // overlap the proxy.
 inline Status blend_morph_xyzr(const Proxy& proxy, const float* weights, uint32_t weight_count, float* xyzr) {
-  if (proxy.empty()) return SPX_ERR_EMPTY;
-  const uint32_t p = proxy.pose_count();
-  if ((!weights && p > 1) || !xyzr) return SPX_ERR_INVALID_ARGUMENT;
-  if (weight_count != p - 1) return SPX_ERR_WEIGHT_COUNT;
-  float w[SPX_MAX_POSES];
-  if (!detail::morph_to_full(weights, p, w)) return SPX_ERR_BAD_WEIGHTS;
-  detail::blend_xyzr(proxy, w, xyzr);
-  return SPX_OK;
+  return detail::blend_xyzr_with(proxy, weights, weight_count, xyzr, detail::morph_weights);
 }
 
 // Checks and normalises local-blend weights once (site-major, site_count() * pose_count() of
